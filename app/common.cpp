@@ -1,0 +1,134 @@
+#include "common.h"
+
+#include <filesystem>
+#include <thread>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
+
+#include "gridshell/core/error.h"
+#include "gridshell/io/files.h"
+
+namespace gridshell::app {
+
+void add_surface_options(CLI::App* sub, SurfaceOptions& o) {
+  sub->add_option("--supports", o.supports,
+                  "red | boundary | FILE.json (list of vertex ids); default: red vertices if the "
+                  "file has any, else the built-in's own, else the whole boundary")
+      ->default_str("auto");
+  sub->add_option("--up", o.up, "the input's up axis: z, y or -y")->default_str("z");
+  sub->add_option("--scale", o.scale, "multiply input coordinates by S")->default_str("1");
+}
+
+void add_run_options(CLI::App* sub, RunOptions& o) {
+  sub->add_option("-o,--out", o.out_dir, "output folder (created if missing)")
+      ->default_str(o.out_dir);
+  sub->add_option("--seed", o.seed, "random seed: same inputs and seed give identical outputs")
+      ->default_str("1");
+  sub->add_option("--threads", o.threads, "worker threads (0 = all cores)")->default_str("0");
+  sub->add_flag("--quiet", o.quiet, "no progress on stderr");
+  sub->add_option("--config", "repeat a run: read options from a config.json written earlier");
+}
+
+std::shared_ptr<void> apply_run_options(const RunOptions& o) {
+  if (o.threads < 0) throw Error("--threads", "must be ≥ 0");
+  spdlog::set_level(o.quiet ? spdlog::level::warn : spdlog::level::info);
+  const std::size_t n = o.threads > 0 ? static_cast<std::size_t>(o.threads)
+                                      : std::max(1u, std::thread::hardware_concurrency());
+  return std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism, n);
+}
+
+nlohmann::json resolved_config(const CLI::App* sub) {
+  nlohmann::json options = nlohmann::json::object();
+  nlohmann::json positional = nlohmann::json::array();
+  for (const CLI::Option* opt : sub->get_options()) {
+    const std::string name = opt->get_single_name();
+    if (name == "help" || name == "config") continue;
+    if (opt->get_positional()) {
+      for (const auto& r : opt->results()) positional.push_back(r);
+      continue;
+    }
+    if (opt->get_type_size() == 0) {  // a flag
+      options[name] = opt->count() > 0;
+    } else if (opt->count() > 0) {
+      options[name] = opt->results().size() == 1 ? nlohmann::json(opt->results()[0])
+                                                  : nlohmann::json(opt->results());
+    } else if (!opt->get_default_str().empty()) {
+      options[name] = opt->get_default_str();
+    }
+  }
+  return {{"command", sub->get_name()}, {"positional", positional}, {"options", options}};
+}
+
+void write_config(const std::string& dir, const CLI::App* sub) {
+  io::write_file_atomic(std::filesystem::path(dir) / "config.json",
+                        resolved_config(sub).dump(2) + "\n");
+}
+
+void write_report(const std::string& dir, const nlohmann::json& report) {
+  io::write_file_atomic(std::filesystem::path(dir) / "report.json", report.dump(2) + "\n");
+}
+
+std::vector<std::string> expand_config(const std::vector<std::string>& args) {
+  std::string path;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--config" && i + 1 < args.size()) path = args[i + 1];
+    if (args[i].rfind("--config=", 0) == 0) path = args[i].substr(9);
+  }
+  if (path.empty()) return args;
+  nlohmann::json cfg;
+  try {
+    cfg = nlohmann::json::parse(io::read_file(path));
+  } catch (const nlohmann::json::exception&) {
+    throw Error(path, "not a valid config.json");
+  }
+  if (!cfg.is_object() || !cfg.contains("options") || !cfg["options"].is_object())
+    throw Error(path, "not a gridshell config.json (no \"options\" object)");
+  std::vector<std::string> out;
+  bool has_command = args.size() > 1 && args[1].rfind("-", 0) != 0;
+  out.push_back(args.empty() ? "gridshell" : args[0]);
+  if (!has_command && cfg.contains("command")) out.push_back(cfg["command"].get<std::string>());
+  std::vector<std::string> given(args.begin() + 1, args.end());
+  // Drop --config itself.
+  std::vector<std::string> kept;
+  for (std::size_t i = 0; i < given.size(); ++i) {
+    if (given[i] == "--config") {
+      ++i;
+      continue;
+    }
+    if (given[i].rfind("--config=", 0) == 0) continue;
+    kept.push_back(given[i]);
+  }
+  out.insert(out.end(), kept.begin(), kept.end());
+  auto is_given = [&](const std::string& name) {
+    for (const auto& a : kept)
+      if (a == "--" + name || a.rfind("--" + name + "=", 0) == 0 || a == "-" + name) return true;
+    return false;
+  };
+  // Positional arguments: only if none was given after the command.
+  std::size_t positional_given = 0;
+  for (std::size_t i = 1; i < kept.size(); ++i)
+    if (kept[i].rfind("-", 0) != 0 && (kept[i - 1].rfind("-", 0) != 0 || i == 1)) ++positional_given;
+  if (kept.size() <= 1 || positional_given == 0)
+    if (cfg.contains("positional"))
+      for (const auto& p : cfg["positional"]) out.push_back(p.get<std::string>());
+  for (const auto& [name, value] : cfg["options"].items()) {
+    if (is_given(name)) continue;
+    const std::string flag = name.size() == 1 ? "-" + name : "--" + name;
+    if (value.is_boolean()) {
+      if (value.get<bool>()) out.push_back(flag);
+    } else if (value.is_array()) {
+      for (const auto& v : value) {
+        out.push_back(flag);
+        out.push_back(v.is_string() ? v.get<std::string>() : v.dump());
+      }
+    } else {
+      out.push_back(flag);
+      out.push_back(value.is_string() ? value.get<std::string>() : value.dump());
+    }
+  }
+  return out;
+}
+
+}  // namespace gridshell::app

@@ -1,0 +1,52 @@
+#pragma once
+/// \file common.h
+/// What every subcommand shares: the registration signature, surface options, output folder,
+/// seed/threads/quiet, config.json writing, and report helpers.
+
+#include <functional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "gridshell/surfaces/load.h"
+
+namespace gridshell::app {
+
+/// A subcommand's body; returns the process exit status. Errors are thrown as gridshell::Error.
+using Action = std::function<int()>;
+
+/// Options shared by the subcommands that write results.
+struct RunOptions {
+  std::string out_dir = "gridshell_out";
+  std::uint64_t seed = 1;
+  int threads = 0;  ///< 0 = all cores
+  bool quiet = false;
+};
+
+void add_surface_options(CLI::App* sub, SurfaceOptions& options);
+void add_run_options(CLI::App* sub, RunOptions& options);
+
+/// Applies --threads and --quiet (logging level) for the duration of a run; returns a guard.
+std::shared_ptr<void> apply_run_options(const RunOptions& options);
+
+/// The resolved parameters of `sub` (every option with its value), as written to config.json.
+nlohmann::json resolved_config(const CLI::App* sub);
+
+/// Writes DIR/config.json for `sub`, and DIR/report.json from `report`.
+void write_config(const std::string& dir, const CLI::App* sub);
+void write_report(const std::string& dir, const nlohmann::json& report);
+
+/// Expands `--config FILE` in argv: options stored in FILE and not given on the command line are
+/// appended. Throws Error for a bad file.
+std::vector<std::string> expand_config(const std::vector<std::string>& args);
+
+// Subcommand registration: each adds its CLI11 subcommand and sets `action` when chosen.
+void register_info(CLI::App& app, Action& action);
+void register_stress(CLI::App& app, Action& action);
+void register_design(CLI::App& app, Action& action);
+void register_analyze(CLI::App& app, Action& action);
+void register_sweep(CLI::App& app, Action& action);
+void register_baseline(CLI::App& app, Action& action);
+
+}  // namespace gridshell::app

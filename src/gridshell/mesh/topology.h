@@ -1,0 +1,71 @@
+#pragma once
+/// \file topology.h
+/// Connectivity of a polygon (or triangle) mesh: unique edges, edge–face incidence, boundary
+/// loops, vertex neighbourhoods, Euler characteristic, and the validity checks of `info`.
+/// Cost: O(sum of face sizes · log) time and memory.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "gridshell/mesh/mesh.h"
+
+namespace gridshell {
+
+struct Topology {
+  /// Unique undirected edges, each as (smaller id, larger id), sorted lexicographically.
+  std::vector<std::array<int, 2>> edges;
+  /// The faces incident to each edge (1 = boundary, 2 = interior, more = non-manifold).
+  std::vector<std::vector<int>> edge_faces;
+  /// For face f with vertices (v0 … vn-1), face_edges[f][k] is the edge v_k → v_{k+1}.
+  std::vector<std::vector<int>> face_edges;
+  /// Boundary loops as vertex cycles, oriented like the faces next to them.
+  std::vector<std::vector<int>> boundary_loops;
+  /// Per vertex: 1 when it lies on a boundary edge.
+  std::vector<char> on_boundary;
+  /// Per vertex: the faces that use it.
+  std::vector<std::vector<int>> vertex_faces;
+  /// Per vertex: the vertices sharing an edge with it (sorted).
+  std::vector<std::vector<int>> vertex_neighbors;
+
+  int num_edges() const { return static_cast<int>(edges.size()); }
+  /// Index of edge (a, b) or -1.
+  int find_edge(int a, int b) const;
+};
+
+Topology build_topology(const PolyMesh& mesh);
+Topology build_topology(const TriMesh& mesh);
+
+/// V − E + F counted over referenced vertices.
+int euler_characteristic(const PolyMesh& mesh, const Topology& topo);
+
+/// Counts of everything `info` reports as a validity problem.
+struct MeshProblems {
+  int non_finite_coordinates = 0;   ///< vertices with a NaN or infinite coordinate
+  int bad_indices = 0;              ///< face corners out of range
+  int small_faces = 0;              ///< faces with fewer than 3 vertices
+  int repeated_corner_faces = 0;    ///< faces that use a vertex twice
+  int degenerate_faces = 0;         ///< faces of (near) zero area
+  int non_manifold_edges = 0;       ///< edges with more than two faces
+  int non_manifold_vertices = 0;    ///< vertices whose faces form more than one fan
+  int inconsistent_orientation = 0; ///< interior edges walked the same way by both faces
+  int duplicate_vertices = 0;       ///< vertices at exactly the same position as another
+  int unreferenced_vertices = 0;    ///< vertices no face uses
+
+  /// One human-readable line per kind of problem present ("3 degenerate faces", …).
+  std::vector<std::string> describe() const;
+  bool ok() const { return describe().empty(); }
+};
+
+/// Checks a mesh for everything above. Never throws on bad indices: they are counted.
+/// `degenerate_tolerance` is relative to the squared bounding-box diagonal.
+MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance = 1e-14);
+
+/// Area of a (possibly non-planar) polygon: the norm of its vector area.
+double polygon_area(const PolyMesh& mesh, int face);
+/// Total area of a triangle mesh.
+double surface_area(const TriMesh& mesh);
+/// Length of the bounding-box diagonal.
+double bbox_diagonal(const Points& V);
+
+}  // namespace gridshell

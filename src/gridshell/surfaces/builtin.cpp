@@ -1,0 +1,292 @@
+#include "gridshell/surfaces/builtin.h"
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "gridshell/core/error.h"
+#include "gridshell/mesh/topology.h"
+#include "gridshell/surfaces/force_density.h"
+
+namespace gridshell {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// A structured (nx+1)×(ny+1) grid, mapped by `map(i, j)`, triangulated with diagonals that
+/// point to the grid centre ("union jack"), so the mesh is symmetric about both mid-lines.
+TriMesh make_grid(int nx, int ny, const std::function<Vec3(int, int)>& map) {
+  TriMesh m;
+  m.V.resize((nx + 1) * (ny + 1), 3);
+  auto id = [&](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) m.V.row(id(i, j)) = map(i, j).transpose();
+  m.F.resize(2 * nx * ny, 3);
+  int f = 0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      const bool left = 2 * i + 1 < nx, low = 2 * j + 1 < ny;
+      if (left == low) {  // diagonal a–c
+        m.F.row(f++) << a, b, c;
+        m.F.row(f++) << a, c, d;
+      } else {  // diagonal b–d
+        m.F.row(f++) << a, b, d;
+        m.F.row(f++) << b, c, d;
+      }
+    }
+  return m;
+}
+
+std::vector<int> boundary_vertices(const TriMesh& m) {
+  Topology t = build_topology(m);
+  std::vector<int> out;
+  for (int v = 0; v < m.num_vertices(); ++v)
+    if (t.on_boundary[v]) out.push_back(v);
+  return out;
+}
+
+double or_default(double v, double d) { return v > 0 ? v : d; }
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw Error("builtin", what);
+}
+
+Surface paraboloid(const BuiltinOptions& o) {
+  const double span = or_default(o.span, 20), rise = or_default(o.rise, 4);
+  const int n = o.res > 0 ? o.res : 32;
+  require(n >= 2 && n % 2 == 0, "paraboloid: res must be even and ≥ 2");
+  const double h = span / 2;
+  Surface s;
+  s.mesh = make_grid(n, n, [&](int i, int j) {
+    const double x = -h + span * i / n, y = -h + span * j / n;
+    return Vec3(x, y, rise * (1 - (x * x + y * y) / (2 * h * h)));
+  });
+  s.supports = boundary_vertices(s.mesh);
+  return s;
+}
+
+Surface dome(const BuiltinOptions& o) {
+  const double span = or_default(o.span, 20), rise = or_default(o.rise, 5);
+  const int n = o.res > 0 ? o.res / 2 : 16;  // rings
+  require(n >= 1, "dome: res must be ≥ 2");
+  const double a = span / 2;
+  require(rise <= a, "dome: rise must not exceed half the span (a cap, not more than a hemisphere)");
+  const double R = (a * a + rise * rise) / (2 * rise);
+  TriMesh m;
+  std::vector<Vec3> pts{Vec3(0, 0, rise)};
+  std::vector<std::array<int, 3>> tris;
+  auto ring_start = [](int k) { return k == 0 ? 0 : 1 + 3 * k * (k - 1); };
+  for (int k = 1; k <= n; ++k)
+    for (int i = 0; i < 6 * k; ++i) {
+      const double r = a * k / n, th = 2 * kPi * i / (6 * k);
+      pts.emplace_back(r * std::cos(th), r * std::sin(th), std::sqrt(R * R - r * r) - (R - rise));
+    }
+  // Hexagonal disk triangulation: ring k-1 (6(k-1) vertices) to ring k (6k vertices).
+  for (int k = 1; k <= n; ++k) {
+    const int inner = ring_start(k - 1), outer = ring_start(k);
+    const int ni = std::max(1, 6 * (k - 1)), no = 6 * k;
+    for (int side = 0; side < 6; ++side)
+      for (int j = 0; j < k; ++j) {
+        const int o0 = side * k + j, o1 = (o0 + 1) % no;
+        const int i0 = k == 1 ? 0 : (side * (k - 1) + j) % ni;
+        tris.push_back({inner + i0, outer + o0, outer + o1});
+        if (j < k - 1) {
+          const int i1 = (side * (k - 1) + j + 1) % ni;
+          tris.push_back({inner + i0, outer + o1, inner + i1});
+        }
+      }
+  }
+  m.V.resize(static_cast<int>(pts.size()), 3);
+  for (std::size_t i = 0; i < pts.size(); ++i) m.V.row(static_cast<int>(i)) = pts[i].transpose();
+  m.F.resize(static_cast<int>(tris.size()), 3);
+  for (std::size_t i = 0; i < tris.size(); ++i)
+    m.F.row(static_cast<int>(i)) << tris[i][0], tris[i][1], tris[i][2];
+  Surface s;
+  s.mesh = std::move(m);
+  s.supports = boundary_vertices(s.mesh);
+  return s;
+}
+
+Surface barrel(const BuiltinOptions& o) {
+  const double span = or_default(o.span, 12), rise = or_default(o.rise, 4);
+  const double length = or_default(o.length, 20);
+  const int n = o.res > 0 ? o.res : 24;
+  require(n >= 2 && n % 2 == 0, "barrel: res must be even and ≥ 2");
+  require(rise <= span / 2, "barrel: rise must not exceed half the span");
+  const double c = span / 2, R = (c * c + rise * rise) / (2 * rise);
+  const double half_angle = std::asin(c / R);
+  int nl = std::max(2, static_cast<int>(std::lround(n * length / span / 2)) * 2);
+  Surface s;
+  s.mesh = make_grid(n, nl, [&](int i, int j) {
+    const double th = -half_angle + 2 * half_angle * i / n;
+    return Vec3(R * std::sin(th), -length / 2 + length * j / nl, R * std::cos(th) - (R - rise));
+  });
+  for (int j = 0; j <= nl; ++j) {
+    s.supports.push_back(j * (n + 1));
+    s.supports.push_back(j * (n + 1) + n);
+  }
+  std::sort(s.supports.begin(), s.supports.end());
+  return s;
+}
+
+Surface court(const BuiltinOptions& o) {
+  const double span = or_default(o.span, 30), width = or_default(o.width, 0.7 * span);
+  const double rise = or_default(o.rise, 3), hole = or_default(o.hole, 0.22 * width);
+  const int n = o.res > 0 ? o.res : 48;  // samples along the long side
+  require(hole < 0.5 * std::min(span, width), "court: hole must fit inside the rectangle");
+  require(n >= 4 && n % 2 == 0, "court: res must be even and ≥ 4");
+  // Perimeter samples, corners included, walking counter-clockwise from (+span/2, 0).
+  const double hx = span / 2, hy = width / 2;
+  const int nx = n, ny = std::max(2, static_cast<int>(std::lround(n * width / span / 2)) * 2);
+  std::vector<Eigen::Vector2d> per;
+  for (int j = 0; j < ny / 2; ++j) per.emplace_back(hx, width * j / ny);
+  for (int i = 0; i < nx; ++i) per.emplace_back(hx - span * i / nx, hy);
+  for (int j = 0; j < ny; ++j) per.emplace_back(-hx, hy - width * j / ny);
+  for (int i = 0; i < nx; ++i) per.emplace_back(-hx + span * i / nx, -hy);
+  for (int j = 0; j < ny / 2; ++j) per.emplace_back(hx, -hy + width * j / ny);
+  const int np = static_cast<int>(per.size());
+  // Radial layers: enough that triangles are not too stretched.
+  const double dr = 2 * (span + width) / np;
+  const int nr = std::max(2, static_cast<int>(std::ceil((std::min(hx, hy) - hole) / dr)));
+  TriMesh m;
+  m.V.resize(np * (nr + 1), 3);
+  for (int k = 0; k <= nr; ++k)
+    for (int i = 0; i < np; ++i) {
+      const Eigen::Vector2d P = per[i], H = hole * P.normalized();
+      const double t = static_cast<double>(k) / nr;
+      const Eigen::Vector2d X = H + t * (P - H);
+      m.V.row(k * np + i) << X.x(), X.y(), rise * 4 * t * (1 - t);
+    }
+  m.F.resize(2 * np * nr, 3);
+  int f = 0;
+  for (int k = 0; k < nr; ++k)
+    for (int i = 0; i < np; ++i) {
+      const int a = k * np + i, b = k * np + (i + 1) % np;
+      const int c = (k + 1) * np + (i + 1) % np, d = (k + 1) * np + i;
+      // Shorter diagonal; ties broken by index parity for symmetry.
+      const double ac = (m.V.row(a) - m.V.row(c)).norm(), bd = (m.V.row(b) - m.V.row(d)).norm();
+      if (ac < bd - 1e-12 || (std::abs(ac - bd) <= 1e-12 && i % 2 == 0)) {
+        m.F.row(f++) << a, b, c;
+        m.F.row(f++) << a, c, d;
+      } else {
+        m.F.row(f++) << a, b, d;
+        m.F.row(f++) << b, c, d;
+      }
+    }
+  Surface s;
+  s.mesh = std::move(m);
+  s.supports = boundary_vertices(s.mesh);
+  return s;
+}
+
+}  // namespace
+
+FunicularResult make_funicular(const BuiltinOptions& o) {
+  const double span = or_default(o.span, 20), rise = or_default(o.rise, 5);
+  const int n = o.res > 0 ? o.res : 32;
+  const double edge_q = or_default(o.edge_q, 4.0);
+  const int corner = o.corner >= 0 ? o.corner : std::max(1, n / 16);
+  require(n >= 4 && n % 2 == 0, "funicular: res must be even and ≥ 4");
+  require(2 * corner < n, "funicular: corner supports would cover a whole edge");
+  const double h = span / 2;
+  TriMesh grid = make_grid(n, n, [&](int i, int j) {
+    return Vec3(-h + span * i / n, -h + span * j / n, 0);
+  });
+  Topology topo = build_topology(grid);
+  ForceDensityProblem pb;
+  pb.X = grid.V;
+  pb.edges = topo.edges;
+  pb.fixed.assign(grid.num_vertices(), 0);
+  auto id = [&](int i, int j) { return j * (n + 1) + i; };
+  std::vector<int> supports;
+  for (int ci : {0, n})
+    for (int cj : {0, n})
+      for (int k = 0; k <= corner; ++k) {
+        const int di = ci == 0 ? k : -k, dj = cj == 0 ? k : -k;
+        supports.push_back(id(ci + di, cj));
+        supports.push_back(id(ci, cj + dj));
+      }
+  std::sort(supports.begin(), supports.end());
+  supports.erase(std::unique(supports.begin(), supports.end()), supports.end());
+  for (int v : supports) pb.fixed[v] = 1;
+  pb.q.resize(pb.edges.size());
+  for (std::size_t e = 0; e < pb.edges.size(); ++e)
+    pb.q[e] = topo.edge_faces[e].size() == 1 ? edge_q : 1.0;
+  // Upward load proportional to each node's tributary plan area: the inverted hanging net.
+  pb.loads = Points::Zero(grid.num_vertices(), 3);
+  for (int f = 0; f < grid.num_faces(); ++f)
+    for (int c = 0; c < 3; ++c) pb.loads(grid.F(f, c), 2) += span * span / (2.0 * n * n) / 3;
+  ForceDensityResult r = solve_force_density(pb);
+  // z is linear in the load: scale loads so the crown reaches `rise`; re-solve for exactness.
+  const double zmax = r.X.col(2).maxCoeff();
+  require(zmax > 0, "funicular: form finding failed");
+  pb.loads *= rise / zmax;
+  r = solve_force_density(pb);
+  FunicularResult out;
+  out.surface.mesh.V = r.X;
+  out.surface.mesh.F = grid.F;
+  out.surface.supports = supports;
+  out.residual = r.residual;
+  return out;
+}
+
+std::vector<std::string> builtin_names() {
+  return {"funicular", "paraboloid", "dome", "barrel", "court"};
+}
+
+Surface make_builtin(const std::string& name, const BuiltinOptions& o) {
+  if (name == "paraboloid") return paraboloid(o);
+  if (name == "dome") return dome(o);
+  if (name == "barrel") return barrel(o);
+  if (name == "court") return court(o);
+  if (name == "funicular") return make_funicular(o).surface;
+  throw Error("builtin:" + name,
+              "unknown built-in surface (choose funicular, paraboloid, dome, barrel, court)");
+}
+
+Surface make_builtin(const std::string& spec) {
+  const auto colon = spec.find(':');
+  const std::string name = spec.substr(0, colon);
+  BuiltinOptions o;
+  if (colon != std::string::npos) {
+    std::stringstream ss(spec.substr(colon + 1));
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      const auto eq = item.find('=');
+      if (eq == std::string::npos)
+        throw Error("builtin:" + spec, fmt::format("expected key=value, got '{}'", item));
+      const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+      double x = 0;
+      try {
+        std::size_t used = 0;
+        x = std::stod(value, &used);
+        if (used != value.size()) throw std::invalid_argument(value);
+      } catch (const std::exception&) {
+        throw Error("builtin:" + spec, fmt::format("'{}' is not a number", value));
+      }
+      if (!std::isfinite(x) || x < 0 || (x <= 0 && key != "corner"))
+        throw Error("builtin:" + spec, fmt::format("{} must be positive", key));
+      if (key == "span") o.span = x;
+      else if (key == "rise") o.rise = x;
+      else if (key == "res") o.res = static_cast<int>(x);
+      else if (key == "width") o.width = x;
+      else if (key == "length") o.length = x;
+      else if (key == "hole") o.hole = x;
+      else if (key == "edge_q") o.edge_q = x;
+      else if (key == "corner") o.corner = static_cast<int>(x);
+      else
+        throw Error("builtin:" + spec, fmt::format("unknown key '{}' (span, rise, res, width, "
+                                                   "length, hole, edge_q, corner)", key));
+      if ((key == "res" || key == "corner") && x > 2000)
+        throw Error("builtin:" + spec, fmt::format("{} is too large", key));
+    }
+  }
+  return make_builtin(name, o);
+}
+
+}  // namespace gridshell

@@ -1,0 +1,55 @@
+#include "test_support.h"
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+namespace gridshell::test {
+
+namespace fs = std::filesystem;
+
+fs::path shared_data() {
+  fs::path p = fs::path(GRIDSHELL_SHARED_DIR) / "data";
+  std::error_code ec;
+  return fs::is_directory(p, ec) ? p : fs::path();
+}
+
+fs::path shared_file(const std::string& relative) {
+  fs::path d = shared_data();
+  if (d.empty()) return {};
+  fs::path p = d / relative;
+  return fs::exists(p) ? p : fs::path();
+}
+
+fs::path temp_dir(const std::string& name) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string tag = info ? std::string(info->test_suite_name()) + "_" + info->name() : "t";
+  fs::path p = fs::temp_directory_path() / ("gridshell_test_" + tag + "_" + name);
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+static std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+RunResult run_gridshell(const std::string& args) {
+  fs::path d = temp_dir("run");
+  std::string cmd = std::string(GRIDSHELL_EXE) + " " + args + " >" + (d / "out").string() +
+                    " 2>" + (d / "err").string() + " </dev/null";
+  int rc = std::system(cmd.c_str());
+  RunResult r;
+  r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  r.out = slurp(d / "out");
+  r.err = slurp(d / "err");
+  return r;
+}
+
+}  // namespace gridshell::test
