@@ -182,6 +182,7 @@ MeshFile read_mesh(const fs::path& path) {
       ok = CGAL::IO::read_OBJ(in, points, polygons);
     }
   }
+  if (!ok && polygons.empty() && !points.empty()) throw Error(name, "no faces");
   if (!ok) throw Error(name, fmt::format("malformed or truncated {} file", lower(format)));
   if (points.empty()) throw Error(name, "no vertices");
   if (polygons.empty()) throw Error(name, "no faces");

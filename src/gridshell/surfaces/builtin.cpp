@@ -170,12 +170,13 @@ Surface court(const BuiltinOptions& o) {
       const int c = (k + 1) * np + (i + 1) % np, d = (k + 1) * np + i;
       // Shorter diagonal; ties broken by index parity for symmetry.
       const double ac = (m.V.row(a) - m.V.row(c)).norm(), bd = (m.V.row(b) - m.V.row(d)).norm();
+      // (a, b) runs counter-clockwise around the hole, so (a, d, c) faces up.
       if (ac < bd - 1e-12 || (std::abs(ac - bd) <= 1e-12 && i % 2 == 0)) {
-        m.F.row(f++) << a, b, c;
-        m.F.row(f++) << a, c, d;
+        m.F.row(f++) << a, c, b;
+        m.F.row(f++) << a, d, c;
       } else {
-        m.F.row(f++) << a, b, d;
-        m.F.row(f++) << b, c, d;
+        m.F.row(f++) << a, d, b;
+        m.F.row(f++) << b, d, c;
       }
     }
   Surface s;

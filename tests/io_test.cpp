@@ -1,0 +1,203 @@
+// Mesh file reading and writing: lossless round trips, every supported flavour of PLY/OBJ/OFF,
+// and the paper's shared surfaces with their supports.
+
+#include <cstring>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "gridshell/core/error.h"
+#include "gridshell/io/files.h"
+#include "gridshell/io/mesh_io.h"
+#include "gridshell/mesh/topology.h"
+#include "gridshell/surfaces/builtin.h"
+#include "gridshell/surfaces/load.h"
+#include "test_support.h"
+
+using namespace gridshell;
+namespace fs = std::filesystem;
+
+namespace {
+
+PolyMesh mixed_mesh() {
+  PolyMesh m;
+  m.V.resize(6, 3);
+  m.V << 0, 0, 0, 1.0 / 3.0, 0, 0.1, 1, 1e-17, -2.5e10, 0, 1, std::acos(-1.0), 1, 1, 1, 2, 0.5,
+      -0.125;
+  m.faces = {{0, 1, 4, 3}, {1, 2, 4}, {2, 5, 4}};
+  return m;
+}
+
+void write_text(const fs::path& p, const std::string& s) {
+  std::ofstream out(p, std::ios::binary);
+  out << s;
+}
+
+}  // namespace
+
+TEST(MeshIO, BinaryPlyRoundTripIsLossless) {
+  PolyMesh m = mixed_mesh();
+  fs::path p = test::temp_dir("ply") / "m.ply";
+  io::write_ply(p, m, {1, 4}, true);
+  io::MeshFile r = io::read_mesh(p);
+  ASSERT_EQ(r.mesh.num_vertices(), 6);
+  EXPECT_EQ((r.mesh.V - m.V).cwiseAbs().maxCoeff(), 0.0);  // bit-exact doubles
+  EXPECT_EQ(r.mesh.faces, m.faces);
+  ASSERT_EQ(r.vertex_colors.size(), 6u);
+  EXPECT_EQ(r.vertex_colors[1][0], 255);
+  EXPECT_EQ(r.vertex_colors[1][1], 0);
+  EXPECT_EQ(r.vertex_colors[0][1], 192);
+  // Supports come back through the default rule (pure red vertices).
+  PolySurface s = load_poly_surface(p.string());
+  EXPECT_EQ(s.supports, (std::vector<int>{1, 4}));
+}
+
+TEST(MeshIO, AsciiPlyRoundTripIsLossless) {
+  PolyMesh m = mixed_mesh();
+  fs::path p = test::temp_dir("ply") / "m.ply";
+  io::write_ply(p, m, {0}, false);
+  io::MeshFile r = io::read_mesh(p);
+  EXPECT_EQ((r.mesh.V - m.V).cwiseAbs().maxCoeff(), 0.0);  // shortest round-trip decimals
+  EXPECT_EQ(r.mesh.faces, m.faces);
+}
+
+TEST(MeshIO, ObjRoundTripIsLossless) {
+  PolyMesh m = mixed_mesh();
+  fs::path p = test::temp_dir("obj") / "m.obj";
+  io::write_obj(p, m, {2});
+  io::MeshFile r = io::read_mesh(p);
+  EXPECT_EQ((r.mesh.V - m.V).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(r.mesh.faces, m.faces);
+}
+
+TEST(MeshIO, BigEndianPlyWithExtraPropertiesAndElements) {
+  // Two triangles; float x y z plus an extra per-vertex 'quality' double; a face 'flags' int;
+  // an extra element 'material' between vertices and faces.
+  std::string s =
+      "ply\nformat binary_big_endian 1.0\ncomment written by hand\nelement vertex 4\n"
+      "property float x\nproperty float y\nproperty float z\nproperty double quality\n"
+      "element material 1\nproperty uchar kind\n"
+      "element face 2\nproperty list uchar int vertex_indices\nproperty int flags\nend_header\n";
+  auto be = [&s](const void* p, std::size_t n) {
+    const char* c = static_cast<const char*>(p);
+    for (std::size_t i = 0; i < n; ++i) s.push_back(c[n - 1 - i]);
+  };
+  const float xyz[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.5f}, {0, 1, 0.25f}};
+  for (auto& v : xyz) {
+    for (float c : v) be(&c, 4);
+    double q = 7.5;
+    be(&q, 8);
+  }
+  s.push_back(3);  // material kind
+  const int faces[2][3] = {{0, 1, 2}, {0, 2, 3}};
+  for (auto& f : faces) {
+    s.push_back(3);
+    for (int v : f) be(&v, 4);
+    int flags = 42;
+    be(&flags, 4);
+  }
+  fs::path p = test::temp_dir("be") / "be.ply";
+  write_text(p, s);
+  io::MeshFile r = io::read_mesh(p);
+  ASSERT_EQ(r.mesh.num_vertices(), 4);
+  ASSERT_EQ(r.mesh.num_faces(), 2);
+  EXPECT_DOUBLE_EQ(r.mesh.V(2, 2), 0.5);
+  EXPECT_DOUBLE_EQ(r.mesh.V(3, 2), 0.25);
+  EXPECT_EQ(r.mesh.faces[1], (std::vector<int>{0, 2, 3}));
+}
+
+TEST(MeshIO, ObjPolygonsAndNegativeIndices) {
+  fs::path p = test::temp_dir("obj") / "neg.obj";
+  write_text(p,
+             "# a quad and a triangle, relative indices\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+             "vt 0 0\nvn 0 0 1\nf -4/1/1 -3/1/1 -2/1/1 -1/1/1\nv 2 0.5 0\nf 2 5 3\n");
+  io::MeshFile r = io::read_mesh(p);
+  ASSERT_EQ(r.mesh.num_faces(), 2);
+  EXPECT_EQ(r.mesh.faces[0], (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(r.mesh.faces[1], (std::vector<int>{1, 4, 2}));
+  Surface s = load_surface(p.string());
+  EXPECT_EQ(s.mesh.num_faces(), 3);          // the quad fan-triangulated
+  EXPECT_EQ(s.supports.size(), 5u);          // no colours: the whole boundary
+}
+
+TEST(MeshIO, OffFile) {
+  fs::path p = test::temp_dir("off") / "t.off";
+  write_text(p, "OFF\n# comment\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+  io::MeshFile r = io::read_mesh(p);
+  EXPECT_EQ(r.mesh.num_vertices(), 4);
+  EXPECT_EQ(r.mesh.faces[1], (std::vector<int>{0, 2, 3}));
+}
+
+TEST(MeshIO, UpAxisAndScale) {
+  fs::path p = test::temp_dir("up") / "t.off";
+  write_text(p, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 2 0\n3 0 1 2\n");
+  SurfaceOptions o;
+  o.up = "y";
+  o.scale = 3;
+  Surface s = load_surface(p.string(), o);
+  EXPECT_DOUBLE_EQ(s.mesh.V(2, 2), 6.0);  // +y became +z, times 3
+  EXPECT_DOUBLE_EQ(s.mesh.V(2, 1), 0.0);
+  o.up = "-y";
+  s = load_surface(p.string(), o);
+  EXPECT_DOUBLE_EQ(s.mesh.V(2, 2), -6.0);
+}
+
+TEST(MeshIO, SupportsFromJson) {
+  fs::path d = test::temp_dir("sup");
+  write_text(d / "t.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+  write_text(d / "s.json", "[3, 1, 1]");
+  SurfaceOptions o;
+  o.supports = (d / "s.json").string();
+  EXPECT_EQ(load_surface((d / "t.off").string(), o).supports, (std::vector<int>{1, 3}));
+}
+
+TEST(MeshIO, VtpIsWellFormed) {
+  PolyMesh m = mixed_mesh();
+  fs::path p = test::temp_dir("vtp") / "m.vtp";
+  io::Attributes point, cell;
+  point["height"] = m.V.col(2);
+  cell["sides"] = Eigen::Vector3d(4, 3, 3);
+  io::write_vtp(p, m, point, cell);
+  std::string s = io::read_file(p);
+  EXPECT_NE(s.find("NumberOfPoints=\"6\" NumberOfPolys=\"3\""), std::string::npos);
+  EXPECT_NE(s.find("Name=\"height\""), std::string::npos);
+  EXPECT_NE(s.find("Name=\"sides\""), std::string::npos);
+  EXPECT_NE(s.find("</VTKFile>"), std::string::npos);
+}
+
+TEST(MeshIO, RefusesToWriteNaN) {
+  PolyMesh m = mixed_mesh();
+  m.V(0, 0) = std::nan("");
+  fs::path d = test::temp_dir("nan");
+  EXPECT_THROW(io::write_obj(d / "m.obj", m), Error);
+  EXPECT_FALSE(fs::exists(d / "m.obj"));  // nothing half-written
+}
+
+struct SharedSurface {
+  const char* file;
+  int vertices, faces, loops, supports;
+};
+
+TEST(MeshIO, SharedSurfacesLoadWithTheirSupports) {
+  SKIP_WITHOUT_SHARED_DATA();
+  const SharedSurface cases[] = {{"surfaces/Shell.ply", 441, 800, 1, 80},
+                                 {"surfaces/Botanic.ply", 1121, 2152, 1, 88},
+                                 {"surfaces/Neumunster.ply", 1209, 2232, 1, 184},
+                                 {"surfaces/aquadom_Vouga.ply", 4005, 7742, 3, 252},
+                                 {"surfaces/liliumVouga.ply", 2554, 4994, 1, 113},
+                                 {"surfaces/BritishQuadTang.ply", 1648, 3072, 2, 224}};
+  for (const auto& c : cases) {
+    fs::path p = test::shared_file(c.file);
+    ASSERT_FALSE(p.empty()) << c.file;
+    Surface s = load_surface(p.string());
+    EXPECT_EQ(s.mesh.num_vertices(), c.vertices) << c.file;
+    EXPECT_EQ(s.mesh.num_faces(), c.faces) << c.file;
+    EXPECT_EQ(static_cast<int>(s.supports.size()), c.supports) << c.file;
+    EXPECT_EQ(static_cast<int>(build_topology(s.mesh).boundary_loops.size()), c.loops) << c.file;
+  }
+  // The stress-field vault has normals but no colours: supports default to the boundary.
+  Surface v = load_surface(test::shared_file("stress-fields/curvedVault.ply").string());
+  EXPECT_EQ(v.mesh.num_vertices(), 1935);
+  EXPECT_EQ(v.mesh.num_faces(), 3541);
+  EXPECT_GT(v.supports.size(), 0u);
+}

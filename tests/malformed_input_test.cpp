@@ -1,0 +1,124 @@
+// Bad input through the real executable: every case must end with exit status 2 and one line
+// "gridshell: error: ..." on stderr — never a crash, a hang or a huge allocation.
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "test_support.h"
+
+using namespace gridshell;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Case {
+  const char* name;
+  const char* file;  ///< file name (extension matters)
+  std::string content;
+  const char* expect;  ///< a fragment the message must contain
+};
+
+void expect_clean_error(const std::string& args, const std::string& fragment) {
+  test::RunResult r = test::run_gridshell(args);
+  EXPECT_EQ(r.status, 2) << args << "\nstderr: " << r.err;
+  EXPECT_EQ(r.err.rfind("gridshell: error: ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line expected: " << r.err;
+  EXPECT_NE(r.err.find(fragment), std::string::npos) << "message: " << r.err;
+}
+
+const std::string kTri = "0 0 0\n1 0 0\n0 1 0\n";
+
+std::vector<Case> cases() {
+  std::string binary_truncated =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
+      "y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  binary_truncated += std::string(20, '\0');
+  return {
+      {"empty", "e.ply", "", "empty"},
+      {"whitespace only", "w.obj", "  \n\n", "empty"},
+      {"garbage ply", "g.ply", "this is not a mesh\n\x01\x02", "not a PLY"},
+      {"ply without end_header", "h.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "end_header"},
+      {"ply absurd vertex count", "a.ply",
+       "ply\nformat ascii 1.0\nelement vertex 4000000000000\nproperty float x\nproperty float "
+       "y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+           kTri + "3 0 1 2\n",
+       "too short"},
+      {"ply absurd face count", "b.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 99999999999\nproperty list uchar int vertex_indices\nend_header\n" +
+           kTri + "3 0 1 2\n",
+       "too short"},
+      {"ply truncated ascii", "t.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n" + kTri +
+           "3 0 1 2\n",
+       "ply"},
+      {"ply truncated binary", "tb.ply", binary_truncated, "truncated"},
+      {"ply bad format", "f.ply",
+       "ply\nformat utf16 1.0\nelement vertex 3\nproperty float x\nend_header\n", "format"},
+      {"ply index out of range", "i.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" + kTri +
+           "3 0 1 7\n",
+       "vertex 7"},
+      {"ply nan coordinate", "n.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\nnan 0 "
+       "0\n0 1 0\n3 0 1 2\n",
+       "ply"},
+      {"ply no faces", "nf.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n" + kTri,
+       "no faces"},
+      {"ply without z", "z.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nelement face "
+       "1\nproperty list uchar int vertex_indices\nend_header\n0 0\n1 0\n0 1\n3 0 1 2\n",
+       "'z'"},
+      {"obj out of range", "o.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "error"},
+      {"obj no faces", "nf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "faces"},
+      {"obj inf coordinate", "inf.obj", "v 0 0 0\nv 1e999 0 0\nv 0 1 0\nf 1 2 3\n", "error"},
+      {"off absurd counts", "a.off", "OFF\n900000000000 1 0\n" + kTri + "3 0 1 2\n", "too short"},
+      {"off garbage", "g.off", "OFF\nhello world\n", "counts"},
+      {"off index out of range", "i.off", "OFF\n3 1 0\n" + kTri + "3 0 1 5\n", "error"},
+  };
+}
+
+}  // namespace
+
+TEST(MalformedInput, EveryBadFileGivesExitTwoAndOneLine) {
+  fs::path d = test::temp_dir("bad");
+  for (const Case& c : cases()) {
+    SCOPED_TRACE(c.name);
+    fs::path p = d / c.file;
+    std::ofstream(p, std::ios::binary) << c.content;
+    expect_clean_error("info " + p.string(), c.expect);
+  }
+}
+
+TEST(MalformedInput, MissingFileAndDirectory) {
+  expect_clean_error("info /nonexistent/surface.ply", "no such file");
+  expect_clean_error("info " + fs::temp_directory_path().string(), "directory");
+}
+
+TEST(MalformedInput, BadOptions) {
+  expect_clean_error("info builtin:nosuchthing", "unknown built-in");
+  expect_clean_error("info builtin:dome:span=-3", "positive");
+  expect_clean_error("info builtin:dome:colour=3", "unknown key");
+  expect_clean_error("info builtin:dome --up q", "--up");
+  expect_clean_error("info builtin:dome --scale 0", "--scale");
+  expect_clean_error("info builtin:dome --supports red", "red");
+  expect_clean_error("info builtin:dome --supports /nonexistent.json", "no such file");
+  expect_clean_error("frobnicate", "");
+  expect_clean_error("info", "surface");
+}
+
+TEST(MalformedInput, BadSupportFiles) {
+  fs::path d = test::temp_dir("badsup");
+  std::ofstream(d / "range.json") << "[0, 1, 100000]";
+  std::ofstream(d / "notjson.json") << "{oops";
+  std::ofstream(d / "kind.json") << "[\"a\"]";
+  expect_clean_error("info builtin:dome --supports " + (d / "range.json").string(), "out of range");
+  expect_clean_error("info builtin:dome --supports " + (d / "notjson.json").string(), "JSON");
+  expect_clean_error("info builtin:dome --supports " + (d / "kind.json").string(), "integers");
+}
