@@ -70,7 +70,7 @@ void write_report(const std::string& dir, const nlohmann::json& report) {
   io::write_file_atomic(std::filesystem::path(dir) / "report.json", report.dump(2) + "\n");
 }
 
-std::vector<std::string> expand_config(const std::vector<std::string>& args) {
+std::vector<std::string> expand_config(const std::vector<std::string>& args, const CLI::App& cli) {
   std::string path;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--config" && i + 1 < args.size()) path = args[i + 1];
@@ -101,9 +101,24 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args) {
     kept.push_back(given[i]);
   }
   out.insert(out.end(), kept.begin(), kept.end());
+  const std::string command = out.size() > 1 ? out[1] : "";
+  const CLI::App* sub = nullptr;
+  for (const CLI::App* s : cli.get_subcommands([](const CLI::App*) { return true; }))
+    if (s->get_name() == command) sub = s;
+  if (!sub) throw Error(path, fmt::format("config is for an unknown command '{}'", command));
   auto is_given = [&](const std::string& name) {
+    const CLI::Option* opt = sub->get_option_no_throw("--" + name);
+    if (!opt) opt = sub->get_option_no_throw("-" + name);
+    std::vector<std::string> flags;
+    if (opt) {
+      for (const auto& l : opt->get_lnames()) flags.push_back("--" + l);
+      for (const auto& sn : opt->get_snames()) flags.push_back("-" + sn);
+    } else {
+      flags.push_back("--" + name);
+    }
     for (const auto& a : kept)
-      if (a == "--" + name || a.rfind("--" + name + "=", 0) == 0 || a == "-" + name) return true;
+      for (const auto& f : flags)
+        if (a == f || a.rfind(f + "=", 0) == 0) return true;
     return false;
   };
   // Positional arguments: only if none was given after the command.

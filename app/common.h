@@ -39,7 +39,7 @@ void write_report(const std::string& dir, const nlohmann::json& report);
 
 /// Expands `--config FILE` in argv: options stored in FILE and not given on the command line are
 /// appended. Throws Error for a bad file.
-std::vector<std::string> expand_config(const std::vector<std::string>& args);
+std::vector<std::string> expand_config(const std::vector<std::string>& args, const CLI::App& cli);
 
 // Subcommand registration: each adds its CLI11 subcommand and sets `action` when chosen.
 void register_info(CLI::App& app, Action& action);

@@ -13,14 +13,6 @@ int main(int argc, char** argv) {
   using namespace gridshell;
   spdlog::set_default_logger(spdlog::stderr_color_st("gridshell"));
   spdlog::set_pattern("%v");
-  std::vector<std::string> args(argv, argv + argc);
-  try {
-    args = app::expand_config(args);
-  } catch (const Error& e) {
-    std::cerr << "gridshell: error: " << e.message() << "\n";
-    return 2;
-  }
-
   CLI::App cli{"gridshell: stress-driven Voronoi grid-shells from free-form surfaces"};
   cli.require_subcommand(1);
   app::Action action;
@@ -31,6 +23,13 @@ int main(int argc, char** argv) {
   app::register_sweep(cli, action);
   app::register_baseline(cli, action);
 
+  std::vector<std::string> args(argv, argv + argc);
+  try {
+    args = app::expand_config(args, cli);
+  } catch (const Error& e) {
+    std::cerr << "gridshell: error: " << e.message() << "\n";
+    return 2;
+  }
   std::vector<std::string> rev(args.rbegin(), args.rend() - 1);
   try {
     cli.parse(rev);

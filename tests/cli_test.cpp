@@ -1,0 +1,59 @@
+// The command-line contract: help, config.json replay, baseline outputs.
+
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+using namespace gridshell;
+namespace fs = std::filesystem;
+
+namespace {
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+}  // namespace
+
+TEST(Cli, HelpExitsZero) {
+  test::RunResult r = test::run_gridshell("--help");
+  EXPECT_EQ(r.status, 0);
+  for (const char* sub : {"info", "stress", "design", "analyze", "sweep", "baseline"})
+    EXPECT_NE(r.out.find(sub), std::string::npos) << sub;
+  EXPECT_EQ(test::run_gridshell("baseline --help").status, 0);
+}
+
+TEST(Cli, QuadBaselineWritesTheContractFilesAndReplaysFromConfig) {
+  fs::path d = test::temp_dir("bq");
+  test::RunResult r =
+      test::run_gridshell("baseline builtin:court --kind quad --length 600 --quiet -o " + (d / "a").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* f : {"gridshell.obj", "gridshell_raw.obj", "gridshell.ply", "gridshell.vtp",
+                        "cells.csv", "report.json", "config.json"})
+    EXPECT_TRUE(fs::exists(d / "a" / f)) << f;
+  auto report = nlohmann::json::parse(slurp(d / "a" / "report.json"));
+  const double len = report["mesh"]["total_length_m"].get<double>();
+  EXPECT_NEAR(len, 600, 30);
+  EXPECT_EQ(report["mesh"]["euler_characteristic"].get<int>(), 0);
+  EXPECT_TRUE(report["timings_s"].contains("total"));
+  // cells.csv has one row per face plus the header.
+  std::string cells = slurp(d / "a" / "cells.csv");
+  EXPECT_EQ(std::count(cells.begin(), cells.end(), '\n'), report["mesh"]["faces"].get<int>() + 1);
+  EXPECT_EQ(cells.rfind("face,sides,area,d_target,a_target", 0), 0u);
+  // Replaying the config elsewhere gives identical files.
+  r = test::run_gridshell("baseline --config " + (d / "a" / "config.json").string() + " --quiet -o " +
+                          (d / "b").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(slurp(d / "a" / "gridshell.obj"), slurp(d / "b" / "gridshell.obj"));
+}
+
+TEST(Cli, BadBaselineOptions) {
+  EXPECT_EQ(test::run_gridshell("baseline builtin:dome --kind hex --length 100").status, 2);
+  EXPECT_EQ(test::run_gridshell("baseline builtin:dome --kind quad").status, 2);
+  EXPECT_EQ(test::run_gridshell("baseline builtin:dome --kind quad --length -5").status, 2);
+}
