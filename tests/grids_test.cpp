@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include "gridshell/grids/dual.h"
 #include "gridshell/grids/plane_cut.h"
+#include "gridshell/grids/supports.h"
 #include "gridshell/grids/quad_grid.h"
 #include "gridshell/grids/regions.h"
 #include "gridshell/mesh/topology.h"
@@ -108,4 +110,34 @@ TEST(QuadGrid, SharedSurfacesAtThePapersLengths) {
     EXPECT_TRUE(check_mesh(g.mesh).ok());
     EXPECT_EQ(build_topology(g.mesh).boundary_loops.size(), build_topology(s.mesh).boundary_loops.size());
   }
+}
+
+TEST(Dual, OfAQuadGridGivesConsistentlyOrientedTriangles) {
+  Surface s = make_builtin("paraboloid");
+  GridShell g = quad_grid(s, {.spacing = 2.0});
+  std::vector<Vec3> seeds;
+  for (const auto& f : g.mesh.faces) {
+    Vec3 c = Vec3::Zero();
+    for (int v : f) c += g.mesh.vertex(v) / static_cast<double>(f.size());
+    seeds.push_back(c);
+  }
+  PolyMesh d = dual_triangulation(g.mesh, seeds);
+  Topology t = build_topology(g.mesh);
+  int expected = 0;  // an interior joint of valence k fans into k − 2 triangles
+  for (int v = 0; v < g.mesh.num_vertices(); ++v)
+    if (!t.on_boundary[v]) expected += static_cast<int>(t.vertex_faces[v].size()) - 2;
+  EXPECT_EQ(d.num_faces(), expected);
+  EXPECT_TRUE(check_mesh(d).inconsistent_orientation == 0);
+  for (int f = 0; f < d.num_faces(); ++f) {
+    const Vec3 a = d.vertex(d.faces[f][0]), b = d.vertex(d.faces[f][1]), c = d.vertex(d.faces[f][2]);
+    EXPECT_GT((b - a).cross(c - a).z(), 0);
+  }
+}
+
+TEST(Supports, TransferredByPositionMatchTheQuadGrid) {
+  Surface s = make_builtin("barrel");
+  GridShell g = quad_grid(s, {.spacing = 1.7});
+  std::vector<int> again = transfer_supports(g.mesh.V, s, 1e-9);
+  EXPECT_EQ(again, g.supports);
+  for (int v : again) EXPECT_NEAR(g.mesh.V(v, 2), 0.0, 1e-9);  // barrel: ground edges only
 }
