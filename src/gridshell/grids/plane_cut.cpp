@@ -14,7 +14,7 @@ CutMesh make_cut_mesh(const Surface& surface) {
   return m;
 }
 
-void cut_along_plane(CutMesh& m, const Plane& plane, double snap) {
+void cut_along_plane(CutMesh& m, const CutPlane& plane, double snap) {
   const int nv = m.mesh.num_vertices();
   std::vector<double> s(nv);
   for (int v = 0; v < nv; ++v) {
@@ -88,7 +88,7 @@ void cut_along_plane(CutMesh& m, const Plane& plane, double snap) {
   m.parent_face = std::move(parents);
 }
 
-std::vector<int> keep_side(CutMesh& m, const Plane& plane) {
+std::vector<int> keep_side(CutMesh& m, const CutPlane& plane) {
   const int nv = m.mesh.num_vertices();
   std::vector<int> new_id(nv, -1), old_id;
   std::vector<std::array<int, 3>> faces;

@@ -11,7 +11,7 @@
 
 namespace gridshell {
 
-struct Plane {
+struct CutPlane {
   Vec3 n = Vec3::UnitX();  ///< unit normal
   double c = 0;            ///< offset: the plane is n·x = c
   double signed_distance(const Vec3& x) const { return n.dot(x) - c; }
@@ -28,10 +28,10 @@ CutMesh make_cut_mesh(const Surface& surface);
 
 /// Splits `m` along `plane`. Vertices closer than `snap` to the plane are moved exactly onto it;
 /// new vertices on an edge whose both ends are supports are supports.
-void cut_along_plane(CutMesh& m, const Plane& plane, double snap);
+void cut_along_plane(CutMesh& m, const CutPlane& plane, double snap);
 
 /// Keeps the faces on the side n·x ≥ c (after cutting along the plane), dropping unused
 /// vertices. Returns for each kept vertex its index in the input.
-std::vector<int> keep_side(CutMesh& m, const Plane& plane);
+std::vector<int> keep_side(CutMesh& m, const CutPlane& plane);
 
 }  // namespace gridshell

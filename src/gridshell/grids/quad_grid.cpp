@@ -40,7 +40,7 @@ GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
     for (int k = static_cast<int>(std::floor(lo / h - 0.5)); k <= static_cast<int>(std::ceil(hi / h)); ++k) {
       const double offset = (k + 0.5) * h;
       if (offset <= lo || offset >= hi) continue;
-      cut_along_plane(cut, Plane{dir, dir.dot(centre) + offset}, snap);
+      cut_along_plane(cut, CutPlane{dir, dir.dot(centre) + offset}, snap);
     }
   }
   std::vector<int> label(cut.mesh.num_faces());
