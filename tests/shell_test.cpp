@@ -1,0 +1,190 @@
+// Shell element and solver against closed forms and published benchmarks
+// (../shared/reference/benchmarks.md). Meshes are the coarsest that meet the tolerances;
+// convergence studies are in bench/shell_bench.cpp and docs/shell.md.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Eigenvalues>
+
+#include "gridshell/core/error.h"
+#include "gridshell/fem/shell_element.h"
+#include "gridshell/fem/shell_solver.h"
+
+using namespace gridshell;
+using namespace gridshell::fem;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// A structured grid of (nu+1) × (nv+1) nodes mapped by `map(s, t)`, s, t ∈ [0, 1], with each
+// cell split into two triangles along alternating diagonals (a symmetric pattern).
+template <class Map>
+TriMesh grid(int nu, int nv, Map map) {
+  TriMesh m;
+  m.V.resize((nu + 1) * (nv + 1), 3);
+  for (int j = 0; j <= nv; ++j)
+    for (int i = 0; i <= nu; ++i)
+      m.V.row(j * (nu + 1) + i) = map(double(i) / nu, double(j) / nv).transpose();
+  m.F.resize(2 * nu * nv, 3);
+  int f = 0;
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const int a = j * (nu + 1) + i, b = a + 1, c = a + nu + 1, d = c + 1;
+      if ((i + j) % 2 == 0) {
+        m.F.row(f++) << a, b, d;
+        m.F.row(f++) << a, d, c;
+      } else {
+        m.F.row(f++) << a, b, c;
+        m.F.row(f++) << b, d, c;
+      }
+    }
+  return m;
+}
+
+int nearest(const TriMesh& m, const Vec3& p) {
+  int best = 0;
+  for (int v = 1; v < m.num_vertices(); ++v)
+    if ((m.vertex(v) - p).norm() < (m.vertex(best) - p).norm()) best = v;
+  return best;
+}
+
+ShellModel empty_model(const TriMesh& mesh, double E, double nu, double t) {
+  ShellModel model;
+  model.mesh = mesh;
+  model.material.E = E;
+  model.material.nu = nu;
+  model.thickness = t;
+  model.fixed.assign(mesh.num_vertices(), {false, false, false, false, false, false});
+  return model;
+}
+
+// Scordelis–Lo roof, whole roof, N × N elements per quarter (2N × 2N cells, 2 triangles each).
+double scordelis_lo(int N, ShellResult* out = nullptr) {
+  const double R = 25, Lr = 50, phi = 40 * kPi / 180;
+  TriMesh mesh = grid(2 * N, 2 * N, [&](double s, double t) {
+    const double th = -phi + 2 * phi * s;
+    return Vec3(R * std::sin(th), Lr * t, R * std::cos(th));
+  });
+  ShellModel model = empty_model(mesh, 4.32e8, 0.0, 0.25);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const double y = mesh.V(v, 1);
+    if (std::abs(y) < 1e-9 || std::abs(y - Lr) < 1e-9) model.fixed[v][kUx] = model.fixed[v][kUz] = true;
+  }
+  model.fixed[nearest(mesh, Vec3(0, 0, R))][kUy] = true;  // axial rigid motion only
+  ShellLoad q;
+  q.kind = ShellLoad::Kind::kSurface;
+  q.q = Vec3(0, 0, -90);
+  model.loads.push_back(q);
+  ShellResult r = solve_shell(model);
+  const int v = nearest(mesh, Vec3(R * std::sin(phi), Lr / 2, R * std::cos(phi)));
+  if (out) *out = r;
+  return -r.displacement(v, kUz);
+}
+
+}  // namespace
+
+TEST(ShellElement, OptMembraneRigidModesAndConstantStrain) {
+  const Eigen::Vector3d x(0.1, 2.3, 0.7), y(-0.2, 0.4, 1.9);
+  const ShellSection s{2e11, 0.3, 0.01};
+  const Mat9 K = membrane_opt_stiffness(x, y, s);
+  // Rigid modes: translations and an in-plane rotation (with matching drilling rotation).
+  Eigen::Matrix<double, 9, 3> rb = Eigen::Matrix<double, 9, 3>::Zero();
+  for (int a = 0; a < 3; ++a) {
+    rb(3 * a, 0) = 1;
+    rb(3 * a + 1, 1) = 1;
+    rb(3 * a, 2) = -y(a), rb(3 * a + 1, 2) = x(a), rb(3 * a + 2, 2) = 1;
+  }
+  EXPECT_LT((K * rb).norm(), 1e-6 * K.norm());
+  Eigen::SelfAdjointEigenSolver<Mat9> es(K);
+  EXPECT_GT(es.eigenvalues()(3), 1e-6 * es.eigenvalues()(8));  // rank 6
+  // Constant strain u = (a x + b y, c x + d y) with drilling = the rigid rotation (c − b)/2:
+  // energy = ½ V εᵀ C ε exactly, and the mean strain is recovered.
+  const double a = 1e-3, b = 4e-4, c = -2e-4, d = 7e-4;
+  Eigen::Matrix<double, 9, 1> u;
+  for (int k = 0; k < 3; ++k) u.segment<3>(3 * k) << a * x(k) + b * y(k), c * x(k) + d * y(k), (c - b) / 2;
+  const Eigen::Vector3d eps(a, d, b + c);
+  const double area = 0.5 * ((x(1) - x(0)) * (y(2) - y(0)) - (x(2) - x(0)) * (y(1) - y(0)));
+  const double exact = 0.5 * area * s.thickness * eps.dot(plane_stress_matrix(s.E, s.nu) * eps);
+  EXPECT_NEAR(0.5 * u.dot(K * u), exact, 1e-10 * exact);
+  EXPECT_LT((membrane_opt_mean_strain(x, y, u) - eps).norm(), 1e-12);
+}
+
+TEST(ShellElement, DktRigidModesAndConstantCurvature) {
+  const Eigen::Vector3d x(0.1, 2.3, 0.7), y(-0.2, 0.4, 1.9);
+  const ShellSection s{2e11, 0.3, 0.01};
+  const Mat9 K = dkt_stiffness(x, y, s);
+  // w = A + B x + C y with rx = ∂w/∂y, ry = −∂w/∂x: no energy.
+  Eigen::Matrix<double, 9, 1> u;
+  for (int k = 0; k < 3; ++k) u.segment<3>(3 * k) << 1 + 2 * x(k) - 3 * y(k), -3, -2;
+  EXPECT_LT((K * u).norm(), 1e-8 * K.norm());
+  // w = ½ a x² + b x y + ½ c y²: energy ½ A κᵀ D κ with κ = (a, c, 2b) (patch test).
+  const double a = 0.3, b = -0.2, c = 0.5;
+  for (int k = 0; k < 3; ++k)
+    u.segment<3>(3 * k) << 0.5 * a * x(k) * x(k) + b * x(k) * y(k) + 0.5 * c * y(k) * y(k),
+        b * x(k) + c * y(k), -(a * x(k) + b * y(k));
+  const double Db = s.E * std::pow(s.thickness, 3) / (12 * (1 - s.nu * s.nu));
+  const Eigen::Vector3d kap(a, c, 2 * b);
+  Eigen::Matrix3d D;
+  D << 1, s.nu, 0, s.nu, 1, 0, 0, 0, (1 - s.nu) / 2;
+  const double area = 0.5 * ((x(1) - x(0)) * (y(2) - y(0)) - (x(2) - x(0)) * (y(1) - y(0)));
+  const double exact = 0.5 * area * Db * kap.dot(D * kap);
+  EXPECT_NEAR(0.5 * u.dot(K * u), exact, 1e-10 * exact);
+}
+
+TEST(ShellElement, GlobalStiffnessIsFrameInvariant) {
+  // Rotating the facet rotates the stiffness: Q K(Rp) Qᵀ = K(p) for Q = blockdiag(Rᵀ).
+  const Vec3 p0(0, 0, 0), p1(1.2, 0.1, 0.3), p2(0.3, 0.9, -0.2);
+  const ShellSection s{3e10, 0.2, 0.1};
+  const Eigen::Matrix3d Rot = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const Mat18 K0 = shell_element_stiffness(p0, p1, p2, s);
+  const Mat18 K1 = shell_element_stiffness(Rot * p0, Rot * p1, Rot * p2, s);
+  Mat18 Q = Mat18::Zero();
+  for (int k = 0; k < 6; ++k) Q.block<3, 3>(3 * k, 3 * k) = Rot;
+  EXPECT_LT((Q.transpose() * K1 * Q - K0).norm(), 1e-9 * K0.norm());
+}
+
+TEST(ShellSolver, NavierPlate) {
+  // Simply supported square plate, uniform load: w_max = 0.00406235 q a⁴ / D (series).
+  const double a = 2, t = 0.02, E = 2e11, nu = 0.3, q = 1e3;
+  const int N = 12;
+  TriMesh mesh = grid(N, N, [&](double s, double u) { return Vec3(a * s, a * u, 0); });
+  ShellModel model = empty_model(mesh, E, nu, t);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const double x = mesh.V(v, 0), y = mesh.V(v, 1);
+    if (x < 1e-9 || y < 1e-9 || x > a - 1e-9 || y > a - 1e-9) model.fixed[v][kUz] = true;
+  }
+  model.fixed[0][kUx] = model.fixed[0][kUy] = true;
+  model.fixed[N][kUy] = true;
+  ShellLoad L;
+  L.kind = ShellLoad::Kind::kSurface;
+  L.q = Vec3(0, 0, -q);
+  model.loads.push_back(L);
+  const ShellResult r = solve_shell(model);
+  const double D = E * t * t * t / (12 * (1 - nu * nu));
+  const double w_ref = 0.00406235 * q * std::pow(a, 4) / D;
+  const double w = -r.displacement(nearest(mesh, Vec3(a / 2, a / 2, 0)), kUz);
+  EXPECT_NEAR(w / w_ref, 1.0, 0.01) << "w = " << w << ", reference " << w_ref;
+  std::printf("Navier 12x12: %.6g / %.6g\n", w, w_ref);
+  // Equilibrium: the reactions carry the load.
+  EXPECT_NEAR(r.reaction_force.z(), q * a * a, 1e-6 * q * a * a);
+  EXPECT_NEAR(r.applied_force.z(), -q * a * a, 1e-9 * q * a * a);
+}
+
+TEST(ShellSolver, ScordelisLoRoof) {
+  // Whole roof, 12 × 12 elements per quarter-equivalent (24 × 24 cells, 1152 triangles).
+  ShellResult r;
+  const double w = scordelis_lo(12, &r);
+  EXPECT_NEAR(w / 0.3024, 1.0, 0.02) << "w = " << w;
+  RecordProperty("w", std::to_string(w));
+  std::printf("Scordelis-Lo 12x12: %.5f\n", w);
+  // Equilibrium of the reactions with the total load 90 · area.
+  const double total = 90 * 50 * 25 * (80 * kPi / 180);
+  EXPECT_NEAR(-r.applied_force.z() / total, 1.0, 2e-3);  // facet area vs. the true cylinder
+  EXPECT_NEAR(r.reaction_force.z(), -r.applied_force.z(), 1e-6 * total);
+  EXPECT_NEAR(r.reaction_force.x(), 0, 1e-6 * total);
+  EXPECT_NEAR(r.reaction_force.y(), 0, 1e-6 * total);
+}
