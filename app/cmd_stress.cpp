@@ -36,7 +36,9 @@ double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-std::string num(double x) { return io::format_number(x); }
+std::string num(double x) {
+  return io::format_number(x);
+}
 
 int run_stress(const StressArgs& a, const CLI::App* sub) {
   const auto guard = apply_run_options(a.run);
@@ -126,9 +128,8 @@ int run_stress(const StressArgs& a, const CLI::App* sub) {
       {"s2_min_Pa", s2min},
       {"applied_force_N", {r.applied_force.x(), r.applied_force.y(), r.applied_force.z()}},
       {"reaction_force_N", {r.reaction_force.x(), r.reaction_force.y(), r.reaction_force.z()}}};
-  rep["timings_s"] = {{"read", t_read},          {"assemble", r.t_assemble},
-                      {"factorize", r.t_factor}, {"solve", r.t_solve},
-                      {"stress", r.t_stress},    {"write", t_write},
+  rep["timings_s"] = {{"read", t_read},     {"assemble", r.t_assemble}, {"factorize", r.t_factor},
+                      {"solve", r.t_solve}, {"stress", r.t_stress},     {"write", t_write},
                       {"total", since(t0)}};
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, rep);
@@ -152,13 +153,12 @@ void register_stress(CLI::App& app, Action& action) {
   add_run_options(sub, a->run);
   a->opt_thickness = sub->add_option("--thickness", a->defaults.thickness, "shell thickness (m)")
                          ->default_str("0.1");
-  a->opt_E = sub->add_option("--E", a->defaults.material.E, "Young's modulus (Pa)")
-                 ->default_str("3e10");
-  a->opt_nu = sub->add_option("--nu", a->defaults.material.nu, "Poisson's ratio")
-                  ->default_str("0.2");
-  a->opt_density =
-      sub->add_option("--density", a->defaults.material.density, "density (kg/m³)")
-          ->default_str("2400");
+  a->opt_E =
+      sub->add_option("--E", a->defaults.material.E, "Young's modulus (Pa)")->default_str("3e10");
+  a->opt_nu =
+      sub->add_option("--nu", a->defaults.material.nu, "Poisson's ratio")->default_str("0.2");
+  a->opt_density = sub->add_option("--density", a->defaults.material.density, "density (kg/m³)")
+                       ->default_str("2400");
   sub->add_option("--load", a->load_kn,
                   "surface input: uniform load per unit plan area, downward (kN/m²)")
       ->default_str("1");

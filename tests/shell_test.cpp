@@ -72,7 +72,8 @@ double scordelis_lo(int N, ShellResult* out = nullptr) {
   ShellModel model = empty_model(mesh, 4.32e8, 0.0, 0.25);
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     const double y = mesh.V(v, 1);
-    if (std::abs(y) < 1e-9 || std::abs(y - Lr) < 1e-9) model.fixed[v][kUx] = model.fixed[v][kUz] = true;
+    if (std::abs(y) < 1e-9 || std::abs(y - Lr) < 1e-9)
+      model.fixed[v][kUx] = model.fixed[v][kUz] = true;
   }
   model.fixed[nearest(mesh, Vec3(0, 0, R))][kUy] = true;  // axial rigid motion only
   ShellLoad q;
@@ -105,7 +106,8 @@ TEST(ShellElement, OptMembraneRigidModesAndConstantStrain) {
   // energy = ½ V εᵀ C ε exactly, and the mean strain is recovered.
   const double a = 1e-3, b = 4e-4, c = -2e-4, d = 7e-4;
   Eigen::Matrix<double, 9, 1> u;
-  for (int k = 0; k < 3; ++k) u.segment<3>(3 * k) << a * x(k) + b * y(k), c * x(k) + d * y(k), (c - b) / 2;
+  for (int k = 0; k < 3; ++k)
+    u.segment<3>(3 * k) << a * x(k) + b * y(k), c * x(k) + d * y(k), (c - b) / 2;
   const Eigen::Vector3d eps(a, d, b + c);
   const double area = 0.5 * ((x(1) - x(0)) * (y(2) - y(0)) - (x(2) - x(0)) * (y(1) - y(0)));
   const double exact = 0.5 * area * s.thickness * eps.dot(plane_stress_matrix(s.E, s.nu) * eps);
@@ -196,8 +198,7 @@ namespace {
 TriMesh hemisphere(double R, double hole, int nlat, int nlon) {
   return grid(nlon, nlat, [&](double s, double t) {
     const double th = 2 * kPi * s, ph = kPi / 2 - (kPi / 2 - hole) * t;  // ph: polar angle
-    return Vec3(R * std::sin(ph) * std::cos(th), R * std::sin(ph) * std::sin(th),
-                R * std::cos(ph));
+    return Vec3(R * std::sin(ph) * std::cos(th), R * std::sin(ph) * std::sin(th), R * std::cos(ph));
   });
 }
 
@@ -272,8 +273,9 @@ TriMesh spherical_cap(double R, double cap, int rings) {
 }  // namespace
 
 TEST(ShellSolver, PinchedHemisphere) {
-  // Whole hemisphere, 18° hole, 24 × 24 elements per quarter (16 × 16 gives 0.0873); loads of 2 (the quarter-model 1.0
-  // on each symmetry plane), outward on x, inward on y. Six statically determinate restraints.
+  // Whole hemisphere, 18° hole, 24 × 24 elements per quarter (16 × 16 gives 0.0873); loads of 2
+  // (the quarter-model 1.0 on each symmetry plane), outward on x, inward on y. Six statically
+  // determinate restraints.
   const double R = 10;
   const int N = 24;
   TriMesh mesh = weld(hemisphere(R, 18 * kPi / 180, N, 4 * N), 1e-9);
@@ -323,7 +325,8 @@ TEST(ShellSolver, SphericalCapMembraneState) {
     for (int k = 0; k < 3; ++k) c += mesh.vertex(mesh.F(f, k)) / 3;
     if (std::acos(c.normalized().z()) > 12 * kPi / 180) continue;
     ++count;
-    worst = std::max({worst, std::abs(r.stress[f].s1 / ref - 1), std::abs(r.stress[f].s2 / ref - 1)});
+    worst =
+        std::max({worst, std::abs(r.stress[f].s1 / ref - 1), std::abs(r.stress[f].s2 / ref - 1)});
   }
   std::printf("Spherical cap: %d facets, worst relative error %.4f\n", count, worst);
   EXPECT_GT(count, 50);

