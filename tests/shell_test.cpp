@@ -5,13 +5,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <numbers>
 
 #include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
 
 #include "gridshell/core/error.h"
 #include "gridshell/fem/shell_element.h"
 #include "gridshell/fem/shell_solver.h"
+#include "gridshell/io/files.h"
+#include "gridshell/io/shell_model_json.h"
+#include "test_support.h"
 
 using namespace gridshell;
 using namespace gridshell::fem;
@@ -367,4 +372,101 @@ TEST(ShellSolver, MechanismsAreRefusedWithTheFreeMotion) {
   const ShellResult r = solve_shell(model);
   EXPECT_TRUE(r.displacement.allFinite());
   EXPECT_GT(r.max_displacement, 0);
+}
+
+namespace {
+
+// A 2 × 2 m plate MODEL.json (4 × 4 cells), simply supported, 1 kN/m² plan load.
+nlohmann::json plate_model_json(bool supports) {
+  const int N = 4;
+  TriMesh m = grid(N, N, [](double s, double u) { return Vec3(2 * s, 2 * u, 0); });
+  nlohmann::json j;
+  for (int v = 0; v < m.num_vertices(); ++v)
+    j["nodes"].push_back({m.V(v, 0), m.V(v, 1), m.V(v, 2)});
+  for (int f = 0; f < m.num_faces(); ++f)
+    j["triangles"].push_back({m.F(f, 0), m.F(f, 1), m.F(f, 2)});
+  j["thickness"] = 0.02;
+  j["materials"]["steel"] = {{"E", 2e11}, {"nu", 0.3}, {"density", 7850}};
+  j["supports"] = nlohmann::json::array();
+  if (supports)
+    for (int v = 0; v < m.num_vertices(); ++v) {
+      const double x = m.V(v, 0), y = m.V(v, 1);
+      if (x < 1e-9 || y < 1e-9 || x > 2 - 1e-9 || y > 2 - 1e-9)
+        j["supports"].push_back(
+            {{"node", v}, {"fix", v == 0 ? nlohmann::json("pinned") : nlohmann::json({"uz"})}});
+    }
+  if (supports) j["supports"].push_back({{"node", N}, {"fix", {"uy"}}});
+  j["loads"] = {{{"type", "projected"}, {"q", {0, 0, -1000}}},
+                {{"node", 12}, {"force", {0, 0, -50}}}};
+  return j;
+}
+
+}  // namespace
+
+TEST(ShellCli, ModelJsonMatchesTheLibrary) {
+  const auto dir = test::temp_dir("shell_model");
+  const auto model_path = dir / "plate.json";
+  std::ofstream(model_path) << plate_model_json(true).dump();
+  const ShellModel model = io::read_shell_model(model_path);
+  EXPECT_EQ(model.loads.size(), 2u);
+  EXPECT_TRUE(model.fixed[0][kUx] && model.fixed[0][kUz] && !model.fixed[0][kRx]);
+  const ShellResult r = solve_shell(model);
+  EXPECT_NEAR(r.reaction_force.z(), 4000 + 50, 1e-6);
+  const auto run = test::run_gridshell("stress '" + model_path.string() + "' -o '" +
+                                       (dir / "out").string() + "' --quiet");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto rep = nlohmann::json::parse(io::read_file(dir / "out" / "report.json"));
+  EXPECT_NEAR(rep["shell"]["max_displacement_m"].get<double>(), r.max_displacement,
+              1e-12 * r.max_displacement);
+  EXPECT_EQ(rep["shell"]["max_displacement_vertex"].get<int>(), r.max_displacement_vertex);
+  EXPECT_TRUE(rep.contains("timings_s"));
+  for (const char* f : {"displacements.csv", "stress.csv", "shell.vtp", "config.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / f)) << f;
+  // stress.csv: header + one row per triangle, s1 ≥ s2.
+  std::ifstream in(dir / "out" / "stress.csv");
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "face,s1,s2,d1x,d1y,d1z,d2x,d2y,d2z");
+  int rows = 0;
+  while (std::getline(in, line)) {
+    double s1 = 0, s2 = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%*d,%lf,%lf", &s1, &s2), 2) << line;
+    EXPECT_GE(s1, s2);
+    ++rows;
+  }
+  EXPECT_EQ(rows, model.mesh.num_faces());
+}
+
+TEST(ShellCli, MechanismAndBadModelExitTwo) {
+  const auto dir = test::temp_dir("shell_bad");
+  std::ofstream(dir / "free.json") << plate_model_json(false).dump();
+  auto run = test::run_gridshell("stress '" + (dir / "free.json").string() + "' -o '" +
+                                 (dir / "o1").string() + "' --quiet");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("mechanism"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("translation along x"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "o1" / "displacements.csv"));
+  nlohmann::json j = plate_model_json(true);
+  j["triangles"][3] = {0, 1, 999};
+  std::ofstream(dir / "bad.json") << j.dump();
+  run = test::run_gridshell("stress '" + (dir / "bad.json").string() + "' -o '" +
+                            (dir / "o2").string() + "' --quiet");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("triangles[3]"), std::string::npos) << run.err;
+}
+
+TEST(ShellCli, SurfaceWithDefaults) {
+  const auto dir = test::temp_dir("shell_surface");
+  const auto run = test::run_gridshell("stress builtin:dome:res=10 -o '" + dir.string() +
+                                       "' --quiet --thickness 0.08 --load 2");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto rep = nlohmann::json::parse(io::read_file(dir / "report.json"));
+  EXPECT_DOUBLE_EQ(rep["shell"]["thickness_m"].get<double>(), 0.08);
+  // Equilibrium: the vertical reactions carry 2 kN/m² over the plan area.
+  const double applied = rep["shell"]["applied_force_N"][2].get<double>();
+  const double reacted = rep["shell"]["reaction_force_N"][2].get<double>();
+  EXPECT_LT(applied, 0);
+  EXPECT_NEAR(reacted, -applied, 1e-8 * std::abs(applied));
+  const auto cfg = nlohmann::json::parse(io::read_file(dir / "config.json"));
+  EXPECT_EQ(cfg["command"], "stress");
 }
