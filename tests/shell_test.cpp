@@ -8,6 +8,7 @@
 #include <fstream>
 #include <numbers>
 
+#include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
@@ -469,4 +470,16 @@ TEST(ShellCli, SurfaceWithDefaults) {
   EXPECT_NEAR(reacted, -applied, 1e-8 * std::abs(applied));
   const auto cfg = nlohmann::json::parse(io::read_file(dir / "config.json"));
   EXPECT_EQ(cfg["command"], "stress");
+}
+
+TEST(ShellCli, IdenticalOutputForAnyThreadCount) {
+  const auto dir = test::temp_dir("shell_threads");
+  for (int t : {1, 2}) {
+    const auto run =
+        test::run_gridshell(fmt::format("stress builtin:barrel:res=16 -o '{}' --quiet --threads {}",
+                                        (dir / std::to_string(t)).string(), t));
+    ASSERT_EQ(run.status, 0) << run.err;
+  }
+  for (const char* f : {"displacements.csv", "stress.csv"})
+    EXPECT_EQ(io::read_file(dir / "1" / f), io::read_file(dir / "2" / f)) << f;
 }
