@@ -250,12 +250,10 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   if (!rhs.allFinite()) throw Error("model", "non-finite load");
   for (int v = 0; v < n; ++v) res.applied_force += rhs.segment<3>(6 * v);
 
-  // Element matrices (parallel, one slot per element).
-  std::vector<Mat18> Ke(nf);
-  tbb::parallel_for(0, nf, [&](int f) {
-    Ke[f] =
-        shell_element_stiffness(m.vertex(m.F(f, 0)), m.vertex(m.F(f, 1)), m.vertex(m.F(f, 2)), sec);
-  });
+  auto element_matrix = [&](int f) {
+    return shell_element_stiffness(m.vertex(m.F(f, 0)), m.vertex(m.F(f, 1)), m.vertex(m.F(f, 2)),
+                                   sec);
+  };
 
   // Pattern of the upper triangle in node blocks: column 6v+k holds rows of nodes u ≤ v
   // adjacent to v (all 6 dofs for u < v, dofs 0..k for u = v).
@@ -281,28 +279,39 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   std::vector<int> rowidx(nnz);
   std::vector<double> vals(nnz, 0.0);
   tbb::parallel_for(0, n, [&](int v) {
-    const auto& nb = nbr[v];
     for (int k = 0; k < 6; ++k) {
       int p = colptr[6 * v + k];
-      for (int u : nb)
+      for (int u : nbr[v])
         for (int i = 0; i < (u < v ? 6 : k + 1); ++i) rowidx[p++] = 6 * u + i;
     }
-    for (int f : vfaces[v]) {
-      int b = 0;
-      while (m.F(f, b) != v) ++b;
-      for (int a = 0; a < 3; ++a) {
-        const int u = m.F(f, a);
-        if (u > v) continue;
-        const int pos =
-            static_cast<int>(std::lower_bound(nb.begin(), nb.end(), u) - nb.begin()) * 6;
-        for (int kj = 0; kj < 6; ++kj) {
-          const int base = colptr[6 * v + kj] + pos;
-          const int imax = u < v ? 6 : kj + 1;
-          for (int ki = 0; ki < imax; ++ki) vals[base + ki] += Ke[f](6 * a + ki, 6 * b + kj);
+  });
+  // Element matrices, computed in parallel by chunks (bounded memory) and added in face order
+  // (results independent of the thread count).
+  constexpr int kChunk = 8192;
+  std::vector<Mat18> Ke(std::min(nf, kChunk));
+  for (int f0 = 0; f0 < nf; f0 += kChunk) {
+    const int f1 = std::min(nf, f0 + kChunk);
+    tbb::parallel_for(f0, f1, [&](int f) { Ke[f - f0] = element_matrix(f); });
+    for (int f = f0; f < f1; ++f) {
+      const Mat18& K = Ke[f - f0];
+      for (int b = 0; b < 3; ++b) {
+        const int v = m.F(f, b);
+        const auto& nb = nbr[v];
+        for (int a = 0; a < 3; ++a) {
+          const int u = m.F(f, a);
+          if (u > v) continue;
+          const int pos =
+              static_cast<int>(std::lower_bound(nb.begin(), nb.end(), u) - nb.begin()) * 6;
+          for (int kj = 0; kj < 6; ++kj) {
+            const int base = colptr[6 * v + kj] + pos;
+            const int imax = u < v ? 6 : kj + 1;
+            for (int ki = 0; ki < imax; ++ki) vals[base + ki] += K(6 * a + ki, 6 * b + kj);
+          }
         }
       }
     }
-  });
+  }
+  Ke = std::vector<Mat18>();
   // Supports: zero rows/columns of fixed dofs, keep their diagonal (u = 0 there).
   for (int j = 0; j < ndof; ++j)
     for (int p = colptr[j]; p < colptr[j + 1]; ++p) {
@@ -354,13 +363,15 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
     }
   }
   // Reactions r = K_full u − f at the fixed dofs.
-  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(ndof);
-  for (int f = 0; f < nf; ++f) {
+  std::vector<Eigen::Matrix<double, 18, 1>> fe(nf);
+  tbb::parallel_for(0, nf, [&](int f) {
     Eigen::Matrix<double, 18, 1> ue;
     for (int a = 0; a < 3; ++a) ue.segment<6>(6 * a) = u.segment<6>(6 * m.F(f, a));
-    const Eigen::Matrix<double, 18, 1> fe = Ke[f] * ue;
-    for (int a = 0; a < 3; ++a) Ku.segment<6>(6 * m.F(f, a)) += fe.segment<6>(6 * a);
-  }
+    fe[f] = element_matrix(f) * ue;
+  });
+  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(ndof);
+  for (int f = 0; f < nf; ++f)
+    for (int a = 0; a < 3; ++a) Ku.segment<6>(6 * m.F(f, a)) += fe[f].segment<6>(6 * a);
   res.reaction = Eigen::MatrixXd::Zero(n, 6);
   {
     const Eigen::VectorXd fl = load_vector(model, frames);
