@@ -3,7 +3,9 @@
 // config.json.
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -24,7 +26,8 @@ struct StressArgs {
   SurfaceOptions surface_options;
   RunOptions run;
   fem::ShellDefaults defaults;
-  double load_kn = 1.0;  // kN/m² of plan area
+  double load_kn = 1.0;                                            // kN/m² of plan area
+  double support_below = std::numeric_limits<double>::infinity();  // keep supports with z < this
   CLI::Option* opt_thickness = nullptr;
   CLI::Option* opt_E = nullptr;
   CLI::Option* opt_nu = nullptr;
@@ -61,7 +64,13 @@ int run_stress(const StressArgs& a, const CLI::App* sub) {
     if (a.opt_density->count()) model.material.density = a.defaults.material.density;
     source = "model";
   } else {
-    const Surface surface = load_surface(a.input, a.surface_options);
+    Surface surface = load_surface(a.input, a.surface_options);
+    if (std::isfinite(a.support_below)) {
+      std::vector<int> kept;
+      for (int v : surface.supports)
+        if (surface.mesh.V(v, 2) < a.support_below) kept.push_back(v);
+      surface.supports = kept;
+    }
     if (surface.supports.empty())
       throw Error(a.input, "the surface has no supports (use --supports)");
     fem::ShellDefaults d = a.defaults;
@@ -162,6 +171,9 @@ void register_stress(CLI::App& app, Action& action) {
   sub->add_option("--load", a->load_kn,
                   "surface input: uniform load per unit plan area, downward (kN/m²)")
       ->default_str("1");
+  sub->add_option("--support-below", a->support_below,
+                  "surface input: keep only the supports with z below this height (m), e.g. the "
+                  "ground edges of a vault whose free arches are also boundary");
   sub->add_flag("--self-weight", a->defaults.self_weight,
                 "surface input: add the shell's own weight (density · 9.81 · thickness)");
   sub->add_flag("--clamped", a->defaults.clamped,

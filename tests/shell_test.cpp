@@ -483,3 +483,31 @@ TEST(ShellCli, IdenticalOutputForAnyThreadCount) {
   for (const char* f : {"displacements.csv", "stress.csv"})
     EXPECT_EQ(io::read_file(dir / "1" / f), io::read_file(dir / "2" / f)) << f;
 }
+
+TEST(ShellSolver, ZeroPivotIsReportedWithItsDof) {
+  // Without the rigid-body check, the factorisation itself names the singular dof.
+  TriMesh mesh = grid(2, 2, [](double s, double u) { return Vec3(s, u, 0); });
+  ShellModel model = empty_model(mesh, 1e9, 0.3, 0.01);
+  ShellOptions options;
+  options.check_mechanism = false;
+  try {
+    solve_shell(model, options);
+    FAIL() << "singular model accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("singular at vertex"), std::string::npos) << e.what();
+  }
+  // An unreferenced vertex is held, not a mechanism.
+  mesh.V.conservativeResize(mesh.num_vertices() + 1, 3);
+  mesh.V.row(mesh.num_vertices() - 1) << 5, 5, 5;
+  model = empty_model(mesh, 1e9, 0.3, 0.01);
+  for (int v = 0; v < 9; ++v)
+    if (mesh.V(v, 0) < 1e-9 || mesh.V(v, 0) > 1 - 1e-9)
+      for (int k = 0; k < 6; ++k) model.fixed[v][k] = true;
+  ShellLoad L;
+  L.node = 4;
+  L.force = Vec3(0, 0, -1);
+  model.loads.push_back(L);
+  const ShellResult r = solve_shell(model);
+  EXPECT_EQ(r.displacement.row(9).norm(), 0.0);
+  EXPECT_LT(r.displacement(4, kUz), 0);
+}
