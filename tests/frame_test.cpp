@@ -97,3 +97,66 @@ TEST(FrameBuckling, EulerColumnLinearisedBuckling) {
   EXPECT_NEAR(b.lambdas[0] * 1000 / Pcr, 1.0, 0.005);
   EXPECT_NEAR(b.lambdas[0] * 1000 / Pcr, 1.0, 0.001);  // cubic elements, 4 per member
 }
+
+namespace {
+// Cantilever along x from the origin, clamped at node 0, `n` elements.
+FrameModel cantilever(double L, int n, double EI, const Vec3& dir = Vec3::UnitX(),
+                      const Vec3& up = Vec3::Zero()) {
+  FrameSection s;
+  s.A = 1.0;
+  s.Iy = s.Iz = EI / 1e6;
+  s.J = 2 * s.Iy;
+  s.up = up;
+  FrameModel m = straight_member(Vec3::Zero(), L * dir, n, s, 1e6, 0.3);
+  m.sections[0].A = 1e4 * s.Iy / (L * L) * 1e2;  // axially stiff (inextensible elastica)
+  m.supports = {fix(0, {true, true, true, true, true, true})};
+  return m;
+}
+}  // namespace
+
+// Mattiasson (1981) elastica: cantilever with a transverse tip load, exact values.
+TEST(FrameNonlinear, MattiassonElastica) {
+  const double L = 1, EI = 1;
+  struct Row {
+    double load, dx, dy, rot;
+  };
+  const Row table[] = {{1, 0.05643, 0.30172, 0.46135},
+                       {2, 0.16064, 0.49346, 0.78175},
+                       {5, 0.38763, 0.71379, 1.21537},
+                       {10, 0.55500, 0.81061, 1.43029}};
+  for (const Row& row : table) {
+    FrameModel m = cantilever(L, 16, EI);
+    m.loads = {{1, Vec3(0, row.load * EI / (L * L), 0), Vec3::Zero()}};
+    const FrameMesh mesh = discretize(m);
+    const FrameAssembler asmb(mesh);
+    const NonlinearStaticResult r = nonlinear_static(mesh, asmb, 1.0);
+    const Vec3 tip = r.state.x.row(1).transpose();
+    const double rot = rotation_log(r.state.R[1]).z();
+    EXPECT_NEAR((L - tip.x()) / row.dx, 1.0, 0.005) << "P L²/EI = " << row.load;
+    EXPECT_NEAR(tip.y() / row.dy, 1.0, 0.005) << "P L²/EI = " << row.load;
+    EXPECT_NEAR(rot / row.rot, 1.0, 0.005) << "P L²/EI = " << row.load;
+  }
+}
+
+// A cantilever under an end moment M = 2π EI / L rolls up into a full circle.
+TEST(FrameNonlinear, EndMomentRollsIntoCircle) {
+  const double L = 2, EI = 5;
+  for (int inclined = 0; inclined < 2; ++inclined) {
+    const Vec3 dir = inclined ? Vec3(1, 2, 3).normalized() : Vec3::UnitX();
+    // Bending plane: the moment about an axis perpendicular to the member.
+    const Vec3 axis = inclined ? dir.cross(Vec3(0.3, -1, 0.2)).normalized() : Vec3::UnitZ();
+    FrameModel m = cantilever(L, 20, EI, dir);
+    m.loads = {{1, Vec3::Zero(), 2 * kPi * EI / L * axis}};
+    const FrameMesh mesh = discretize(m);
+    const FrameAssembler asmb(mesh);
+    const NonlinearStaticResult r = nonlinear_static(mesh, asmb, 1.0);
+    const Vec3 tip = r.state.x.row(1).transpose();
+    EXPECT_LT(tip.norm(), 1e-4 * L) << (inclined ? "inclined" : "plane");
+    // Half the moment: a half circle, tip at distance 2R = 2L/π from the root.
+    const NonlinearStaticResult h = nonlinear_static(mesh, asmb, 0.5);
+    EXPECT_NEAR(h.state.x.row(1).norm(), 2 * L / kPi, 1e-3 * L);
+    // Equilibrium: the root reaction moment balances the applied one.
+    EXPECT_NEAR((r.reactions.segment<3>(3) + 2 * kPi * EI / L * axis).norm(), 0,
+                1e-8 * 2 * kPi * EI / L);
+  }
+}

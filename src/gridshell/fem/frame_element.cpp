@@ -206,7 +206,7 @@ Vec12 corot_force(const CorotBeam& b, const CorotState& st, Vec7* local) {
   return fg;
 }
 
-Mat12 corot_tangent(const CorotBeam& b, const CorotState& st, Vec12* force) {
+Mat12 corot_tangent(const CorotBeam& b, const CorotState& st, Vec12* force, bool symmetric) {
   // Translation invariance: work with xi = 0 so that perturbations are relative to the length.
   CorotState s0 = st;
   s0.xj = st.xj - st.xi;
@@ -229,6 +229,7 @@ Mat12 corot_tangent(const CorotBeam& b, const CorotState& st, Vec12* force) {
     }
     K.col(c) = (corot_force(b, s) - f0) / h;
   }
+  if (!symmetric) return K;
   return 0.5 * (K + K.transpose());
 }
 

@@ -70,8 +70,10 @@ void corot_local(const CorotBeam& b, const CorotState& st, Vec7& d, Vec7& f);
 /// Global internal force vector [f_i, m_i, f_j, m_j]; optional local forces out
 /// (f[0] = axial force N, tension positive).
 Vec12 corot_force(const CorotBeam& b, const CorotState& st, Vec7* local = nullptr);
-/// Tangent stiffness (symmetrised) and the internal force.
-Mat12 corot_tangent(const CorotBeam& b, const CorotState& st, Vec12* force = nullptr);
+/// Tangent stiffness and the internal force. `symmetric`: return the symmetric part (the spin
+/// tangent is not symmetric away from equilibrium or under applied moments).
+Mat12 corot_tangent(const CorotBeam& b, const CorotState& st, Vec12* force = nullptr,
+                    bool symmetric = true);
 
 /// Corotational truss: force [f_i, f_j] (6) and tangent; N = EA (l − l0) / l0.
 using Vec6 = Eigen::Matrix<double, 6, 1>;

@@ -274,7 +274,7 @@ void add_force(const FrameMesh::Element& e, const Vec12& f, Eigen::VectorXd& ful
 }  // namespace
 
 SpMat FrameAssembler::tangent(const FrameState& state, Eigen::VectorXd* f_int_full,
-                              std::vector<double>* axial) const {
+                              std::vector<double>* axial, bool symmetric) const {
   const int ne = static_cast<int>(mesh_.elements.size());
   std::vector<double> vals(static_cast<size_t>(ne) * 144);
   std::vector<Vec12> forces(ne);
@@ -287,7 +287,7 @@ SpMat FrameAssembler::tangent(const FrameState& state, Eigen::VectorXd* f_int_fu
       K = truss_to12(truss_tangent(e.beam.s.EA, e.beam.l0, s.xi, s.xj));
       forces[k] = truss_f12(truss_force(e.beam.s.EA, e.beam.l0, s.xi, s.xj, &N[k]));
     } else {
-      K = corot_tangent(e.beam, s, &forces[k]);
+      K = corot_tangent(e.beam, s, &forces[k], symmetric);
       Vec7 d, f;
       corot_local(e.beam, s, d, f);
       N[k] = f(0);

@@ -72,7 +72,7 @@ class FrameAssembler {
   /// Corotational tangent and the internal force vector (full 6 per node, including restrained
   /// dofs, so reactions can be read off). `axial` optional out (per element N).
   SpMat tangent(const FrameState& state, Eigen::VectorXd* f_int_full,
-                std::vector<double>* axial = nullptr) const;
+                std::vector<double>* axial = nullptr, bool symmetric = true) const;
   /// Internal force only (cheaper).
   Eigen::VectorXd internal_force(const FrameState& state, std::vector<double>* axial = nullptr) const;
   /// Reduces a full (6 per node) vector to the free dofs.
