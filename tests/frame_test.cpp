@@ -160,3 +160,116 @@ TEST(FrameNonlinear, EndMomentRollsIntoCircle) {
                 1e-8 * 2 * kPi * EI / L);
   }
 }
+
+namespace {
+// Levy & Spillers 24-member shallow star dome, inches and pounds; crown load 1 lb (λ = load).
+FrameModel star_dome() {
+  FrameModel m;
+  m.nodes.resize(13, 3);
+  m.nodes.row(0) << 0, 0, 3.2346;
+  for (int k = 0; k < 6; ++k) {
+    const double a = kPi / 3 * (k + 1), b = kPi / 2 + kPi / 3 * k;
+    m.nodes.row(1 + k) << 9.8425 * std::cos(a), 9.8425 * std::sin(a), 2.4472;
+    m.nodes.row(7 + k) << 19.685 * std::cos(b), 19.685 * std::sin(b), 0;
+  }
+  FrameSection s;
+  s.name = "truss";
+  s.A = 0.0155;
+  s.Iy = s.Iz = s.J = 1;  // unused by trusses
+  m.sections = {s};
+  m.materials = {{"dome", 3.0e7, 0.3, 0}};
+  auto add = [&](int i, int j) {
+    FrameMember mb;
+    mb.i = i;
+    mb.j = j;
+    mb.type = MemberType::truss;
+    m.members.push_back(mb);
+  };
+  for (int k = 0; k < 6; ++k) {
+    add(0, 1 + k);
+    add(1 + k, 1 + (k + 1) % 6);
+    // inner node at 60°(k+1) sits between outer nodes at 60°(k+1) ± 30°
+    add(1 + k, 7 + k);                // 90° + 60°k = 60°(k+1) + 30°
+    add(1 + k, 7 + (k + 5) % 6);      // 60°(k+1) − 30°
+  }
+  for (int k = 0; k < 6; ++k) m.supports.push_back(fix(7 + k, {true, true, true, true, true, true}));
+  m.loads = {{0, Vec3(0, 0, -1), Vec3::Zero()}};
+  return m;
+}
+}  // namespace
+
+TEST(FrameStarDome, LinearBucklingAndLimitPoint) {
+  const FrameModel m = star_dome();
+  const FrameMesh mesh = discretize(m);
+  const FrameAssembler asmb(mesh);
+  const LinearResult lin = linear_static(mesh, asmb);
+  EXPECT_NEAR(lin.displacement(0, 2) * 220.46 / -0.20641, 1.0, 0.005);
+  // Equilibrium of the linear solution: reactions balance the load.
+  Vec3 R = Vec3::Zero();
+  for (int v = 0; v < mesh.num_model_nodes; ++v) R += lin.reactions.segment<3>(6 * v);
+  EXPECT_LT((R + Vec3(0, 0, -1)).norm(), 1e-9);
+  const BucklingResult b = linear_buckling(mesh, asmb, lin);
+  ASSERT_FALSE(b.lambdas.empty());
+  EXPECT_NEAR(b.lambdas[0] / 707, 1.0, 0.03);
+  ArcLengthOptions opt;
+  opt.initial_lambda = 10;
+  const ArcLengthResult nl = arc_length(mesh, asmb, opt, reference_state(mesh));
+  EXPECT_EQ(nl.limit_type, "limit point");
+  EXPECT_NEAR(nl.lambda_critical / 146.7, 1.0, 0.02);
+  const double w = nl.critical_state.x(0, 2) - m.nodes(0, 2);
+  EXPECT_NEAR(-w, 0.30, 0.05);
+}
+
+namespace {
+FrameModel euler_column(double L, int n, double imperfection) {
+  const FrameSection s = circle_section(0.037);
+  FrameModel m = straight_member(Vec3(0, 0, 0), Vec3(L, 0, 0), n, s, 2.1e11);
+  m.supports = {fix(0, {true, true, true, true, false, false}),
+                fix(1, {false, true, true, false, false, false})};
+  m.loads = {{1, Vec3(-1000, 0, 0), Vec3::Zero()}};
+  if (imperfection == 0) return m;
+  // Replace the member by n straight pieces through a half-sine of amplitude `imperfection`.
+  FrameModel c = m;
+  c.nodes.resize(n + 1, 3);
+  c.members.clear();
+  for (int k = 0; k <= n; ++k)
+    c.nodes.row(k) << L * k / n, 0, imperfection * std::sin(kPi * k / n);
+  for (int k = 0; k < n; ++k) {
+    FrameMember mb;
+    mb.i = k;
+    mb.j = k + 1;
+    c.members.push_back(mb);
+  }
+  c.supports = {fix(0, {true, true, true, true, false, false}),
+                fix(n, {false, true, true, false, false, false})};
+  c.loads = {{n, Vec3(-1000, 0, 0), Vec3::Zero()}};
+  return c;
+}
+}  // namespace
+
+TEST(FrameBuckling, EulerColumnNonlinear) {
+  const double L = 1.5, Pcr = 84.74e3;
+  {  // perfect: the fundamental path meets a (stable symmetric) bifurcation
+    const FrameModel m = euler_column(L, 8, 0);
+    const FrameMesh mesh = discretize(m);
+    const FrameAssembler asmb(mesh);
+    ArcLengthOptions opt;
+    opt.initial_lambda = 10;
+    const ArcLengthResult r = arc_length(mesh, asmb, opt, reference_state(mesh));
+    // Round-off lets the arc-length switch onto the (stable, flat) buckled branch right at the
+    // bifurcation, or it detects the pivot change: either way λ must sit at P_cr.
+    EXPECT_TRUE(r.limit_type == "bifurcation" || r.limit_type == "none") << r.limit_type;
+    EXPECT_NEAR(r.lambda_critical * 1000 / Pcr, 1.0, 0.005);
+  }
+  {  // imperfect (L/1000 half-sine): the load approaches P_cr as the column bows to L/10
+    const FrameModel m = euler_column(L, 8, L / 1000);
+    const FrameMesh mesh = discretize(m);
+    const FrameAssembler asmb(mesh);
+    ArcLengthOptions opt;
+    opt.initial_lambda = 10;
+    opt.max_displacement = L / 10;
+    const ArcLengthResult r = arc_length(mesh, asmb, opt, reference_state(mesh));
+    EXPECT_EQ(r.limit_type, "none");
+    EXPECT_NEAR(r.lambda_critical * 1000 / Pcr, 1.0, 0.02);
+  }
+}

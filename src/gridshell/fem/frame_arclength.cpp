@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "gridshell/core/error.h"
+#include "gridshell/core/rng.h"
 
 namespace gridshell::fem {
 
@@ -129,9 +130,7 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
   bool first = true;
   bool critical = false;       // an event has been bracketed
   double lam_crit = 0;
-  int confirm = 0;
   int base_negative = cur.negative;
-  double ds_before_event = ds;
   FrameState stable_state = start;
   // Bracketing state.
   bool bracketing = false;
@@ -153,10 +152,10 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
       continue;
     }
     const bool event = !critical && (next.negative > base_negative ||
-                                      (!first && next.lambda < cur.lambda && cur.lambda > 0));
+                                      (!first && cur.lambda > 0 &&
+                                       next.lambda < cur.lambda * (1 - 1e-6)));
     if (event) {
       const double width = std::abs(next.lambda - cur.lambda);
-      if (!bracketing) ds_before_event = ds;
       if (width > opt.critical_tolerance * std::max(std::abs(cur.lambda), 1e-300) && ds > ds_min) {
         // Refine: go back to the last stable point with half the radius.
         bracketing = true;
@@ -165,15 +164,33 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
         solver.factorize(asmb.tangent(cur.state, &fint));
         continue;
       }
-      // Bracketed.
+      // Bracketed: classify with the tangent at the last stable point. Near a limit point the
+      // load tangent v = K⁻¹f is dominated by the critical mode φ (φᵀf ≠ 0); at a bifurcation
+      // φ ⟂ f and v has no large component along φ.
       critical = true;
-      lam_crit = next.negative > base_negative && next.lambda > cur.lambda
-                     ? 0.5 * (cur.lambda + next.lambda)
-                     : std::max(cur.lambda, next.lambda);
-      lam_crit = std::max(lam_crit, lam_max);
       stable_state = cur.state;
-      ds = ds_before_event;
-      confirm = 0;
+      Eigen::VectorXd fint;
+      solver.factorize(asmb.tangent(cur.state, &fint));
+      const Eigen::VectorXd v = solver.solve(mesh.load);
+      Eigen::VectorXd phi(mesh.num_dofs);
+      Rng rng(12345);
+      for (int i = 0; i < phi.size(); ++i) phi(i) = rng.uniform(-1, 1);
+      for (int k = 0; k < 40; ++k) {
+        phi = solver.solve(phi);
+        const double nrm = phi.norm();
+        if (!(nrm > 0) || !std::isfinite(nrm)) break;
+        phi /= nrm;
+      }
+      const double along = std::abs(phi.dot(v)) / std::max(v.norm(), 1e-300);
+      res.critical_mode_alignment = along;
+      const bool bifurcation = along < 0.5 && next.negative > base_negative;
+      res.limit_type = bifurcation ? "bifurcation" : "limit point";
+      lam_crit = bifurcation ? 0.5 * (cur.lambda + next.lambda)
+                             : std::max({cur.lambda, next.lambda, lam_max});
+      ++res.steps;
+      res.path.push_back({next.lambda, max_displacement(mesh, next.state), next.negative});
+      cur = std::move(next);
+      break;
     }
     // Accept the step.
     ++res.steps;
@@ -182,17 +199,6 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
     lam_max = std::max(lam_max, cur.lambda);
     const double umax = max_displacement(mesh, cur.state);
     res.path.push_back({cur.lambda, umax, cur.negative});
-    if (critical && !event) {
-      ++confirm;
-      if (cur.lambda < lam_crit * (1 - 1e-9)) {
-        res.limit_type = "limit point";
-        break;
-      }
-      if (confirm >= opt.confirm_steps) {
-        res.limit_type = cur.lambda > lam_crit ? "bifurcation" : "limit point";
-        break;
-      }
-    }
     if (!critical) {
       if (cur.lambda >= opt.max_lambda) {
         res.stop_reason = "maximum load factor reached";
@@ -213,7 +219,6 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
                   res.steps, cur.lambda, umax, its, cur.negative);
   }
   if (critical) {
-    if (res.limit_type == "none") res.limit_type = "limit point";
     res.lambda_critical = lam_crit;
     if (res.stop_reason.empty()) res.stop_reason = "critical point found";
   } else {

@@ -9,8 +9,9 @@
 ///   cut-backs on failure). After every converged step the tangent's LDLᵀ is inspected: a change
 ///   in the number of negative pivots, or a fall of λ, marks a critical point. The step is then
 ///   bisected from the last stable state until the bracket on λ is within `critical_tolerance`;
-///   the path is followed a few steps further to classify it: if λ falls below the critical
-///   value it is a "limit point" (load maximum), otherwise a "bifurcation".
+///   the critical mode φ (inverse iteration on the last stable tangent) classifies it: if the
+///   load tangent K⁻¹f is dominated by φ (φᵀf ≠ 0) it is a "limit point" (load maximum),
+///   otherwise a "bifurcation" (φ ⟂ f, the path could continue with rising λ).
 /// * `nonlinear_static`: Newton–Raphson with adaptive load steps up to a given factor.
 ///
 /// Cost: per Newton iteration one corotational tangent assembly (~15 µs per element) and one
@@ -32,7 +33,6 @@ struct ArcLengthOptions {
   int max_iterations = 25;
   double tolerance = 1e-8;        ///< residual norm relative to |λ f|
   double critical_tolerance = 2e-4;  ///< relative width of the bracket on the critical λ
-  int confirm_steps = 4;          ///< steps taken after a critical point to classify it
   bool stop_at_critical = true;
 };
 
@@ -50,6 +50,7 @@ struct ArcLengthResult {
   FrameState final_state;
   int steps = 0, iterations = 0, cutbacks = 0;
   std::string stop_reason;
+  double critical_mode_alignment = 0;  ///< |φ·K⁻¹f| / |K⁻¹f| at the last stable point
 };
 
 /// Follows the path from `start` (λ = 0, must be the unloaded reference or a stress-free
