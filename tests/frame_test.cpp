@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <numbers>
 
@@ -437,4 +439,104 @@ TEST(FrameErrors, MechanismZeroLengthBadReferenceBadSection) {
   FrameModel s = m;
   s.sections[0].A = 0;
   EXPECT_THROW(discretize(s), Error);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The command line.
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "gridshell/io/files.h"
+#include "gridshell/io/mesh_io.h"
+#include "test_support.h"
+
+namespace {
+const char* kStarDomeJson = R"({
+  "nodes": [[0,0,3.2346],
+    [4.92125,8.52386,2.4472],[-4.92125,8.52386,2.4472],[-9.8425,0,2.4472],
+    [-4.92125,-8.52386,2.4472],[4.92125,-8.52386,2.4472],[9.8425,0,2.4472],
+    [0,19.685,0],[-17.04772,9.8425,0],[-17.04772,-9.8425,0],[0,-19.685,0],
+    [17.04772,-9.8425,0],[17.04772,9.8425,0]],
+  "sections": {"bar": {"A": 0.0155, "Iy": 1, "Iz": 1, "J": 1}},
+  "materials": {"dome": {"E": 3.0e7, "nu": 0.3, "density": 0}},
+  "members": [
+    {"nodes":[0,1],"type":"truss"},{"nodes":[0,2],"type":"truss"},{"nodes":[0,3],"type":"truss"},
+    {"nodes":[0,4],"type":"truss"},{"nodes":[0,5],"type":"truss"},{"nodes":[0,6],"type":"truss"},
+    {"nodes":[1,2],"type":"truss"},{"nodes":[2,3],"type":"truss"},{"nodes":[3,4],"type":"truss"},
+    {"nodes":[4,5],"type":"truss"},{"nodes":[5,6],"type":"truss"},{"nodes":[6,1],"type":"truss"},
+    {"nodes":[1,7],"type":"truss"},{"nodes":[1,12],"type":"truss"},{"nodes":[2,7],"type":"truss"},
+    {"nodes":[2,8],"type":"truss"},{"nodes":[3,8],"type":"truss"},{"nodes":[3,9],"type":"truss"},
+    {"nodes":[4,9],"type":"truss"},{"nodes":[4,10],"type":"truss"},{"nodes":[5,10],"type":"truss"},
+    {"nodes":[5,11],"type":"truss"},{"nodes":[6,11],"type":"truss"},{"nodes":[6,12],"type":"truss"}],
+  "supports": [{"node":7},{"node":8},{"node":9},{"node":10},{"node":11},{"node":12}],
+  "loads": [{"node": 0, "force": [0, 0, -1]}],
+  "analysis": {"linear": true, "buckling": true, "nonlinear": true, "nonlinear_static": 100}
+})";
+}  // namespace
+
+TEST(AnalyzeCli, StarDomeModelJson) {
+  const auto dir = test::temp_dir("analyze_star");
+  io::write_file_atomic(dir / "dome.json", kStarDomeJson);
+  const auto r = test::run_gridshell(fmt::format("analyze '{}' -o '{}' --quiet",
+                                                 (dir / "dome.json").string(),
+                                                 (dir / "out").string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto rep = nlohmann::json::parse(io::read_file(dir / "out" / "report.json"));
+  const auto& s = rep["structure"];
+  EXPECT_EQ(s["limit_type"], "limit point");
+  EXPECT_NEAR(s["lambda_nonlinear"].get<double>() / 146.7, 1.0, 0.02);
+  EXPECT_NEAR(s["delta_max_m"].get<double>() * 220.46 / 0.20641, 1.0, 0.005);
+  EXPECT_NEAR(s["lambda_linear_buckling"].get<double>() / 707, 1.0, 0.03);
+  for (const char* f : {"nodes.csv", "beams.csv", "path.csv", "nodes_nonlinear.csv", "frame.vtp",
+                        "config.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / f)) << f;
+  EXPECT_EQ(io::read_file(dir / "out" / "nodes.csv").substr(0, 29),
+            "node,x,y,z,ux,uy,uz,support\n0");
+}
+
+TEST(AnalyzeCli, BadInputsExitTwo) {
+  const auto dir = test::temp_dir("analyze_bad");
+  std::string bad = kStarDomeJson;
+  bad.replace(bad.find("[0,1]"), 5, "[0,99]");
+  io::write_file_atomic(dir / "bad.json", bad);
+  auto r = test::run_gridshell(
+      fmt::format("analyze '{}' -o '{}'", (dir / "bad.json").string(), (dir / "o").string()));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("node 99"), std::string::npos) << r.err;
+  std::string mech = kStarDomeJson;
+  mech.replace(mech.find("{\"node\":7},"), 11, "");
+  mech.replace(mech.find("{\"node\":8},"), 11, "");
+  mech.replace(mech.find("{\"node\":9},"), 11, "");
+  mech.replace(mech.find("{\"node\":10},"), 12, "");
+  io::write_file_atomic(dir / "mech.json", mech);
+  r = test::run_gridshell(
+      fmt::format("analyze '{}' -o '{}'", (dir / "mech.json").string(), (dir / "o").string()));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("mechanism"), std::string::npos) << r.err;
+  r = test::run_gridshell(fmt::format("analyze '{}' --elements 0 -o '{}'",
+                                      (dir / "bad.json").string(), (dir / "o").string()));
+  EXPECT_EQ(r.status, 2);
+}
+
+TEST(AnalyzeCli, ObjSupportsCommentIsHonoured) {
+  std::vector<int> sup;
+  const PolyMesh mesh = quad_shell(sup);
+  const std::vector<int> few = {0, 6, 42, 48, 3, 45};  // corners and two mid-edge joints
+  const auto dir = test::temp_dir("analyze_obj");
+  io::write_obj(dir / "g.obj", mesh, few);
+  const auto r = test::run_gridshell(fmt::format("analyze '{}' --analyze linear -o '{}' --quiet",
+                                                 (dir / "g.obj").string(),
+                                                 (dir / "out").string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto rep = nlohmann::json::parse(io::read_file(dir / "out" / "report.json"));
+  EXPECT_EQ(rep["structure"]["supports"], few.size());
+  EXPECT_TRUE(rep["structure"]["lambda_nonlinear"].is_null());
+  // Fewer supports than the whole boundary: larger deflection than the boundary-supported run.
+  const FrameModel all = analysis::gridshell_frame(mesh, sup, {});
+  analysis::FrameAnalysisOptions o;
+  o.buckling = o.nonlinear = false;
+  EXPECT_GT(rep["structure"]["delta_max_m"].get<double>(),
+            analysis::analyze_frame(all, o).delta_max_m);
 }
