@@ -59,18 +59,21 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
   const double fnorm = f.norm();
   Eigen::VectorXd fint;
   double rprev = 1e300;
+  // Modified Newton: the factorised tangent of the start point is reused and refreshed every
+  // `kRefresh` iterations; a fresh tangent is factorised at the converged point (needed for the
+  // pivot count and the next predictor).
+  constexpr int kRefresh = 4;
   for (int it = 1; it <= opt.max_iterations; ++it) {
-    const SpMat K = asmb.tangent(st, &fint);
+    fint = asmb.internal_force(st);
     const Eigen::VectorXd r = lam * f - asmb.reduce(fint);
     if (!r.allFinite()) return -1;
     const double scale = fnorm * std::max(std::abs(lam), 1e-3 * std::abs(dlam));
-    const bool ok = solver.factorize(K);
     const double rn = r.norm();
     // Converged, or stagnating at the round-off floor well below an engineering tolerance.
     const bool floor = it >= 4 && rn <= 1e-5 * scale && rn >= 0.5 * rprev;
     rprev = rn;
     if (rn <= opt.tolerance * scale || floor) {
-      if (!ok) return -1;
+      if (!solver.factorize(asmb.tangent(st, &fint))) return -1;
       to.state = std::move(st);
       to.lambda = lam;
       to.du = du;
@@ -78,7 +81,7 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
       to.negative = solver.negative_pivots();
       return it;
     }
-    if (!ok) return -1;
+    if (it % kRefresh == 0 && !solver.factorize(asmb.tangent(st, &fint))) return -1;
     const Eigen::VectorXd ur = solver.solve(r);
     ut = solver.solve(f);
     const Eigen::VectorXd base = du + ur;

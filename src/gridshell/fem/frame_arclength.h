@@ -3,7 +3,8 @@
 /// Geometrically non-linear analysis of a frame under a proportional load λ·f.
 ///
 /// * `arc_length`: Crisfield's cylindrical arc-length method (constraint on the increment of
-///   the translations plus rotations scaled by the mean element length; full Newton corrector,
+///   the translations plus rotations scaled by the mean element length; modified Newton corrector
+///   with the tangent refreshed every 4 iterations,
 ///   root picked by the smallest angle with the previous increment; predictor direction by the
 ///   sign of the previous increment) with adaptive steps (Δs ∝ √(desired / used iterations),
 ///   cut-backs on failure). After every converged step the tangent's LDLᵀ is inspected: a change
@@ -29,8 +30,8 @@ struct ArcLengthOptions {
   double max_lambda = 1e9;        ///< stop when λ exceeds this
   double max_displacement = 0;    ///< stop when the largest nodal displacement exceeds this (0 = off)
   int max_steps = 300;
-  int desired_iterations = 4;
-  int max_iterations = 25;
+  int desired_iterations = 6;
+  int max_iterations = 40;
   double tolerance = 1e-8;        ///< residual norm relative to |λ f|
   double critical_tolerance = 2e-4;  ///< relative width of the bracket on the critical λ
   bool stop_at_critical = true;
