@@ -98,6 +98,7 @@ TEST(FrameBuckling, EulerColumnLinearisedBuckling) {
   EXPECT_NEAR(lin.displacement(1, 0), -1000 * L / (E * s.A), 1e-12);
   const BucklingResult b = linear_buckling(mesh, asmb, lin);
   ASSERT_GE(b.lambdas.size(), 2u);
+  std::printf("Euler column LBA (4 elements): P/Pcr = %.6f\n", b.lambdas[0] * 1000 / Pcr);
   EXPECT_NEAR(b.lambdas[0] * 1000 / Pcr, 1.0, 0.005);
   EXPECT_NEAR(b.lambdas[0] * 1000 / Pcr, 1.0, 0.001);  // cubic elements, 4 per member
 }
@@ -136,6 +137,8 @@ TEST(FrameNonlinear, MattiassonElastica) {
     const NonlinearStaticResult r = nonlinear_static(mesh, asmb, 1.0);
     const Vec3 tip = r.state.x.row(1).transpose();
     const double rot = rotation_log(r.state.R[1]).z();
+    std::printf("Mattiasson P=%g: dx %.5f (%.5f) dy %.5f (%.5f) rot %.5f (%.5f)\n", row.load,
+                L - tip.x(), row.dx, tip.y(), row.dy, rot, row.rot);
     EXPECT_NEAR((L - tip.x()) / row.dx, 1.0, 0.005) << "P L²/EI = " << row.load;
     EXPECT_NEAR(tip.y() / row.dy, 1.0, 0.005) << "P L²/EI = " << row.load;
     EXPECT_NEAR(rot / row.rot, 1.0, 0.005) << "P L²/EI = " << row.load;
@@ -155,6 +158,8 @@ TEST(FrameNonlinear, EndMomentRollsIntoCircle) {
     const FrameAssembler asmb(mesh);
     const NonlinearStaticResult r = nonlinear_static(mesh, asmb, 1.0);
     const Vec3 tip = r.state.x.row(1).transpose();
+    std::printf("End moment (%s): |tip - root| / L = %.3g\n", inclined ? "inclined" : "plane",
+                tip.norm() / L);
     EXPECT_LT(tip.norm(), 1e-4 * L) << (inclined ? "inclined" : "plane");
     // Half the moment: a half circle, tip at distance 2R = 2L/π from the root.
     const NonlinearStaticResult h = nonlinear_static(mesh, asmb, 0.5);
@@ -263,6 +268,8 @@ TEST(FrameBuckling, EulerColumnNonlinear) {
     // Round-off lets the arc-length switch onto the (stable, flat) buckled branch right at the
     // bifurcation, or it detects the pivot change: either way λ must sit at P_cr.
     EXPECT_TRUE(r.limit_type == "bifurcation" || r.limit_type == "none") << r.limit_type;
+    std::printf("Euler column perfect, arc-length (8 elements): P/Pcr = %.6f (%s)\n",
+                r.lambda_critical * 1000 / Pcr, r.limit_type.c_str());
     EXPECT_NEAR(r.lambda_critical * 1000 / Pcr, 1.0, 0.005);
   }
   {  // imperfect (L/1000 half-sine): the load approaches P_cr as the column bows to L/10
@@ -274,6 +281,8 @@ TEST(FrameBuckling, EulerColumnNonlinear) {
     opt.max_displacement = L / 10;
     const ArcLengthResult r = arc_length(mesh, asmb, opt, reference_state(mesh));
     EXPECT_EQ(r.limit_type, "none");
+    std::printf("Euler column L/1000 imperfection, at L/10 sway: P/Pcr = %.6f\n",
+                r.lambda_critical * 1000 / Pcr);
     EXPECT_NEAR(r.lambda_critical * 1000 / Pcr, 1.0, 0.02);
   }
 }
@@ -318,6 +327,7 @@ TEST(FrameClassic, VonMisesTrussLimitLoad) {
   opt.initial_lambda = Pmax / 20;
   const ArcLengthResult r = arc_length(mesh, asmb, opt, reference_state(mesh));
   EXPECT_EQ(r.limit_type, "limit point");
+  std::printf("von Mises truss: limit %.6f, closed form %.6f\n", r.lambda_critical, Pmax);
   EXPECT_NEAR(r.lambda_critical / Pmax, 1.0, 1e-3);
   EXPECT_NEAR(h - r.critical_state.x(1, 2), wmax, 0.02 * wmax);
 }
@@ -355,6 +365,8 @@ TEST(FrameClassic, LeesFrameLimitLoad) {
   opt.initial_lambda = 1;
   const ArcLengthResult r = arc_length(mesh, asmb, opt, reference_state(mesh));
   EXPECT_EQ(r.limit_type, "limit point");
+  std::printf("Lee's frame: P L^2/EI = %.4f (%s)\n", r.lambda_critical * 120 * 120 / (720 * 2),
+              r.limit_type.c_str());
   EXPECT_NEAR(r.lambda_critical * 120 * 120 / (720 * 2) / 18.55, 1.0, 0.02);
 }
 
