@@ -41,7 +41,9 @@ std::string lower_ext(const std::string& path) {
   return e;
 }
 
-std::string fmt_num(double x) { return io::format_number(x); }
+std::string fmt_num(double x) {
+  return io::format_number(x);
+}
 
 nlohmann::json opt_num(const std::optional<double>& v) {
   return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
@@ -75,7 +77,8 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
       pm.faces = model.faces;
       const std::vector<double> trib = analysis::tributary_areas(pm);
       for (int v = 0; v < model.num_nodes(); ++v)
-        if (trib[v] > 0) model.loads.push_back({v, Vec3(0, 0, -a.area_load * 1e3 * trib[v]), Vec3::Zero()});
+        if (trib[v] > 0)
+          model.loads.push_back({v, Vec3(0, 0, -a.area_load * 1e3 * trib[v]), Vec3::Zero()});
     }
   } else {
     SurfaceOptions so = a.surface_options;
@@ -86,11 +89,12 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
     if (!comment.empty()) {
       for (int v : comment)
         if (v >= s.mesh.num_vertices())
-          throw Error(a.input, fmt::format("'# supports' lists vertex {} of {}", v,
-                                           s.mesh.num_vertices()));
+          throw Error(a.input,
+                      fmt::format("'# supports' lists vertex {} of {}", v, s.mesh.num_vertices()));
       s.supports = comment;
     }
-    if (s.supports.empty()) throw Error(a.input, "no support vertices: the grid-shell is a mechanism");
+    if (s.supports.empty())
+      throw Error(a.input, "no support vertices: the grid-shell is a mechanism");
     analysis::GridshellFrameOptions go;
     go.diameter = a.diameter;
     go.elements = a.elements;
@@ -124,7 +128,8 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   o.buckling_modes = a.modes;
   o.imperfection = a.imperfection || a.imperfection_amplitude > 0;
   o.imperfection_amplitude = a.imperfection_amplitude;
-  o.nonlinear_static = a.nonlinear_static > 0 ? a.nonlinear_static : request.nonlinear_static.value_or(0);
+  o.nonlinear_static =
+      a.nonlinear_static > 0 ? a.nonlinear_static : request.nonlinear_static.value_or(0);
   o.arc.max_steps = a.max_steps;
   if (o.imperfection && !o.buckling) o.buckling = true;
 
@@ -228,13 +233,13 @@ void register_analyze(CLI::App& app, Action& action) {
   sub->add_option("--self-weight", a->self_weight,
                   "surface (spread by face area, the paper's load) | at-bars (at the bar ends)")
       ->default_str("surface");
-  sub->add_option("--elements", a->elements, "beam elements per grid-shell bar")
-      ->default_str("2");
+  sub->add_option("--elements", a->elements, "beam elements per grid-shell bar")->default_str("2");
   sub->add_option("--diameter", a->diameter, "solid circular bar diameter [m]")
       ->default_str("0.037");
   sub->add_option("--modes", a->modes, "linearised buckling modes to compute")->default_str("5");
-  sub->add_flag("--imperfection", a->imperfection,
-                "perturb the geometry by the first buckling mode (span/300) for the non-linear path");
+  sub->add_flag(
+      "--imperfection", a->imperfection,
+      "perturb the geometry by the first buckling mode (span/300) for the non-linear path");
   sub->add_option("--imperfection-amplitude", a->imperfection_amplitude,
                   "imperfection amplitude in m (implies --imperfection)")
       ->default_str("0");

@@ -22,7 +22,9 @@
 using namespace gridshell;
 
 namespace {
-bool have_ccx() { return std::system("command -v ccx > /dev/null 2>&1") == 0; }
+bool have_ccx() {
+  return std::system("command -v ccx > /dev/null 2>&1") == 0;
+}
 
 // Displacements per node id from a ccx .dat file.
 std::map<int, Vec3> read_ccx_displacements(const std::filesystem::path& dat) {
@@ -90,9 +92,10 @@ TEST(FrameCcx, ShellDeflectionMatchesCalculix) {
     for (int e = 0; e < kNe; ++e)
       elems << fmt::format("{},{},{},{}\n", eid++, ids[2 * e], ids[2 * e + 1], ids[2 * e + 2]);
     const fem::Mat3 R = fem::element_frame(a, c, Vec3::Zero());
-    sections << fmt::format("*BEAM SECTION, ELSET=M{}, MATERIAL=STEEL, SECTION=RECT\n{},{}\n"
-                            "{:.12g},{:.12g},{:.12g}\n",
-                            k, b, b, R(0, 1), R(1, 1), R(2, 1));
+    sections << fmt::format(
+        "*BEAM SECTION, ELSET=M{}, MATERIAL=STEEL, SECTION=RECT\n{},{}\n"
+        "{:.12g},{:.12g},{:.12g}\n",
+        k, b, b, R(0, 1), R(1, 1), R(2, 1));
   }
   inp << elems.str() << sections.str();
   inp << "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11,0.3\n";

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "gridshell/core/error.h"
 #include "gridshell/fem/frame_arclength.h"
 #include "gridshell/fem/frame_element.h"
-#include "gridshell/core/error.h"
 #include "gridshell/fem/frame_solver.h"
 #include "gridshell/mesh/topology.h"
 
@@ -36,7 +36,9 @@ FrameModel straight_member(const Vec3& a, const Vec3& b, int elements, const Fra
   return m;
 }
 
-FrameSupport fix(int node, std::array<bool, 6> f) { return {node, f}; }
+FrameSupport fix(int node, std::array<bool, 6> f) {
+  return {node, f};
+}
 }  // namespace
 
 TEST(FrameElement, CorotationalTangentAtRestEqualsLinearStiffness) {
@@ -198,10 +200,11 @@ FrameModel star_dome() {
     add(0, 1 + k);
     add(1 + k, 1 + (k + 1) % 6);
     // inner node at 60°(k+1) sits between outer nodes at 60°(k+1) ± 30°
-    add(1 + k, 7 + k);                // 90° + 60°k = 60°(k+1) + 30°
-    add(1 + k, 7 + (k + 5) % 6);      // 60°(k+1) − 30°
+    add(1 + k, 7 + k);            // 90° + 60°k = 60°(k+1) + 30°
+    add(1 + k, 7 + (k + 5) % 6);  // 60°(k+1) − 30°
   }
-  for (int k = 0; k < 6; ++k) m.supports.push_back(fix(7 + k, {true, true, true, true, true, true}));
+  for (int k = 0; k < 6; ++k)
+    m.supports.push_back(fix(7 + k, {true, true, true, true, true, true}));
   m.loads = {{0, Vec3(0, 0, -1), Vec3::Zero()}};
   return m;
 }
@@ -241,8 +244,7 @@ FrameModel euler_column(double L, int n, double imperfection) {
   FrameModel c = m;
   c.nodes.resize(n + 1, 3);
   c.members.clear();
-  for (int k = 0; k <= n; ++k)
-    c.nodes.row(k) << L * k / n, 0, imperfection * std::sin(kPi * k / n);
+  for (int k = 0; k <= n; ++k) c.nodes.row(k) << L * k / n, 0, imperfection * std::sin(kPi * k / n);
   for (int k = 0; k < n; ++k) {
     FrameMember mb;
     mb.i = k;
@@ -491,9 +493,8 @@ const char* kStarDomeJson = R"({
 TEST(AnalyzeCli, StarDomeModelJson) {
   const auto dir = test::temp_dir("analyze_star");
   io::write_file_atomic(dir / "dome.json", kStarDomeJson);
-  const auto r = test::run_gridshell(fmt::format("analyze '{}' -o '{}' --quiet",
-                                                 (dir / "dome.json").string(),
-                                                 (dir / "out").string()));
+  const auto r = test::run_gridshell(fmt::format(
+      "analyze '{}' -o '{}' --quiet", (dir / "dome.json").string(), (dir / "out").string()));
   ASSERT_EQ(r.status, 0) << r.err;
   const auto rep = nlohmann::json::parse(io::read_file(dir / "out" / "report.json"));
   const auto& s = rep["structure"];
@@ -501,8 +502,8 @@ TEST(AnalyzeCli, StarDomeModelJson) {
   EXPECT_NEAR(s["lambda_nonlinear"].get<double>() / 146.7, 1.0, 0.02);
   EXPECT_NEAR(s["delta_max_m"].get<double>() * 220.46 / 0.20641, 1.0, 0.005);
   EXPECT_NEAR(s["lambda_linear_buckling"].get<double>() / 707, 1.0, 0.03);
-  for (const char* f : {"nodes.csv", "beams.csv", "path.csv", "nodes_nonlinear.csv", "frame.vtp",
-                        "config.json"})
+  for (const char* f :
+       {"nodes.csv", "beams.csv", "path.csv", "nodes_nonlinear.csv", "frame.vtp", "config.json"})
     EXPECT_TRUE(std::filesystem::exists(dir / "out" / f)) << f;
   EXPECT_EQ(io::read_file(dir / "out" / "nodes.csv").substr(0, 29),
             "node,x,y,z,ux,uy,uz,support\n0");
@@ -539,8 +540,7 @@ TEST(AnalyzeCli, ObjSupportsCommentIsHonoured) {
   const auto dir = test::temp_dir("analyze_obj");
   io::write_obj(dir / "g.obj", mesh, few);
   const auto r = test::run_gridshell(fmt::format("analyze '{}' --analyze linear -o '{}' --quiet",
-                                                 (dir / "g.obj").string(),
-                                                 (dir / "out").string()));
+                                                 (dir / "g.obj").string(), (dir / "out").string()));
   ASSERT_EQ(r.status, 0) << r.err;
   const auto rep = nlohmann::json::parse(io::read_file(dir / "out" / "report.json"));
   EXPECT_EQ(rep["structure"]["supports"], few.size());

@@ -78,8 +78,8 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
     }
     res.equilibrium_error = Fabs > 0 ? (R + F).norm() / Fabs : 0;
   }
-  spdlog::info("linear: delta = {:.6g} m ({} elements, {} dofs)", res.delta_max_m,
-               res.num_elements, res.num_dofs);
+  spdlog::info("linear: delta = {:.6g} m ({} elements, {} dofs)", res.delta_max_m, res.num_elements,
+               res.num_dofs);
 
   // Linearised buckling.
   BucklingResult lba;

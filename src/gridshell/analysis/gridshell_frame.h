@@ -17,12 +17,12 @@
 namespace gridshell::analysis {
 
 struct GridshellFrameOptions {
-  double diameter = 0.037;   ///< [m]
-  double E = 210e9;          ///< [Pa]
+  double diameter = 0.037;  ///< [m]
+  double E = 210e9;         ///< [Pa]
   double nu = 0.3;
-  double density = 7850;     ///< [kg/m³]
-  double g = 9.81;           ///< [m/s²]
-  int elements = 2;          ///< elements per beam
+  double density = 7850;  ///< [kg/m³]
+  double g = 9.81;        ///< [m/s²]
+  int elements = 2;       ///< elements per beam
   bool self_weight = true;
   bool self_weight_at_bars = false;
   double area_load_kN_m2 = 0;

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/SparseLU>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <Eigen/SparseLU>
 
 #include "gridshell/core/error.h"
 #include "gridshell/core/rng.h"
@@ -41,8 +41,8 @@ struct Converged {
 // One arc-length step from `from` with radius ds. On success fills `to` (including the factorised
 // tangent at the new point in `solver`) and returns the number of iterations, else −1.
 int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::VectorXd& W,
-             const ArcLengthOptions& opt, TangentSolver& solver, const Converged& from,
-             double ds, bool first, Converged& to) {
+             const ArcLengthOptions& opt, TangentSolver& solver, const Converged& from, double ds,
+             bool first, Converged& to) {
   const Eigen::VectorXd& f = mesh.load;
   // Tangent at the start point: `solver` holds it on entry.
   Eigen::VectorXd ut = solver.solve(f);
@@ -131,7 +131,7 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
   const double ds_min = 1e-7 * ds0, ds_max = 50 * ds0;
   double lam_max = 0;
   bool first = true;
-  bool critical = false;       // an event has been bracketed
+  bool critical = false;  // an event has been bracketed
   double lam_crit = 0;
   int base_negative = cur.negative;
   FrameState stable_state = start;
@@ -154,9 +154,9 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
       }
       continue;
     }
-    const bool event = !critical && (next.negative > base_negative ||
-                                      (!first && cur.lambda > 0 &&
-                                       next.lambda < cur.lambda * (1 - 1e-6)));
+    const bool event =
+        !critical && (next.negative > base_negative ||
+                      (!first && cur.lambda > 0 && next.lambda < cur.lambda * (1 - 1e-6)));
     if (event) {
       const double width = std::abs(next.lambda - cur.lambda);
       if (width > opt.critical_tolerance * std::max(std::abs(cur.lambda), 1e-300) && ds > ds_min) {

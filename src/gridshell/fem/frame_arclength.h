@@ -26,28 +26,28 @@
 namespace gridshell::fem {
 
 struct ArcLengthOptions {
-  double initial_lambda = 0.05;   ///< load factor of the first predictor step (> 0)
-  double max_lambda = 1e9;        ///< stop when λ exceeds this
-  double max_displacement = 0;    ///< stop when the largest nodal displacement exceeds this (0 = off)
+  double initial_lambda = 0.05;  ///< load factor of the first predictor step (> 0)
+  double max_lambda = 1e9;       ///< stop when λ exceeds this
+  double max_displacement = 0;  ///< stop when the largest nodal displacement exceeds this (0 = off)
   int max_steps = 300;
   int desired_iterations = 6;
   int max_iterations = 40;
-  double tolerance = 1e-8;        ///< residual norm relative to |λ f|
+  double tolerance = 1e-8;           ///< residual norm relative to |λ f|
   double critical_tolerance = 2e-4;  ///< relative width of the bracket on the critical λ
   bool stop_at_critical = true;
 };
 
 struct PathPoint {
   double lambda = 0;
-  double displacement = 0;   ///< largest nodal displacement norm
+  double displacement = 0;  ///< largest nodal displacement norm
   int negative_pivots = 0;
 };
 
 struct ArcLengthResult {
-  std::vector<PathPoint> path;    ///< converged points (λ = 0 first)
-  double lambda_critical = 0;     ///< first limit point / bifurcation; else the largest λ reached
+  std::vector<PathPoint> path;  ///< converged points (λ = 0 first)
+  double lambda_critical = 0;   ///< first limit point / bifurcation; else the largest λ reached
   std::string limit_type = "none";
-  FrameState critical_state;      ///< the last stable state before the critical point
+  FrameState critical_state;  ///< the last stable state before the critical point
   FrameState final_state;
   int steps = 0, iterations = 0, cutbacks = 0;
   std::string stop_reason;
@@ -68,8 +68,8 @@ struct NonlinearStaticOptions {
 
 struct NonlinearStaticResult {
   FrameState state;
-  std::vector<double> axial;       ///< per element
-  Eigen::VectorXd reactions;       ///< full (6 per node)
+  std::vector<double> axial;  ///< per element
+  Eigen::VectorXd reactions;  ///< full (6 per node)
   int steps = 0, iterations = 0;
 };
 

@@ -97,8 +97,8 @@ Mat12 beam_linear_stiffness(const BeamStiffness& s, double L, const Mat3& R0) {
   k(3, 3) = k(9, 9) = gj;
   k(3, 9) = k(9, 3) = -gj;
   Eigen::Matrix4d m;
-  m << 12, 6 * L, -12, 6 * L, 6 * L, 4 * L * L, -6 * L, 2 * L * L, -12, -6 * L, 12, -6 * L,
-      6 * L, 2 * L * L, -6 * L, 4 * L * L;
+  m << 12, 6 * L, -12, 6 * L, 6 * L, 4 * L * L, -6 * L, 2 * L * L, -12, -6 * L, 12, -6 * L, 6 * L,
+      2 * L * L, -6 * L, 4 * L * L;
   add_bending(k, 1, 5, 1.0, m * (s.EIz / (L * L * L)));
   add_bending(k, 2, 4, -1.0, m * (s.EIy / (L * L * L)));
   return to_global(k, R0);
@@ -180,8 +180,8 @@ Vec12 corot_force(const CorotBeam& b, const CorotState& st, Vec7* local) {
 
   // G^T: spin of the element frame (local components) per local dof [u1 w1 u2 w2].
   const double ln = k.ln, q2n = k.q(1);
-  const double eta = k.q(0) / q2n, e11 = k.q1(0) / q2n, e12 = k.q1(1) / q2n,
-               e21 = k.q2(0) / q2n, e22 = k.q2(1) / q2n;
+  const double eta = k.q(0) / q2n, e11 = k.q1(0) / q2n, e12 = k.q1(1) / q2n, e21 = k.q2(0) / q2n,
+               e22 = k.q2(1) / q2n;
   Eigen::Matrix<double, 3, 12> Gt = Eigen::Matrix<double, 3, 12>::Zero();
   Gt(0, 2) = eta / ln;
   Gt(0, 3) = e12 / 2;

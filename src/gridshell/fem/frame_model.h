@@ -18,10 +18,10 @@ namespace gridshell::fem {
 
 struct FrameSection {
   std::string name;
-  double A = 0;        ///< area [m²]
-  double Iy = 0;       ///< second moment about local y [m⁴]
-  double Iz = 0;       ///< second moment about local z [m⁴]
-  double J = 0;        ///< torsion constant [m⁴]
+  double A = 0;            ///< area [m²]
+  double Iy = 0;           ///< second moment about local y [m⁴]
+  double Iz = 0;           ///< second moment about local z [m⁴]
+  double J = 0;            ///< torsion constant [m⁴]
   Vec3 up = Vec3::Zero();  ///< local z hint; zero = default rule
 };
 
@@ -42,7 +42,7 @@ struct FrameMember {
   int section = 0;     ///< index into FrameModel::sections
   int material = 0;    ///< index into FrameModel::materials
   MemberType type = MemberType::beam;
-  int elements = 1;    ///< number of beam elements the member is subdivided into (trusses: 1)
+  int elements = 1;  ///< number of beam elements the member is subdivided into (trusses: 1)
 };
 
 /// Restrained degrees of freedom of a node: ux, uy, uz, rx, ry, rz.

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/CholmodSupport>
-#include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
 #include <Spectra/SymEigsSolver.h>
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
 
 #include "gridshell/core/error.h"
 
@@ -125,7 +125,9 @@ void apply_increment(const FrameMesh& mesh, const Eigen::VectorXd& du, FrameStat
   }
 }
 
-Points displacements(const FrameMesh& mesh, const FrameState& state) { return state.x - mesh.X; }
+Points displacements(const FrameMesh& mesh, const FrameState& state) {
+  return state.x - mesh.X;
+}
 
 Points rotations(const FrameState& state) {
   Points r(state.R.size(), 3);
@@ -176,7 +178,8 @@ FrameAssembler::FrameAssembler(const FrameMesh& mesh) : mesh_(mesh) {
         const int r = elem_dof(mesh, e, a);
         if (r < 0) continue;
         const int* it = std::lower_bound(begin, end, r);
-        slot_[static_cast<size_t>(k) * 144 + b * 12 + a] = static_cast<int>(it - K_.innerIndexPtr());
+        slot_[static_cast<size_t>(k) * 144 + b * 12 + a] =
+            static_cast<int>(it - K_.innerIndexPtr());
       }
     }
   }

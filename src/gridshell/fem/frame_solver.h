@@ -26,16 +26,16 @@ using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// The discretised frame.
 struct FrameMesh {
-  Points X;                 ///< reference coordinates: model nodes first, then interior nodes
+  Points X;  ///< reference coordinates: model nodes first, then interior nodes
   int num_model_nodes = 0;
   struct Element {
-    int i = -1, j = -1;     ///< node ids in X
+    int i = -1, j = -1;  ///< node ids in X
     int member = -1;
     bool truss = false;
-    CorotBeam beam;         ///< stiffness, reference length and frame
+    CorotBeam beam;  ///< stiffness, reference length and frame
   };
   std::vector<Element> elements;
-  std::vector<std::array<int, 6>> dof;  ///< per node: equation number or −1 (restrained)
+  std::vector<std::array<int, 6>> dof;      ///< per node: equation number or −1 (restrained)
   std::vector<std::array<bool, 6>> active;  ///< per node: dof exists (not a truss-only rotation)
   int num_dofs = 0;
   Eigen::VectorXd load_full;  ///< 6 per node, the reference load (factor 1)
@@ -74,7 +74,8 @@ class FrameAssembler {
   SpMat tangent(const FrameState& state, Eigen::VectorXd* f_int_full,
                 std::vector<double>* axial = nullptr, bool symmetric = true) const;
   /// Internal force only (cheaper).
-  Eigen::VectorXd internal_force(const FrameState& state, std::vector<double>* axial = nullptr) const;
+  Eigen::VectorXd internal_force(const FrameState& state,
+                                 std::vector<double>* axial = nullptr) const;
   /// Reduces a full (6 per node) vector to the free dofs.
   Eigen::VectorXd reduce(const Eigen::VectorXd& full) const;
   /// Expands free dofs to a full (6 per node) vector (zeros at restrained dofs).
@@ -83,8 +84,8 @@ class FrameAssembler {
  private:
   void scatter(const std::vector<double>& values, SpMat& K) const;
   const FrameMesh& mesh_;
-  SpMat K_;                         // pattern
-  std::vector<int> slot_;           // per element entry (144 per element): value index or −1
+  SpMat K_;                // pattern
+  std::vector<int> slot_;  // per element entry (144 per element): value index or −1
 };
 
 /// Factorisation of a symmetric (possibly indefinite) tangent.
@@ -127,18 +128,18 @@ void factorize_or_explain(TangentSolver& solver, const SpMat& K, const FrameMesh
 
 /// Linear static analysis.
 struct LinearResult {
-  Eigen::VectorXd u;           ///< free dofs
-  Points displacement;         ///< per node, n×3
-  std::vector<double> axial;   ///< per element, tension positive
-  Eigen::VectorXd reactions;   ///< full (6 per node): forces the supports exert
+  Eigen::VectorXd u;          ///< free dofs
+  Points displacement;        ///< per node, n×3
+  std::vector<double> axial;  ///< per element, tension positive
+  Eigen::VectorXd reactions;  ///< full (6 per node): forces the supports exert
 };
 LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assembler,
                            const std::string& subject = "model");
 
 /// Linearised buckling: K φ = λ (−K_G(N_linear)) φ; the smallest positive λ first.
 struct BucklingResult {
-  std::vector<double> lambdas;              ///< ascending, positive only
-  std::vector<Eigen::VectorXd> modes;       ///< free-dof vectors, max |translation| = 1
+  std::vector<double> lambdas;         ///< ascending, positive only
+  std::vector<Eigen::VectorXd> modes;  ///< free-dof vectors, max |translation| = 1
 };
 struct BucklingOptions {
   int modes = 5;

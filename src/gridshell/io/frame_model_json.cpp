@@ -124,7 +124,8 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
       if (!mj[key].is_string()) throw Error(subject, what + fmt::format(".{} must be a name", key));
       const auto it = names.find(mj[key].get<std::string>());
       if (it == names.end())
-        throw Error(subject, what + fmt::format(": unknown {} '{}'", key, mj[key].get<std::string>()));
+        throw Error(subject,
+                    what + fmt::format(": unknown {} '{}'", key, mj[key].get<std::string>()));
       return it->second;
     };
     mb.section = pick("section", sections);
@@ -150,8 +151,7 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
   if (j.contains("supports")) {
     if (!j["supports"].is_array()) throw Error(subject, "'supports' must be a list");
     for (const auto& sj : j["supports"]) {
-      if (!sj.is_object() || !sj.contains("node"))
-        throw Error(subject, "a support needs 'node'");
+      if (!sj.is_object() || !sj.contains("node")) throw Error(subject, "a support needs 'node'");
       fem::FrameSupport s;
       s.node = index(sj["node"], "supports.node", subject);
       if (sj.contains("fix")) {
@@ -192,7 +192,8 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
         for (const auto& f : m.faces) {
           Vec3 va = Vec3::Zero();
           for (size_t c = 0; c < f.size(); ++c)
-            va += m.nodes.row(f[c]).transpose().cross(m.nodes.row(f[(c + 1) % f.size()]).transpose());
+            va +=
+                m.nodes.row(f[c]).transpose().cross(m.nodes.row(f[(c + 1) % f.size()]).transpose());
           va *= 0.5;
           const double area = type == "surface" ? va.norm() : std::abs(va.z());
           for (int v : f) F[v] += q * (area / static_cast<double>(f.size()));
@@ -218,7 +219,8 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
     if (!a.is_object()) throw Error(subject, "'analysis' must be an object");
     auto flag = [&](const char* key, std::optional<bool>& dst) {
       if (!a.contains(key)) return;
-      if (!a[key].is_boolean()) throw Error(subject, fmt::format("analysis.{} must be true/false", key));
+      if (!a[key].is_boolean())
+        throw Error(subject, fmt::format("analysis.{} must be true/false", key));
       dst = a[key].get<bool>();
     };
     flag("linear", out.analysis.linear);
