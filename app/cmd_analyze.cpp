@@ -1,20 +1,255 @@
-// gridshell analyze: not implemented yet (issue 5).
+// gridshell analyze GRIDSHELL.obj|.ply|MODEL.json: the grid-shell as a rigid-jointed 3D frame —
+// δ (linear), λ_LBA (linearised buckling) and λ (first critical point of the non-linear path).
 
-#include <iostream>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include "common.h"
+#include "gridshell/analysis/frame_analysis.h"
+#include "gridshell/analysis/gridshell_frame.h"
+#include "gridshell/core/error.h"
+#include "gridshell/io/files.h"
+#include "gridshell/io/frame_model_json.h"
+#include "gridshell/io/mesh_io.h"
 
 namespace gridshell::app {
 
+namespace {
+
+struct AnalyzeArgs {
+  std::string input;
+  SurfaceOptions surface_options;
+  RunOptions run;
+  std::string analyze = "auto";
+  double area_load = 0;
+  std::string self_weight = "surface";
+  int elements = 2;
+  double diameter = 0.037;
+  int modes = 5;
+  bool imperfection = false;
+  double imperfection_amplitude = 0;
+  double nonlinear_static = 0;
+  int max_steps = 300;
+};
+
+std::string lower_ext(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+std::string fmt_num(double x) {
+  return io::format_number(x);
+}
+
+nlohmann::json opt_num(const std::optional<double>& v) {
+  return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
+  const auto guard = apply_run_options(a.run);
+  if (a.elements < 1 || a.elements > 1000) throw Error("--elements", "must be in 1..1000");
+  if (!(a.area_load >= 0) || !std::isfinite(a.area_load))
+    throw Error("--area-load", "must be a number >= 0 (kN/m²)");
+  if (a.self_weight != "surface" && a.self_weight != "at-bars")
+    throw Error("--self-weight", "must be 'surface' or 'at-bars'");
+  if (!(a.diameter > 0) || !std::isfinite(a.diameter)) throw Error("--diameter", "must be > 0");
+  if (a.modes < 1 || a.modes > 100) throw Error("--modes", "must be in 1..100");
+  if (a.nonlinear_static < 0 || !std::isfinite(a.nonlinear_static))
+    throw Error("--nonlinear-static", "must be > 0");
+  if (a.max_steps < 1) throw Error("--max-steps", "must be >= 1");
+
+  fem::FrameModel model;
+  std::vector<int> supports;
+  io::ModelAnalysisRequest request;
+  const bool is_json = lower_ext(a.input) == ".json";
+  if (is_json) {
+    io::FrameModelFile f = io::read_frame_model(a.input, 1);
+    model = std::move(f.model);
+    request = f.analysis;
+    if (a.area_load > 0) {
+      if (model.faces.empty()) throw Error("--area-load", "the model has no faces to carry it");
+      PolyMesh pm;
+      pm.V = model.nodes;
+      pm.faces = model.faces;
+      const std::vector<double> trib = analysis::tributary_areas(pm);
+      for (int v = 0; v < model.num_nodes(); ++v)
+        if (trib[v] > 0)
+          model.loads.push_back({v, Vec3(0, 0, -a.area_load * 1e3 * trib[v]), Vec3::Zero()});
+    }
+  } else {
+    SurfaceOptions so = a.surface_options;
+    std::vector<int> comment;
+    if (so.supports == "auto" && lower_ext(a.input) == ".obj")
+      comment = io::read_obj_supports_comment(a.input);
+    PolySurface s = load_poly_surface(a.input, so);
+    if (!comment.empty()) {
+      for (int v : comment)
+        if (v >= s.mesh.num_vertices())
+          throw Error(a.input,
+                      fmt::format("'# supports' lists vertex {} of {}", v, s.mesh.num_vertices()));
+      s.supports = comment;
+    }
+    if (s.supports.empty())
+      throw Error(a.input, "no support vertices: the grid-shell is a mechanism");
+    analysis::GridshellFrameOptions go;
+    go.diameter = a.diameter;
+    go.elements = a.elements;
+    go.self_weight_at_bars = a.self_weight == "at-bars";
+    go.area_load_kN_m2 = a.area_load;
+    model = analysis::gridshell_frame(s.mesh, s.supports, go);
+    supports = s.supports;
+  }
+  if (is_json)
+    for (const auto& s : model.supports) supports.push_back(s.node);
+
+  analysis::FrameAnalysisOptions o;
+  o.subject = a.input;
+  std::string level = a.analyze;
+  if (level == "auto") {
+    if (request.nonlinear.value_or(false)) {
+      level = "nonlinear";
+    } else if (request.buckling.value_or(false)) {
+      level = "buckling";
+    } else if (request.linear.has_value() || request.buckling.has_value() ||
+               request.nonlinear.has_value() || request.nonlinear_static.has_value()) {
+      level = "linear";
+    } else {
+      level = "nonlinear";
+    }
+  }
+  if (level != "linear" && level != "buckling" && level != "nonlinear")
+    throw Error("--analyze", "must be linear, buckling or nonlinear");
+  o.buckling = level != "linear";
+  o.nonlinear = level == "nonlinear";
+  o.buckling_modes = a.modes;
+  o.imperfection = a.imperfection || a.imperfection_amplitude > 0;
+  o.imperfection_amplitude = a.imperfection_amplitude;
+  o.nonlinear_static =
+      a.nonlinear_static > 0 ? a.nonlinear_static : request.nonlinear_static.value_or(0);
+  o.arc.max_steps = a.max_steps;
+  if (o.imperfection && !o.buckling) o.buckling = true;
+
+  io::ensure_directory(a.run.out_dir);
+  const analysis::FrameResult r = analysis::analyze_frame(model, o);
+
+  const std::filesystem::path dir(a.run.out_dir);
+  std::vector<char> is_support(model.num_nodes(), 0);
+  for (int v : supports)
+    if (v >= 0 && v < model.num_nodes()) is_support[v] = 1;
+  {
+    std::string s = "node,x,y,z,ux,uy,uz,support\n";
+    for (int v = 0; v < model.num_nodes(); ++v)
+      s += fmt::format("{},{},{},{},{},{},{},{}\n", v, fmt_num(model.nodes(v, 0)),
+                       fmt_num(model.nodes(v, 1)), fmt_num(model.nodes(v, 2)),
+                       fmt_num(r.displacement(v, 0)), fmt_num(r.displacement(v, 1)),
+                       fmt_num(r.displacement(v, 2)), int(is_support[v]));
+    io::write_file_atomic(dir / "nodes.csv", s);
+  }
+  {
+    std::string s = "beam,node_i,node_j,length,axial_force\n";
+    for (size_t m = 0; m < model.members.size(); ++m)
+      s += fmt::format("{},{},{},{},{}\n", m, model.members[m].i, model.members[m].j,
+                       fmt_num(fem::member_length(model, static_cast<int>(m))),
+                       fmt_num(r.axial_force[m]));
+    io::write_file_atomic(dir / "beams.csv", s);
+  }
+  {
+    std::string s = "lambda,displacement\n";
+    for (const auto& p : r.path)
+      s += fmt::format("{},{}\n", fmt_num(p.lambda), fmt_num(p.displacement));
+    io::write_file_atomic(dir / "path.csv", s);
+  }
+  if (r.nonlinear_displacement) {
+    const Points& U = *r.nonlinear_displacement;
+    const Points& R = *r.nonlinear_rotation;
+    std::string s = "node,x,y,z,ux,uy,uz,support,rx,ry,rz\n";
+    for (int v = 0; v < model.num_nodes(); ++v)
+      s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", v, fmt_num(model.nodes(v, 0)),
+                       fmt_num(model.nodes(v, 1)), fmt_num(model.nodes(v, 2)), fmt_num(U(v, 0)),
+                       fmt_num(U(v, 1)), fmt_num(U(v, 2)), int(is_support[v]), fmt_num(R(v, 0)),
+                       fmt_num(R(v, 1)), fmt_num(R(v, 2)));
+    io::write_file_atomic(dir / "nodes_nonlinear.csv", s);
+  }
+  {
+    std::vector<std::array<int, 2>> lines;
+    Eigen::MatrixXd axial(model.members.size(), 1);
+    for (size_t m = 0; m < model.members.size(); ++m) {
+      lines.push_back({model.members[m].i, model.members[m].j});
+      axial(m, 0) = r.axial_force[m];
+    }
+    Eigen::MatrixXd disp = r.displacement;
+    Eigen::MatrixXd sup(model.num_nodes(), 1);
+    for (int v = 0; v < model.num_nodes(); ++v) sup(v, 0) = is_support[v];
+    io::write_vtp_lines(dir / "frame.vtp", model.nodes, lines,
+                        {{"displacement", disp}, {"support", sup}}, {{"axial_force", axial}});
+  }
+  nlohmann::json report;
+  nlohmann::json st;
+  st["delta_max_m"] = r.delta_max_m;
+  st["lambda_linear_buckling"] = opt_num(r.lambda_linear_buckling);
+  st["lambda_nonlinear"] = opt_num(r.lambda_nonlinear);
+  st["limit_type"] = r.limit_type;
+  st["mass_kg"] = r.mass_kg;
+  st["total_length_m"] = r.total_length_m;
+  st["buckling_lambdas"] = r.buckling_lambdas;
+  st["delta_node"] = r.delta_node;
+  st["equilibrium_error"] = r.equilibrium_error;
+  st["nonlinear_stop_reason"] = r.nonlinear_stop_reason;
+  st["nodes"] = model.num_nodes();
+  st["members"] = model.members.size();
+  st["elements"] = r.num_elements;
+  st["dofs"] = r.num_dofs;
+  st["supports"] = supports.size();
+  st["analysis"] = level;
+  Vec3 total = fem::total_load(model);
+  st["total_load_N"] = {total.x(), total.y(), total.z()};
+  report["structure"] = st;
+  report["timings_s"] = r.timings;
+  write_report(a.run.out_dir, report);
+  write_config(a.run.out_dir, sub);
+  return 0;
+}
+
+}  // namespace
+
 void register_analyze(CLI::App& app, Action& action) {
-  CLI::App* sub = app.add_subcommand("analyze", "(not implemented yet)");
-  sub->allow_extras();
-  sub->callback([&action] {
-    action = [] {
-      std::cerr << "gridshell: error: analyze: not implemented yet (issue 5)\n";
-      return 2;
-    };
-  });
+  auto a = std::make_shared<AnalyzeArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "analyze",
+      "Structural analysis of a grid-shell as a rigid-jointed 3D frame: deflection, linearised "
+      "and non-linear buckling factor");
+  sub->add_option("input", a->input, "GRIDSHELL.obj|.ply|.off or MODEL.json")->required();
+  sub->add_option("--analyze", a->analyze,
+                  "linear | buckling (+ linearised buckling) | nonlinear (+ arc-length path); "
+                  "default nonlinear, or what MODEL.json's analysis asks")
+      ->default_str("auto");
+  sub->add_option("--area-load", a->area_load,
+                  "extra surface load in kN/m² spread to the joints by tributary face area")
+      ->default_str("0");
+  sub->add_option("--self-weight", a->self_weight,
+                  "surface (spread by face area, the paper's load) | at-bars (at the bar ends)")
+      ->default_str("surface");
+  sub->add_option("--elements", a->elements, "beam elements per grid-shell bar")->default_str("2");
+  sub->add_option("--diameter", a->diameter, "solid circular bar diameter [m]")
+      ->default_str("0.037");
+  sub->add_option("--modes", a->modes, "linearised buckling modes to compute")->default_str("5");
+  sub->add_flag(
+      "--imperfection", a->imperfection,
+      "perturb the geometry by the first buckling mode (span/300) for the non-linear path");
+  sub->add_option("--imperfection-amplitude", a->imperfection_amplitude,
+                  "imperfection amplitude in m (implies --imperfection)")
+      ->default_str("0");
+  sub->add_option("--nonlinear-static", a->nonlinear_static,
+                  "also solve the non-linear equilibrium at this load factor (nodes_nonlinear.csv)")
+      ->default_str("0");
+  sub->add_option("--max-steps", a->max_steps, "arc-length step limit")->default_str("300");
+  add_surface_options(sub, a->surface_options);
+  add_run_options(sub, a->run);
+  sub->callback([a, sub, &action] { action = [a, sub] { return run_analyze(*a, sub); }; });
 }
 
 }  // namespace gridshell::app

@@ -1,0 +1,71 @@
+// Frame analysis timings on the shared surfaces, paper defaults (Ø37 steel, pinned supports,
+// self-weight spread by tributary area):
+//   Aquadom triangulation as a frame (11 748 beams, 2 elements per beam): linear, LBA (5 modes);
+//   Lilium triangulation (7 547 beams, 2 elements per beam): the non-linear λ (arc-length).
+// Run: ./build/frame_bench  (needs ../shared/data; prints δ and λ as counters).
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+
+#include "gridshell/analysis/frame_analysis.h"
+#include "gridshell/analysis/gridshell_frame.h"
+#include "gridshell/fem/frame_solver.h"
+#include "gridshell/surfaces/load.h"
+
+using namespace gridshell;
+
+namespace {
+std::string shared(const std::string& rel) {
+  return (std::filesystem::path(GRIDSHELL_SHARED_DIR) / "data" / rel).string();
+}
+
+fem::FrameModel model_of(const std::string& surface) {
+  const PolySurface s = load_poly_surface(shared("surfaces/" + surface));
+  return analysis::gridshell_frame(s.mesh, s.supports, {});
+}
+
+void BM_AquadomLinear(benchmark::State& state) {
+  const fem::FrameModel m = model_of("aquadom_Vouga.ply");
+  const fem::FrameMesh mesh = fem::discretize(m);
+  const fem::FrameAssembler asmb(mesh);
+  double delta = 0;
+  for (auto _ : state) {
+    const fem::LinearResult r = fem::linear_static(mesh, asmb);
+    delta = r.displacement.rowwise().norm().maxCoeff();
+  }
+  state.counters["beams"] = static_cast<double>(m.members.size());
+  state.counters["dofs"] = mesh.num_dofs;
+  state.counters["delta_mm"] = delta * 1e3;
+}
+BENCHMARK(BM_AquadomLinear)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+void BM_AquadomBuckling(benchmark::State& state) {
+  const fem::FrameModel m = model_of("aquadom_Vouga.ply");
+  const fem::FrameMesh mesh = fem::discretize(m);
+  const fem::FrameAssembler asmb(mesh);
+  const fem::LinearResult lin = fem::linear_static(mesh, asmb);
+  double lambda = 0;
+  for (auto _ : state) {
+    const fem::BucklingResult b = fem::linear_buckling(mesh, asmb, lin, {.modes = 5});
+    lambda = b.lambdas.empty() ? 0 : b.lambdas.front();
+  }
+  state.counters["lambda_lba"] = lambda;
+}
+BENCHMARK(BM_AquadomBuckling)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+void BM_LiliumNonlinear(benchmark::State& state) {
+  const fem::FrameModel m = model_of("liliumVouga.ply");
+  analysis::FrameResult r;
+  for (auto _ : state) r = analysis::analyze_frame(m, {});
+  state.counters["beams"] = static_cast<double>(m.members.size());
+  state.counters["lambda_lba"] = r.lambda_linear_buckling.value_or(0);
+  state.counters["lambda_nl"] = r.lambda_nonlinear.value_or(0);
+  state.counters["steps"] = static_cast<double>(r.path.size());
+  state.counters["t_nonlinear_s"] = r.timings["nonlinear"];
+  state.counters["limit_point"] = r.limit_type == "limit point" ? 1 : 0;
+}
+BENCHMARK(BM_LiliumNonlinear)->Unit(benchmark::kSecond)->Iterations(1);
+}  // namespace
+
+BENCHMARK_MAIN();

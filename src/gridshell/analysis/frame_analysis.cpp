@@ -1,0 +1,142 @@
+#include "gridshell/analysis/frame_analysis.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <spdlog/spdlog.h>
+
+#include "gridshell/core/error.h"
+
+namespace gridshell::analysis {
+
+using namespace gridshell::fem;
+
+namespace {
+class Timer {
+ public:
+  Timer() : t0_(std::chrono::steady_clock::now()) {}
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point t0_;
+};
+
+double plan_span(const Points& X) {
+  const Eigen::RowVector3d lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
+  const double s = std::max(hi(0) - lo(0), hi(1) - lo(1));
+  return s > 0 ? s : (hi - lo).norm();
+}
+}  // namespace
+
+void perturb_geometry(FrameMesh& mesh, const Eigen::VectorXd& mode, double amplitude) {
+  for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v)
+    for (int c = 0; c < 3; ++c)
+      if (mesh.dof[v][c] >= 0) mesh.X(v, c) += amplitude * mode(mesh.dof[v][c]);
+  for (auto& e : mesh.elements) {
+    const Vec3 a = mesh.X.row(e.i).transpose(), b = mesh.X.row(e.j).transpose();
+    e.beam.l0 = (b - a).norm();
+    e.beam.R0 = element_frame(a, b, e.beam.R0.col(2));
+  }
+}
+
+FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o) {
+  Timer total;
+  FrameResult res;
+  Timer t;
+  FrameMesh mesh = discretize(model, o.subject);
+  if (mesh.load.norm() == 0 && mesh.load_full.norm() == 0)
+    throw Error(o.subject, "no loads: nothing to analyse");
+  res.num_elements = static_cast<int>(mesh.elements.size());
+  res.num_dofs = mesh.num_dofs;
+  res.mass_kg = total_mass(model);
+  res.total_length_m = total_length(model);
+  res.nodes = model.nodes;
+  const int n0 = mesh.num_model_nodes;
+  auto assembler = std::make_unique<FrameAssembler>(mesh);
+  res.timings["setup"] = t.seconds();
+
+  // Linear static.
+  t = Timer();
+  const LinearResult lin = linear_static(mesh, *assembler, o.subject);
+  res.timings["linear"] = t.seconds();
+  res.displacement = lin.displacement.topRows(n0);
+  res.delta_max_m = lin.displacement.rowwise().norm().maxCoeff();
+  if (n0 > 0) res.displacement.rowwise().norm().maxCoeff(&res.delta_node);
+  res.axial_force.resize(model.members.size());
+  for (size_t m = 0; m < model.members.size(); ++m)
+    res.axial_force[m] = lin.axial[mesh.member_elements[m].front()];
+  res.reactions = lin.reactions.head(6 * n0);
+  {
+    Vec3 R = Vec3::Zero(), F = Vec3::Zero();
+    double Fabs = 0;
+    for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v) {
+      R += lin.reactions.segment<3>(6 * v);
+      F += mesh.load_full.segment<3>(6 * v);
+      Fabs += mesh.load_full.segment<3>(6 * v).norm();
+    }
+    res.equilibrium_error = Fabs > 0 ? (R + F).norm() / Fabs : 0;
+  }
+  spdlog::info("linear: delta = {:.6g} m ({} elements, {} dofs)", res.delta_max_m, res.num_elements,
+               res.num_dofs);
+
+  // Linearised buckling.
+  BucklingResult lba;
+  if (o.buckling || (o.nonlinear && o.imperfection)) {
+    t = Timer();
+    BucklingOptions bo;
+    bo.modes = std::max(1, o.buckling_modes);
+    lba = linear_buckling(mesh, *assembler, lin, bo);
+    res.timings["buckling"] = t.seconds();
+    res.buckling_lambdas = lba.lambdas;
+    if (!lba.lambdas.empty()) res.lambda_linear_buckling = lba.lambdas.front();
+    spdlog::info("linear buckling: lambda = {}",
+                 lba.lambdas.empty() ? std::string("none") : std::to_string(lba.lambdas[0]));
+  }
+
+  const double span = plan_span(mesh.X);
+  // Non-linear path.
+  if (o.nonlinear) {
+    t = Timer();
+    FrameMesh nl_mesh = mesh;
+    if (o.imperfection && !lba.modes.empty()) {
+      const double amp = o.imperfection_amplitude > 0 ? o.imperfection_amplitude : span / 300;
+      perturb_geometry(nl_mesh, lba.modes.front(), amp);
+    }
+    const FrameAssembler nl_asm(nl_mesh);
+    ArcLengthOptions ao = o.arc;
+    if (!(ao.initial_lambda > 0)) {
+      ao.initial_lambda = res.lambda_linear_buckling
+                              ? *res.lambda_linear_buckling / 20
+                              : span / 2000 / std::max(res.delta_max_m, 1e-300);
+    }
+    if (!(ao.max_displacement > 0)) ao.max_displacement = span / 5;
+    if (res.lambda_linear_buckling && ao.max_lambda >= 1e9)
+      ao.max_lambda = 20 * *res.lambda_linear_buckling;
+    const ArcLengthResult al = arc_length(nl_mesh, nl_asm, ao, reference_state(nl_mesh));
+    res.timings["nonlinear"] = t.seconds();
+    res.path = al.path;
+    res.lambda_nonlinear = al.lambda_critical;
+    res.limit_type = al.limit_type;
+    res.nonlinear_stop_reason = al.stop_reason;
+    spdlog::info("non-linear: lambda = {:.6g} ({}; {} steps, {} iterations)", al.lambda_critical,
+                 al.limit_type, al.steps, al.iterations);
+  }
+
+  if (o.nonlinear_static > 0) {
+    t = Timer();
+    const NonlinearStaticResult ns =
+        nonlinear_static(mesh, *assembler, o.nonlinear_static, {}, o.subject);
+    res.timings["nonlinear_static"] = t.seconds();
+    res.nonlinear_displacement = Points(displacements(mesh, ns.state).topRows(n0));
+    res.nonlinear_rotation = Points(rotations(ns.state).topRows(n0));
+    res.nonlinear_axial_force.resize(model.members.size());
+    for (size_t m = 0; m < model.members.size(); ++m)
+      res.nonlinear_axial_force[m] = ns.axial[mesh.member_elements[m].front()];
+  }
+  res.timings["total"] = total.seconds();
+  return res;
+}
+
+}  // namespace gridshell::analysis

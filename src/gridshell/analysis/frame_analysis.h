@@ -1,0 +1,67 @@
+#pragma once
+/// \file frame_analysis.h
+/// The structural evaluation of a frame (a grid-shell) as the paper judges it: δ, the largest
+/// displacement of a linear analysis under the reference load; λ_LBA, the smallest positive
+/// eigenvalue of K + λ K_G; λ, the load factor of the first limit point or bifurcation of the
+/// geometrically non-linear path (arc-length), optionally with an imperfection shaped like the
+/// first buckling mode; and the non-linear equilibrium at a given factor.
+///
+/// Cost: linear and LBA one sparse Cholesky each (plus ~50 Lanczos solves); the non-linear path
+/// one corotational tangent + factorisation per iteration (typically 40–200 iterations).
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gridshell/fem/frame_arclength.h"
+#include "gridshell/fem/frame_model.h"
+
+namespace gridshell::analysis {
+
+struct FrameAnalysisOptions {
+  bool linear = true;           ///< always done when anything else is asked
+  bool buckling = true;         ///< linearised buckling (LBA)
+  bool nonlinear = true;        ///< arc-length path to the first critical point
+  double nonlinear_static = 0;  ///< > 0: also non-linear equilibrium at this load factor
+  int buckling_modes = 5;
+  bool imperfection = false;          ///< perturb the geometry by the first LBA mode for the path
+  double imperfection_amplitude = 0;  ///< [m]; 0 = span / 300 (span = largest plan extent)
+  /// Arc-length settings; initial_lambda ≤ 0 = automatic (λ_LBA / 20, or the factor giving a
+  /// linear displacement of span / 2000); max_displacement ≤ 0 = span / 5.
+  fem::ArcLengthOptions arc{.initial_lambda = 0};
+  std::string subject = "model";  ///< named in error messages
+};
+
+struct FrameResult {
+  // The structure block of report.json.
+  double delta_max_m = 0;  ///< largest nodal displacement norm (all nodes) under λ = 1
+  int delta_node = -1;     ///< model node with the largest displacement (joints only)
+  std::optional<double> lambda_linear_buckling;
+  std::vector<double> buckling_lambdas;
+  std::optional<double> lambda_nonlinear;
+  std::string limit_type = "none";
+  std::string nonlinear_stop_reason;
+  double mass_kg = 0, total_length_m = 0;
+  // Per model node / member.
+  Points nodes;                     ///< reference coordinates of the model nodes
+  Points displacement;              ///< linear, per model node
+  std::vector<double> axial_force;  ///< linear, per member (tension positive) [N]
+  Eigen::VectorXd reactions;        ///< linear, 6 per model node
+  double equilibrium_error = 0;     ///< |Σ reactions + Σ loads| / Σ |loads| (forces)
+  std::vector<fem::PathPoint> path;
+  /// nonlinear_static results (when asked): per model node.
+  std::optional<Points> nonlinear_displacement, nonlinear_rotation;
+  std::vector<double> nonlinear_axial_force;
+  int num_elements = 0, num_dofs = 0;
+  std::map<std::string, double> timings;  ///< seconds per stage
+};
+
+/// Runs the analyses asked for. Throws Error(options.subject) for invalid models and mechanisms.
+FrameResult analyze_frame(const fem::FrameModel& model, const FrameAnalysisOptions& options = {});
+
+/// Perturbs the reference geometry of a discretised frame by `amplitude` × `mode` (free dofs,
+/// translations) and updates element lengths and frames.
+void perturb_geometry(fem::FrameMesh& mesh, const Eigen::VectorXd& mode, double amplitude);
+
+}  // namespace gridshell::analysis

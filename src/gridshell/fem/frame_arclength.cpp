@@ -1,0 +1,303 @@
+#include "gridshell/fem/frame_arclength.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <Eigen/SparseLU>
+
+#include "gridshell/core/error.h"
+#include "gridshell/core/rng.h"
+
+namespace gridshell::fem {
+
+namespace {
+
+double max_displacement(const FrameMesh& mesh, const FrameState& s) {
+  return (s.x - mesh.X).rowwise().norm().maxCoeff();
+}
+
+// Weights of the arc-length norm: 1 for translations, (mean element length)² for rotations.
+Eigen::VectorXd arc_weights(const FrameMesh& mesh) {
+  double l = 0;
+  for (const auto& e : mesh.elements) l += e.beam.l0;
+  l /= std::max<size_t>(1, mesh.elements.size());
+  Eigen::VectorXd w(mesh.num_dofs);
+  for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v)
+    for (int c = 0; c < 6; ++c)
+      if (mesh.dof[v][c] >= 0) w(mesh.dof[v][c]) = c < 3 ? 1.0 : l * l;
+  return w;
+}
+
+struct Converged {
+  FrameState state;
+  double lambda = 0;
+  Eigen::VectorXd du;  // last increment (free dofs)
+  double dlambda = 0;
+  int negative = 0;
+};
+
+// One arc-length step from `from` with radius ds. On success fills `to` (including the factorised
+// tangent at the new point in `solver`) and returns the number of iterations, else −1.
+int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::VectorXd& W,
+             const ArcLengthOptions& opt, TangentSolver& solver, const Converged& from, double ds,
+             bool first, Converged& to) {
+  const Eigen::VectorXd& f = mesh.load;
+  // Tangent at the start point: `solver` holds it on entry.
+  Eigen::VectorXd ut = solver.solve(f);
+  if (!ut.allFinite()) return -1;
+  const double nt = std::sqrt(ut.dot(W.cwiseProduct(ut)));
+  if (!(nt > 0)) return -1;
+  double sign = 1;
+  if (!first) sign = from.du.dot(W.cwiseProduct(ut)) >= 0 ? 1 : -1;
+  double dlam = sign * ds / nt;
+  Eigen::VectorXd du = dlam * ut;
+  FrameState st = from.state;
+  apply_increment(mesh, du, st);
+  double lam = from.lambda + dlam;
+  const double fnorm = f.norm();
+  Eigen::VectorXd fint;
+  double rprev = 1e300;
+  // Modified Newton: the factorised tangent of the start point is reused and refreshed every
+  // `kRefresh` iterations; a fresh tangent is factorised at the converged point (needed for the
+  // pivot count and the next predictor).
+  constexpr int kRefresh = 4;
+  for (int it = 1; it <= opt.max_iterations; ++it) {
+    fint = asmb.internal_force(st);
+    const Eigen::VectorXd r = lam * f - asmb.reduce(fint);
+    if (!r.allFinite()) return -1;
+    const double scale = fnorm * std::max(std::abs(lam), 1e-3 * std::abs(dlam));
+    const double rn = r.norm();
+    // Converged, or stagnating at the round-off floor well below an engineering tolerance.
+    const bool floor = it >= 4 && rn <= 1e-5 * scale && rn >= 0.5 * rprev;
+    rprev = rn;
+    if (rn <= opt.tolerance * scale || floor) {
+      if (!solver.factorize(asmb.tangent(st, &fint))) return -1;
+      to.state = std::move(st);
+      to.lambda = lam;
+      to.du = du;
+      to.dlambda = lam - from.lambda;
+      to.negative = solver.negative_pivots();
+      return it;
+    }
+    if (it % kRefresh == 0 && !solver.factorize(asmb.tangent(st, &fint))) return -1;
+    const Eigen::VectorXd ur = solver.solve(r);
+    ut = solver.solve(f);
+    const Eigen::VectorXd base = du + ur;
+    const double a = ut.dot(W.cwiseProduct(ut));
+    const double b = 2 * ut.dot(W.cwiseProduct(base));
+    const double c = base.dot(W.cwiseProduct(base)) - ds * ds;
+    const double disc = b * b - 4 * a * c;
+    if (!(disc >= 0) || !(a > 0)) return -1;
+    const double sq = std::sqrt(disc);
+    const double q = -0.5 * (b + (b >= 0 ? sq : -sq));
+    double r1 = q / a, r2 = q != 0 ? c / q : r1;
+    const Eigen::VectorXd d1 = base + r1 * ut, d2 = base + r2 * ut;
+    const double c1 = d1.dot(W.cwiseProduct(du)), c2 = d2.dot(W.cwiseProduct(du));
+    const double dl = c1 >= c2 ? r1 : r2;
+    const Eigen::VectorXd corr = ur + dl * ut;
+    if (!corr.allFinite()) return -1;
+    du += corr;
+    lam += dl;
+    apply_increment(mesh, corr, st);
+  }
+  return -1;
+}
+
+}  // namespace
+
+ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
+                           const ArcLengthOptions& opt, const FrameState& start) {
+  ArcLengthResult res;
+  const Eigen::VectorXd W = arc_weights(mesh);
+  TangentSolver solver;
+  Converged cur;
+  cur.state = start;
+  {
+    Eigen::VectorXd fint;
+    const SpMat K = asmb.tangent(start, &fint);
+    if (!solver.factorize(K)) {
+      res.stop_reason = "the initial tangent is singular";
+      res.final_state = res.critical_state = start;
+      return res;
+    }
+    cur.negative = solver.negative_pivots();
+  }
+  res.path.push_back({0.0, max_displacement(mesh, start), cur.negative});
+  Eigen::VectorXd ut0 = solver.solve(mesh.load);
+  const double ds0 = opt.initial_lambda * std::sqrt(ut0.dot(W.cwiseProduct(ut0)));
+  double ds = ds0;
+  const double ds_min = 1e-7 * ds0, ds_max = 50 * ds0;
+  double lam_max = 0;
+  bool first = true;
+  bool critical = false;  // an event has been bracketed
+  double lam_crit = 0;
+  int base_negative = cur.negative;
+  FrameState stable_state = start;
+  // Bracketing state.
+  bool bracketing = false;
+
+  while (res.steps < opt.max_steps) {
+    Converged next;
+    const int its = arc_step(mesh, asmb, W, opt, solver, cur, ds, first, next);
+    res.iterations += std::max(its, 0);
+    if (its < 0) {
+      ++res.cutbacks;
+      ds *= 0.5;
+      // Restore the tangent at the current point.
+      Eigen::VectorXd fint;
+      solver.factorize(asmb.tangent(cur.state, &fint));
+      if (ds < ds_min) {
+        res.stop_reason = "the arc-length step could not converge";
+        break;
+      }
+      continue;
+    }
+    const bool event =
+        !critical && (next.negative > base_negative ||
+                      (!first && cur.lambda > 0 && next.lambda < cur.lambda * (1 - 1e-6)));
+    if (event) {
+      const double width = std::abs(next.lambda - cur.lambda);
+      if (width > opt.critical_tolerance * std::max(std::abs(cur.lambda), 1e-300) && ds > ds_min) {
+        // Refine: go back to the last stable point with half the radius.
+        bracketing = true;
+        ds *= 0.5;
+        Eigen::VectorXd fint;
+        solver.factorize(asmb.tangent(cur.state, &fint));
+        continue;
+      }
+      // Bracketed: classify with the tangent at the last stable point. Near a limit point the
+      // load tangent v = K⁻¹f is dominated by the critical mode φ (φᵀf ≠ 0); at a bifurcation
+      // φ ⟂ f and v has no large component along φ.
+      critical = true;
+      stable_state = cur.state;
+      Eigen::VectorXd fint;
+      solver.factorize(asmb.tangent(cur.state, &fint));
+      const Eigen::VectorXd v = solver.solve(mesh.load);
+      Eigen::VectorXd phi(mesh.num_dofs);
+      Rng rng(12345);
+      for (int i = 0; i < phi.size(); ++i) phi(i) = rng.uniform(-1, 1);
+      for (int k = 0; k < 40; ++k) {
+        phi = solver.solve(phi);
+        const double nrm = phi.norm();
+        if (!(nrm > 0) || !std::isfinite(nrm)) break;
+        phi /= nrm;
+      }
+      const double along = std::abs(phi.dot(v)) / std::max(v.norm(), 1e-300);
+      res.critical_mode_alignment = along;
+      const bool bifurcation = along < 0.5 && next.negative > base_negative;
+      res.limit_type = bifurcation ? "bifurcation" : "limit point";
+      lam_crit = bifurcation ? 0.5 * (cur.lambda + next.lambda)
+                             : std::max({cur.lambda, next.lambda, lam_max});
+      ++res.steps;
+      res.path.push_back({next.lambda, max_displacement(mesh, next.state), next.negative});
+      cur = std::move(next);
+      break;
+    }
+    // Accept the step.
+    ++res.steps;
+    first = false;
+    cur = std::move(next);
+    lam_max = std::max(lam_max, cur.lambda);
+    const double umax = max_displacement(mesh, cur.state);
+    res.path.push_back({cur.lambda, umax, cur.negative});
+    if (!critical) {
+      if (cur.lambda >= opt.max_lambda) {
+        res.stop_reason = "maximum load factor reached";
+        break;
+      }
+      if (opt.max_displacement > 0 && umax >= opt.max_displacement) {
+        res.stop_reason = "maximum displacement reached";
+        break;
+      }
+      stable_state = cur.state;
+      if (!bracketing) {
+        const double factor =
+            std::clamp(std::sqrt(double(opt.desired_iterations) / std::max(its, 1)), 0.5, 2.0);
+        ds = std::min(ds * factor, ds_max);
+      }
+    }
+    spdlog::debug("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} negative pivots",
+                  res.steps, cur.lambda, umax, its, cur.negative);
+  }
+  if (critical) {
+    res.lambda_critical = lam_crit;
+    if (res.stop_reason.empty()) res.stop_reason = "critical point found";
+  } else {
+    res.lambda_critical = lam_max;
+    if (res.stop_reason.empty()) res.stop_reason = "maximum number of steps";
+  }
+  res.critical_state = stable_state;
+  res.final_state = cur.state;
+  return res;
+}
+
+NonlinearStaticResult nonlinear_static(const FrameMesh& mesh, const FrameAssembler& asmb,
+                                       double lambda, const NonlinearStaticOptions& opt,
+                                       const std::string& subject) {
+  NonlinearStaticResult res;
+  FrameState cur = reference_state(mesh);
+  double lam = 0;
+  double step = lambda / std::max(opt.initial_steps, 1);
+  int cutbacks = 0;
+  const Eigen::VectorXd& f = mesh.load;
+  const double fnorm = f.norm();
+  // Full Newton with the exact (non-symmetric) spin tangent: quadratic convergence also under
+  // applied moments.
+  Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
+  bool analyzed = false;
+  Eigen::VectorXd fint;
+  while (std::abs(lam - lambda) > 1e-14 * std::abs(lambda)) {
+    if (std::abs(step) > std::abs(lambda - lam)) step = lambda - lam;
+    const double target = lam + step;
+    FrameState st = cur;
+    bool converged = false;
+    int its = 0;
+    double rprev = 1e300;
+    for (its = 1; its <= opt.max_iterations; ++its) {
+      const SpMat K = asmb.tangent(st, &fint, nullptr, false);
+      const Eigen::VectorXd r = target * f - asmb.reduce(fint);
+      const double rn = r.norm();
+      if (!std::isfinite(rn)) break;
+      const double scale = fnorm * std::abs(target);
+      if (rn <= opt.tolerance * scale || (its >= 4 && rn <= 1e-5 * scale && rn >= 0.5 * rprev)) {
+        converged = true;
+        break;
+      }
+      if (its > 6 && rn > rprev) break;  // diverging
+      rprev = rn;
+      if (!analyzed) {
+        lu.analyzePattern(K);
+        analyzed = true;
+      }
+      lu.factorize(K);
+      if (lu.info() != Eigen::Success) break;
+      const Eigen::VectorXd du = lu.solve(r);
+      if (!du.allFinite()) break;
+      apply_increment(mesh, du, st);
+    }
+    res.iterations += its;
+    if (converged) {
+      cur = std::move(st);
+      lam = target;
+      ++res.steps;
+      if (its <= 4) step *= 1.5;
+    } else {
+      step *= 0.5;
+      if (++cutbacks > opt.max_cutbacks)
+        throw Error(subject, fmt::format("no equilibrium found beyond load factor {:.6g} (the "
+                                         "requested {:.6g} may exceed the limit load)",
+                                         lam, lambda));
+    }
+  }
+  fint = asmb.internal_force(cur, &res.axial);
+  res.reactions = fint - lambda * mesh.load_full;
+  for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v)
+    for (int c = 0; c < 6; ++c)
+      if (mesh.dof[v][c] >= 0 || !mesh.active[v][c]) res.reactions(6 * v + c) = 0;
+  res.state = std::move(cur);
+  return res;
+}
+
+}  // namespace gridshell::fem

@@ -1,0 +1,602 @@
+#include "gridshell/fem/frame_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Spectra/SymEigsSolver.h>
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+#include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
+
+#include "gridshell/core/error.h"
+
+namespace gridshell::fem {
+
+namespace {
+const char* kDofNames[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+}
+
+FrameMesh discretize(const FrameModel& model, const std::string& subject) {
+  validate(model, subject);
+  FrameMesh mesh;
+  const int n0 = model.num_nodes();
+  mesh.num_model_nodes = n0;
+  int extra = 0;
+  for (const FrameMember& m : model.members)
+    if (m.type == MemberType::beam) extra += m.elements - 1;
+  mesh.X.resize(n0 + extra, 3);
+  mesh.X.topRows(n0) = model.nodes;
+  int next = n0;
+  mesh.member_elements.resize(model.members.size());
+  std::vector<char> has_element(n0 + extra, 0), has_beam(n0 + extra, 0);
+  for (int k = 0; k < static_cast<int>(model.members.size()); ++k) {
+    const FrameMember& m = model.members[k];
+    const FrameSection& s = model.sections[m.section];
+    const FrameMaterial& mat = model.materials[m.material];
+    const Vec3 a = model.nodes.row(m.i).transpose(), b = model.nodes.row(m.j).transpose();
+    const Mat3 R0 = element_frame(a, b, s.up);
+    const int ne = m.type == MemberType::beam ? m.elements : 1;
+    const double G = mat.E / (2 * (1 + mat.nu));
+    int prev = m.i;
+    for (int e = 0; e < ne; ++e) {
+      int node;
+      if (e == ne - 1) {
+        node = m.j;
+      } else {
+        node = next++;
+        mesh.X.row(node) = (a + (b - a) * (double(e + 1) / ne)).transpose();
+      }
+      FrameMesh::Element el;
+      el.i = prev;
+      el.j = node;
+      el.member = k;
+      el.truss = m.type == MemberType::truss;
+      el.beam.s = {mat.E * s.A, mat.E * s.Iy, mat.E * s.Iz, G * s.J};
+      el.beam.l0 = (b - a).norm() / ne;
+      el.beam.R0 = R0;
+      mesh.member_elements[k].push_back(static_cast<int>(mesh.elements.size()));
+      mesh.elements.push_back(el);
+      has_element[prev] = has_element[node] = 1;
+      if (!el.truss) has_beam[prev] = has_beam[node] = 1;
+      prev = node;
+    }
+  }
+  const int n = static_cast<int>(mesh.X.rows());
+  mesh.active.assign(n, {});
+  mesh.dof.assign(n, {-1, -1, -1, -1, -1, -1});
+  std::vector<std::array<bool, 6>> fixed(n, std::array<bool, 6>{});
+  for (const FrameSupport& s : model.supports)
+    for (int c = 0; c < 6; ++c) fixed[s.node][c] = fixed[s.node][c] || s.fix[c];
+  int eq = 0;
+  for (int v = 0; v < n; ++v)
+    for (int c = 0; c < 6; ++c) {
+      mesh.active[v][c] = has_element[v] && (c < 3 || has_beam[v]);
+      if (mesh.active[v][c] && !fixed[v][c]) mesh.dof[v][c] = eq++;
+    }
+  mesh.num_dofs = eq;
+  if (eq == 0) throw Error(subject, "every degree of freedom is restrained: nothing to analyse");
+  mesh.load_full = Eigen::VectorXd::Zero(6 * n);
+  for (const NodalLoad& l : model.loads) {
+    for (int c = 0; c < 3; ++c) {
+      const double F = l.force(c), M = l.moment(c);
+      if (F != 0 && !mesh.active[l.node][c])
+        throw Error(subject, fmt::format("a force acts on node {} which no member uses", l.node));
+      if (M != 0 && !mesh.active[l.node][c + 3])
+        throw Error(subject,
+                    fmt::format("a moment acts on node {} which has no rotational stiffness "
+                                "(no beam meets it)",
+                                l.node));
+      mesh.load_full(6 * l.node + c) += F;
+      mesh.load_full(6 * l.node + 3 + c) += M;
+    }
+  }
+  mesh.load = Eigen::VectorXd::Zero(eq);
+  for (int v = 0; v < n; ++v)
+    for (int c = 0; c < 6; ++c)
+      if (mesh.dof[v][c] >= 0) mesh.load(mesh.dof[v][c]) = mesh.load_full(6 * v + c);
+  return mesh;
+}
+
+FrameState reference_state(const FrameMesh& mesh) {
+  FrameState s;
+  s.x = mesh.X;
+  s.R.assign(mesh.X.rows(), Mat3::Identity());
+  return s;
+}
+
+void apply_increment(const FrameMesh& mesh, const Eigen::VectorXd& du, FrameState& state) {
+  const int n = static_cast<int>(mesh.X.rows());
+  for (int v = 0; v < n; ++v) {
+    Vec3 w = Vec3::Zero();
+    bool rot = false;
+    for (int c = 0; c < 6; ++c) {
+      const int d = mesh.dof[v][c];
+      if (d < 0) continue;
+      if (c < 3) {
+        state.x(v, c) += du(d);
+      } else {
+        w(c - 3) = du(d);
+        rot = true;
+      }
+    }
+    if (rot) state.R[v] = rotation_exp(w) * state.R[v];
+  }
+}
+
+Points displacements(const FrameMesh& mesh, const FrameState& state) {
+  return state.x - mesh.X;
+}
+
+Points rotations(const FrameState& state) {
+  Points r(state.R.size(), 3);
+  for (size_t v = 0; v < state.R.size(); ++v) r.row(v) = rotation_log(state.R[v]).transpose();
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Assembly
+
+namespace {
+// Global dof (6 per node) of element-local entry a (0..11).
+inline int elem_dof(const FrameMesh& mesh, const FrameMesh::Element& e, int a) {
+  const int node = a < 6 ? e.i : e.j;
+  const int c = a % 6;
+  if (e.truss && c >= 3) return -1;
+  return mesh.dof[node][c];
+}
+}  // namespace
+
+FrameAssembler::FrameAssembler(const FrameMesh& mesh) : mesh_(mesh) {
+  const int ne = static_cast<int>(mesh.elements.size());
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(static_cast<size_t>(ne) * 144);
+  for (const auto& e : mesh.elements)
+    for (int a = 0; a < 12; ++a) {
+      const int r = elem_dof(mesh, e, a);
+      if (r < 0) continue;
+      for (int b = 0; b < 12; ++b) {
+        const int c = elem_dof(mesh, e, b);
+        if (c >= 0) trip.emplace_back(r, c, 0.0);
+      }
+    }
+  // Every free dof gets a diagonal entry (keeps the pattern valid even for unloaded dofs).
+  for (int d = 0; d < mesh.num_dofs; ++d) trip.emplace_back(d, d, 0.0);
+  K_.resize(mesh.num_dofs, mesh.num_dofs);
+  K_.setFromTriplets(trip.begin(), trip.end());
+  K_.makeCompressed();
+  slot_.assign(static_cast<size_t>(ne) * 144, -1);
+  for (int k = 0; k < ne; ++k) {
+    const auto& e = mesh.elements[k];
+    for (int b = 0; b < 12; ++b) {
+      const int c = elem_dof(mesh, e, b);
+      if (c < 0) continue;
+      const int* begin = K_.innerIndexPtr() + K_.outerIndexPtr()[c];
+      const int* end = K_.innerIndexPtr() + K_.outerIndexPtr()[c + 1];
+      for (int a = 0; a < 12; ++a) {
+        const int r = elem_dof(mesh, e, a);
+        if (r < 0) continue;
+        const int* it = std::lower_bound(begin, end, r);
+        slot_[static_cast<size_t>(k) * 144 + b * 12 + a] =
+            static_cast<int>(it - K_.innerIndexPtr());
+      }
+    }
+  }
+}
+
+void FrameAssembler::scatter(const std::vector<double>& values, SpMat& K) const {
+  K = K_;
+  double* v = K.valuePtr();
+  std::fill(v, v + K.nonZeros(), 0.0);
+  const size_t n = slot_.size();
+  for (size_t i = 0; i < n; ++i)
+    if (slot_[i] >= 0) v[slot_[i]] += values[i];
+}
+
+namespace {
+// Stores a 12×12 element matrix column-major into `out`.
+inline void store(const Mat12& K, double* out) {
+  for (int b = 0; b < 12; ++b)
+    for (int a = 0; a < 12; ++a) out[b * 12 + a] = K(a, b);
+}
+inline Mat12 truss_to12(const Mat6& k6) {
+  Mat12 K = Mat12::Zero();
+  K.block<3, 3>(0, 0) = k6.block<3, 3>(0, 0);
+  K.block<3, 3>(0, 6) = k6.block<3, 3>(0, 3);
+  K.block<3, 3>(6, 0) = k6.block<3, 3>(3, 0);
+  K.block<3, 3>(6, 6) = k6.block<3, 3>(3, 3);
+  return K;
+}
+inline Vec12 truss_f12(const Vec6& f6) {
+  Vec12 f = Vec12::Zero();
+  f.segment<3>(0) = f6.head<3>();
+  f.segment<3>(6) = f6.tail<3>();
+  return f;
+}
+inline Mat3 truss_block(double EA_l0, const Vec3& e, double N, double l) {
+  return EA_l0 * e * e.transpose() + N / l * (Mat3::Identity() - e * e.transpose());
+}
+}  // namespace
+
+SpMat FrameAssembler::linear_stiffness() const {
+  const int ne = static_cast<int>(mesh_.elements.size());
+  std::vector<double> vals(static_cast<size_t>(ne) * 144);
+  tbb::parallel_for(0, ne, [&](int k) {
+    const auto& e = mesh_.elements[k];
+    Mat12 K;
+    if (e.truss) {
+      const Mat3 Kb = truss_block(e.beam.s.EA / e.beam.l0, e.beam.R0.col(0), 0, e.beam.l0);
+      Mat6 k6;
+      k6 << Kb, -Kb, -Kb, Kb;
+      K = truss_to12(k6);
+    } else {
+      K = beam_linear_stiffness(e.beam.s, e.beam.l0, e.beam.R0);
+    }
+    store(K, vals.data() + static_cast<size_t>(k) * 144);
+  });
+  SpMat K;
+  scatter(vals, K);
+  return K;
+}
+
+SpMat FrameAssembler::geometric_stiffness(const std::vector<double>& axial) const {
+  const int ne = static_cast<int>(mesh_.elements.size());
+  std::vector<double> vals(static_cast<size_t>(ne) * 144);
+  tbb::parallel_for(0, ne, [&](int k) {
+    const auto& e = mesh_.elements[k];
+    Mat12 K;
+    if (e.truss) {
+      const Mat3 Kb = truss_block(0, e.beam.R0.col(0), axial[k], e.beam.l0);
+      Mat6 k6;
+      k6 << Kb, -Kb, -Kb, Kb;
+      K = truss_to12(k6);
+    } else {
+      K = beam_geometric_stiffness(axial[k], e.beam.l0, e.beam.R0);
+    }
+    store(K, vals.data() + static_cast<size_t>(k) * 144);
+  });
+  SpMat K;
+  scatter(vals, K);
+  return K;
+}
+
+namespace {
+CorotState element_state(const FrameMesh::Element& e, const FrameState& st) {
+  CorotState s;
+  s.xi = st.x.row(e.i).transpose();
+  s.xj = st.x.row(e.j).transpose();
+  s.Ri = st.R[e.i];
+  s.Rj = st.R[e.j];
+  return s;
+}
+void add_force(const FrameMesh::Element& e, const Vec12& f, Eigen::VectorXd& full) {
+  full.segment<6>(6 * e.i) += f.head<6>();
+  full.segment<6>(6 * e.j) += f.tail<6>();
+}
+}  // namespace
+
+SpMat FrameAssembler::tangent(const FrameState& state, Eigen::VectorXd* f_int_full,
+                              std::vector<double>* axial, bool symmetric) const {
+  const int ne = static_cast<int>(mesh_.elements.size());
+  std::vector<double> vals(static_cast<size_t>(ne) * 144);
+  std::vector<Vec12> forces(ne);
+  std::vector<double> N(ne);
+  tbb::parallel_for(0, ne, [&](int k) {
+    const auto& e = mesh_.elements[k];
+    const CorotState s = element_state(e, state);
+    Mat12 K;
+    if (e.truss) {
+      K = truss_to12(truss_tangent(e.beam.s.EA, e.beam.l0, s.xi, s.xj));
+      forces[k] = truss_f12(truss_force(e.beam.s.EA, e.beam.l0, s.xi, s.xj, &N[k]));
+    } else {
+      K = corot_tangent(e.beam, s, &forces[k], symmetric);
+      Vec7 d, f;
+      corot_local(e.beam, s, d, f);
+      N[k] = f(0);
+    }
+    store(K, vals.data() + static_cast<size_t>(k) * 144);
+  });
+  SpMat K;
+  scatter(vals, K);
+  if (f_int_full) {
+    f_int_full->setZero(6 * mesh_.X.rows());
+    for (int k = 0; k < ne; ++k) add_force(mesh_.elements[k], forces[k], *f_int_full);
+  }
+  if (axial) *axial = std::move(N);
+  return K;
+}
+
+Eigen::VectorXd FrameAssembler::internal_force(const FrameState& state,
+                                               std::vector<double>* axial) const {
+  const int ne = static_cast<int>(mesh_.elements.size());
+  std::vector<Vec12> forces(ne);
+  std::vector<double> N(ne);
+  tbb::parallel_for(0, ne, [&](int k) {
+    const auto& e = mesh_.elements[k];
+    const CorotState s = element_state(e, state);
+    if (e.truss) {
+      forces[k] = truss_f12(truss_force(e.beam.s.EA, e.beam.l0, s.xi, s.xj, &N[k]));
+    } else {
+      Vec7 f;
+      forces[k] = corot_force(e.beam, s, &f);
+      N[k] = f(0);
+    }
+  });
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(6 * mesh_.X.rows());
+  for (int k = 0; k < ne; ++k) add_force(mesh_.elements[k], forces[k], full);
+  if (axial) *axial = std::move(N);
+  return full;
+}
+
+Eigen::VectorXd FrameAssembler::reduce(const Eigen::VectorXd& full) const {
+  Eigen::VectorXd r(mesh_.num_dofs);
+  for (int v = 0; v < static_cast<int>(mesh_.X.rows()); ++v)
+    for (int c = 0; c < 6; ++c)
+      if (mesh_.dof[v][c] >= 0) r(mesh_.dof[v][c]) = full(6 * v + c);
+  return r;
+}
+
+Eigen::VectorXd FrameAssembler::expand(const Eigen::VectorXd& free) const {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(6 * mesh_.X.rows());
+  for (int v = 0; v < static_cast<int>(mesh_.X.rows()); ++v)
+    for (int c = 0; c < 6; ++c)
+      if (mesh_.dof[v][c] >= 0) f(6 * v + c) = free(mesh_.dof[v][c]);
+  return f;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Factorisation
+
+namespace {
+class Llt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
+ public:
+  cholmod_factor* factor() const { return m_cholmodFactor; }
+  cholmod_common* common() const { return &const_cast<Llt*>(this)->cholmod(); }
+};
+
+// Applies a CHOLMOD solve stage (CHOLMOD_L, _Lt, _P, _Pt) to x.
+Eigen::VectorXd cholmod_stage(const Llt& llt, int sys, const Eigen::VectorXd& x) {
+  cholmod_dense b;
+  b.nrow = b.nzmax = b.d = static_cast<size_t>(x.size());
+  b.ncol = 1;
+  b.x = const_cast<double*>(x.data());
+  b.z = nullptr;
+  b.xtype = CHOLMOD_REAL;
+  b.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense* r = cholmod_solve(sys, llt.factor(), &b, llt.common());
+  if (!r) throw std::runtime_error("CHOLMOD solve failed");
+  Eigen::VectorXd y = Eigen::Map<Eigen::VectorXd>(static_cast<double*>(r->x), x.size());
+  cholmod_free_dense(&r, llt.common());
+  return y;
+}
+}  // namespace
+
+struct TangentSolver::Impl {
+  Llt llt;
+  Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  bool llt_analyzed = false, ldlt_analyzed = false;
+};
+
+TangentSolver::TangentSolver() : impl_(std::make_unique<Impl>()) {
+  impl_->llt.cholmod().print = 0;
+  impl_->llt.cholmod().quick_return_if_not_posdef = 1;
+}
+TangentSolver::~TangentSolver() = default;
+
+bool TangentSolver::factorize(const SpMat& K) {
+  Impl& m = *impl_;
+  if (!m.llt_analyzed) {
+    m.llt.analyzePattern(K);
+    m.llt_analyzed = true;
+  }
+  m.llt.factorize(K);
+  failed_ = -1;
+  min_ratio_ = 0;
+  min_eq_ = -1;
+  const cholmod_factor* L = m.llt.factor();
+  const int* perm = static_cast<const int*>(L->Perm);
+  if (m.llt.info() == Eigen::Success && L->is_super) {
+    pd_ = true;
+    negative_ = 0;
+    const double* x = static_cast<const double*>(L->x);
+    const int* super = static_cast<const int*>(L->super);
+    const int* pi = static_cast<const int*>(L->pi);
+    const int* px = static_cast<const int*>(L->px);
+    min_ratio_ = 1e300;
+    for (size_t k = 0; k < L->nsuper; ++k) {
+      const int ncols = super[k + 1] - super[k], nrows = pi[k + 1] - pi[k];
+      for (int j = 0; j < ncols; ++j) {
+        const double l = x[px[k] + j * (nrows + 1)];
+        const int eq = perm ? perm[super[k] + j] : super[k] + j;
+        const double ratio = l * l / std::abs(K.coeff(eq, eq));
+        if (ratio < min_ratio_) {
+          min_ratio_ = ratio;
+          min_eq_ = eq;
+        }
+      }
+    }
+    return true;
+  }
+  pd_ = false;
+  if (L->minor < L->n) failed_ = perm ? perm[L->minor] : static_cast<int>(L->minor);
+  if (!m.ldlt_analyzed) {
+    m.ldlt.analyzePattern(K);
+    m.ldlt_analyzed = true;
+  }
+  m.ldlt.factorize(K);
+  if (m.ldlt.info() != Eigen::Success) return false;
+  const Eigen::VectorXd D = m.ldlt.vectorD();
+  negative_ = 0;
+  for (int i = 0; i < D.size(); ++i) {
+    if (!std::isfinite(D(i)) || D(i) == 0) return false;
+    if (D(i) < 0) ++negative_;
+  }
+  return true;
+}
+
+Eigen::VectorXd TangentSolver::solve(const Eigen::VectorXd& b) const {
+  return pd_ ? Eigen::VectorXd(impl_->llt.solve(b)) : Eigen::VectorXd(impl_->ldlt.solve(b));
+}
+
+std::string describe_dof(const FrameMesh& mesh, int equation) {
+  for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v)
+    for (int c = 0; c < 6; ++c)
+      if (mesh.dof[v][c] == equation) {
+        if (v < mesh.num_model_nodes) return fmt::format("node {} ({})", v, kDofNames[c]);
+        for (size_t m = 0; m < mesh.member_elements.size(); ++m)
+          for (int e : mesh.member_elements[m])
+            if (mesh.elements[e].i == v)
+              return fmt::format("an interior node of member {} ({})", m, kDofNames[c]);
+        return fmt::format("internal node {} ({})", v, kDofNames[c]);
+      }
+  return fmt::format("equation {}", equation);
+}
+
+void factorize_or_explain(TangentSolver& solver, const SpMat& K, const FrameMesh& mesh,
+                          const std::string& subject) {
+  const bool ok = solver.factorize(K);
+  if (ok && solver.positive_definite() && solver.min_pivot_ratio() > 1e-11) return;
+  int eq = solver.failed_equation();
+  if (ok && solver.positive_definite()) eq = solver.min_pivot_equation();
+  const std::string where = eq >= 0 ? describe_dof(mesh, eq) : std::string("some node");
+  throw Error(subject, fmt::format("mechanism: the structure is not stable, {} can move freely "
+                                   "(add supports or members)",
+                                   where));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Linear static analysis
+
+LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assembler,
+                           const std::string& subject) {
+  const SpMat K = assembler.linear_stiffness();
+  TangentSolver solver;
+  factorize_or_explain(solver, K, mesh, subject);
+  LinearResult r;
+  r.u = solver.solve(mesh.load);
+  if (!r.u.allFinite()) throw Error(subject, "the linear solve produced non-finite values");
+  const Eigen::VectorXd full = assembler.expand(r.u);
+  const int n = static_cast<int>(mesh.X.rows());
+  r.displacement.resize(n, 3);
+  for (int v = 0; v < n; ++v) r.displacement.row(v) = full.segment<3>(6 * v).transpose();
+  const int ne = static_cast<int>(mesh.elements.size());
+  r.axial.resize(ne);
+  Eigen::VectorXd fint = Eigen::VectorXd::Zero(6 * n);
+  for (int k = 0; k < ne; ++k) {
+    const auto& e = mesh.elements[k];
+    Vec12 ue;
+    ue.head<6>() = full.segment<6>(6 * e.i);
+    ue.tail<6>() = full.segment<6>(6 * e.j);
+    Mat12 Ke;
+    if (e.truss) {
+      const Mat3 Kb = truss_block(e.beam.s.EA / e.beam.l0, e.beam.R0.col(0), 0, e.beam.l0);
+      Mat6 k6;
+      k6 << Kb, -Kb, -Kb, Kb;
+      Ke = truss_to12(k6);
+    } else {
+      Ke = beam_linear_stiffness(e.beam.s, e.beam.l0, e.beam.R0);
+    }
+    const Vec12 fe = Ke * ue;
+    fint.segment<6>(6 * e.i) += fe.head<6>();
+    fint.segment<6>(6 * e.j) += fe.tail<6>();
+    r.axial[k] =
+        e.beam.s.EA / e.beam.l0 * e.beam.R0.col(0).dot(ue.segment<3>(6) - ue.segment<3>(0));
+  }
+  r.reactions = fint - mesh.load_full;
+  for (int v = 0; v < n; ++v)
+    for (int c = 0; c < 6; ++c)
+      if (mesh.dof[v][c] >= 0 || !mesh.active[v][c]) r.reactions(6 * v + c) = 0;
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Linearised buckling
+
+namespace {
+// y = L⁻¹ P B Pᵀ L⁻ᵀ x for K = Pᵀ L Lᵀ P: a symmetric operator whose eigenvalues are 1/λ.
+class BucklingOp {
+ public:
+  using Scalar = double;
+  BucklingOp(const Llt& llt, const SpMat& B) : llt_(llt), B_(B) {}
+  Eigen::Index rows() const { return B_.rows(); }
+  Eigen::Index cols() const { return B_.cols(); }
+  void perform_op(const double* x_in, double* y_out) const {
+    Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(x_in, rows());
+    x = cholmod_stage(llt_, CHOLMOD_Lt, x);
+    x = cholmod_stage(llt_, CHOLMOD_Pt, x);
+    x = B_ * x;
+    x = cholmod_stage(llt_, CHOLMOD_P, x);
+    x = cholmod_stage(llt_, CHOLMOD_L, x);
+    Eigen::Map<Eigen::VectorXd>(y_out, rows()) = x;
+  }
+  Eigen::VectorXd back(const Eigen::VectorXd& y) const {
+    return cholmod_stage(llt_, CHOLMOD_Pt, cholmod_stage(llt_, CHOLMOD_Lt, y));
+  }
+
+ private:
+  const Llt& llt_;
+  const SpMat& B_;
+};
+
+double max_translation(const FrameMesh& mesh, const Eigen::VectorXd& v) {
+  double m = 0;
+  for (int n = 0; n < static_cast<int>(mesh.X.rows()); ++n) {
+    double s = 0;
+    for (int c = 0; c < 3; ++c)
+      if (mesh.dof[n][c] >= 0) s += v(mesh.dof[n][c]) * v(mesh.dof[n][c]);
+    m = std::max(m, std::sqrt(s));
+  }
+  return m;
+}
+}  // namespace
+
+BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& assembler,
+                               const LinearResult& linear, const BucklingOptions& options) {
+  BucklingResult out;
+  double nmax = 0;
+  for (double N : linear.axial) nmax = std::max(nmax, std::abs(N));
+  if (nmax == 0) return out;
+  const SpMat K = assembler.linear_stiffness();
+  const SpMat B = -assembler.geometric_stiffness(linear.axial);
+  const int n = mesh.num_dofs;
+  std::vector<std::pair<double, Eigen::VectorXd>> found;
+  if (n <= 300) {
+    const Eigen::MatrixXd Kd(K), Bd(B);
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(Bd, Kd);
+    if (es.info() != Eigen::Success) return out;
+    for (int i = n - 1; i >= 0; --i) {
+      const double mu = es.eigenvalues()(i);
+      if (!(mu > 1e-14 * es.eigenvalues().cwiseAbs().maxCoeff())) break;
+      found.emplace_back(1 / mu, es.eigenvectors().col(i));
+      if (static_cast<int>(found.size()) >= options.modes) break;
+    }
+  } else {
+    Llt llt;
+    llt.cholmod().print = 0;
+    llt.compute(K);
+    if (llt.info() != Eigen::Success) return out;
+    BucklingOp op(llt, B);
+    const int nev = std::min(options.modes, n - 2);
+    const int ncv = std::min(n, std::max(2 * nev + 1, 24));
+    Spectra::SymEigsSolver<BucklingOp> eigs(op, nev, ncv);
+    eigs.init();
+    eigs.compute(Spectra::SortRule::LargestAlge, 2000, 1e-9);
+    if (eigs.info() != Spectra::CompInfo::Successful) return out;
+    const Eigen::VectorXd mu = eigs.eigenvalues();
+    const Eigen::MatrixXd Y = eigs.eigenvectors();
+    for (int i = 0; i < mu.size(); ++i)
+      if (mu(i) > 0) found.emplace_back(1 / mu(i), op.back(Y.col(i)));
+  }
+  std::sort(found.begin(), found.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [lam, v] : found) {
+    const double m = max_translation(mesh, v);
+    Eigen::VectorXd mode = m > 0 ? Eigen::VectorXd(v / m) : v;
+    out.lambdas.push_back(lam);
+    out.modes.push_back(std::move(mode));
+  }
+  return out;
+}
+
+}  // namespace gridshell::fem

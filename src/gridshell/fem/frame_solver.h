@@ -1,0 +1,150 @@
+#pragma once
+/// \file frame_solver.h
+/// Discretisation and the basic solves of a 3D frame: members subdivided into elements, dof
+/// numbering (supports and the rotations of truss-only nodes removed), sparse assembly of the
+/// linear, geometric and corotational tangent stiffness, linear static analysis, linearised
+/// buckling (K + λ K_G) and geometrically non-linear equilibrium at a load factor.
+///
+/// Sparse SPD solves use CHOLMOD (supernodal LLᵀ); indefinite tangents are factorised with
+/// Eigen's SimplicialLDLT, whose D gives the number of negative pivots. The sparsity pattern is
+/// built once; assembly is parallel per element into disjoint slots, then summed in a fixed
+/// order, so results do not depend on the thread count.
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+#include "gridshell/fem/frame_element.h"
+#include "gridshell/fem/frame_model.h"
+
+namespace gridshell::fem {
+
+using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+/// The discretised frame.
+struct FrameMesh {
+  Points X;  ///< reference coordinates: model nodes first, then interior nodes
+  int num_model_nodes = 0;
+  struct Element {
+    int i = -1, j = -1;  ///< node ids in X
+    int member = -1;
+    bool truss = false;
+    CorotBeam beam;  ///< stiffness, reference length and frame
+  };
+  std::vector<Element> elements;
+  std::vector<std::array<int, 6>> dof;      ///< per node: equation number or −1 (restrained)
+  std::vector<std::array<bool, 6>> active;  ///< per node: dof exists (not a truss-only rotation)
+  int num_dofs = 0;
+  Eigen::VectorXd load_full;  ///< 6 per node, the reference load (factor 1)
+  Eigen::VectorXd load;       ///< reduced to the free dofs
+  /// Per member: its element ids in order from node i to node j.
+  std::vector<std::vector<int>> member_elements;
+};
+
+/// Subdivides members and numbers dofs. Throws Error (subject) for invalid models.
+FrameMesh discretize(const FrameModel& model, const std::string& subject = "model");
+
+/// A deformed configuration: node positions and nodal rotation matrices.
+struct FrameState {
+  Points x;
+  std::vector<Mat3> R;
+};
+FrameState reference_state(const FrameMesh& mesh);
+/// Applies an increment of the free dofs: translations added, rotations as left spins.
+void apply_increment(const FrameMesh& mesh, const Eigen::VectorXd& du, FrameState& state);
+/// Displacements (x − X) per node, n×3.
+Points displacements(const FrameMesh& mesh, const FrameState& state);
+/// Rotation vectors per node, n×3.
+Points rotations(const FrameState& state);
+
+/// Sparse assembly on a fixed pattern (free dofs only, full symmetric storage).
+class FrameAssembler {
+ public:
+  explicit FrameAssembler(const FrameMesh& mesh);
+  const SpMat& pattern() const { return K_; }
+  /// Linear stiffness; optional element-wise internal forces not needed here.
+  SpMat linear_stiffness() const;
+  /// Geometric stiffness for per-element axial forces (tension positive).
+  SpMat geometric_stiffness(const std::vector<double>& axial) const;
+  /// Corotational tangent and the internal force vector (full 6 per node, including restrained
+  /// dofs, so reactions can be read off). `axial` optional out (per element N).
+  SpMat tangent(const FrameState& state, Eigen::VectorXd* f_int_full,
+                std::vector<double>* axial = nullptr, bool symmetric = true) const;
+  /// Internal force only (cheaper).
+  Eigen::VectorXd internal_force(const FrameState& state,
+                                 std::vector<double>* axial = nullptr) const;
+  /// Reduces a full (6 per node) vector to the free dofs.
+  Eigen::VectorXd reduce(const Eigen::VectorXd& full) const;
+  /// Expands free dofs to a full (6 per node) vector (zeros at restrained dofs).
+  Eigen::VectorXd expand(const Eigen::VectorXd& free) const;
+
+ private:
+  void scatter(const std::vector<double>& values, SpMat& K) const;
+  const FrameMesh& mesh_;
+  SpMat K_;                // pattern
+  std::vector<int> slot_;  // per element entry (144 per element): value index or −1
+};
+
+/// Factorisation of a symmetric (possibly indefinite) tangent.
+class TangentSolver {
+ public:
+  TangentSolver();
+  ~TangentSolver();
+  TangentSolver(const TangentSolver&) = delete;
+  TangentSolver& operator=(const TangentSolver&) = delete;
+  /// Factorises K (pattern must not change between calls). Returns false if singular.
+  bool factorize(const SpMat& K);
+  /// True when the last factorisation was positive definite.
+  bool positive_definite() const { return pd_; }
+  /// Number of negative pivots of LDLᵀ (0 when positive definite).
+  int negative_pivots() const { return negative_; }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  /// When not positive definite: the equation at which LLᵀ broke down (for mechanism messages).
+  int failed_equation() const { return failed_; }
+  /// Smallest pivot ratio D_kk / K_kk seen (LLᵀ: L_kk² / K_kk) and its equation.
+  double min_pivot_ratio() const { return min_ratio_; }
+  int min_pivot_equation() const { return min_eq_; }
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  bool pd_ = false;
+  int negative_ = 0;
+  int failed_ = -1;
+  double min_ratio_ = 0;
+  int min_eq_ = -1;
+};
+
+/// Names the node and direction of an equation ("node 12 (uz)").
+std::string describe_dof(const FrameMesh& mesh, int equation);
+
+/// Throws Error(subject, "mechanism: ...") when K is singular or not positive definite.
+void factorize_or_explain(TangentSolver& solver, const SpMat& K, const FrameMesh& mesh,
+                          const std::string& subject);
+
+/// Linear static analysis.
+struct LinearResult {
+  Eigen::VectorXd u;          ///< free dofs
+  Points displacement;        ///< per node, n×3
+  std::vector<double> axial;  ///< per element, tension positive
+  Eigen::VectorXd reactions;  ///< full (6 per node): forces the supports exert
+};
+LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assembler,
+                           const std::string& subject = "model");
+
+/// Linearised buckling: K φ = λ (−K_G(N_linear)) φ; the smallest positive λ first.
+struct BucklingResult {
+  std::vector<double> lambdas;         ///< ascending, positive only
+  std::vector<Eigen::VectorXd> modes;  ///< free-dof vectors, max |translation| = 1
+};
+struct BucklingOptions {
+  int modes = 5;
+};
+BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& assembler,
+                               const LinearResult& linear, const BucklingOptions& options = {});
+
+}  // namespace gridshell::fem

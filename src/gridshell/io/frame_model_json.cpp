@@ -1,0 +1,266 @@
+#include "gridshell/io/frame_model_json.h"
+
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "gridshell/core/error.h"
+#include "gridshell/io/files.h"
+
+namespace gridshell::io {
+
+using nlohmann::json;
+
+namespace {
+
+double num(const json& j, const std::string& what, const std::string& subject) {
+  if (!j.is_number()) throw Error(subject, what + " must be a number");
+  const double v = j.get<double>();
+  if (!std::isfinite(v)) throw Error(subject, what + " is not finite");
+  return v;
+}
+
+Vec3 vec3(const json& j, const std::string& what, const std::string& subject) {
+  if (!j.is_array() || j.size() != 3) throw Error(subject, what + " must be [x, y, z]");
+  return Vec3(num(j[0], what, subject), num(j[1], what, subject), num(j[2], what, subject));
+}
+
+int index(const json& j, const std::string& what, const std::string& subject) {
+  if (!j.is_number_integer()) throw Error(subject, what + " must be an integer");
+  return j.get<int>();
+}
+
+std::vector<std::vector<int>> polygons(const json& j, const std::string& what,
+                                       const std::string& subject) {
+  std::vector<std::vector<int>> out;
+  if (!j.is_array()) throw Error(subject, what + " must be a list of node lists");
+  for (const auto& f : j) {
+    if (!f.is_array() || f.size() < 3) throw Error(subject, what + ": a face needs >= 3 nodes");
+    std::vector<int> p;
+    for (const auto& v : f) p.push_back(index(v, what, subject));
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+}  // namespace
+
+FrameModelFile parse_frame_model(const std::string& text, const std::string& subject,
+                                 int default_elements) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const std::exception& e) {
+    throw Error(subject, std::string("not valid JSON: ") + e.what());
+  }
+  if (!j.is_object()) throw Error(subject, "the model must be a JSON object");
+  FrameModelFile out;
+  fem::FrameModel& m = out.model;
+  if (!j.contains("nodes") || !j["nodes"].is_array() || j["nodes"].empty())
+    throw Error(subject, "'nodes' must be a non-empty list of [x, y, z]");
+  m.nodes.resize(j["nodes"].size(), 3);
+  for (size_t i = 0; i < j["nodes"].size(); ++i)
+    m.nodes.row(i) = vec3(j["nodes"][i], fmt::format("nodes[{}]", i), subject).transpose();
+  const int n = m.num_nodes();
+
+  std::map<std::string, int> sections, materials;
+  if (!j.contains("sections") || !j["sections"].is_object())
+    throw Error(subject, "'sections' must be an object of named sections");
+  for (const auto& [name, s] : j["sections"].items()) {
+    const std::string what = fmt::format("sections.{}", name);
+    if (!s.is_object()) throw Error(subject, what + " must be an object");
+    fem::FrameSection sec;
+    if (s.contains("shape")) {
+      if (s["shape"] != "circle") throw Error(subject, what + ": only shape 'circle' is known");
+      if (!s.contains("diameter")) throw Error(subject, what + ": a circle needs 'diameter'");
+      const double d = num(s["diameter"], what + ".diameter", subject);
+      if (!(d > 0)) throw Error(subject, what + ": diameter must be > 0");
+      sec = fem::circle_section(d, name);
+    } else {
+      for (const char* k : {"A", "Iy", "Iz", "J"})
+        if (!s.contains(k)) throw Error(subject, what + fmt::format(": missing '{}'", k));
+      sec.A = num(s["A"], what + ".A", subject);
+      sec.Iy = num(s["Iy"], what + ".Iy", subject);
+      sec.Iz = num(s["Iz"], what + ".Iz", subject);
+      sec.J = num(s["J"], what + ".J", subject);
+    }
+    if (s.contains("up")) sec.up = vec3(s["up"], what + ".up", subject);
+    sec.name = name;
+    sections[name] = static_cast<int>(m.sections.size());
+    m.sections.push_back(sec);
+  }
+  if (!j.contains("materials") || !j["materials"].is_object())
+    throw Error(subject, "'materials' must be an object of named materials");
+  for (const auto& [name, s] : j["materials"].items()) {
+    const std::string what = fmt::format("materials.{}", name);
+    if (!s.is_object() || !s.contains("E")) throw Error(subject, what + " needs 'E'");
+    fem::FrameMaterial mat;
+    mat.name = name;
+    mat.E = num(s["E"], what + ".E", subject);
+    mat.nu = s.contains("nu") ? num(s["nu"], what + ".nu", subject) : 0.3;
+    mat.density = s.contains("density") ? num(s["density"], what + ".density", subject) : 0.0;
+    materials[name] = static_cast<int>(m.materials.size());
+    m.materials.push_back(mat);
+  }
+  if (!j.contains("members") || !j["members"].is_array() || j["members"].empty())
+    throw Error(subject, "'members' must be a non-empty list");
+  for (size_t k = 0; k < j["members"].size(); ++k) {
+    const json& mj = j["members"][k];
+    const std::string what = fmt::format("members[{}]", k);
+    if (!mj.is_object() || !mj.contains("nodes") || !mj["nodes"].is_array() ||
+        mj["nodes"].size() != 2)
+      throw Error(subject, what + " needs \"nodes\": [i, j]");
+    fem::FrameMember mb;
+    mb.i = index(mj["nodes"][0], what + ".nodes", subject);
+    mb.j = index(mj["nodes"][1], what + ".nodes", subject);
+    auto pick = [&](const char* key, const std::map<std::string, int>& names) {
+      if (!mj.contains(key)) {
+        if (names.size() == 1) return names.begin()->second;
+        throw Error(subject, what + fmt::format(" needs '{}'", key));
+      }
+      if (!mj[key].is_string()) throw Error(subject, what + fmt::format(".{} must be a name", key));
+      const auto it = names.find(mj[key].get<std::string>());
+      if (it == names.end())
+        throw Error(subject,
+                    what + fmt::format(": unknown {} '{}'", key, mj[key].get<std::string>()));
+      return it->second;
+    };
+    mb.section = pick("section", sections);
+    mb.material = pick("material", materials);
+    if (mj.contains("type")) {
+      if (mj["type"] == "truss") {
+        mb.type = fem::MemberType::truss;
+      } else if (mj["type"] == "beam") {
+        mb.type = fem::MemberType::beam;
+      } else {
+        throw Error(subject, what + ": type must be 'beam' or 'truss'");
+      }
+    }
+    mb.elements = mj.contains("elements") ? index(mj["elements"], what + ".elements", subject)
+                                          : default_elements;
+    if (mb.type == fem::MemberType::truss) mb.elements = 1;
+    m.members.push_back(mb);
+  }
+  if (j.contains("faces")) m.faces = polygons(j["faces"], "faces", subject);
+  if (j.contains("triangles") && m.faces.empty())
+    m.faces = polygons(j["triangles"], "triangles", subject);
+  static const char* kNames[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+  if (j.contains("supports")) {
+    if (!j["supports"].is_array()) throw Error(subject, "'supports' must be a list");
+    for (const auto& sj : j["supports"]) {
+      if (!sj.is_object() || !sj.contains("node")) throw Error(subject, "a support needs 'node'");
+      fem::FrameSupport s;
+      s.node = index(sj["node"], "supports.node", subject);
+      if (sj.contains("fix")) {
+        if (!sj["fix"].is_array()) throw Error(subject, "supports.fix must be a list");
+        for (const auto& f : sj["fix"]) {
+          bool found = false;
+          for (int c = 0; c < 6; ++c)
+            if (f.is_string() && f.get<std::string>() == kNames[c]) s.fix[c] = found = true;
+          if (!found) throw Error(subject, "supports.fix: unknown dof (use ux uy uz rx ry rz)");
+        }
+      } else {
+        s.fix = {true, true, true, false, false, false};  // pinned
+      }
+      m.supports.push_back(s);
+    }
+  }
+  // Validate references before the derived loads use them.
+  fem::FrameModel check = m;
+  fem::validate(check, subject);
+  if (j.contains("loads")) {
+    if (!j["loads"].is_array()) throw Error(subject, "'loads' must be a list");
+    std::vector<Vec3> F(n, Vec3::Zero()), M(n, Vec3::Zero());
+    for (const auto& lj : j["loads"]) {
+      if (!lj.is_object()) throw Error(subject, "a load must be an object");
+      const std::string type = lj.contains("type") && lj["type"].is_string()
+                                   ? lj["type"].get<std::string>()
+                                   : std::string("nodal");
+      if (type == "nodal") {
+        if (!lj.contains("node")) throw Error(subject, "a nodal load needs 'node'");
+        const int v = index(lj["node"], "loads.node", subject);
+        if (v < 0 || v >= n) throw Error(subject, fmt::format("a load refers to node {}", v));
+        if (lj.contains("force")) F[v] += vec3(lj["force"], "loads.force", subject);
+        if (lj.contains("moment")) M[v] += vec3(lj["moment"], "loads.moment", subject);
+      } else if (type == "surface" || type == "projected") {
+        if (m.faces.empty())
+          throw Error(subject, "a " + type + " load needs 'faces' (or 'triangles')");
+        const Vec3 q = vec3(lj.value("q", json()), "loads.q", subject);
+        for (const auto& f : m.faces) {
+          Vec3 va = Vec3::Zero();
+          for (size_t c = 0; c < f.size(); ++c)
+            va +=
+                m.nodes.row(f[c]).transpose().cross(m.nodes.row(f[(c + 1) % f.size()]).transpose());
+          va *= 0.5;
+          const double area = type == "surface" ? va.norm() : std::abs(va.z());
+          for (int v : f) F[v] += q * (area / static_cast<double>(f.size()));
+        }
+      } else if (type == "self_weight") {
+        const double g = lj.contains("g") ? num(lj["g"], "loads.g", subject) : 9.81;
+        for (size_t k = 0; k < m.members.size(); ++k) {
+          const auto& mb = m.members[k];
+          const double w = m.sections[mb.section].A * m.materials[mb.material].density * g *
+                           fem::member_length(m, static_cast<int>(k));
+          F[mb.i].z() -= 0.5 * w;
+          F[mb.j].z() -= 0.5 * w;
+        }
+      } else {
+        throw Error(subject, "unknown load type '" + type + "'");
+      }
+    }
+    for (int v = 0; v < n; ++v)
+      if (F[v].squaredNorm() > 0 || M[v].squaredNorm() > 0) m.loads.push_back({v, F[v], M[v]});
+  }
+  if (j.contains("analysis")) {
+    const json& a = j["analysis"];
+    if (!a.is_object()) throw Error(subject, "'analysis' must be an object");
+    auto flag = [&](const char* key, std::optional<bool>& dst) {
+      if (!a.contains(key)) return;
+      if (!a[key].is_boolean())
+        throw Error(subject, fmt::format("analysis.{} must be true/false", key));
+      dst = a[key].get<bool>();
+    };
+    flag("linear", out.analysis.linear);
+    flag("buckling", out.analysis.buckling);
+    flag("nonlinear", out.analysis.nonlinear);
+    if (a.contains("nonlinear_static")) {
+      const double f = num(a["nonlinear_static"], "analysis.nonlinear_static", subject);
+      if (!(f > 0)) throw Error(subject, "analysis.nonlinear_static must be > 0");
+      out.analysis.nonlinear_static = f;
+    }
+  }
+  fem::validate(m, subject);
+  return out;
+}
+
+FrameModelFile read_frame_model(const std::filesystem::path& path, int default_elements) {
+  return parse_frame_model(read_file(path), path.string(), default_elements);
+}
+
+std::vector<int> read_obj_supports_comment(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path.string(), "cannot open");
+  std::string line;
+  std::vector<int> ids;
+  while (std::getline(in, line)) {
+    if (line.rfind("# supports", 0) != 0) continue;
+    std::istringstream ss(line.substr(10));
+    std::string tok;
+    while (ss >> tok) {
+      try {
+        size_t pos = 0;
+        const int v = std::stoi(tok, &pos);
+        if (pos != tok.size() || v < 0) throw std::invalid_argument(tok);
+        ids.push_back(v);
+      } catch (const std::exception&) {
+        throw Error(path.string(), "malformed '# supports' line: '" + tok + "'");
+      }
+    }
+  }
+  return ids;
+}
+
+}  // namespace gridshell::io

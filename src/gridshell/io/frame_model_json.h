@@ -1,0 +1,41 @@
+#pragma once
+/// \file frame_model_json.h
+/// Reading a structural model (MODEL.json, see CONTRACT.md) into a `fem::FrameModel`, and the
+/// `# supports i j k` comment that our OBJ writer puts into grid-shell files.
+///
+/// Loads of type "surface" (per unit surface area), "projected" (per unit plan area, xy) and
+/// "self_weight" (the members' weight at their ends) are turned into nodal forces here; surface
+/// and projected loads need "faces" (or "triangles") and give each corner 1/n of the face's load.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gridshell/fem/frame_model.h"
+
+namespace gridshell::io {
+
+/// What MODEL.json's "analysis" block asks for (absent keys stay empty).
+struct ModelAnalysisRequest {
+  std::optional<bool> linear, buckling, nonlinear;
+  std::optional<double> nonlinear_static;
+};
+
+struct FrameModelFile {
+  fem::FrameModel model;
+  ModelAnalysisRequest analysis;
+};
+
+/// Parses MODEL.json text; `subject` names the file in errors. Members without "elements" get
+/// `default_elements`. Throws Error for malformed JSON, missing or wrong-typed fields, unknown
+/// section/material names, bad references, non-positive sections, zero-length members.
+FrameModelFile parse_frame_model(const std::string& text, const std::string& subject,
+                                 int default_elements = 1);
+FrameModelFile read_frame_model(const std::filesystem::path& path, int default_elements = 1);
+
+/// The vertex ids of a `# supports i j k ...` comment line in an OBJ file (empty if none).
+/// Throws Error for malformed ids.
+std::vector<int> read_obj_supports_comment(const std::filesystem::path& path);
+
+}  // namespace gridshell::io
