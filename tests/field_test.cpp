@@ -93,8 +93,8 @@ TEST(LineField, StripInterpolatesBetweenTwoConstraints) {
     const double t = static_cast<double>(k) / (n - 1);
     const double x = (1 - t) * std::cos(2 * ta) + t * std::cos(2 * tb);
     const double y = (1 - t) * std::sin(2 * ta) + t * std::sin(2 * tb);
-    const double expect = line_angle_xy(Vec3(std::cos(0.5 * std::atan2(y, x)),
-                                             std::sin(0.5 * std::atan2(y, x)), 0));
+    const double expect =
+        line_angle_xy(Vec3(std::cos(0.5 * std::atan2(y, x)), std::sin(0.5 * std::atan2(y, x)), 0));
     EXPECT_NEAR(line_diff(line_angle_xy(u[k]), expect), 0.0, 1e-6) << "face " << k;
     EXPECT_NEAR(u[k].norm(), 1.0, 1e-12);
   }
@@ -150,7 +150,8 @@ TEST(LineField, ParallelFieldOnCylinderIsKeptByTransport) {
   }
   for (const auto* input : {&along, &around}) {
     const auto u = smooth_line_field(m, *input, w, {2.0});
-    for (int f = 0; f < nf; ++f) EXPECT_NEAR(std::abs(u[f].dot((*input)[f].normalized())), 1.0, 1e-9);
+    for (int f = 0; f < nf; ++f)
+      EXPECT_NEAR(std::abs(u[f].dot((*input)[f].normalized())), 1.0, 1e-9);
   }
 }
 
@@ -236,7 +237,7 @@ TEST(MakeField, DirectionDensityAnisotropyAndRanges) {
   EXPECT_EQ(*std::min_element(fd.a.begin(), fd.a.end()), 1.0);
   EXPECT_EQ(*std::max_element(fd.a.begin(), fd.a.end()), 3.0);
   for (int f = 0; f < nf; ++f) {
-    EXPECT_NEAR(std::abs(fd.u[f].y()), 1.0, 1e-9);      // along the larger |stress|
+    EXPECT_NEAR(std::abs(fd.u[f].y()), 1.0, 1e-9);  // along the larger |stress|
     EXPECT_NEAR(std::abs(fd.u_raw[f].y()), 1.0, 1e-12);
     EXPECT_NEAR(fd.d_raw[f], std::abs(st[f].s2), 1e-12);
     EXPECT_NEAR(fd.a_raw[f], std::abs(st[f].s2) / st[f].s1, 1e-12);

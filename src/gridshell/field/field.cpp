@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <queue>
 
-#include <Eigen/CholmodSupport>
-#include <Eigen/Sparse>
 #include <fmt/format.h>
+#include <Eigen/OrderingMethods>
+#include <Eigen/Sparse>
 
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
@@ -30,8 +31,8 @@ FaceAdjacency face_adjacency(const TriMesh& mesh) {
     const auto& ef = topo.edge_faces[e];
     for (std::size_t i = 0; i < ef.size(); ++i)
       for (std::size_t j = i + 1; j < ef.size(); ++j)
-        adj.pairs.push_back({std::min(ef[i], ef[j]), std::max(ef[i], ef[j]), topo.edges[e][0],
-                             topo.edges[e][1]});
+        adj.pairs.push_back(
+            {std::min(ef[i], ef[j]), std::max(ef[i], ef[j]), topo.edges[e][0], topo.edges[e][1]});
   }
   return adj;
 }
@@ -86,68 +87,57 @@ std::vector<Vec3> smooth_line_field(const TriMesh& mesh, const std::vector<Vec3>
     throw Error("field", "line field and weights must have one entry per face");
   check_finite(weights, "weight");
   const FaceFrames fr = face_frames(mesh);
-  const double ell =
-      options.smoothing > 0 ? options.smoothing : 0.05 * bbox_diagonal(mesh.V);
+  const double ell = options.smoothing > 0 ? options.smoothing : 0.05 * bbox_diagonal(mesh.V);
   if (!std::isfinite(ell) || !(ell > 0)) throw Error("field", "invalid smoothing length");
 
-  // z0 = e^{2iθ} in the face frame.
+  // z0 = e^{2iθ} in the face frame; Hermitian system H z = b, solved as complex.
+  using Cplx = std::complex<double>;
   std::vector<Vec3> dir(nf);
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(2 * nf);
-  std::vector<Eigen::Triplet<double>> trip;
-  trip.reserve(2 * nf + 8 * 3 * nf / 2 + 8);
+  Eigen::VectorXcd b = Eigen::VectorXcd::Zero(nf);
+  std::vector<Eigen::Triplet<Cplx>> trip;
+  trip.reserve(nf + 4 * 3 * static_cast<std::size_t>(nf) / 2 + 8);
   for (int f = 0; f < nf; ++f) {
     if (!directions[f].allFinite()) throw Error("field", "non-finite direction");
     if (weights[f] < 0) throw Error("field", "negative faithfulness weight");
     dir[f] = tangent_unit(fr, f, directions[f]);
     const double th = std::atan2(dir[f].dot(fr.t2[f]), dir[f].dot(fr.t1[f]));
     const double alpha = fr.area[f] * weights[f] / (ell * ell);
-    b[2 * f] = alpha * std::cos(2 * th);
-    b[2 * f + 1] = alpha * std::sin(2 * th);
-    trip.emplace_back(2 * f, 2 * f, alpha);
-    trip.emplace_back(2 * f + 1, 2 * f + 1, alpha);
+    b[f] = alpha * std::polar(1.0, 2 * th);
+    trip.emplace_back(f, f, alpha);
   }
   // Dirichlet energy with transport: |z_f − r z_g|², r = e^{2i(φ_f − φ_g)}.
   const FaceAdjacency adj = face_adjacency(mesh);
+  double wsum = 0;
   for (const auto& p : adj.pairs) {
     const Vec3 e = mesh.vertex(p.b) - mesh.vertex(p.a);
     const double len = e.norm();
     const double h = (centroid(mesh, p.f) - centroid(mesh, p.g)).norm();
     if (!(len > 0) || !(h > 0)) continue;
     const double w = len / h;
+    wsum += w;
     const double phi_f = std::atan2(e.dot(fr.t2[p.f]), e.dot(fr.t1[p.f]));
     const double phi_g = std::atan2(e.dot(fr.t2[p.g]), e.dot(fr.t1[p.g]));
-    const double c = std::cos(2 * (phi_f - phi_g)), s = std::sin(2 * (phi_f - phi_g));
-    const int F = 2 * p.f, G = 2 * p.g;
-    trip.emplace_back(F, F, w);
-    trip.emplace_back(F + 1, F + 1, w);
-    trip.emplace_back(G, G, w);
-    trip.emplace_back(G + 1, G + 1, w);
-    // H_fg = −w r = (p + i q) → block [[p, −q], [q, p]]; H_gf = conj → transpose block.
-    const double pr = -w * c, qi = -w * s;
-    trip.emplace_back(F, G, pr);
-    trip.emplace_back(F, G + 1, -qi);
-    trip.emplace_back(F + 1, G, qi);
-    trip.emplace_back(F + 1, G + 1, pr);
-    trip.emplace_back(G, F, pr);
-    trip.emplace_back(G + 1, F, -qi);
-    trip.emplace_back(G, F + 1, qi);
-    trip.emplace_back(G + 1, F + 1, pr);
+    const Cplx r = std::polar(1.0, 2 * (phi_f - phi_g));
+    trip.emplace_back(p.f, p.f, w);
+    trip.emplace_back(p.g, p.g, w);
+    trip.emplace_back(p.f, p.g, -w * r);             // coefficient of conj(z_f) z_g
+    trip.emplace_back(p.g, p.f, -w * std::conj(r));  // Hermitian mate
   }
-  Eigen::SparseMatrix<double> H(2 * nf, 2 * nf);
-  H.setFromTriplets(trip.begin(), trip.end());
   // A tiny Tikhonov term keeps the system definite when all weights vanish (z → 0 there and the
   // input direction is returned).
-  const double reg = 1e-12 * (H.diagonal().maxCoeff() + 1.0);
-  for (int i = 0; i < 2 * nf; ++i) H.coeffRef(i, i) += reg;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt(H);
+  const double reg = 1e-12 * (wsum > 0 ? wsum / nf : 1.0);
+  for (int f = 0; f < nf; ++f) trip.emplace_back(f, f, reg);
+  Eigen::SparseMatrix<Cplx> H(nf, nf);
+  H.setFromTriplets(trip.begin(), trip.end());
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<Cplx>, Eigen::Lower, Eigen::AMDOrdering<int>> llt(H);
   if (llt.info() != Eigen::Success) throw Error("field", "line-field system is not definite");
-  const Eigen::VectorXd z = llt.solve(b);
+  const Eigen::VectorXcd z = llt.solve(b);
   if (llt.info() != Eigen::Success || !z.allFinite())
     throw Error("field", "line-field solve failed");
 
   std::vector<Vec3> out(nf);
   for (int f = 0; f < nf; ++f) {
-    const double x = z[2 * f], y = z[2 * f + 1];
+    const double x = z[f].real(), y = z[f].imag();
     if (std::hypot(x, y) < 1e-9) {
       out[f] = dir[f];
       continue;
@@ -291,8 +281,7 @@ Field make_field(const TriMesh& mesh, const StressField& stress, const FieldOpti
     if (o.lipschitz > 0 && hi > lo) v = saturate_lipschitz(mesh, v, o.lipschitz * (hi - lo) / diag);
     return rescale_robust(v, top, 0.0, 1.0);
   };
-  if (!(o.low_percentile >= 0 && o.low_percentile <= o.high_percentile &&
-        o.high_percentile <= 1))
+  if (!(o.low_percentile >= 0 && o.low_percentile <= o.high_percentile && o.high_percentile <= 1))
     throw Error("field", "percentiles must satisfy 0 ≤ low ≤ high ≤ 1");
   if (nf == 0) return fd;
   fd.d = process(fd.d_raw, o.D);

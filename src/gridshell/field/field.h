@@ -49,9 +49,9 @@ struct FieldOptions {
 
 /// The sizing field, per face of the mesh it was computed on.
 struct Field {
-  std::vector<Vec3> u;    ///< smoothed unit tangent direction (line field)
-  std::vector<double> d;  ///< density in [1, D]
-  std::vector<double> a;  ///< anisotropy in [1, A]
+  std::vector<Vec3> u;        ///< smoothed unit tangent direction (line field)
+  std::vector<double> d;      ///< density in [1, D]
+  std::vector<double> a;      ///< anisotropy in [1, A]
   std::vector<Vec3> u_raw;    ///< direction before smoothing
   std::vector<double> d_raw;  ///< max(|s1|, |s2|) as given (stress units)
   std::vector<double> a_raw;  ///< max/min magnitude, in [1, anisotropy_cap]

@@ -11,9 +11,9 @@
 #include <CGAL/Search_traits_adapter.h>
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/property_map.h>
+#include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 #include <boost/iterator/counting_iterator.hpp>
-#include <fmt/format.h>
 
 #include "gridshell/core/error.h"
 #include "gridshell/field/field.h"
@@ -65,8 +65,8 @@ std::vector<std::vector<double>> read_rows(const std::string& path, std::size_t 
       throw Error(path, fmt::format("line {}: not a list of numbers", line_no));
     }
     if (nums.size() < min_columns)
-      throw Error(path, fmt::format("line {}: expected {} columns, found {}", line_no,
-                                    min_columns, nums.size()));
+      throw Error(path, fmt::format("line {}: expected {} columns, found {}", line_no, min_columns,
+                                    nums.size()));
     for (double v : nums)
       if (!std::isfinite(v)) throw Error(path, fmt::format("line {}: non-finite value", line_no));
     rows.push_back(nums);
@@ -118,7 +118,8 @@ StressField principal_stress_from_vertex_tensors(const TriMesh& mesh,
 
 StressField read_field_file(const std::string& path, const TriMesh& mesh) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   const int nv = mesh.num_vertices();
   std::vector<Eigen::Matrix3d> tensors(nv, Eigen::Matrix3d::Zero());
   if (ext == ".csv") {

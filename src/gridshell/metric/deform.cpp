@@ -4,13 +4,13 @@
 #include <cmath>
 #include <numeric>
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <Eigen/Sparse>
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
-#include <tbb/parallel_for.h>
 
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
@@ -24,15 +24,15 @@ using Mat33 = Eigen::Matrix3d;
 
 /// Per-face data of the local/global solver on one mesh level.
 struct Level {
-  std::vector<Mat32> D;       ///< J = X D, X = (x0 x1 x2) of the face on M′
-  std::vector<Mat32> frame;   ///< (u, u⊥) in 3D
+  std::vector<Mat32> D;                 ///< J = X D, X = (x0 x1 x2) of the face on M′
+  std::vector<Mat32> frame;             ///< (u, u⊥) in 3D
   std::vector<Eigen::Vector2d> target;  ///< (d/a, d)
   std::vector<double> area;
   std::vector<int> free_index;  ///< vertex → unknown index or -1 when fixed
   int num_free = 0;
-  Eigen::SparseMatrix<double> Lff;                  ///< free × free
-  std::vector<Eigen::Triplet<double>> Lfc;          ///< free × fixed couplings
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt;
+  Eigen::SparseMatrix<double> Lff;          ///< free × free
+  std::vector<Eigen::Triplet<double>> Lfc;  ///< free × fixed couplings
+  Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>> llt;
 };
 
 /// Unit tangent u of face f (field direction projected) and u⊥ = n × u.
@@ -190,6 +190,18 @@ double longest_edge(const TriMesh& m) {
   return std::sqrt(best);
 }
 
+int count_folds(const TriMesh& m) {
+  const Topology topo = build_topology(m);
+  auto normal = [&](int f) {
+    const Vec3 p0 = m.vertex(m.F(f, 0));
+    return Vec3((m.vertex(m.F(f, 1)) - p0).cross(m.vertex(m.F(f, 2)) - p0));
+  };
+  int folds = 0;
+  for (const auto& ef : topo.edge_faces)
+    if (ef.size() == 2 && normal(ef[0]).dot(normal(ef[1])) < 0) ++folds;
+  return folds;
+}
+
 /// Runs `iters` local/global iterations; returns the final relative residual.
 double iterate(Level& lv, const TriMesh& rest, Points& X, int iters) {
   std::vector<Mat32> R(rest.num_faces());
@@ -202,8 +214,7 @@ double iterate(Level& lv, const TriMesh& rest, Points& X, int iters) {
 
 }  // namespace
 
-int split_long_edges(TriMesh& rest, TriMesh& deformed, double max_edge,
-                     std::vector<int>& parent) {
+int split_long_edges(TriMesh& rest, TriMesh& deformed, double max_edge, std::vector<int>& parent) {
   const int nf = rest.num_faces();
   const Topology topo = build_topology(rest);
   std::vector<int> mid(topo.num_edges(), -1);
@@ -292,6 +303,8 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
   if (o.iterations < 0 || o.refine_iterations < 0 || o.max_rounds < 0 || o.max_faces <= 0)
     throw Error("metric", "iteration counts and limits must be non-negative");
   if (std::isnan(o.max_edge)) throw Error("metric", "max_edge is NaN");
+  if (!(o.split_ratio > 0 && o.split_ratio <= 1))
+    throw Error("metric", "split_ratio must be in (0, 1]");
   const bool refine = o.max_edge > 0 && std::isfinite(o.max_edge);
 
   Deformed out;
@@ -316,7 +329,7 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
                                         "(longest {})",
                                         o.max_edge, out.rounds, longest));
     std::vector<int> parent;
-    split_long_edges(out.rest, out.deformed, o.max_edge, parent);
+    split_long_edges(out.rest, out.deformed, o.split_ratio * o.max_edge, parent);
     if (out.rest.num_faces() > o.max_faces)
       throw Error("metric", fmt::format("refinement exceeds {} faces (q = {} too small for the "
                                         "surface)",
@@ -353,11 +366,17 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
     build_level(lv, out.rest, out.field);
     out.residual = iterate(lv, out.rest, out.deformed.V, o.refine_iterations);
     out.iterations += o.refine_iterations;
-    spdlog::debug("metric: round {}: {} faces, residual {:.3g}", out.rounds,
-                  out.rest.num_faces(), out.residual);
+    spdlog::debug("metric: round {}: {} faces, residual {:.3g}", out.rounds, out.rest.num_faces(),
+                  out.residual);
   }
   out.max_edge = longest_edge(out.deformed);
   if (!out.deformed.V.allFinite()) throw Error("metric", "deformation produced non-finite values");
+  out.folded_edges = count_folds(out.deformed);
+  spdlog::info(
+      "metric: {} → {} faces, {} refinement rounds, {} iterations, residual {:.3g}, "
+      "longest edge {:.4g} m, {} folded edges",
+      nf, out.rest.num_faces(), out.rounds, out.iterations, out.residual, out.max_edge,
+      out.folded_edges);
   return out;
 }
 

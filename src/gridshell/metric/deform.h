@@ -39,22 +39,29 @@ struct DeformOptions {
   /// q: maximum edge length of the final M′ (m in M′ units), normally R/5. ≤ 0 or infinite =
   /// no refinement.
   double max_edge = 0;
-  int iterations = 30;         ///< local/global iterations on the input mesh (≥ 0)
-  int refine_iterations = 8;   ///< local/global iterations after each refinement round
-  int max_rounds = 16;         ///< refinement rounds before giving up (Error)
-  int max_faces = 4'000'000;   ///< refined size limit (Error beyond)
+  /// Once some edge of M′ exceeds q, every edge longer than split_ratio·q is split (in (0, 1]):
+  /// a margin below 1 saves refinement rounds (edges just under q tend to grow past it when
+  /// the finer mesh is re-solved) at the price of a few more triangles.
+  double split_ratio = 0.85;
+  int iterations = 30;        ///< local/global iterations on the input mesh (≥ 0)
+  int refine_iterations = 8;  ///< local/global iterations after each refinement round
+  int max_rounds = 16;        ///< refinement rounds before giving up (Error)
+  int max_faces = 4'000'000;  ///< refined size limit (Error beyond)
 };
 
 struct Deformed {
-  TriMesh rest;      ///< refined M (on the input surface's triangles)
-  TriMesh deformed;  ///< M′, same connectivity as rest
-  Field field;       ///< the field per refined face (copied from the parent face)
+  TriMesh rest;                  ///< refined M (on the input surface's triangles)
+  TriMesh deformed;              ///< M′, same connectivity as rest
+  Field field;                   ///< the field per refined face (copied from the parent face)
   std::vector<int> parent_face;  ///< refined face → face of the input mesh
-  int rounds = 0;       ///< refinement rounds performed
-  int iterations = 0;   ///< local/global iterations performed in total
+  int rounds = 0;                ///< refinement rounds performed
+  int iterations = 0;            ///< local/global iterations performed in total
   /// Relative residual Σ area ‖J − R S‖² / Σ area ‖S‖² at the end (0 = metric met exactly).
   double residual = 0;
   double max_edge = 0;  ///< longest edge of M′ at the end
+  /// Interior edges of M′ whose two triangles face opposite ways (dihedral fold > 90°): 0 for a
+  /// healthy deformation; it grows when D or A are pushed much beyond ~4.
+  int folded_edges = 0;
 };
 
 /// Deforms `mesh` so that the field's metric becomes Euclidean on M′, refining until every edge
