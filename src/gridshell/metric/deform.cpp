@@ -32,6 +32,8 @@ struct Level {
   int num_free = 0;
   Eigen::SparseMatrix<double> Lff;          ///< free × free
   std::vector<Eigen::Triplet<double>> Lfc;  ///< free × fixed couplings
+  Eigen::SparseMatrix<double> muB;          ///< bending matrix (all vertices), may be empty
+  Eigen::MatrixXd bending_rhs;              ///< muB · X_ref (all vertices), may be empty
   Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>> llt;
 };
 
@@ -47,7 +49,7 @@ Mat32 face_frame(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& u_i
   return fr;
 }
 
-void build_level(Level& lv, const TriMesh& rest, const Field& field) {
+void build_level(Level& lv, const TriMesh& rest, const Field& field, double bending) {
   const int nf = rest.num_faces(), nv = rest.num_vertices();
   lv.D.resize(nf);
   lv.frame.resize(nf);
@@ -100,23 +102,46 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field) {
     }
     lv.free_index[v] = lv.num_free++;
   }
+  // Membrane part: the cotangent Laplacian K = Σ area D Dᵀ of the rest mesh.
   std::vector<Eigen::Triplet<double>> trip;
   trip.reserve(9 * static_cast<std::size_t>(nf));
-  lv.Lfc.clear();
+  std::vector<double> vertex_area(nv, 0.0);
+  std::vector<char> boundary(nv, 0);
+  double edge_sum = 0;
   for (int f = 0; f < nf; ++f) {
     const Mat33 K = lv.area[f] * lv.D[f] * lv.D[f].transpose();
     for (int i = 0; i < 3; ++i) {
-      const int fi = lv.free_index[rest.F(f, i)];
-      if (fi < 0) continue;
-      for (int j = 0; j < 3; ++j) {
-        const int vj = rest.F(f, j), fj = lv.free_index[vj];
-        if (fj >= 0)
-          trip.emplace_back(fi, fj, K(i, j));
-        else
-          lv.Lfc.emplace_back(fi, vj, K(i, j));
-      }
+      vertex_area[rest.F(f, i)] += lv.area[f] / 3;
+      edge_sum += (rest.V.row(rest.F(f, i)) - rest.V.row(rest.F(f, (i + 1) % 3))).norm();
+      for (int j = 0; j < 3; ++j) trip.emplace_back(rest.F(f, i), rest.F(f, j), K(i, j));
     }
   }
+  Eigen::SparseMatrix<double> A(nv, nv);
+  A.setFromTriplets(trip.begin(), trip.end());
+  // Bending part: μ Σ_interior v |(K x′)_v|² / area_v (a discrete ∫H² of M′), μ = bending · h².
+  if (bending > 0) {
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(nv);
+    for (int v = 0; v < nv; ++v)
+      if (vertex_area[v] > 0) w[v] = 1.0 / vertex_area[v];
+    const double h = edge_sum / (3.0 * nf);
+    lv.muB = (bending * h * h) * Eigen::SparseMatrix<double>(A * w.asDiagonal() * A);
+    A = A + lv.muB;
+  } else {
+    lv.muB.resize(0, 0);
+  }
+  lv.bending_rhs.resize(0, 3);
+  lv.Lfc.clear();
+  trip.clear();
+  for (int k = 0; k < A.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, k); it; ++it) {
+      const int fi = lv.free_index[it.row()];
+      if (fi < 0) continue;
+      const int fj = lv.free_index[it.col()];
+      if (fj >= 0)
+        trip.emplace_back(fi, fj, it.value());
+      else
+        lv.Lfc.emplace_back(fi, static_cast<int>(it.col()), it.value());
+    }
   lv.Lff.resize(lv.num_free, lv.num_free);
   lv.Lff.setFromTriplets(trip.begin(), trip.end());
   if (lv.num_free > 0) {
@@ -155,6 +180,9 @@ void global_step(Level& lv, const TriMesh& rest, Points& X, const std::vector<Ma
     }
   }
   for (const auto& t : lv.Lfc) rhs.row(t.row()) -= t.value() * X.row(t.col());
+  if (lv.bending_rhs.rows() == rest.num_vertices())
+    for (int v = 0; v < rest.num_vertices(); ++v)
+      if (lv.free_index[v] >= 0) rhs.row(lv.free_index[v]) += lv.bending_rhs.row(v);
   if (lv.num_free > 0) {
     const Eigen::MatrixXd sol = lv.llt.solve(rhs);
     if (lv.llt.info() != Eigen::Success || !sol.allFinite())
@@ -162,6 +190,12 @@ void global_step(Level& lv, const TriMesh& rest, Points& X, const std::vector<Ma
     for (int v = 0; v < rest.num_vertices(); ++v)
       if (lv.free_index[v] >= 0) X.row(v) = sol.row(lv.free_index[v]);
   }
+}
+
+/// The bending term penalises |K (x′ − X_ref)|²: curvature changes against the reference, so
+/// crumpling is expensive while the reference shape itself costs nothing.
+void set_reference(Level& lv, const Points& X) {
+  if (lv.muB.rows() == X.rows()) lv.bending_rhs = lv.muB * Eigen::MatrixXd(X);
 }
 
 /// Local step: best frames for the current X; returns the relative residual before the update.
@@ -303,6 +337,7 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
   if (o.iterations < 0 || o.refine_iterations < 0 || o.max_rounds < 0 || o.max_faces <= 0)
     throw Error("metric", "iteration counts and limits must be non-negative");
   if (std::isnan(o.max_edge)) throw Error("metric", "max_edge is NaN");
+  if (!std::isfinite(o.bending) || o.bending < 0) throw Error("metric", "bending must be ≥ 0");
   if (!(o.split_ratio > 0 && o.split_ratio <= 1))
     throw Error("metric", "split_ratio must be in (0, 1]");
   const bool refine = o.max_edge > 0 && std::isfinite(o.max_edge);
@@ -315,9 +350,12 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
   out.deformed = mesh;
 
   Level lv;
-  build_level(lv, out.rest, out.field);
-  // Initial guess: integrate the target Jacobians in the rest frames.
+  build_level(lv, out.rest, out.field, o.bending);
+  // Initial guess: integrate the target Jacobians in the rest frames (bending against the rest
+  // shape), then take that as the bending reference.
+  set_reference(lv, out.rest.V);
   global_step(lv, out.rest, out.deformed.V, lv.frame);
+  set_reference(lv, out.deformed.V);
   out.residual = iterate(lv, out.rest, out.deformed.V, o.iterations);
   out.iterations = o.iterations;
 
@@ -363,7 +401,8 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
     out.field = std::move(child);
     out.parent_face = std::move(grand);
     ++out.rounds;
-    build_level(lv, out.rest, out.field);
+    build_level(lv, out.rest, out.field, o.bending);
+    set_reference(lv, out.deformed.V);
     out.residual = iterate(lv, out.rest, out.deformed.V, o.refine_iterations);
     out.iterations += o.refine_iterations;
     spdlog::debug("metric: round {}: {} faces, residual {:.3g}", out.rounds, out.rest.num_faces(),

@@ -43,6 +43,11 @@ struct DeformOptions {
   /// a margin below 1 saves refinement rounds (edges just under q tend to grow past it when
   /// the finer mesh is re-solved) at the price of a few more triangles.
   double split_ratio = 0.85;
+  /// Weight of the bending regulariser μ Σ_v |Δ(x′ − x_ref)_v|²/area_v (interior vertices, Δ the
+  /// cotangent Laplacian of M, x_ref the initial M′ of the level) with μ = bending · h², h the
+  /// mean edge length of the current rest mesh. Without it the local/global iterations crumple
+  /// M′ (folded triangles) where the metric is not realisable. 0 = pure membrane energy.
+  double bending = 1;
   int iterations = 30;        ///< local/global iterations on the input mesh (≥ 0)
   int refine_iterations = 8;  ///< local/global iterations after each refinement round
   int max_rounds = 16;        ///< refinement rounds before giving up (Error)
