@@ -22,6 +22,8 @@ namespace {
 using Mat32 = Eigen::Matrix<double, 3, 2>;
 using Mat33 = Eigen::Matrix3d;
 
+constexpr double kBoundaryBending = 0.1;
+
 /// Per-face data of the local/global solver on one mesh level.
 struct Level {
   std::vector<Mat32> D;                 ///< J = X D, X = (x0 x1 x2) of the face on M′
@@ -118,11 +120,15 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
   }
   Eigen::SparseMatrix<double> A(nv, nv);
   A.setFromTriplets(trip.begin(), trip.end());
-  // Bending part: μ Σ_interior v |(K x′)_v|² / area_v (a discrete ∫H² of M′), μ = bending · h².
+  // Bending part: μ Σ_v β_v |(K (x′ − x_ref))_v|² / area_v, μ = bending · h², β = 1 inside and
+  // kBoundaryBending on the boundary (there K x also measures in-plane stretch of the boundary,
+  // which the membrane term must stay free to change).
   if (bending > 0) {
+    const Topology topo = build_topology(rest);
     Eigen::VectorXd w = Eigen::VectorXd::Zero(nv);
     for (int v = 0; v < nv; ++v)
-      if (vertex_area[v] > 0) w[v] = 1.0 / vertex_area[v];
+      if (vertex_area[v] > 0)
+        w[v] = (topo.on_boundary[v] ? kBoundaryBending : 1.0) / vertex_area[v];
     const double h = edge_sum / (3.0 * nf);
     lv.muB = (bending * h * h) * Eigen::SparseMatrix<double>(A * w.asDiagonal() * A);
     A = A + lv.muB;
@@ -350,12 +356,14 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
   out.deformed = mesh;
 
   Level lv;
-  build_level(lv, out.rest, out.field, o.bending);
-  // Initial guess: integrate the target Jacobians in the rest frames (bending against the rest
-  // shape), then take that as the bending reference.
-  set_reference(lv, out.rest.V);
+  // Initial guess: integrate the target Jacobians in the rest frames (membrane energy only), then
+  // take that shape as the bending reference of the iterations.
+  build_level(lv, out.rest, out.field, 0.0);
   global_step(lv, out.rest, out.deformed.V, lv.frame);
-  set_reference(lv, out.deformed.V);
+  if (o.bending > 0) {
+    build_level(lv, out.rest, out.field, o.bending);
+    set_reference(lv, out.deformed.V);
+  }
   out.residual = iterate(lv, out.rest, out.deformed.V, o.iterations);
   out.iterations = o.iterations;
 
