@@ -1,0 +1,110 @@
+#pragma once
+/// \file field.h
+/// Stage 3 of the pipeline: from per-triangle principal stresses to the sizing field that drives
+/// the anisotropic tessellation, as a triple per face (GUIDE.md stage 3, paper §3):
+///
+///   - u : unit tangent direction of the principal stress of largest magnitude (a line field:
+///         u and −u mean the same),
+///   - d : density, the largest principal stress magnitude, rescaled to [1, D],
+///   - a : anisotropy, max/min of the two magnitudes (≥ 1, capped), rescaled to [1, A].
+///
+/// Semantics (what the tessellation makes of it, through metric/deform.h): the linear size of a
+/// cell is ∝ 1/d (with D = 4 the densest cells are 4× smaller across u than the sparsest), and
+/// cells are elongated along u with aspect ratio ≈ a.
+///
+/// Processing, in order (make_field):
+///   1. raw (u, d, a) from the stresses (u projected onto the triangle's plane),
+///   2. u smoothed as a line field (smooth_line_field: one sparse SPD solve),
+///   3. d and a made Lipschitz by an upper saturation that keeps maxima (saturate_lipschitz),
+///   4. d and a clamped to percentiles and rescaled exactly onto [1, D] and [1, A]
+///      (rescale_robust); a constant field maps to 1.
+///
+/// Everything is per face of the given mesh, deterministic, and free of global state.
+
+#include <vector>
+
+#include "gridshell/fem/principal_stress.h"
+#include "gridshell/io/mesh_io.h"
+#include "gridshell/mesh/mesh.h"
+
+namespace gridshell {
+
+/// Knobs of make_field. Lengths in metres; all other values dimensionless.
+struct FieldOptions {
+  double D = 3;  ///< density ratio: d is rescaled to [1, D] (≥ 1; 1 = uniform cell size)
+  double A = 3;  ///< anisotropy ratio: a is rescaled to [1, A] (≥ 1; 1 = isotropic cells)
+  /// Smoothing length ℓ of the line field (m): the faithfulness weight is ω_f/ℓ² per unit area
+  /// against a unit Dirichlet energy, so features shorter than ~ℓ are smoothed out.
+  /// ≤ 0 = automatic: 5% of the bounding-box diagonal.
+  double smoothing = 0;
+  /// Lipschitz bound of d and a, relative: the slope allowed is
+  /// lipschitz · (robust range of the signal) / (bounding-box diagonal), i.e. a signal may rise
+  /// from its low to its high percentile over no less than 1/lipschitz of the diagonal.
+  /// ≤ 0 disables the saturation.
+  double lipschitz = 4;
+  double low_percentile = 0.05;   ///< values below this quantile are clamped to it
+  double high_percentile = 0.95;  ///< values above this quantile are clamped to it
+  double anisotropy_cap = 10;     ///< raw anisotropy is capped here (> 1)
+};
+
+/// The sizing field, per face of the mesh it was computed on.
+struct Field {
+  std::vector<Vec3> u;        ///< smoothed unit tangent direction (line field)
+  std::vector<double> d;      ///< density in [1, D]
+  std::vector<double> a;      ///< anisotropy in [1, A]
+  std::vector<Vec3> u_raw;    ///< direction before smoothing
+  std::vector<double> d_raw;  ///< max(|s1|, |s2|) as given (stress units)
+  std::vector<double> a_raw;  ///< max/min magnitude, in [1, anisotropy_cap]
+
+  int size() const { return static_cast<int>(u.size()); }
+};
+
+/// Per-face orthonormal tangent frame (t1, t2, n): t1 along the first edge, n the unit normal.
+/// Throws Error("mesh", ...) for a degenerate triangle.
+struct FaceFrames {
+  std::vector<Vec3> t1, t2, n;
+  std::vector<double> area;  ///< triangle areas (m²)
+};
+FaceFrames face_frames(const TriMesh& mesh);
+
+/// The whole field stage: raw triple from `stress`, smoothing, saturation, rescaling.
+/// `stress.size()` must equal the number of faces. Cost: one sparse Cholesky of size 2F plus
+/// O(F log F). Throws Error for mismatched sizes, non-finite stresses or bad options.
+Field make_field(const TriMesh& mesh, const StressField& stress, const FieldOptions& options);
+
+/// The field of `--field uniform`: d = a = 1 everywhere, u = the first edge direction.
+Field uniform_field(const TriMesh& mesh);
+
+/// Options of the line-field smoothing.
+struct LineFieldOptions {
+  double smoothing = 0;  ///< smoothing length ℓ (m); ≤ 0 = 5% of the bounding-box diagonal
+};
+
+/// Smooths a line field (2-fold symmetric directions) per face. With z_f = e^{2iθ_f} in the face
+/// frame, minimises  Σ_edges (l_e/h_e) |z_f − T_fg z_g|²  +  Σ_f (A_f ω_f / ℓ²) |z_f − z_f⁰|²
+/// where T_fg is the discrete parallel transport across the shared edge (the edge keeps its
+/// angle), l_e the edge length, h_e the distance between the two centroids, A_f the area and
+/// ω_f ≥ 0 the faithfulness weight of face f (make_field uses 1 − 1/a_raw + 10⁻³). One sparse
+/// SPD solve (CHOLMOD) of size 2F. Returns unit tangent directions (the input direction where
+/// |z| vanishes). Directions are projected onto the face planes first.
+std::vector<Vec3> smooth_line_field(const TriMesh& mesh, const std::vector<Vec3>& directions,
+                                    const std::vector<double>& weights,
+                                    const LineFieldOptions& options = {});
+
+/// Upper saturation that keeps maxima: f'(p) = max_q ( f(q) − L · dist(p, q) ) with dist the
+/// shortest path over the face graph (centroid to centroid through shared edges). Afterwards
+/// f' ≥ f, max f' = max f, and |f'(p) − f'(q)| ≤ L · h_pq for adjacent faces. Dijkstra-like
+/// sweep, O(F log F). L ≤ 0 returns f unchanged.
+std::vector<double> saturate_lipschitz(const TriMesh& mesh, const std::vector<double>& values,
+                                       double L);
+
+/// Clamps values to their [low, high] quantiles (nearest rank, so both bounds are values of the
+/// input) and maps them linearly onto [1, top]: the result spans exactly [1, top]. When the
+/// clamped range is empty (constant field) every value maps to 1.
+std::vector<double> rescale_robust(const std::vector<double>& values, double top,
+                                   double low_percentile = 0.05, double high_percentile = 0.95);
+
+/// ParaView arrays per face: "u", "u_raw" (n×3), "d", "a", "d_raw", "a_raw" (n×1).
+io::Attributes field_attributes(const Field& field);
+
+}  // namespace gridshell

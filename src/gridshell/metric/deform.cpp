@@ -1,0 +1,455 @@
+#include "gridshell/metric/deform.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
+#include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <Eigen/Sparse>
+
+#include "gridshell/core/error.h"
+#include "gridshell/mesh/topology.h"
+
+namespace gridshell {
+
+namespace {
+
+using Mat32 = Eigen::Matrix<double, 3, 2>;
+using Mat33 = Eigen::Matrix3d;
+
+constexpr double kBoundaryBending = 0.1;
+
+/// Per-face data of the local/global solver on one mesh level.
+struct Level {
+  std::vector<Mat32> D;                 ///< J = X D, X = (x0 x1 x2) of the face on M′
+  std::vector<Mat32> frame;             ///< (u, u⊥) in 3D
+  std::vector<Eigen::Vector2d> target;  ///< (d/a, d)
+  std::vector<double> area;
+  std::vector<int> free_index;  ///< vertex → unknown index or -1 when fixed
+  int num_free = 0;
+  Eigen::SparseMatrix<double> Lff;          ///< free × free
+  std::vector<Eigen::Triplet<double>> Lfc;  ///< free × fixed couplings
+  Eigen::SparseMatrix<double> muB;          ///< bending matrix (all vertices), may be empty
+  Eigen::MatrixXd bending_rhs;              ///< muB · X_ref (all vertices), may be empty
+  Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>> llt;
+};
+
+/// Unit tangent u of face f (field direction projected) and u⊥ = n × u.
+Mat32 face_frame(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& u_in) {
+  const Vec3 n = (p1 - p0).cross(p2 - p0).normalized();
+  Vec3 u = u_in - u_in.dot(n) * n;
+  if (!(u.norm() > 1e-9)) u = (p1 - p0);
+  u.normalize();
+  Mat32 fr;
+  fr.col(0) = u;
+  fr.col(1) = n.cross(u);
+  return fr;
+}
+
+void build_level(Level& lv, const TriMesh& rest, const Field& field, double bending) {
+  const int nf = rest.num_faces(), nv = rest.num_vertices();
+  lv.D.resize(nf);
+  lv.frame.resize(nf);
+  lv.target.resize(nf);
+  lv.area.resize(nf);
+  const double diag = bbox_diagonal(rest.V);
+  for (int f = 0; f < nf; ++f) {
+    const Vec3 p0 = rest.vertex(rest.F(f, 0)), p1 = rest.vertex(rest.F(f, 1)),
+               p2 = rest.vertex(rest.F(f, 2));
+    const double area = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    if (!(area > 1e-14 * diag * diag))
+      throw Error("mesh", fmt::format("degenerate triangle {} (zero area)", f));
+    const double d = field.d[f], a = field.a[f];
+    if (!std::isfinite(d) || !std::isfinite(a) || !(d > 0) || !(a > 0))
+      throw Error("field", fmt::format("invalid density/anisotropy at face {}", f));
+    if (!field.u[f].allFinite()) throw Error("field", fmt::format("non-finite u at face {}", f));
+    lv.frame[f] = face_frame(p0, p1, p2, field.u[f]);
+    Eigen::Matrix2d E;
+    E.col(0) = lv.frame[f].transpose() * (p1 - p0);
+    E.col(1) = lv.frame[f].transpose() * (p2 - p0);
+    Eigen::Matrix<double, 3, 2> G;
+    G << -1, -1, 1, 0, 0, 1;
+    lv.D[f] = G * E.inverse();
+    lv.target[f] = Eigen::Vector2d(d / a, d);
+    lv.area[f] = area;
+  }
+  // One fixed vertex per connected component; unreferenced vertices are fixed too.
+  std::vector<int> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<char> used(nv, 0);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      used[rest.F(f, k)] = 1;
+      const int a = find(rest.F(f, k)), b = find(rest.F(f, (k + 1) % 3));
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  lv.free_index.assign(nv, -1);
+  std::vector<char> root_fixed(nv, 0);
+  lv.num_free = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (!used[v]) continue;
+    const int r = find(v);
+    if (!root_fixed[r]) {
+      root_fixed[r] = 1;  // the first vertex of each component stays put
+      continue;
+    }
+    lv.free_index[v] = lv.num_free++;
+  }
+  // Membrane part: the cotangent Laplacian K = Σ area D Dᵀ of the rest mesh.
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(9 * static_cast<std::size_t>(nf));
+  std::vector<double> vertex_area(nv, 0.0);
+  std::vector<char> boundary(nv, 0);
+  double edge_sum = 0;
+  for (int f = 0; f < nf; ++f) {
+    const Mat33 K = lv.area[f] * lv.D[f] * lv.D[f].transpose();
+    for (int i = 0; i < 3; ++i) {
+      vertex_area[rest.F(f, i)] += lv.area[f] / 3;
+      edge_sum += (rest.V.row(rest.F(f, i)) - rest.V.row(rest.F(f, (i + 1) % 3))).norm();
+      for (int j = 0; j < 3; ++j) trip.emplace_back(rest.F(f, i), rest.F(f, j), K(i, j));
+    }
+  }
+  Eigen::SparseMatrix<double> A(nv, nv);
+  A.setFromTriplets(trip.begin(), trip.end());
+  // Bending part: μ Σ_v β_v |(K (x′ − x_ref))_v|² / area_v, μ = bending · h², β = 1 inside and
+  // kBoundaryBending on the boundary (there K x also measures in-plane stretch of the boundary,
+  // which the membrane term must stay free to change).
+  if (bending > 0) {
+    const Topology topo = build_topology(rest);
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(nv);
+    for (int v = 0; v < nv; ++v)
+      if (vertex_area[v] > 0)
+        w[v] = (topo.on_boundary[v] ? kBoundaryBending : 1.0) / vertex_area[v];
+    const double h = edge_sum / (3.0 * nf);
+    lv.muB = (bending * h * h) * Eigen::SparseMatrix<double>(A * w.asDiagonal() * A);
+    A = A + lv.muB;
+  } else {
+    lv.muB.resize(0, 0);
+  }
+  lv.bending_rhs.resize(0, 3);
+  lv.Lfc.clear();
+  trip.clear();
+  for (int k = 0; k < A.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, k); it; ++it) {
+      const int fi = lv.free_index[it.row()];
+      if (fi < 0) continue;
+      const int fj = lv.free_index[it.col()];
+      if (fj >= 0)
+        trip.emplace_back(fi, fj, it.value());
+      else
+        lv.Lfc.emplace_back(fi, static_cast<int>(it.col()), it.value());
+    }
+  lv.Lff.resize(lv.num_free, lv.num_free);
+  lv.Lff.setFromTriplets(trip.begin(), trip.end());
+  if (lv.num_free > 0) {
+    lv.llt.compute(lv.Lff);
+    if (lv.llt.info() != Eigen::Success)
+      throw Error("metric", "deformation system could not be factorised");
+  }
+}
+
+/// Best orthonormal-column R (3×2) maximising tr(Rᵀ M).
+Mat32 polar32(const Mat32& M) {
+  const Eigen::Matrix2d S = M.transpose() * M;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es;
+  es.computeDirect(S);
+  const Eigen::Vector2d ev = es.eigenvalues();
+  const double scale = std::max(ev[1], 1e-300);
+  if (ev[0] > 1e-12 * scale && std::isfinite(ev[0])) {
+    const Eigen::Matrix2d V = es.eigenvectors();
+    const Eigen::Vector2d inv(1 / std::sqrt(ev[0]), 1 / std::sqrt(ev[1]));
+    return M * (V * inv.asDiagonal() * V.transpose());
+  }
+  Eigen::JacobiSVD<Mat32> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return svd.matrixU().leftCols<2>() * svd.matrixV().transpose();
+}
+
+/// Global step: positions X (free vertices) best fitting the targets B_t = R_t S_t.
+void global_step(Level& lv, const TriMesh& rest, Points& X, const std::vector<Mat32>& R) {
+  const int nf = rest.num_faces();
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(lv.num_free, 3);
+  for (int f = 0; f < nf; ++f) {
+    const Mat32 B = R[f] * lv.target[f].asDiagonal();
+    const Mat33 C = lv.area[f] * lv.D[f] * B.transpose();  // row i → vertex i
+    for (int i = 0; i < 3; ++i) {
+      const int fi = lv.free_index[rest.F(f, i)];
+      if (fi >= 0) rhs.row(fi) += C.row(i);
+    }
+  }
+  for (const auto& t : lv.Lfc) rhs.row(t.row()) -= t.value() * X.row(t.col());
+  if (lv.bending_rhs.rows() == rest.num_vertices())
+    for (int v = 0; v < rest.num_vertices(); ++v)
+      if (lv.free_index[v] >= 0) rhs.row(lv.free_index[v]) += lv.bending_rhs.row(v);
+  if (lv.num_free > 0) {
+    const Eigen::MatrixXd sol = lv.llt.solve(rhs);
+    if (lv.llt.info() != Eigen::Success || !sol.allFinite())
+      throw Error("metric", "deformation solve failed");
+    for (int v = 0; v < rest.num_vertices(); ++v)
+      if (lv.free_index[v] >= 0) X.row(v) = sol.row(lv.free_index[v]);
+  }
+}
+
+/// The bending term penalises |K (x′ − X_ref)|²: curvature changes against the reference, so
+/// crumpling is expensive while the reference shape itself costs nothing.
+void set_reference(Level& lv, const Points& X) {
+  if (lv.muB.rows() == X.rows()) lv.bending_rhs = lv.muB * Eigen::MatrixXd(X);
+}
+
+/// Local step: best frames for the current X; returns the relative residual before the update.
+double local_step(const Level& lv, const TriMesh& rest, const Points& X, std::vector<Mat32>& R) {
+  const int nf = rest.num_faces();
+  std::vector<double> e(nf), s(nf);
+  tbb::parallel_for(0, nf, [&](int f) {
+    Mat33 Xt;
+    for (int k = 0; k < 3; ++k) Xt.col(k) = X.row(rest.F(f, k)).transpose();
+    const Mat32 J = Xt * lv.D[f];
+    R[f] = polar32(J * lv.target[f].asDiagonal());
+    e[f] = lv.area[f] * (J - R[f] * lv.target[f].asDiagonal()).squaredNorm();
+    s[f] = lv.area[f] * lv.target[f].squaredNorm();
+  });
+  // Serial sums: independent of the thread count.
+  const double num = std::accumulate(e.begin(), e.end(), 0.0);
+  const double den = std::accumulate(s.begin(), s.end(), 0.0);
+  return den > 0 ? num / den : 0;
+}
+
+double longest_edge(const TriMesh& m) {
+  double best = 0;
+  for (int f = 0; f < m.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k)
+      best = std::max(best, (m.V.row(m.F(f, k)) - m.V.row(m.F(f, (k + 1) % 3))).squaredNorm());
+  return std::sqrt(best);
+}
+
+int count_folds(const TriMesh& m) {
+  const Topology topo = build_topology(m);
+  auto normal = [&](int f) {
+    const Vec3 p0 = m.vertex(m.F(f, 0));
+    return Vec3((m.vertex(m.F(f, 1)) - p0).cross(m.vertex(m.F(f, 2)) - p0));
+  };
+  int folds = 0;
+  for (const auto& ef : topo.edge_faces)
+    if (ef.size() == 2 && normal(ef[0]).dot(normal(ef[1])) < 0) ++folds;
+  return folds;
+}
+
+/// Runs `iters` local/global iterations; returns the final relative residual.
+double iterate(Level& lv, const TriMesh& rest, Points& X, int iters) {
+  std::vector<Mat32> R(rest.num_faces());
+  for (int it = 0; it < iters; ++it) {
+    local_step(lv, rest, X, R);
+    global_step(lv, rest, X, R);
+  }
+  return local_step(lv, rest, X, R);
+}
+
+}  // namespace
+
+int split_long_edges(TriMesh& rest, TriMesh& deformed, double max_edge, std::vector<int>& parent) {
+  const int nf = rest.num_faces();
+  const Topology topo = build_topology(rest);
+  std::vector<int> mid(topo.num_edges(), -1);
+  int nv = rest.num_vertices();
+  int count = 0;
+  for (int e = 0; e < topo.num_edges(); ++e) {
+    const auto [a, b] = topo.edges[e];
+    if ((deformed.V.row(a) - deformed.V.row(b)).norm() > max_edge) {
+      mid[e] = nv++;
+      ++count;
+    }
+  }
+  parent.clear();
+  if (count == 0) {
+    parent.resize(nf);
+    std::iota(parent.begin(), parent.end(), 0);
+    return 0;
+  }
+  Points rv(nv, 3), dv(nv, 3);
+  rv.topRows(rest.num_vertices()) = rest.V;
+  dv.topRows(rest.num_vertices()) = deformed.V;
+  for (int e = 0; e < topo.num_edges(); ++e)
+    if (mid[e] >= 0) {
+      const auto [a, b] = topo.edges[e];
+      rv.row(mid[e]) = 0.5 * (rest.V.row(a) + rest.V.row(b));
+      dv.row(mid[e]) = 0.5 * (deformed.V.row(a) + deformed.V.row(b));
+    }
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(static_cast<std::size_t>(nf) * 2);
+  auto add = [&](int a, int b, int c, int p) {
+    faces.push_back({a, b, c});
+    parent.push_back(p);
+  };
+  for (int f = 0; f < nf; ++f) {
+    const int v[3] = {rest.F(f, 0), rest.F(f, 1), rest.F(f, 2)};
+    int m[3];
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+      m[k] = mid[topo.face_edges[f][k]];  // edge v_k → v_{k+1}
+      n += m[k] >= 0;
+    }
+    if (n == 0) {
+      add(v[0], v[1], v[2], f);
+    } else if (n == 3) {
+      add(v[0], m[0], m[2], f);
+      add(v[1], m[1], m[0], f);
+      add(v[2], m[2], m[1], f);
+      add(m[0], m[1], m[2], f);
+    } else if (n == 1) {
+      int k = m[0] >= 0 ? 0 : (m[1] >= 0 ? 1 : 2);
+      const int a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3], x = m[k];
+      add(a, x, c, f);
+      add(x, b, c, f);
+    } else {
+      int k = m[0] < 0 ? 0 : (m[1] < 0 ? 1 : 2);  // the unsplit edge a → b
+      const int a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
+      const int m1 = m[(k + 1) % 3], m2 = m[(k + 2) % 3];  // on b–c and c–a
+      add(m2, m1, c, f);
+      // Quad a, b, m1, m2: cut along the shorter diagonal on M′.
+      if ((dv.row(a) - dv.row(m1)).squaredNorm() <= (dv.row(b) - dv.row(m2)).squaredNorm()) {
+        add(a, b, m1, f);
+        add(a, m1, m2, f);
+      } else {
+        add(a, b, m2, f);
+        add(b, m1, m2, f);
+      }
+    }
+  }
+  Triangles F(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    F.row(static_cast<Eigen::Index>(i)) << faces[i][0], faces[i][1], faces[i][2];
+  rest.V = std::move(rv);
+  rest.F = F;
+  deformed.V = std::move(dv);
+  deformed.F = std::move(F);
+  return count;
+}
+
+Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOptions& o) {
+  const int nf = mesh.num_faces();
+  if (field.size() != nf || static_cast<int>(field.d.size()) != nf ||
+      static_cast<int>(field.a.size()) != nf)
+    throw Error("field", fmt::format("field has {} entries for {} faces", field.size(), nf));
+  if (nf == 0) throw Error("mesh", "no faces to deform");
+  if (!mesh.V.allFinite()) throw Error("mesh", "non-finite vertex coordinates");
+  if (o.iterations < 0 || o.refine_iterations < 0 || o.max_rounds < 0 || o.max_faces <= 0)
+    throw Error("metric", "iteration counts and limits must be non-negative");
+  if (std::isnan(o.max_edge)) throw Error("metric", "max_edge is NaN");
+  if (!std::isfinite(o.bending) || o.bending < 0) throw Error("metric", "bending must be ≥ 0");
+  if (!(o.split_ratio > 0 && o.split_ratio <= 1))
+    throw Error("metric", "split_ratio must be in (0, 1]");
+  const bool refine = o.max_edge > 0 && std::isfinite(o.max_edge);
+
+  Deformed out;
+  out.rest = mesh;
+  out.field = field;
+  out.parent_face.resize(nf);
+  std::iota(out.parent_face.begin(), out.parent_face.end(), 0);
+  out.deformed = mesh;
+
+  Level lv;
+  // Initial guess: integrate the target Jacobians in the rest frames (membrane energy only), then
+  // take that shape as the bending reference of the iterations.
+  build_level(lv, out.rest, out.field, 0.0);
+  global_step(lv, out.rest, out.deformed.V, lv.frame);
+  if (o.bending > 0) {
+    build_level(lv, out.rest, out.field, o.bending);
+    set_reference(lv, out.deformed.V);
+  }
+  out.residual = iterate(lv, out.rest, out.deformed.V, o.iterations);
+  out.iterations = o.iterations;
+
+  while (refine) {
+    const double longest = longest_edge(out.deformed);
+    if (longest <= o.max_edge) break;
+    if (out.rounds >= o.max_rounds)
+      throw Error("metric", fmt::format("edges of M' still exceed q = {} after {} rounds "
+                                        "(longest {})",
+                                        o.max_edge, out.rounds, longest));
+    std::vector<int> parent;
+    split_long_edges(out.rest, out.deformed, o.split_ratio * o.max_edge, parent);
+    if (out.rest.num_faces() > o.max_faces)
+      throw Error("metric", fmt::format("refinement exceeds {} faces (q = {} too small for the "
+                                        "surface)",
+                                        o.max_faces, o.max_edge));
+    Field child;
+    const std::size_t n = parent.size();
+    child.u.resize(n);
+    child.d.resize(n);
+    child.a.resize(n);
+    const bool raw = out.field.u_raw.size() == out.field.u.size() &&
+                     out.field.d_raw.size() == out.field.u.size() &&
+                     out.field.a_raw.size() == out.field.u.size();
+    if (raw) {
+      child.u_raw.resize(n);
+      child.d_raw.resize(n);
+      child.a_raw.resize(n);
+    }
+    std::vector<int> grand(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const int p = parent[i];
+      child.u[i] = out.field.u[p];
+      child.d[i] = out.field.d[p];
+      child.a[i] = out.field.a[p];
+      if (raw) {
+        child.u_raw[i] = out.field.u_raw[p];
+        child.d_raw[i] = out.field.d_raw[p];
+        child.a_raw[i] = out.field.a_raw[p];
+      }
+      grand[i] = out.parent_face[p];
+    }
+    out.field = std::move(child);
+    out.parent_face = std::move(grand);
+    ++out.rounds;
+    build_level(lv, out.rest, out.field, o.bending);
+    set_reference(lv, out.deformed.V);
+    out.residual = iterate(lv, out.rest, out.deformed.V, o.refine_iterations);
+    out.iterations += o.refine_iterations;
+    spdlog::debug("metric: round {}: {} faces, residual {:.3g}", out.rounds, out.rest.num_faces(),
+                  out.residual);
+  }
+  out.max_edge = longest_edge(out.deformed);
+  if (!out.deformed.V.allFinite()) throw Error("metric", "deformation produced non-finite values");
+  out.folded_edges = count_folds(out.deformed);
+  spdlog::info(
+      "metric: {} → {} faces, {} refinement rounds, {} iterations, residual {:.3g}, "
+      "longest edge {:.4g} m, {} folded edges",
+      nf, out.rest.num_faces(), out.rounds, out.iterations, out.residual, out.max_edge,
+      out.folded_edges);
+  return out;
+}
+
+Stretch measure_stretch(const TriMesh& rest, const TriMesh& deformed, const Field& field) {
+  if (rest.num_faces() != deformed.num_faces() || rest.num_vertices() != deformed.num_vertices() ||
+      field.size() != rest.num_faces())
+    throw Error("metric", "rest, deformed and field must match");
+  Stretch s;
+  const int nf = rest.num_faces();
+  s.along.resize(nf);
+  s.across.resize(nf);
+  for (int f = 0; f < nf; ++f) {
+    const Vec3 p0 = rest.vertex(rest.F(f, 0)), p1 = rest.vertex(rest.F(f, 1)),
+               p2 = rest.vertex(rest.F(f, 2));
+    const Mat32 fr = face_frame(p0, p1, p2, field.u[f]);
+    Eigen::Matrix2d E;
+    E.col(0) = fr.transpose() * (p1 - p0);
+    E.col(1) = fr.transpose() * (p2 - p0);
+    Mat32 Q;
+    Q.col(0) = deformed.vertex(deformed.F(f, 1)) - deformed.vertex(deformed.F(f, 0));
+    Q.col(1) = deformed.vertex(deformed.F(f, 2)) - deformed.vertex(deformed.F(f, 0));
+    const Mat32 J = Q * E.inverse();
+    s.along[f] = J.col(0).norm();
+    s.across[f] = J.col(1).norm();
+  }
+  return s;
+}
+
+}  // namespace gridshell

@@ -1,0 +1,322 @@
+// Field stage: line-field smoothing against closed-form optima, Lipschitz saturation against a
+// brute-force reference, exact rescaling, and import of the published curvedVault stress field.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+
+#include "gridshell/core/error.h"
+#include "gridshell/core/rng.h"
+#include "gridshell/field/field.h"
+#include "gridshell/field/field_io.h"
+#include "gridshell/io/mesh_io.h"
+#include "gridshell/mesh/topology.h"
+#include "gridshell/surfaces/builtin.h"
+#include "test_support.h"
+
+using namespace gridshell;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// Regular grid over [0, w] × [0, h] with nx × ny squares split along alternating diagonals.
+TriMesh grid(int nx, int ny, double w, double h) {
+  TriMesh m;
+  m.V.resize((nx + 1) * (ny + 1), 3);
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) m.V.row(j * (nx + 1) + i) << w * i / nx, h * j / ny, 0;
+  m.F.resize(2 * nx * ny, 3);
+  int f = 0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;
+      if ((i + j) % 2 == 0) {
+        m.F.row(f++) << a, b, d;
+        m.F.row(f++) << a, d, c;
+      } else {
+        m.F.row(f++) << a, b, c;
+        m.F.row(f++) << b, d, c;
+      }
+    }
+  return m;
+}
+
+/// One row of n equilateral triangles (side 1) alternating up/down: the face graph is a path with
+/// uniform weights, so the smoothed z is exactly linear along it.
+TriMesh equilateral_strip(int n) {
+  TriMesh m;
+  const int nb = (n + 2) / 2 + 1, nt = (n + 1) / 2 + 1;
+  m.V.resize(nb + nt, 3);
+  const double h = std::sqrt(3.0) / 2;
+  for (int i = 0; i < nb; ++i) m.V.row(i) << i, 0, 0;
+  for (int i = 0; i < nt; ++i) m.V.row(nb + i) << i + 0.5, h, 0;
+  m.F.resize(n, 3);
+  for (int k = 0; k < n; ++k) {
+    const int i = k / 2;
+    if (k % 2 == 0)
+      m.F.row(k) << i, i + 1, nb + i;  // up
+    else
+      m.F.row(k) << i + 1, nb + i + 1, nb + i;  // down
+  }
+  return m;
+}
+
+double line_angle_xy(const Vec3& u) {  // angle in [0, π) of a line in the xy plane
+  double t = std::atan2(u.y(), u.x());
+  if (t < 0) t += kPi;
+  if (t >= kPi) t -= kPi;
+  return t;
+}
+
+double line_diff(double a, double b) {  // distance between line angles, in [0, π/2]
+  double d = std::fmod(std::abs(a - b), kPi);
+  return std::min(d, kPi - d);
+}
+
+}  // namespace
+
+TEST(LineField, StripInterpolatesBetweenTwoConstraints) {
+  const int n = 41;
+  const TriMesh m = equilateral_strip(n);
+  const double ta = 0, tb = kPi / 3;
+  std::vector<Vec3> dir(n, Vec3::UnitX());
+  std::vector<double> w(n, 0.0);
+  dir[0] = Vec3(std::cos(ta), std::sin(ta), 0);
+  dir[n - 1] = Vec3(std::cos(tb), std::sin(tb), 0);
+  w[0] = w[n - 1] = 1e9;
+  const auto u = smooth_line_field(m, dir, w, {1.0});
+  // Known optimum: z_k = (1 − t) e^{2i ta} + t e^{2i tb}, t = k/(n−1); direction = arg(z)/2.
+  for (int k = 0; k < n; ++k) {
+    const double t = static_cast<double>(k) / (n - 1);
+    const double x = (1 - t) * std::cos(2 * ta) + t * std::cos(2 * tb);
+    const double y = (1 - t) * std::sin(2 * ta) + t * std::sin(2 * tb);
+    const double expect =
+        line_angle_xy(Vec3(std::cos(0.5 * std::atan2(y, x)), std::sin(0.5 * std::atan2(y, x)), 0));
+    EXPECT_NEAR(line_diff(line_angle_xy(u[k]), expect), 0.0, 1e-6) << "face " << k;
+    EXPECT_NEAR(u[k].norm(), 1.0, 1e-12);
+  }
+}
+
+TEST(LineField, NoisyConstantFieldReturnsTheConstant) {
+  const TriMesh m = grid(24, 24, 10, 10);
+  const int nf = m.num_faces();
+  Rng rng(7);
+  const double t0 = 0.5;  // rad
+  std::vector<Vec3> dir(nf);
+  double noise = 0;
+  for (int f = 0; f < nf; ++f) {
+    const double t = t0 + rng.uniform(-0.35, 0.35);
+    dir[f] = Vec3(std::cos(t), std::sin(t), 0) * (rng.uniform() < 0.5 ? -1 : 1);  // sign-free
+    noise += line_diff(t, t0);
+  }
+  noise /= nf;
+  const auto u = smooth_line_field(m, dir, std::vector<double>(nf, 1.0), {3.0});
+  double err = 0, worst = 0;
+  for (int f = 0; f < nf; ++f) {
+    const double e = line_diff(line_angle_xy(u[f]), t0);
+    err += e;
+    worst = std::max(worst, e);
+  }
+  err /= nf;
+  EXPECT_GT(noise, 0.15);
+  EXPECT_LT(err, 0.1 * noise);  // 10× less deviation than the input noise
+  EXPECT_LT(worst, 0.1);
+}
+
+TEST(LineField, ParallelFieldOnCylinderIsKeptByTransport) {
+  // On a barrel vault both the axis direction and the circumferential direction are parallel
+  // (zero covariant derivative): with any weights the smoothed field must equal the input.
+  const Surface s = make_builtin("barrel:span=10,rise=4,length=12,res=16");
+  const TriMesh& m = s.mesh;
+  const int nf = m.num_faces();
+  const FaceFrames fr = face_frames(m);
+  // Axis of the barrel: the coordinate direction with the smallest normal component overall.
+  double nx = 0, ny = 0;
+  for (int f = 0; f < nf; ++f) {
+    nx += std::abs(fr.n[f].x());
+    ny += std::abs(fr.n[f].y());
+  }
+  const Vec3 axis = nx < ny ? Vec3::UnitX() : Vec3::UnitY();
+  std::vector<Vec3> along(nf), around(nf);
+  Rng rng(3);
+  std::vector<double> w(nf);
+  for (int f = 0; f < nf; ++f) {
+    along[f] = axis;
+    around[f] = fr.n[f].cross(axis);
+    w[f] = rng.uniform(0.0, 1.0);
+  }
+  for (const auto* input : {&along, &around}) {
+    const auto u = smooth_line_field(m, *input, w, {2.0});
+    for (int f = 0; f < nf; ++f)
+      EXPECT_NEAR(std::abs(u[f].dot((*input)[f].normalized())), 1.0, 1e-9);
+  }
+}
+
+TEST(Saturation, KeepsMaximaAndBoundsTheSlopeLikeBruteForce) {
+  const TriMesh m = grid(6, 5, 3, 2.5);
+  const int nf = m.num_faces();
+  Rng rng(11);
+  std::vector<double> f(nf);
+  for (auto& v : f) v = rng.uniform(0, 10);
+  const double L = 4.0;
+  const auto g = saturate_lipschitz(m, f, L);
+  // Reference: all-pairs shortest paths (Floyd–Warshall) over the face graph, then the formula.
+  const Topology topo = build_topology(m);
+  std::vector<Vec3> c(nf);
+  for (int k = 0; k < nf; ++k)
+    c[k] = (m.vertex(m.F(k, 0)) + m.vertex(m.F(k, 1)) + m.vertex(m.F(k, 2))) / 3;
+  std::vector<std::vector<double>> dist(nf, std::vector<double>(nf, 1e300));
+  std::vector<std::array<int, 2>> adj;
+  for (int k = 0; k < nf; ++k) dist[k][k] = 0;
+  for (const auto& ef : topo.edge_faces)
+    if (ef.size() == 2) {
+      const double h = (c[ef[0]] - c[ef[1]]).norm();
+      dist[ef[0]][ef[1]] = dist[ef[1]][ef[0]] = h;
+      adj.push_back({ef[0], ef[1]});
+    }
+  for (int k = 0; k < nf; ++k)
+    for (int i = 0; i < nf; ++i)
+      for (int j = 0; j < nf; ++j) dist[i][j] = std::min(dist[i][j], dist[i][k] + dist[k][j]);
+  const double fmax = *std::max_element(f.begin(), f.end());
+  EXPECT_EQ(*std::max_element(g.begin(), g.end()), fmax);
+  int raised = 0;
+  for (int p = 0; p < nf; ++p) {
+    double ref = -1e300;
+    for (int q = 0; q < nf; ++q) ref = std::max(ref, f[q] - L * dist[p][q]);
+    EXPECT_NEAR(g[p], ref, 1e-12);
+    EXPECT_GE(g[p], f[p]);
+    raised += g[p] > f[p];
+  }
+  EXPECT_GT(raised, nf / 4);  // the test field really violated the bound
+  for (const auto& [p, q] : adj)
+    EXPECT_LE(std::abs(g[p] - g[q]), L * (c[p] - c[q]).norm() * (1 + 1e-12));
+  // L ≤ 0 leaves the values alone.
+  EXPECT_EQ(saturate_lipschitz(m, f, 0), f);
+}
+
+TEST(Rescale, ExactRangeClampedOutliersConstantToOne) {
+  std::vector<double> v;
+  for (int i = 0; i < 100; ++i) v.push_back(0.37 * i + 2);
+  v[3] = 1e6;    // outlier up
+  v[50] = -1e6;  // outlier down
+  const auto r = rescale_robust(v, 4.0, 0.05, 0.95);
+  EXPECT_EQ(*std::min_element(r.begin(), r.end()), 1.0);
+  EXPECT_EQ(*std::max_element(r.begin(), r.end()), 4.0);
+  EXPECT_EQ(r[3], 4.0);
+  EXPECT_EQ(r[50], 1.0);
+  // Linear in between: equal steps of the input give equal steps of the output.
+  EXPECT_NEAR((r[41] - r[40]) - (r[61] - r[60]), 0.0, 1e-12);
+  const auto c = rescale_robust(std::vector<double>(10, 5.0), 3.0);
+  for (double x : c) EXPECT_EQ(x, 1.0);
+  EXPECT_THROW(rescale_robust(v, 0.5), Error);
+}
+
+TEST(MakeField, DirectionDensityAnisotropyAndRanges) {
+  const TriMesh m = grid(20, 20, 10, 10);
+  const int nf = m.num_faces();
+  StressField st(nf);
+  const FaceFrames fr = face_frames(m);
+  for (int f = 0; f < nf; ++f) {
+    const Vec3 c = (m.vertex(m.F(f, 0)) + m.vertex(m.F(f, 1)) + m.vertex(m.F(f, 2))) / 3;
+    // Compression along y dominates (|s2| > |s1|) with magnitude rising with x.
+    st[f].s1 = 1 + 0.1 * c.x();
+    st[f].s2 = -(2 + 0.5 * c.x());
+    st[f].d1 = Vec3::UnitX();
+    st[f].d2 = Vec3::UnitY();
+  }
+  FieldOptions o;
+  o.D = 4;
+  o.A = 3;
+  const Field fd = make_field(m, st, o);
+  ASSERT_EQ(fd.size(), nf);
+  EXPECT_EQ(*std::min_element(fd.d.begin(), fd.d.end()), 1.0);
+  EXPECT_EQ(*std::max_element(fd.d.begin(), fd.d.end()), 4.0);
+  EXPECT_EQ(*std::min_element(fd.a.begin(), fd.a.end()), 1.0);
+  EXPECT_EQ(*std::max_element(fd.a.begin(), fd.a.end()), 3.0);
+  for (int f = 0; f < nf; ++f) {
+    EXPECT_NEAR(std::abs(fd.u[f].y()), 1.0, 1e-9);  // along the larger |stress|
+    EXPECT_NEAR(std::abs(fd.u_raw[f].y()), 1.0, 1e-12);
+    EXPECT_NEAR(fd.d_raw[f], std::abs(st[f].s2), 1e-12);
+    EXPECT_NEAR(fd.a_raw[f], std::abs(st[f].s2) / st[f].s1, 1e-12);
+    EXPECT_NEAR(fd.u[f].dot(fr.n[f]), 0.0, 1e-12);
+  }
+  // Density rises with x: the dense side is on the right.
+  double left = 0, right = 0;
+  for (int f = 0; f < nf; ++f) (m.V(m.F(f, 0), 0) < 5 ? left : right) += fd.d[f];
+  EXPECT_GT(right, left);
+
+  // A constant stress maps to d = a = 1 everywhere.
+  StressField cst(nf);
+  for (auto& p : cst) {
+    p.s1 = 3;
+    p.s2 = -1;
+  }
+  const Field c = make_field(m, cst, o);
+  for (int f = 0; f < nf; ++f) {
+    EXPECT_EQ(c.d[f], 1.0);
+    EXPECT_EQ(c.a[f], 1.0);
+  }
+  EXPECT_THROW(make_field(m, StressField(3), o), Error);
+  const auto at = field_attributes(fd);
+  EXPECT_EQ(at.at("u").rows(), nf);
+  EXPECT_EQ(at.at("a_raw").cols(), 1);
+}
+
+TEST(FieldImport, CsvPerVertexToPerTriangle) {
+  const TriMesh m = grid(4, 3, 2, 1.5);
+  const auto dir = gridshell::test::temp_dir("csv");
+  const std::string path = (dir / "f.csv").string();
+  {
+    std::ofstream out(path);
+    out << "vertex,s1,s2,d1x,d1y,d1z\n";
+    const double t = 0.3;
+    for (int v = 0; v < m.num_vertices(); ++v)
+      out << v << "," << -5 << "," << 2 << "," << std::cos(t) << "," << std::sin(t) << ",0\n";
+  }
+  const StressField s = read_field_file(path, m);
+  ASSERT_EQ(static_cast<int>(s.size()), m.num_faces());
+  for (const auto& p : s) {
+    EXPECT_NEAR(p.s1, 2, 1e-12);
+    EXPECT_NEAR(p.s2, -5, 1e-12);
+    EXPECT_NEAR(std::abs(p.d2.dot(Vec3(std::cos(0.3), std::sin(0.3), 0))), 1.0, 1e-12);
+  }
+  {
+    std::ofstream out(path);
+    out << "0,1,2,1,0,0\n";  // other vertices missing
+  }
+  EXPECT_THROW(read_field_file(path, m), Error);
+  {
+    std::ofstream out(path);
+    out << "0,1,2,1,0\n";  // too few columns
+  }
+  EXPECT_THROW(read_field_file(path, m), Error);
+  EXPECT_THROW(read_field_file((dir / "missing.blk").string(), m), Error);
+}
+
+TEST(FieldImport, CurvedVaultBlkGivesUnitTangentDirections) {
+  SKIP_WITHOUT_SHARED_DATA();
+  const auto mesh_path = gridshell::test::shared_file("stress-fields/curvedVault.ply");
+  const auto blk = gridshell::test::shared_file("stress-fields/curvedVault_SF_pin.blk");
+  if (mesh_path.empty() || blk.empty()) GTEST_SKIP() << "curvedVault files absent";
+  const TriMesh m = triangulate(io::read_mesh(mesh_path).mesh);
+  const StressField s = read_field_file(blk.string(), m);
+  ASSERT_EQ(static_cast<int>(s.size()), m.num_faces());
+  const FaceFrames fr = face_frames(m);
+  int compressive = 0;
+  for (int f = 0; f < m.num_faces(); ++f) {
+    EXPECT_NEAR(s[f].d1.norm(), 1.0, 1e-9);
+    EXPECT_NEAR(s[f].d1.dot(fr.n[f]), 0.0, 1e-9);
+    EXPECT_NEAR(s[f].d1.dot(s[f].d2), 0.0, 1e-9);
+    EXPECT_GE(s[f].s1, s[f].s2);
+    compressive += std::abs(s[f].s2) > std::abs(s[f].s1);
+  }
+  // A vault under gravity: compression dominates in most of it.
+  EXPECT_GT(compressive, m.num_faces() / 2);
+  const Field fd = make_field(m, s, FieldOptions{});
+  EXPECT_EQ(*std::max_element(fd.d.begin(), fd.d.end()), 3.0);
+  EXPECT_EQ(*std::min_element(fd.a.begin(), fd.a.end()), 1.0);
+  for (int f = 0; f < m.num_faces(); ++f) EXPECT_NEAR(fd.u[f].norm(), 1.0, 1e-9);
+}
