@@ -1,0 +1,222 @@
+#include "gridshell/optimize/regularize.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include <tbb/parallel_for.h>
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCore>
+
+#include "gridshell/core/error.h"
+#include "gridshell/mesh/topology.h"
+#include "gridshell/optimize/metrics.h"
+#include "gridshell/optimize/projector.h"
+
+namespace gridshell {
+
+std::vector<VertexConstraint> classify_vertices(const PolyMesh& mesh, double corner_angle_deg) {
+  const Topology topo = build_topology(mesh);
+  std::vector<VertexConstraint> c(mesh.num_vertices(), VertexConstraint::free);
+  const double cos_limit = std::cos(corner_angle_deg * std::numbers::pi / 180.0);
+  for (const auto& loop : topo.boundary_loops) {
+    const std::size_t n = loop.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const int v = loop[i];
+      c[v] = VertexConstraint::boundary;
+      const Vec3 a = mesh.vertex(v) - mesh.vertex(loop[(i + n - 1) % n]);
+      const Vec3 b = mesh.vertex(loop[(i + 1) % n]) - mesh.vertex(v);
+      const double la = a.norm(), lb = b.norm();
+      const bool turns = la > 0 && lb > 0 && a.dot(b) / (la * lb) < cos_limit;
+      if (turns || topo.vertex_faces[v].size() <= 1) c[v] = VertexConstraint::fixed;
+    }
+  }
+  return c;
+}
+
+namespace {
+
+using TargetFn = std::vector<Vec3> (*)(const std::vector<Vec3>&);
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+void check_input(const PolyMesh& mesh, const std::vector<VertexConstraint>& constraints,
+                 const RegularizeOptions& o) {
+  const int nv = mesh.num_vertices();
+  if (!constraints.empty() && static_cast<int>(constraints.size()) != nv)
+    throw Error("constraints", "one constraint per vertex expected");
+  for (const auto& f : mesh.faces) {
+    if (f.size() < 3) throw Error("mesh", "face with fewer than 3 vertices");
+    for (int v : f)
+      if (v < 0 || v >= nv) throw Error("mesh", "face index out of range");
+  }
+  if (!mesh.V.allFinite()) throw Error("mesh", "non-finite vertex coordinates");
+  if (o.max_iterations < 0) throw Error("max_iterations", "must be ≥ 0");
+  if (!(o.tolerance >= 0)) throw Error("tolerance", "must be ≥ 0");
+  if (!(o.closeness > 0) || !std::isfinite(o.closeness))
+    throw Error("closeness", "must be a positive number");
+  if (!(o.damping > 0 && o.damping <= 1)) throw Error("damping", "must be in (0, 1]");
+}
+
+/// Projects the movable vertices of X onto M or its boundary (parallel, disjoint writes).
+void project(Points& X, const std::vector<VertexConstraint>& cons, const std::vector<char>& used,
+             const SurfaceProjector& proj) {
+  tbb::parallel_for(0, static_cast<int>(X.rows()), [&](int v) {
+    if (!used[v] || cons[v] == VertexConstraint::fixed) return;
+    const Vec3 p = X.row(v).transpose();
+    const Vec3 q = cons[v] == VertexConstraint::boundary ? proj.closest_boundary_point(p)
+                                                         : proj.closest_point(p);
+    X.row(v) = q.transpose();
+  });
+}
+
+PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<VertexConstraint> cons,
+             const RegularizeOptions& o, TargetFn targets, RegularizeStats* stats) {
+  const auto t0 = Clock::now();
+  check_input(mesh, cons, o);
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  if (cons.empty()) cons = classify_vertices(mesh);
+  std::vector<char> used(nv, 0);
+  for (const auto& f : mesh.faces)
+    for (int v : f) used[v] = 1;
+  // Unknowns: referenced, non-fixed vertices.
+  std::vector<int> idx(nv, -1);
+  int nfree = 0;
+  for (int v = 0; v < nv; ++v)
+    if (used[v] && cons[v] != VertexConstraint::fixed) idx[v] = nfree++;
+
+  PolyMesh out = mesh;
+  Points& X = out.V;
+  project(X, cons, used, proj);
+  const double diag = proj.diagonal();
+
+  // Global step: A = Σ_f N_fᵀN_f + w I (free block), factorised once.
+  const bool global = o.solver == RegularizeOptions::Solver::global;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt;
+  struct Coupling {
+    int row, fixed_vertex;
+    double value;
+  };
+  std::vector<Coupling> couplings;
+  if (global && nfree > 0) {
+    std::vector<Eigen::Triplet<double>> trip;
+    for (const auto& f : mesh.faces) {
+      const double n = static_cast<double>(f.size());
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        const int r = idx[f[i]];
+        if (r < 0) continue;
+        for (std::size_t j = 0; j < f.size(); ++j) {
+          const double val = (i == j ? 1.0 : 0.0) - 1.0 / n;
+          const int c = idx[f[j]];
+          if (c >= 0)
+            trip.emplace_back(r, c, val);
+          else
+            couplings.push_back({r, f[j], val});
+        }
+      }
+    }
+    for (int r = 0; r < nfree; ++r) trip.emplace_back(r, r, o.closeness);
+    Eigen::SparseMatrix<double> A(nfree, nfree);
+    A.setFromTriplets(trip.begin(), trip.end());
+    llt.compute(A);
+    if (llt.info() != Eigen::Success)
+      throw Error("regularize", "the per-vertex system could not be factorised");
+  }
+  RegularizeStats st;
+  st.setup_seconds = seconds_since(t0);
+
+  std::vector<std::vector<Vec3>> T(nf);
+  Eigen::MatrixX3d B(nfree, 3), Y(nfree, 3);
+  std::vector<int> count;
+  Points Xnew;
+  for (int it = 0; it < o.max_iterations; ++it) {
+    tbb::parallel_for(0, nf, [&](int f) { T[f] = targets(face_points(out, f)); });
+    Xnew = X;
+    if (nfree > 0 && global) {
+      for (int v = 0; v < nv; ++v)
+        if (idx[v] >= 0) B.row(idx[v]) = o.closeness * X.row(v);
+      for (int f = 0; f < nf; ++f) {
+        const auto& face = mesh.faces[f];
+        Vec3 m = Vec3::Zero();
+        for (const Vec3& t : T[f]) m += t;
+        m /= static_cast<double>(face.size());
+        for (std::size_t i = 0; i < face.size(); ++i)
+          if (idx[face[i]] >= 0) B.row(idx[face[i]]) += (T[f][i] - m).transpose();
+      }
+      for (const Coupling& c : couplings) B.row(c.row) -= c.value * X.row(c.fixed_vertex);
+      Y = llt.solve(B);
+      for (int v = 0; v < nv; ++v)
+        if (idx[v] >= 0) Xnew.row(v) = X.row(v) + o.damping * (Y.row(idx[v]) - X.row(v));
+    } else if (nfree > 0) {
+      B.setZero();
+      count.assign(nfree, 0);
+      for (int f = 0; f < nf; ++f) {
+        const auto& face = mesh.faces[f];
+        for (std::size_t i = 0; i < face.size(); ++i)
+          if (idx[face[i]] >= 0) {
+            B.row(idx[face[i]]) += T[f][i].transpose();
+            ++count[idx[face[i]]];
+          }
+      }
+      for (int v = 0; v < nv; ++v)
+        if (idx[v] >= 0)
+          Xnew.row(v) = X.row(v) + o.damping * (B.row(idx[v]) / count[idx[v]] - X.row(v));
+    }
+    project(Xnew, cons, used, proj);
+    if (!Xnew.allFinite())
+      throw Error("regularize", "the iteration diverged (non-finite position)");
+    const double move = diag > 0 ? (Xnew - X).rowwise().norm().maxCoeff() / diag : 0.0;
+    X.swap(Xnew);
+    st.iterations = it + 1;
+    st.max_move = move;
+    st.move_history.push_back(move);
+    if (move < o.tolerance) {
+      st.converged = true;
+      break;
+    }
+  }
+  if (o.max_iterations == 0) st.converged = true;
+  for (int v = 0; v < nv; ++v) {
+    if (!used[v] || cons[v] == VertexConstraint::fixed) continue;
+    const double d = diag > 0 ? proj.distance(X.row(v).transpose()) / diag : 0.0;
+    st.max_surface_distance = std::max(st.max_surface_distance, d);
+  }
+  st.seconds = seconds_since(t0);
+  if (stats) *stats = std::move(st);
+  return out;
+}
+
+}  // namespace
+
+PolyMesh regularize(const PolyMesh& mesh, const SurfaceProjector& surface,
+                    const std::vector<VertexConstraint>& constraints,
+                    const RegularizeOptions& options, RegularizeStats* stats) {
+  return run(mesh, surface, constraints, options, &regular_targets, stats);
+}
+
+PolyMesh regularize(const PolyMesh& mesh, const TriMesh& surface,
+                    const std::vector<VertexConstraint>& constraints,
+                    const RegularizeOptions& options, RegularizeStats* stats) {
+  const auto t0 = Clock::now();
+  const SurfaceProjector proj(surface);
+  const double build = seconds_since(t0);
+  PolyMesh out = run(mesh, proj, constraints, options, &regular_targets, stats);
+  if (stats) {
+    stats->seconds += build;
+    stats->setup_seconds += build;
+  }
+  return out;
+}
+
+PolyMesh planarize(const PolyMesh& mesh, const TriMesh& surface,
+                   const std::vector<VertexConstraint>& constraints,
+                   const RegularizeOptions& options, RegularizeStats* stats) {
+  const SurfaceProjector proj(surface);
+  return run(mesh, proj, constraints, options, &plane_targets, stats);
+}
+
+}  // namespace gridshell

@@ -1,0 +1,86 @@
+#pragma once
+/// \file regularize.h
+/// The paper's finishing stage (§Regularization; GUIDE stage 10) and the ShapeUp planarity
+/// projection it is compared with. Both alternate a per-face step (each face proposes target
+/// positions for its vertices) and a per-vertex step, then bring the vertices back onto the
+/// input surface M: free vertices onto M (closest point, AABB tree), boundary vertices onto
+/// M's boundary polylines, fixed vertices (corners) never move. Topology never changes.
+///
+/// Per-face step, `regularize`: `regular_targets` (metrics.h) — PCA un-stretch, regular polygon
+/// of equal perimeter, best rigid 2-D alignment, re-stretch. `planarize`: `plane_targets` —
+/// projection onto the best-fit plane (Bouaziz et al. 2012, "Shape-Up").
+///
+/// Per-vertex step:
+/// - `Solver::global` (default) — the ShapeUp global step: minimise
+///   Σ_f |N_f x_f − N_f t_f|² + w Σ_v |x_v − x̄_v|² over the non-fixed vertices, where N_f removes
+///   the face's mean (targets are translation-free, so the faces are not dragged back to where
+///   they were), t_f are the face targets and x̄_v the current (on-surface) position. The matrix
+///   depends only on the connectivity and is factorised once (CHOLMOD); each iteration is one
+///   back-substitution with 3 right-hand sides. w = `closeness` keeps the step on the surface.
+/// - `Solver::local` — the authors' scheme: each vertex moves to the damped average of its
+///   targets, x ← x + damping (mean targets − x). Slow to converge; kept for comparison.
+/// Iterations stop when the largest vertex move is below `tolerance` × bbox diagonal, or at
+/// `max_iterations`.
+///
+/// Cost per iteration: O(Σ face sizes) for the targets (parallel, TBB), one sparse triangular
+/// solve pair, and one AABB query per vertex (parallel). Deterministic for any thread count.
+
+#include <vector>
+
+#include "gridshell/mesh/mesh.h"
+
+namespace gridshell {
+
+class SurfaceProjector;
+
+/// How a vertex may move.
+enum class VertexConstraint : unsigned char {
+  free,      ///< stays on M
+  boundary,  ///< slides along M's boundary polylines
+  fixed      ///< never moves (corners, prescribed supports)
+};
+
+/// Constraints from the polygon mesh itself: vertices on its boundary slide along M's boundary;
+/// boundary vertices where the mesh boundary turns by more than `corner_angle_deg`, and boundary
+/// vertices used by a single face (valence 2), are fixed; all others are free.
+std::vector<VertexConstraint> classify_vertices(const PolyMesh& mesh,
+                                                double corner_angle_deg = 30.0);
+
+struct RegularizeOptions {
+  enum class Solver { global, local };
+  Solver solver = Solver::global;
+  int max_iterations = 30;  ///< cap on local/global iterations
+  double tolerance = 1e-5;  ///< stop when the max vertex move < tolerance × bbox diagonal of M
+  double closeness = 0.05;  ///< global: weight w of the stay-close term (per vertex)
+  double damping = 1.0;     ///< fraction of the per-vertex step taken (both solvers), (0, 1]
+};
+
+struct RegularizeStats {
+  int iterations = 0;                ///< iterations run
+  bool converged = false;            ///< max move fell below the tolerance
+  double max_move = 0;               ///< last iteration's max vertex move / bbox diagonal
+  double max_surface_distance = 0;   ///< max distance of a free/boundary vertex to M / diagonal
+  std::vector<double> move_history;  ///< max move / diagonal per iteration
+  double seconds = 0;                ///< wall time, setup (factorisation, trees) included
+  double setup_seconds = 0;          ///< AABB trees + factorisation
+};
+
+/// Regularises `mesh` (lying on or near `surface`) towards stretched regular polygons.
+/// `constraints` has one entry per vertex (empty = classify_vertices(mesh)).
+/// Throws Error for a constraint list of the wrong size, bad faces, or invalid options.
+PolyMesh regularize(const PolyMesh& mesh, const TriMesh& surface,
+                    const std::vector<VertexConstraint>& constraints = {},
+                    const RegularizeOptions& options = {}, RegularizeStats* stats = nullptr);
+
+/// Same with a prebuilt projector for M (saves the AABB construction when called repeatedly).
+PolyMesh regularize(const PolyMesh& mesh, const SurfaceProjector& surface,
+                    const std::vector<VertexConstraint>& constraints,
+                    const RegularizeOptions& options, RegularizeStats* stats = nullptr);
+
+/// ShapeUp planarity projection: flatter panels, less regular faces. Same constraints, options
+/// and stopping rule as `regularize`.
+PolyMesh planarize(const PolyMesh& mesh, const TriMesh& surface,
+                   const std::vector<VertexConstraint>& constraints = {},
+                   const RegularizeOptions& options = {}, RegularizeStats* stats = nullptr);
+
+}  // namespace gridshell
