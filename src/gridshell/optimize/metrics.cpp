@@ -51,7 +51,13 @@ FaceFrame face_frame(const std::vector<Vec3>& p) {
   return fr;
 }
 
-std::vector<Vec3> regular_targets(const std::vector<Vec3>& p) {
+double polygon_stretch(const std::vector<Vec3>& p) {
+  const FaceFrame fr = face_frame(p);
+  if (!(fr.sigma1 > 0)) return 1.0;
+  return fr.sigma1 / std::max(fr.sigma2, 1e-6 * fr.sigma1);
+}
+
+std::vector<Vec3> regular_targets(const std::vector<Vec3>& p, double max_stretch) {
   const int n = static_cast<int>(p.size());
   if (n < 3) return p;
   const FaceFrame fr = face_frame(p);
@@ -80,10 +86,16 @@ std::vector<Vec3> regular_targets(const std::vector<Vec3>& p) {
   }
   const double phi = std::atan2(scross, sdot);
   const double cs = std::cos(phi), sn = std::sin(phi);
+  // Re-stretch: by (σ1, σ2)/σ̄, or with the ratio capped at max_stretch (σ̄ kept).
+  double r1 = s1 / g, r2 = s2 / g;
+  if (s1 / s2 > max_stretch) {
+    r1 = std::sqrt(std::max(max_stretch, 1.0));
+    r2 = 1.0 / r1;
+  }
   std::vector<Vec3> out(n);
   for (int i = 0; i < n; ++i) {
     const double x = cs * t[i].x() - sn * t[i].y(), y = sn * t[i].x() + cs * t[i].y();
-    out[i] = fr.centroid + (x * s1 / g) * fr.axis1 + (y * s2 / g) * fr.axis2;
+    out[i] = fr.centroid + (x * r1) * fr.axis1 + (y * r2) * fr.axis2;
   }
   return out;
 }

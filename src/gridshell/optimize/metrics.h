@@ -23,6 +23,7 @@
 /// Cost: O(Σ face sizes); faces are processed in parallel (TBB), results independent of the
 /// thread count.
 
+#include <cmath>
 #include <vector>
 
 #include "gridshell/mesh/mesh.h"
@@ -43,7 +44,12 @@ struct FaceFrame {
 FaceFrame face_frame(const std::vector<Vec3>& polygon);
 
 /// Target positions of the polygon's vertices: the aligned stretched regular polygon above.
-std::vector<Vec3> regular_targets(const std::vector<Vec3>& polygon);
+/// `max_stretch` (≥ 1) caps the stretch σ1/σ2 given back to the target: a face more stretched
+/// than that gets a less stretched target (σ̄ kept). Infinity = the paper's uncapped target.
+std::vector<Vec3> regular_targets(const std::vector<Vec3>& polygon, double max_stretch = INFINITY);
+
+/// The stretch σ1/σ2 of a polygon (≥ 1; large for a degenerate face, capped at 1e6).
+double polygon_stretch(const std::vector<Vec3>& polygon);
 
 /// Orthogonal projection of the vertices onto the polygon's best-fit plane.
 std::vector<Vec3> plane_targets(const std::vector<Vec3>& polygon);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include <tbb/parallel_for.h>
@@ -37,7 +38,8 @@ std::vector<VertexConstraint> classify_vertices(const PolyMesh& mesh, double cor
 
 namespace {
 
-using TargetFn = std::vector<Vec3> (*)(const std::vector<Vec3>&);
+/// Per-face step: (face index, its current vertices) → target positions.
+using TargetFn = std::function<std::vector<Vec3>(int, const std::vector<Vec3>&)>;
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
@@ -60,6 +62,8 @@ void check_input(const PolyMesh& mesh, const std::vector<VertexConstraint>& cons
   if (!(o.closeness > 0) || !std::isfinite(o.closeness))
     throw Error("closeness", "must be a positive number");
   if (!(o.damping > 0 && o.damping <= 1)) throw Error("damping", "must be in (0, 1]");
+  if (!(o.stretch_growth >= 1)) throw Error("stretch_growth", "must be ≥ 1");
+  if (!(o.size_anchor >= 0 && o.size_anchor <= 1)) throw Error("size_anchor", "must be in [0, 1]");
 }
 
 /// Projects the movable vertices of X onto M or its boundary (parallel, disjoint writes).
@@ -92,6 +96,7 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
   PolyMesh out = mesh;
   Points& X = out.V;
   project(X, cons, used, proj);
+  const Points X0 = X;
   const double diag = proj.diagonal();
 
   // Global step: A = Σ_f N_fᵀN_f + w I (free block), factorised once.
@@ -130,15 +135,57 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
   st.setup_seconds = seconds_since(t0);
 
   std::vector<std::vector<Vec3>> T(nf);
+  std::vector<double> face_energy(nf, 0.0);
   Eigen::MatrixX3d B(nfree, 3), Y(nfree, 3);
   std::vector<int> count;
-  Points Xnew;
-  for (int it = 0; it < o.max_iterations; ++it) {
-    tbb::parallel_for(0, nf, [&](int f) { T[f] = targets(face_points(out, f)); });
+  Points Xnew, P, best_X = X;
+  const bool hard = o.projection == RegularizeOptions::Projection::hard;
+  if (!hard && !global) throw Error("projection", "soft projection needs the global solver");
+  double best_energy = INFINITY;
+  // Per-face targets at X and the energy mean_f Σ_i |x_i − t_i|² / area_f (parallel, disjoint).
+  auto compute_targets = [&] {
+    tbb::parallel_for(0, nf, [&](int f) {
+      const std::vector<Vec3> p = face_points(out, f);
+      T[f] = targets(f, p);
+      Vec3 a = Vec3::Zero();
+      double s = 0, per = 0;
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        a += p[i].cross(p[(i + 1) % p.size()]);
+        per += (p[(i + 1) % p.size()] - p[i]).norm();
+        s += (p[i] - T[f][i]).squaredNorm();
+      }
+      face_energy[f] = s / std::max(0.5 * a.norm(), 1e-12 * per * per);
+    });
+    double e = 0;
+    for (double x : face_energy) e += x;  // serial: deterministic
+    return nf > 0 ? e / nf : 0.0;
+  };
+  for (int it = 0;; ++it) {
+    const double energy = compute_targets();
+    st.energy_history.push_back(energy);
+    if (energy < best_energy) {
+      best_energy = energy;
+      best_X = X;
+      st.best_iteration = it;
+    }
+    if (it >= o.max_iterations || st.converged) break;
+    // Energy stall: less than energy_tolerance relative decrease over the last 3 iterations.
+    const auto& eh = st.energy_history;
+    if (eh.size() >= 4 &&
+        eh[eh.size() - 4] - best_energy <= o.energy_tolerance * eh[eh.size() - 4]) {
+      st.converged = true;
+      break;
+    }
     Xnew = X;
+    const Points* anchor = &X;
+    if (!hard) {  // soft: pull towards the closest points of M (or its boundary)
+      P = X;
+      project(P, cons, used, proj);
+      anchor = &P;
+    }
     if (nfree > 0 && global) {
       for (int v = 0; v < nv; ++v)
-        if (idx[v] >= 0) B.row(idx[v]) = o.closeness * X.row(v);
+        if (idx[v] >= 0) B.row(idx[v]) = o.closeness * (o.anchor_to_input ? X0 : *anchor).row(v);
       for (int f = 0; f < nf; ++f) {
         const auto& face = mesh.faces[f];
         Vec3 m = Vec3::Zero();
@@ -166,7 +213,7 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
         if (idx[v] >= 0)
           Xnew.row(v) = X.row(v) + o.damping * (B.row(idx[v]) / count[idx[v]] - X.row(v));
     }
-    project(Xnew, cons, used, proj);
+    if (hard) project(Xnew, cons, used, proj);
     if (!Xnew.allFinite())
       throw Error("regularize", "the iteration diverged (non-finite position)");
     const double move = diag > 0 ? (Xnew - X).rowwise().norm().maxCoeff() / diag : 0.0;
@@ -174,12 +221,10 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
     st.iterations = it + 1;
     st.max_move = move;
     st.move_history.push_back(move);
-    if (move < o.tolerance) {
-      st.converged = true;
-      break;
-    }
+    if (move < o.tolerance) st.converged = true;  // evaluate this last iterate, then stop
   }
-  if (o.max_iterations == 0) st.converged = true;
+  X = best_X;
+  st.energy = best_energy;
   for (int v = 0; v < nv; ++v) {
     if (!used[v] || cons[v] == VertexConstraint::fixed) continue;
     const double d = diag > 0 ? proj.distance(X.row(v).transpose()) / diag : 0.0;
@@ -192,19 +237,48 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
 
 }  // namespace
 
+namespace {
+
+TargetFn regular_step(const PolyMesh& mesh, const RegularizeOptions& o) {
+  std::vector<double> cap(mesh.num_faces(), INFINITY), size(mesh.num_faces(), 0.0);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const FaceFrame fr = face_frame(face_points(mesh, f));
+    size[f] = std::sqrt(fr.sigma1 * fr.sigma2);
+    if (std::isfinite(o.stretch_growth))
+      cap[f] = polygon_stretch(face_points(mesh, f)) * o.stretch_growth;
+  }
+  const double alpha = o.size_anchor;
+  return [cap = std::move(cap), size = std::move(size), alpha](int f, const std::vector<Vec3>& p) {
+    std::vector<Vec3> t = regular_targets(p, cap[f]);
+    if (alpha > 0 && size[f] > 0) {
+      const FaceFrame fr = face_frame(p);
+      const double g = std::sqrt(fr.sigma1 * fr.sigma2);
+      if (g > 0) {
+        const double k = std::pow(size[f] / g, alpha);
+        for (Vec3& x : t) x = fr.centroid + k * (x - fr.centroid);
+      }
+    }
+    return t;
+  };
+}
+
+}  // namespace
+
 PolyMesh regularize(const PolyMesh& mesh, const SurfaceProjector& surface,
                     const std::vector<VertexConstraint>& constraints,
                     const RegularizeOptions& options, RegularizeStats* stats) {
-  return run(mesh, surface, constraints, options, &regular_targets, stats);
+  check_input(mesh, constraints, options);
+  return run(mesh, surface, constraints, options, regular_step(mesh, options), stats);
 }
 
 PolyMesh regularize(const PolyMesh& mesh, const TriMesh& surface,
                     const std::vector<VertexConstraint>& constraints,
                     const RegularizeOptions& options, RegularizeStats* stats) {
+  check_input(mesh, constraints, options);
   const auto t0 = Clock::now();
   const SurfaceProjector proj(surface);
   const double build = seconds_since(t0);
-  PolyMesh out = run(mesh, proj, constraints, options, &regular_targets, stats);
+  PolyMesh out = run(mesh, proj, constraints, options, regular_step(mesh, options), stats);
   if (stats) {
     stats->seconds += build;
     stats->setup_seconds += build;
@@ -212,11 +286,23 @@ PolyMesh regularize(const PolyMesh& mesh, const TriMesh& surface,
   return out;
 }
 
+RegularizeOptions planarize_options() {
+  RegularizeOptions o;
+  o.projection = RegularizeOptions::Projection::soft;
+  o.closeness = 0.1;
+  o.max_iterations = 300;
+  o.energy_tolerance = 1e-4;
+  return o;
+}
+
 PolyMesh planarize(const PolyMesh& mesh, const TriMesh& surface,
                    const std::vector<VertexConstraint>& constraints,
                    const RegularizeOptions& options, RegularizeStats* stats) {
+  check_input(mesh, constraints, options);
   const SurfaceProjector proj(surface);
-  return run(mesh, proj, constraints, options, &plane_targets, stats);
+  return run(
+      mesh, proj, constraints, options,
+      [](int, const std::vector<Vec3>& p) { return plane_targets(p); }, stats);
 }
 
 }  // namespace gridshell

@@ -19,8 +19,10 @@
 ///   back-substitution with 3 right-hand sides. w = `closeness` keeps the step on the surface.
 /// - `Solver::local` — the authors' scheme: each vertex moves to the damped average of its
 ///   targets, x ← x + damping (mean targets − x). Slow to converge; kept for comparison.
-/// Iterations stop when the largest vertex move is below `tolerance` × bbox diagonal, or at
-/// `max_iterations`.
+/// Iterations stop when the largest vertex move is below `tolerance` × bbox diagonal, when the
+/// energy stalls (`energy_tolerance`), or at `max_iterations`. The iterate with the lowest energy
+/// is returned (the surface projection makes the alternation non-monotone; late iterations can
+/// let faces drift, as the paper's stretch- and scale-invariant target has null directions).
 ///
 /// Cost per iteration: O(Σ face sizes) for the targets (parallel, TBB), one sparse triangular
 /// solve pair, and one AABB query per vertex (parallel). Deterministic for any thread count.
@@ -49,20 +51,46 @@ std::vector<VertexConstraint> classify_vertices(const PolyMesh& mesh,
 struct RegularizeOptions {
   enum class Solver { global, local };
   Solver solver = Solver::global;
+  /// hard: after each step every vertex is put back onto M (its boundary), so the result lies on
+  /// M to rounding. soft (global solver only): the stay-close term pulls towards the closest
+  /// point of M instead of the current position and nothing is projected — ShapeUp's
+  /// closeness constraint; vertices end near M (see RegularizeStats::max_surface_distance).
+  /// Planarity and exact on-surface vertices conflict (a planar panel's vertices must leave a
+  /// curved M), so `planarize` defaults to soft; `regularize` uses hard.
+  enum class Projection { hard, soft };
+  Projection projection = Projection::hard;
   int max_iterations = 30;  ///< cap on local/global iterations
   double tolerance = 1e-5;  ///< stop when the max vertex move < tolerance × bbox diagonal of M
-  double closeness = 0.05;  ///< global: weight w of the stay-close term (per vertex)
-  double damping = 1.0;     ///< fraction of the per-vertex step taken (both solvers), (0, 1]
+  /// stop when the energy (RegularizeStats) fell by less than this fraction over 3 iterations
+  double energy_tolerance = 1e-3;
+  double closeness = 1.0;  ///< global: weight w of the stay-close term (per vertex)
+  double damping = 1.0;    ///< fraction of the per-vertex step taken (both solvers), (0, 1]
+  /// regularize: a face's target is never more stretched than the input face was (its PCA
+  /// ratio σ1/σ2 × this factor). The paper's target is invariant to stretching a face, so
+  /// without a cap faces drift towards slivers over many iterations. ∞ = uncapped.
+  double stretch_growth = 1.0;
+  /// regularize: 0 = the target has the perimeter of the current (un-stretched) face, as in the
+  /// paper; 1 = the target keeps the size (rms radius √(σ1σ2)) the face had in the input, so
+  /// cell sizes stay those the density field asked for; in between = geometric blend. The
+  /// paper's target is scale-invariant: without an anchor, faces at the boundary can shrink.
+  double size_anchor = 0.0;
+  /// global: the stay-close term pulls towards the input positions (true) or the current ones.
+  bool anchor_to_input = false;
 };
 
 struct RegularizeStats {
   int iterations = 0;                ///< iterations run
-  bool converged = false;            ///< max move fell below the tolerance
+  bool converged = false;            ///< max move or energy decrease fell below its tolerance
   double max_move = 0;               ///< last iteration's max vertex move / bbox diagonal
   double max_surface_distance = 0;   ///< max distance of a free/boundary vertex to M / diagonal
   std::vector<double> move_history;  ///< max move / diagonal per iteration
-  double seconds = 0;                ///< wall time, setup (factorisation, trees) included
-  double setup_seconds = 0;          ///< AABB trees + factorisation
+  /// Energy mean_f Σ_i |x_i − t_i|² / area_f at each iterate (index 0 = the input projected
+  /// onto M); for `regularize` this is the regularity with the capped/anchored targets.
+  std::vector<double> energy_history;
+  double energy = 0;         ///< energy of the returned iterate (the lowest seen)
+  int best_iteration = 0;    ///< which iterate is returned (0 = the input)
+  double seconds = 0;        ///< wall time, setup (factorisation, trees) included
+  double setup_seconds = 0;  ///< AABB trees + factorisation
 };
 
 /// Regularises `mesh` (lying on or near `surface`) towards stretched regular polygons.
@@ -78,7 +106,11 @@ PolyMesh regularize(const PolyMesh& mesh, const SurfaceProjector& surface,
                     const RegularizeOptions& options, RegularizeStats* stats = nullptr);
 
 /// ShapeUp planarity projection: flatter panels, less regular faces. Same constraints, options
-/// and stopping rule as `regularize`.
+/// and stopping rule as `regularize`, except that `options.projection` is taken as soft
+/// (stay-close term to M; use `planarize_options()` for the defaults used in tests).
+/// Defaults for `planarize`: soft projection, closeness 0.1, up to 300 iterations.
+RegularizeOptions planarize_options();
+
 PolyMesh planarize(const PolyMesh& mesh, const TriMesh& surface,
                    const std::vector<VertexConstraint>& constraints = {},
                    const RegularizeOptions& options = {}, RegularizeStats* stats = nullptr);
