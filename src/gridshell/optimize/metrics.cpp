@@ -38,7 +38,8 @@ FaceFrame face_frame(const std::vector<Vec3>& p) {
   Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
   for (const Vec3& x : p) C += (x - c) * (x - c).transpose();
   C /= static_cast<double>(n);
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);  // ascending eigenvalues
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.compute(C);  // ascending eigenvalues (iterative: computeDirect loses ~1e-9 here)
   Vec3 normal = es.eigenvectors().col(0);
   const Vec3 area = vector_area(p);
   if (normal.dot(area) < 0) normal = -normal;

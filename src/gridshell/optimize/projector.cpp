@@ -75,6 +75,15 @@ Vec3 SurfaceProjector::closest_point(const Vec3& p) const {
   return from_cgal(impl_->tri_tree.closest_point(to_cgal(p)));
 }
 
+Vec3 SurfaceProjector::closest_point(const Vec3& p, const Vec3& hint) const {
+  return from_cgal(impl_->tri_tree.closest_point(to_cgal(p), to_cgal(hint)));
+}
+
+Vec3 SurfaceProjector::closest_boundary_point(const Vec3& p, const Vec3& hint) const {
+  if (impl_->segments.empty()) return closest_point(p, hint);
+  return from_cgal(impl_->seg_tree.closest_point(to_cgal(p), to_cgal(hint)));
+}
+
 Vec3 SurfaceProjector::closest_boundary_point(const Vec3& p) const {
   if (impl_->segments.empty()) return closest_point(p);
   return from_cgal(impl_->seg_tree.closest_point(to_cgal(p)));

@@ -24,9 +24,14 @@ class SurfaceProjector {
 
   /// The point of M closest to p.
   Vec3 closest_point(const Vec3& p) const;
+  /// Same, faster when `hint` is a point of M near the answer (e.g. the previous position of a
+  /// vertex that moved a little). `hint` must lie on M.
+  Vec3 closest_point(const Vec3& p, const Vec3& hint) const;
   /// The point of M's boundary polylines closest to p (p itself projected onto M when M has no
   /// boundary).
   Vec3 closest_boundary_point(const Vec3& p) const;
+  /// Same with a hint that lies on the boundary.
+  Vec3 closest_boundary_point(const Vec3& p, const Vec3& hint) const;
   /// Distance from p to M (m).
   double distance(const Vec3& p) const { return (closest_point(p) - p).norm(); }
   /// Distance from p to M's boundary (m).

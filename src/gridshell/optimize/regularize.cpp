@@ -67,13 +67,20 @@ void check_input(const PolyMesh& mesh, const std::vector<VertexConstraint>& cons
 }
 
 /// Projects the movable vertices of X onto M or its boundary (parallel, disjoint writes).
+/// `hints` (optional): positions already on M / its boundary near the answers.
 void project(Points& X, const std::vector<VertexConstraint>& cons, const std::vector<char>& used,
-             const SurfaceProjector& proj) {
+             const SurfaceProjector& proj, const Points* hints = nullptr) {
   tbb::parallel_for(0, static_cast<int>(X.rows()), [&](int v) {
     if (!used[v] || cons[v] == VertexConstraint::fixed) return;
     const Vec3 p = X.row(v).transpose();
-    const Vec3 q = cons[v] == VertexConstraint::boundary ? proj.closest_boundary_point(p)
-                                                         : proj.closest_point(p);
+    const bool b = cons[v] == VertexConstraint::boundary;
+    Vec3 q;
+    if (hints) {
+      const Vec3 h = hints->row(v).transpose();
+      q = b ? proj.closest_boundary_point(p, h) : proj.closest_point(p, h);
+    } else {
+      q = b ? proj.closest_boundary_point(p) : proj.closest_point(p);
+    }
     X.row(v) = q.transpose();
   });
 }
@@ -213,7 +220,7 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
         if (idx[v] >= 0)
           Xnew.row(v) = X.row(v) + o.damping * (B.row(idx[v]) / count[idx[v]] - X.row(v));
     }
-    if (hard) project(Xnew, cons, used, proj);
+    if (hard) project(Xnew, cons, used, proj, &X);  // X is on M: a valid hint
     if (!Xnew.allFinite())
       throw Error("regularize", "the iteration diverged (non-finite position)");
     const double move = diag > 0 ? (Xnew - X).rowwise().norm().maxCoeff() / diag : 0.0;
