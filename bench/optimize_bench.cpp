@@ -142,6 +142,7 @@ BENCHMARK(BM_RegularizeIterations)
     ->Args({0, 10})
     ->Args({1, 0})
     ->Args({1, 10})
+    ->MeasureProcessCPUTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
 
