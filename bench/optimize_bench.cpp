@@ -70,11 +70,13 @@ void print_figures() {
       RegularizeOptions o;
     };
     std::vector<Variant> variants;
-    for (double w : {0.05, 0.2, 1.0}) {
-      RegularizeOptions o;
-      o.closeness = w;
-      variants.push_back({"global (default stop)", o});
-    }
+    for (double w : {0.2, 1.0})
+      for (double damp : {1.0, 1.5, 1.9}) {
+        RegularizeOptions o;
+        o.closeness = w;
+        o.damping = damp;
+        variants.push_back({"global (default stop)", o});
+      }
     {
       RegularizeOptions o;
       o.solver = RegularizeOptions::Solver::local;
@@ -90,9 +92,10 @@ void print_figures() {
       RegularizeStats st;
       const MeshMetrics m = mesh_metrics(regularize(c.raw, c.surface, c.constraints, var.o, &st));
       std::printf(
-          "  %-26s w=%.2f: regularity %.2fx better, edge cv %.2fx, planarity %.2fx; %d it "
+          "  %-26s w=%.2f damping=%.1f: regularity %.2fx better, edge cv %.2fx, planarity %.2fx; "
+          "%d it "
           "(best %d), %.3f s, surface dist %.1e\n",
-          var.name, var.o.closeness, raw.regularity_mean / m.regularity_mean,
+          var.name, var.o.closeness, var.o.damping, raw.regularity_mean / m.regularity_mean,
           m.edge_length_cv / raw.edge_length_cv, m.planarity_mean / raw.planarity_mean,
           st.iterations, st.best_iteration, st.seconds, st.max_surface_distance);
     }

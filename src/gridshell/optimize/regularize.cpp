@@ -61,7 +61,7 @@ void check_input(const PolyMesh& mesh, const std::vector<VertexConstraint>& cons
   if (!(o.tolerance >= 0)) throw Error("tolerance", "must be ≥ 0");
   if (!(o.closeness > 0) || !std::isfinite(o.closeness))
     throw Error("closeness", "must be a positive number");
-  if (!(o.damping > 0 && o.damping <= 1)) throw Error("damping", "must be in (0, 1]");
+  if (!(o.damping > 0 && o.damping <= 2)) throw Error("damping", "must be in (0, 2]");
   if (!(o.stretch_growth >= 1)) throw Error("stretch_growth", "must be ≥ 1");
   if (!(o.size_anchor >= 0 && o.size_anchor <= 1)) throw Error("size_anchor", "must be in [0, 1]");
 }
