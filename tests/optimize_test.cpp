@@ -398,6 +398,16 @@ TEST(Symmetry, ReflectAndWeldRebuildsTheFullDualExactly) {
       }
     for (const Plane& p : symmetry_planes(rep, w))
       EXPECT_LT(mirror_error(r.mesh, p), 1e-9 * diag) << which;
+    // The mirror maps pair exact mirror images and are involutions.
+    const auto planes_w = symmetry_planes(rep, w);
+    ASSERT_EQ(r.mirror.size(), planes_w.size());
+    for (std::size_t k = 0; k < planes_w.size(); ++k)
+      for (int v = 0; v < r.mesh.num_vertices(); ++v) {
+        const int m = r.mirror[k][v];
+        ASSERT_GE(m, 0);
+        EXPECT_EQ(r.mirror[k][m], v);
+        EXPECT_LE((planes_w[k].reflect(r.mesh.vertex(v)) - r.mesh.vertex(m)).norm(), 1e-12 * diag);
+      }
     ASSERT_EQ(r.source_vertex.size(), static_cast<std::size_t>(r.mesh.num_vertices()));
     ASSERT_EQ(r.source_face.size(), r.mesh.faces.size());
     // Same polygons as the full dual; the welded mesh keeps, per plane, the two points where
@@ -410,6 +420,44 @@ TEST(Symmetry, ReflectAndWeldRebuildsTheFullDualExactly) {
                 1e-5 * mesh_metrics(full_dual.mesh).total_length)
         << which;
   }
+}
+
+TEST(Symmetry, RegularizedWeldedMeshIsExactlySymmetricAfterEnforcing) {
+  const Surface surf = make_builtin("paraboloid:res=12");
+  const SymmetryReport rep = detect_symmetry(surf.mesh);
+  const std::vector<Plane> planes = symmetry_planes(rep, "xy");
+  DualMesh sd = dual_polygon_mesh(sector_of(surf.mesh, true, true));
+  // Perturb the sector's interior vertices (seeded) and put them back on M.
+  const SurfaceProjector proj(surf.mesh);
+  const double L = mesh_metrics(sd.mesh).edge_length_mean;
+  Rng rng(9);
+  for (int v = 0; v < sd.mesh.num_vertices(); ++v) {
+    if (sd.on_boundary[v]) continue;
+    const Vec3 p = sd.mesh.vertex(v) + 0.25 * L * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
+    sd.mesh.V.row(v) = proj.closest_point(p).transpose();
+  }
+  const ReflectedMesh r = reflect_and_weld(sd.mesh, planes);
+  RegularizeStats st;
+  PolyMesh out = regularize(r.mesh, surf.mesh, classify_vertices(r.mesh), {}, &st);
+  const double diag = rep.diagonal;
+  double asym = 0;
+  for (std::size_t k = 0; k < planes.size(); ++k)
+    for (int v = 0; v < out.num_vertices(); ++v)
+      asym = std::max(asym, (planes[k].reflect(out.vertex(v)) - out.vertex(r.mirror[k][v])).norm());
+  std::printf(
+      "[figures] regularized welded mesh: asymmetry before enforcing %.1e of the diagonal, "
+      "regularity %.4f -> %.4f\n",
+      asym / diag, mesh_metrics(r.mesh).regularity_mean, mesh_metrics(out).regularity_mean);
+  EXPECT_LT(asym, 1e-8 * diag);  // the problem is symmetric: only rounding breaks it
+  enforce_symmetry(out, planes, r.mirror);
+  for (std::size_t k = 0; k < planes.size(); ++k)
+    for (int v = 0; v < out.num_vertices(); ++v) {
+      EXPECT_LE((planes[k].reflect(out.vertex(v)) - out.vertex(r.mirror[k][v])).norm(),
+                1e-12 * diag);
+      EXPECT_LT(proj.distance(out.vertex(v)), 1e-8 * diag);
+    }
+  EXPECT_LE(mesh_metrics(out).regularity_mean, mesh_metrics(r.mesh).regularity_mean / 3);
+  EXPECT_THROW(enforce_symmetry(out, planes, {}), Error);
 }
 
 TEST(Symmetry, RejectsASectorOnBothSides) {

@@ -36,6 +36,20 @@ std::vector<VertexConstraint> classify_vertices(const PolyMesh& mesh, double cor
   return c;
 }
 
+std::vector<VertexConstraint> constraints_from_flags(const std::vector<char>& on_boundary,
+                                                     const std::vector<char>& corner) {
+  if (!corner.empty() && corner.size() != on_boundary.size())
+    throw Error("constraints", "corner and boundary flags differ in length");
+  std::vector<VertexConstraint> c(on_boundary.size(), VertexConstraint::free);
+  for (std::size_t v = 0; v < c.size(); ++v) {
+    if (!corner.empty() && corner[v])
+      c[v] = VertexConstraint::fixed;
+    else if (on_boundary[v])
+      c[v] = VertexConstraint::boundary;
+  }
+  return c;
+}
+
 namespace {
 
 /// Per-face step: (face index, its current vertices) → target positions.

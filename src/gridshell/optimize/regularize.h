@@ -49,6 +49,11 @@ enum class VertexConstraint : unsigned char {
 std::vector<VertexConstraint> classify_vertices(const PolyMesh& mesh,
                                                 double corner_angle_deg = 30.0);
 
+/// Constraints from per-vertex flags of the tessellation: corner → fixed, on_boundary →
+/// boundary, else free. Both vectors one entry per vertex (corner may be empty).
+std::vector<VertexConstraint> constraints_from_flags(const std::vector<char>& on_boundary,
+                                                     const std::vector<char>& corner);
+
 struct RegularizeOptions {
   enum class Solver { global, local };
   Solver solver = Solver::global;

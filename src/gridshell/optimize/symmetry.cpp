@@ -133,6 +133,7 @@ std::vector<int> merge_across(const std::vector<int>& P, const std::vector<int>&
 struct Stage {
   PolyMesh mesh;
   std::vector<int> src_v, src_f;
+  std::vector<std::vector<int>> mirror;  // per plane done so far: per vertex its mirror image
 };
 
 Stage reflect_once(const Stage& in, const Plane& plane, double tol_abs) {
@@ -172,6 +173,27 @@ Stage reflect_once(const Stage& in, const Plane& plane, double tol_abs) {
       src_v[mir[v]] = in.src_v[v];
     }
   }
+  // Mirror maps: earlier planes carry over to the copy (perpendicular planes commute), and the
+  // new plane pairs each vertex with its copy.
+  std::vector<std::vector<int>> mirror;
+  for (const auto& m : in.mirror) {
+    std::vector<int> mm(next, -1);
+    for (int v = 0; v < nv; ++v)
+      if (used[v]) {
+        mm[v] = m[v];
+        if (!on[v]) mm[mir[v]] = mir[m[v]];
+      }
+    mirror.push_back(std::move(mm));
+  }
+  {
+    std::vector<int> mm(next, -1);
+    for (int v = 0; v < nv; ++v)
+      if (used[v]) {
+        mm[v] = mir[v];
+        mm[mir[v]] = v;
+      }
+    mirror.push_back(std::move(mm));
+  }
   const int nf = S.num_faces();
   std::vector<std::vector<int>> faces(S.faces);
   std::vector<int> src_f(in.src_f);
@@ -197,13 +219,13 @@ Stage reflect_once(const Stage& in, const Plane& plane, double tol_abs) {
   std::vector<char> keep(faces.size(), 1);
   for (int f = 0; f < nf; ++f) {
     std::vector<int> merged = faces[f];
-    std::vector<int> mirror = faces[nf + f];
+    const std::vector<int>& mirror_face = faces[nf + f];
     bool any = false;
     const auto& face = S.faces[f];
     for (std::size_t i = 0; i < face.size() && !any; ++i) {
       const int a = face[i], b = face[(i + 1) % face.size()];
       if (on[a] && on[b]) {
-        merged = merge_across(merged, mirror, a, b);
+        merged = merge_across(merged, mirror_face, a, b);
         any = true;
       }
     }
@@ -257,6 +279,16 @@ Stage reflect_once(const Stage& in, const Plane& plane, double tol_abs) {
   out.mesh.V = std::move(X);
   for (auto& f : out.mesh.faces)
     for (int& v : f) v = remap[v];
+  for (const auto& m : mirror) {
+    std::vector<int> mm(k, -1);
+    for (int v = 0; v < next; ++v)
+      if (remap[v] >= 0) {
+        if (m[v] < 0 || remap[m[v]] < 0)
+          throw Error("symmetry", "welding was not symmetric (planes must be perpendicular)");
+        mm[remap[v]] = remap[m[v]];
+      }
+    out.mirror.push_back(std::move(mm));
+  }
   for (const auto& f : out.mesh.faces)
     if (f.size() < 3) throw Error("symmetry", "welding produced a degenerate face");
   return out;
@@ -297,7 +329,30 @@ ReflectedMesh reflect_and_weld(const PolyMesh& sector, const std::vector<Plane>&
   r.mesh = std::move(s.mesh);
   r.source_vertex = std::move(s.src_v);
   r.source_face = std::move(s.src_f);
+  r.mirror = std::move(s.mirror);
   return r;
+}
+
+void enforce_symmetry(PolyMesh& mesh, const std::vector<Plane>& planes,
+                      const std::vector<std::vector<int>>& mirror) {
+  const int nv = mesh.num_vertices();
+  if (mirror.size() != planes.size()) throw Error("symmetry", "one mirror map per plane expected");
+  for (std::size_t k = 0; k < planes.size(); ++k) {
+    if (static_cast<int>(mirror[k].size()) != nv)
+      throw Error("symmetry", "mirror map size differs from the vertex count");
+    const Plane& p = planes[k];
+    for (int v = 0; v < nv; ++v) {
+      const int m = mirror[k][v];
+      if (m < 0 || m >= nv) throw Error("symmetry", "mirror map index out of range");
+      if (m == v) {
+        mesh.V.row(v) = p.project(mesh.vertex(v)).transpose();
+      } else if (v < m) {
+        const Vec3 a = 0.5 * (mesh.vertex(v) + p.reflect(mesh.vertex(m)));
+        mesh.V.row(v) = a.transpose();
+        mesh.V.row(m) = p.reflect(a).transpose();
+      }
+    }
+  }
 }
 
 }  // namespace gridshell

@@ -48,6 +48,9 @@ struct ReflectedMesh {
   PolyMesh mesh;
   std::vector<int> source_vertex;  ///< per vertex: the sector vertex it is an image of
   std::vector<int> source_face;    ///< per face: the sector face it (or its merged half) came from
+  /// Per plane (in the order given): per vertex, the vertex that is its mirror image (itself for
+  /// vertices on the plane). Stays valid through `regularize` (topology unchanged).
+  std::vector<std::vector<int>> mirror;
 };
 
 /// Reflects a sector tessellation across each plane in turn and welds the copies: sector
@@ -59,7 +62,15 @@ struct ReflectedMesh {
 /// Every vertex's mirror image is a vertex (exactly for axis-aligned planes).
 /// Throws Error("symmetry", …) when the sector lies on both sides of a plane, a sector edge on
 /// the plane is interior to the sector, or a face touches the plane in two separate places.
+/// Planes must be mutually perpendicular (the x / y planes of `detect_symmetry`).
 ReflectedMesh reflect_and_weld(const PolyMesh& sector, const std::vector<Plane>& planes,
                                double weld_tolerance = 1e-6);
+
+/// Restores exact symmetry after an optimisation of a welded mesh (e.g. `regularize`, which is
+/// symmetric only up to rounding): for each plane in turn, every mirror pair (v, m) is set to
+/// (a, reflect(a)) with a = (p_v + reflect(p_m)) / 2, and vertices on the plane are projected
+/// onto it. `mirror` as returned by `reflect_and_weld`. O(n). Throws Error on size mismatch.
+void enforce_symmetry(PolyMesh& mesh, const std::vector<Plane>& planes,
+                      const std::vector<std::vector<int>>& mirror);
 
 }  // namespace gridshell
