@@ -159,6 +159,9 @@ void BM_RegularizeToConvergence(benchmark::State& state) {
     benchmark::DoNotOptimize(out.V.data());
   }
   state.counters["iterations"] = st.iterations;
+  state.counters["targets_ms_per_it"] = 1e3 * st.targets_seconds / std::max(1, st.iterations);
+  state.counters["solve_ms_per_it"] = 1e3 * st.solve_seconds / std::max(1, st.iterations);
+  state.counters["project_ms_per_it"] = 1e3 * st.projection_seconds / std::max(1, st.iterations);
   state.counters["best_iteration"] = st.best_iteration;
 }
 BENCHMARK(BM_RegularizeToConvergence)->Unit(benchmark::kMillisecond)->Iterations(1);

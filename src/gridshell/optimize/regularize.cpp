@@ -182,7 +182,9 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
     return nf > 0 ? e / nf : 0.0;
   };
   for (int it = 0;; ++it) {
+    auto tp = Clock::now();
     const double energy = compute_targets();
+    st.targets_seconds += seconds_since(tp);
     st.energy_history.push_back(energy);
     if (energy < best_energy) {
       best_energy = energy;
@@ -197,6 +199,7 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
       st.converged = true;
       break;
     }
+    tp = Clock::now();
     Xnew = X;
     const Points* anchor = &X;
     if (!hard) {  // soft: pull towards the closest points of M (or its boundary)
@@ -234,7 +237,10 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
         if (idx[v] >= 0)
           Xnew.row(v) = X.row(v) + o.damping * (B.row(idx[v]) / count[idx[v]] - X.row(v));
     }
+    st.solve_seconds += seconds_since(tp);
+    tp = Clock::now();
     if (hard) project(Xnew, cons, used, proj, &X);  // X is on M: a valid hint
+    st.projection_seconds += seconds_since(tp);
     if (!Xnew.allFinite())
       throw Error("regularize", "the iteration diverged (non-finite position)");
     const double move = diag > 0 ? (Xnew - X).rowwise().norm().maxCoeff() / diag : 0.0;

@@ -96,10 +96,13 @@ struct RegularizeStats {
   /// Energy mean_f Σ_i |x_i − t_i|² / area_f at each iterate (index 0 = the input projected
   /// onto M); for `regularize` this is the regularity with the capped/anchored targets.
   std::vector<double> energy_history;
-  double energy = 0;         ///< energy of the returned iterate (the lowest seen)
-  int best_iteration = 0;    ///< which iterate is returned (0 = the input)
-  double seconds = 0;        ///< wall time, setup (factorisation, trees) included
-  double setup_seconds = 0;  ///< AABB trees + factorisation
+  double energy = 0;              ///< energy of the returned iterate (the lowest seen)
+  int best_iteration = 0;         ///< which iterate is returned (0 = the input)
+  double seconds = 0;             ///< wall time, setup (factorisation, trees) included
+  double setup_seconds = 0;       ///< AABB trees + factorisation
+  double targets_seconds = 0;     ///< per-face steps and energies, all iterations (wall)
+  double solve_seconds = 0;       ///< per-vertex steps (wall)
+  double projection_seconds = 0;  ///< reprojection onto M (wall)
 };
 
 /// Regularises `mesh` (lying on or near `surface`) towards stretched regular polygons.
