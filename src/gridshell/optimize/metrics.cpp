@@ -1,0 +1,179 @@
+#include "gridshell/optimize/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <tbb/parallel_for.h>
+#include <Eigen/Eigenvalues>
+
+#include "gridshell/core/error.h"
+#include "gridshell/mesh/topology.h"
+
+namespace gridshell {
+
+namespace {
+
+double perimeter(const std::vector<Vec3>& p) {
+  double s = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) s += (p[(i + 1) % p.size()] - p[i]).norm();
+  return s;
+}
+
+Vec3 vector_area(const std::vector<Vec3>& p) {
+  Vec3 a = Vec3::Zero();
+  for (std::size_t i = 0; i < p.size(); ++i) a += p[i].cross(p[(i + 1) % p.size()]);
+  return 0.5 * a;
+}
+
+}  // namespace
+
+FaceFrame face_frame(const std::vector<Vec3>& p) {
+  FaceFrame fr;
+  const std::size_t n = p.size();
+  if (n == 0) return fr;
+  Vec3 c = Vec3::Zero();
+  for (const Vec3& x : p) c += x;
+  c /= static_cast<double>(n);
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (const Vec3& x : p) C += (x - c) * (x - c).transpose();
+  C /= static_cast<double>(n);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.compute(C);  // ascending eigenvalues (iterative: computeDirect loses ~1e-9 here)
+  Vec3 normal = es.eigenvectors().col(0);
+  const Vec3 area = vector_area(p);
+  if (normal.dot(area) < 0) normal = -normal;
+  fr.centroid = c;
+  fr.normal = normal;
+  fr.axis1 = es.eigenvectors().col(2);
+  fr.axis2 = normal.cross(fr.axis1);
+  fr.sigma1 = std::sqrt(std::max(0.0, es.eigenvalues()(2)));
+  fr.sigma2 = std::sqrt(std::max(0.0, es.eigenvalues()(1)));
+  return fr;
+}
+
+double polygon_stretch(const std::vector<Vec3>& p) {
+  const FaceFrame fr = face_frame(p);
+  if (!(fr.sigma1 > 0)) return 1.0;
+  return fr.sigma1 / std::max(fr.sigma2, 1e-6 * fr.sigma1);
+}
+
+std::vector<Vec3> regular_targets(const std::vector<Vec3>& p, double max_stretch) {
+  const int n = static_cast<int>(p.size());
+  if (n < 3) return p;
+  const FaceFrame fr = face_frame(p);
+  if (!(fr.sigma1 > 0)) return p;  // all vertices coincide
+  const double s1 = fr.sigma1, s2 = std::max(fr.sigma2, 1e-6 * fr.sigma1);
+  const double g = std::sqrt(s1 * s2);
+  // Un-stretched 2-D polygon.
+  std::vector<Eigen::Vector2d> u(n);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 d = p[i] - fr.centroid;
+    u[i] = Eigen::Vector2d(d.dot(fr.axis1) * g / s1, d.dot(fr.axis2) * g / s2);
+  }
+  double per = 0;
+  for (int i = 0; i < n; ++i) per += (u[(i + 1) % n] - u[i]).norm();
+  const double pi = std::numbers::pi;
+  const double r = per / (2 * n * std::sin(pi / n));
+  // Regular template, counter-clockwise (the frame is oriented like the face), then the
+  // least-squares rotation onto u: angle = atan2(Σ t × u, Σ t · u).
+  std::vector<Eigen::Vector2d> t(n);
+  double sdot = 0, scross = 0;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * pi * i / n;
+    t[i] = Eigen::Vector2d(r * std::cos(a), r * std::sin(a));
+    sdot += t[i].dot(u[i]);
+    scross += t[i].x() * u[i].y() - t[i].y() * u[i].x();
+  }
+  const double phi = std::atan2(scross, sdot);
+  const double cs = std::cos(phi), sn = std::sin(phi);
+  // Re-stretch: by (σ1, σ2)/σ̄, or with the ratio capped at max_stretch (σ̄ kept).
+  double r1 = s1 / g, r2 = s2 / g;
+  if (s1 / s2 > max_stretch) {
+    r1 = std::sqrt(std::max(max_stretch, 1.0));
+    r2 = 1.0 / r1;
+  }
+  std::vector<Vec3> out(n);
+  for (int i = 0; i < n; ++i) {
+    const double x = cs * t[i].x() - sn * t[i].y(), y = sn * t[i].x() + cs * t[i].y();
+    out[i] = fr.centroid + (x * r1) * fr.axis1 + (y * r2) * fr.axis2;
+  }
+  return out;
+}
+
+std::vector<Vec3> plane_targets(const std::vector<Vec3>& p) {
+  const FaceFrame fr = face_frame(p);
+  std::vector<Vec3> out(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i)
+    out[i] = p[i] - (p[i] - fr.centroid).dot(fr.normal) * fr.normal;
+  return out;
+}
+
+double polygon_planarity(const std::vector<Vec3>& p) {
+  if (p.size() < 3) return 0;
+  const FaceFrame fr = face_frame(p);
+  double s = 0;
+  for (const Vec3& x : p) s += std::abs((x - fr.centroid).dot(fr.normal));
+  const double half = 0.5 * perimeter(p);
+  return half > 0 ? s / static_cast<double>(p.size()) / half : 0.0;
+}
+
+double polygon_regularity(const std::vector<Vec3>& p) {
+  if (p.size() < 3) return 0;
+  const std::vector<Vec3> t = regular_targets(p);
+  double s = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) s += (p[i] - t[i]).squaredNorm();
+  const double per = perimeter(p);
+  const double area = std::max(vector_area(p).norm(), 1e-12 * per * per);
+  return area > 0 ? s / area : 0.0;
+}
+
+std::vector<Vec3> face_points(const PolyMesh& mesh, int f) {
+  const auto& face = mesh.faces[f];
+  std::vector<Vec3> p(face.size());
+  for (std::size_t i = 0; i < face.size(); ++i) p[i] = mesh.vertex(face[i]);
+  return p;
+}
+
+MeshMetrics mesh_metrics(const PolyMesh& mesh) {
+  const int nf = mesh.num_faces(), nv = mesh.num_vertices();
+  for (int f = 0; f < nf; ++f) {
+    if (mesh.faces[f].size() < 3) throw Error("mesh", "face with fewer than 3 vertices");
+    for (int v : mesh.faces[f])
+      if (v < 0 || v >= nv) throw Error("mesh", "face index out of range");
+  }
+  MeshMetrics m;
+  m.planarity.assign(nf, 0.0);
+  m.regularity.assign(nf, 0.0);
+  tbb::parallel_for(0, nf, [&](int f) {
+    const std::vector<Vec3> p = face_points(mesh, f);
+    m.planarity[f] = polygon_planarity(p);
+    m.regularity[f] = polygon_regularity(p);
+  });
+  for (int f = 0; f < nf; ++f) {  // serial sums: deterministic
+    m.planarity_mean += m.planarity[f];
+    m.regularity_mean += m.regularity[f];
+    m.planarity_max = std::max(m.planarity_max, m.planarity[f]);
+    m.regularity_max = std::max(m.regularity_max, m.regularity[f]);
+  }
+  if (nf > 0) {
+    m.planarity_mean /= nf;
+    m.regularity_mean /= nf;
+  }
+  const Topology topo = build_topology(mesh);
+  const int ne = topo.num_edges();
+  std::vector<double> len(ne);
+  for (int e = 0; e < ne; ++e)
+    len[e] = (mesh.vertex(topo.edges[e][0]) - mesh.vertex(topo.edges[e][1])).norm();
+  for (double l : len) m.total_length += l;
+  if (ne > 0) {
+    m.edge_length_mean = m.total_length / ne;
+    double var = 0;
+    for (double l : len) var += (l - m.edge_length_mean) * (l - m.edge_length_mean);
+    var /= ne;
+    m.edge_length_cv = m.edge_length_mean > 0 ? std::sqrt(var) / m.edge_length_mean : 0.0;
+  }
+  return m;
+}
+
+}  // namespace gridshell

@@ -1,0 +1,335 @@
+#include "gridshell/optimize/regularize.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+#include <tbb/parallel_for.h>
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCore>
+
+#include "gridshell/core/error.h"
+#include "gridshell/mesh/topology.h"
+#include "gridshell/optimize/metrics.h"
+#include "gridshell/optimize/projector.h"
+
+namespace gridshell {
+
+std::vector<VertexConstraint> classify_vertices(const PolyMesh& mesh, double corner_angle_deg) {
+  const Topology topo = build_topology(mesh);
+  std::vector<VertexConstraint> c(mesh.num_vertices(), VertexConstraint::free);
+  const double cos_limit = std::cos(corner_angle_deg * std::numbers::pi / 180.0);
+  for (const auto& loop : topo.boundary_loops) {
+    const std::size_t n = loop.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const int v = loop[i];
+      c[v] = VertexConstraint::boundary;
+      const Vec3 a = mesh.vertex(v) - mesh.vertex(loop[(i + n - 1) % n]);
+      const Vec3 b = mesh.vertex(loop[(i + 1) % n]) - mesh.vertex(v);
+      const double la = a.norm(), lb = b.norm();
+      const bool turns = la > 0 && lb > 0 && a.dot(b) / (la * lb) < cos_limit;
+      if (turns || topo.vertex_faces[v].size() <= 1) c[v] = VertexConstraint::fixed;
+    }
+  }
+  return c;
+}
+
+std::vector<VertexConstraint> constraints_from_flags(const std::vector<char>& on_boundary,
+                                                     const std::vector<char>& corner) {
+  if (!corner.empty() && corner.size() != on_boundary.size())
+    throw Error("constraints", "corner and boundary flags differ in length");
+  std::vector<VertexConstraint> c(on_boundary.size(), VertexConstraint::free);
+  for (std::size_t v = 0; v < c.size(); ++v) {
+    if (!corner.empty() && corner[v])
+      c[v] = VertexConstraint::fixed;
+    else if (on_boundary[v])
+      c[v] = VertexConstraint::boundary;
+  }
+  return c;
+}
+
+namespace {
+
+/// Per-face step: (face index, its current vertices) → target positions.
+using TargetFn = std::function<std::vector<Vec3>(int, const std::vector<Vec3>&)>;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+void check_input(const PolyMesh& mesh, const std::vector<VertexConstraint>& constraints,
+                 const RegularizeOptions& o) {
+  const int nv = mesh.num_vertices();
+  if (!constraints.empty() && static_cast<int>(constraints.size()) != nv)
+    throw Error("constraints", "one constraint per vertex expected");
+  for (const auto& f : mesh.faces) {
+    if (f.size() < 3) throw Error("mesh", "face with fewer than 3 vertices");
+    for (int v : f)
+      if (v < 0 || v >= nv) throw Error("mesh", "face index out of range");
+  }
+  if (!mesh.V.allFinite()) throw Error("mesh", "non-finite vertex coordinates");
+  if (o.max_iterations < 0) throw Error("max_iterations", "must be ≥ 0");
+  if (!(o.tolerance >= 0)) throw Error("tolerance", "must be ≥ 0");
+  if (!(o.closeness > 0) || !std::isfinite(o.closeness))
+    throw Error("closeness", "must be a positive number");
+  if (!(o.damping > 0 && o.damping <= 2)) throw Error("damping", "must be in (0, 2]");
+  if (!(o.stretch_growth >= 1)) throw Error("stretch_growth", "must be ≥ 1");
+  if (!(o.size_anchor >= 0 && o.size_anchor <= 1)) throw Error("size_anchor", "must be in [0, 1]");
+}
+
+/// Projects the movable vertices of X onto M or its boundary (parallel, disjoint writes).
+/// `hints` (optional): positions already on M / its boundary near the answers.
+void project(Points& X, const std::vector<VertexConstraint>& cons, const std::vector<char>& used,
+             const SurfaceProjector& proj, const Points* hints = nullptr) {
+  tbb::parallel_for(0, static_cast<int>(X.rows()), [&](int v) {
+    if (!used[v] || cons[v] == VertexConstraint::fixed) return;
+    const Vec3 p = X.row(v).transpose();
+    const bool b = cons[v] == VertexConstraint::boundary;
+    Vec3 q;
+    if (hints) {
+      const Vec3 h = hints->row(v).transpose();
+      q = b ? proj.closest_boundary_point(p, h) : proj.closest_point(p, h);
+    } else {
+      q = b ? proj.closest_boundary_point(p) : proj.closest_point(p);
+    }
+    X.row(v) = q.transpose();
+  });
+}
+
+PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<VertexConstraint> cons,
+             const RegularizeOptions& o, TargetFn targets, RegularizeStats* stats) {
+  const auto t0 = Clock::now();
+  check_input(mesh, cons, o);
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  if (cons.empty()) cons = classify_vertices(mesh);
+  std::vector<char> used(nv, 0);
+  for (const auto& f : mesh.faces)
+    for (int v : f) used[v] = 1;
+  // Unknowns: referenced, non-fixed vertices.
+  std::vector<int> idx(nv, -1);
+  int nfree = 0;
+  for (int v = 0; v < nv; ++v)
+    if (used[v] && cons[v] != VertexConstraint::fixed) idx[v] = nfree++;
+
+  PolyMesh out = mesh;
+  Points& X = out.V;
+  project(X, cons, used, proj);
+  const Points X0 = X;
+  const double diag = proj.diagonal();
+
+  // Global step: A = Σ_f N_fᵀN_f + w I (free block), factorised once.
+  const bool global = o.solver == RegularizeOptions::Solver::global;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt;
+  struct Coupling {
+    int row, fixed_vertex;
+    double value;
+  };
+  std::vector<Coupling> couplings;
+  if (global && nfree > 0) {
+    std::vector<Eigen::Triplet<double>> trip;
+    for (const auto& f : mesh.faces) {
+      const double n = static_cast<double>(f.size());
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        const int r = idx[f[i]];
+        if (r < 0) continue;
+        for (std::size_t j = 0; j < f.size(); ++j) {
+          const double val = (i == j ? 1.0 : 0.0) - 1.0 / n;
+          const int c = idx[f[j]];
+          if (c >= 0)
+            trip.emplace_back(r, c, val);
+          else
+            couplings.push_back({r, f[j], val});
+        }
+      }
+    }
+    for (int r = 0; r < nfree; ++r) trip.emplace_back(r, r, o.closeness);
+    Eigen::SparseMatrix<double> A(nfree, nfree);
+    A.setFromTriplets(trip.begin(), trip.end());
+    llt.compute(A);
+    if (llt.info() != Eigen::Success)
+      throw Error("regularize", "the per-vertex system could not be factorised");
+  }
+  RegularizeStats st;
+  st.setup_seconds = seconds_since(t0);
+
+  std::vector<std::vector<Vec3>> T(nf);
+  std::vector<double> face_energy(nf, 0.0);
+  Eigen::MatrixX3d B(nfree, 3), Y(nfree, 3);
+  std::vector<int> count;
+  Points Xnew, P, best_X = X;
+  const bool hard = o.projection == RegularizeOptions::Projection::hard;
+  if (!hard && !global) throw Error("projection", "soft projection needs the global solver");
+  double best_energy = INFINITY;
+  // Per-face targets at X and the energy mean_f Σ_i |x_i − t_i|² / area_f (parallel, disjoint).
+  auto compute_targets = [&] {
+    tbb::parallel_for(0, nf, [&](int f) {
+      const std::vector<Vec3> p = face_points(out, f);
+      T[f] = targets(f, p);
+      Vec3 a = Vec3::Zero();
+      double s = 0, per = 0;
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        a += p[i].cross(p[(i + 1) % p.size()]);
+        per += (p[(i + 1) % p.size()] - p[i]).norm();
+        s += (p[i] - T[f][i]).squaredNorm();
+      }
+      face_energy[f] = s / std::max(0.5 * a.norm(), 1e-12 * per * per);
+    });
+    double e = 0;
+    for (double x : face_energy) e += x;  // serial: deterministic
+    return nf > 0 ? e / nf : 0.0;
+  };
+  for (int it = 0;; ++it) {
+    auto tp = Clock::now();
+    const double energy = compute_targets();
+    st.targets_seconds += seconds_since(tp);
+    st.energy_history.push_back(energy);
+    if (energy < best_energy) {
+      best_energy = energy;
+      best_X = X;
+      st.best_iteration = it;
+    }
+    if (it >= o.max_iterations || st.converged) break;
+    // Energy stall: less than energy_tolerance relative decrease over the last 3 iterations.
+    const auto& eh = st.energy_history;
+    if (eh.size() >= 4 &&
+        eh[eh.size() - 4] - best_energy <= o.energy_tolerance * eh[eh.size() - 4]) {
+      st.converged = true;
+      break;
+    }
+    tp = Clock::now();
+    Xnew = X;
+    const Points* anchor = &X;
+    if (!hard) {  // soft: pull towards the closest points of M (or its boundary)
+      P = X;
+      project(P, cons, used, proj);
+      anchor = &P;
+    }
+    if (nfree > 0 && global) {
+      for (int v = 0; v < nv; ++v)
+        if (idx[v] >= 0) B.row(idx[v]) = o.closeness * (o.anchor_to_input ? X0 : *anchor).row(v);
+      for (int f = 0; f < nf; ++f) {
+        const auto& face = mesh.faces[f];
+        Vec3 m = Vec3::Zero();
+        for (const Vec3& t : T[f]) m += t;
+        m /= static_cast<double>(face.size());
+        for (std::size_t i = 0; i < face.size(); ++i)
+          if (idx[face[i]] >= 0) B.row(idx[face[i]]) += (T[f][i] - m).transpose();
+      }
+      for (const Coupling& c : couplings) B.row(c.row) -= c.value * X.row(c.fixed_vertex);
+      Y = llt.solve(B);
+      for (int v = 0; v < nv; ++v)
+        if (idx[v] >= 0) Xnew.row(v) = X.row(v) + o.damping * (Y.row(idx[v]) - X.row(v));
+    } else if (nfree > 0) {
+      B.setZero();
+      count.assign(nfree, 0);
+      for (int f = 0; f < nf; ++f) {
+        const auto& face = mesh.faces[f];
+        for (std::size_t i = 0; i < face.size(); ++i)
+          if (idx[face[i]] >= 0) {
+            B.row(idx[face[i]]) += T[f][i].transpose();
+            ++count[idx[face[i]]];
+          }
+      }
+      for (int v = 0; v < nv; ++v)
+        if (idx[v] >= 0)
+          Xnew.row(v) = X.row(v) + o.damping * (B.row(idx[v]) / count[idx[v]] - X.row(v));
+    }
+    st.solve_seconds += seconds_since(tp);
+    tp = Clock::now();
+    if (hard) project(Xnew, cons, used, proj, &X);  // X is on M: a valid hint
+    st.projection_seconds += seconds_since(tp);
+    if (!Xnew.allFinite())
+      throw Error("regularize", "the iteration diverged (non-finite position)");
+    const double move = diag > 0 ? (Xnew - X).rowwise().norm().maxCoeff() / diag : 0.0;
+    X.swap(Xnew);
+    st.iterations = it + 1;
+    st.max_move = move;
+    st.move_history.push_back(move);
+    if (move < o.tolerance) st.converged = true;  // evaluate this last iterate, then stop
+  }
+  X = best_X;
+  st.energy = best_energy;
+  for (int v = 0; v < nv; ++v) {
+    if (!used[v] || cons[v] == VertexConstraint::fixed) continue;
+    const double d = diag > 0 ? proj.distance(X.row(v).transpose()) / diag : 0.0;
+    st.max_surface_distance = std::max(st.max_surface_distance, d);
+  }
+  st.seconds = seconds_since(t0);
+  if (stats) *stats = std::move(st);
+  return out;
+}
+
+}  // namespace
+
+namespace {
+
+TargetFn regular_step(const PolyMesh& mesh, const RegularizeOptions& o) {
+  std::vector<double> cap(mesh.num_faces(), INFINITY), size(mesh.num_faces(), 0.0);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const FaceFrame fr = face_frame(face_points(mesh, f));
+    size[f] = std::sqrt(fr.sigma1 * fr.sigma2);
+    if (std::isfinite(o.stretch_growth))
+      cap[f] = polygon_stretch(face_points(mesh, f)) * o.stretch_growth;
+  }
+  const double alpha = o.size_anchor;
+  return [cap = std::move(cap), size = std::move(size), alpha](int f, const std::vector<Vec3>& p) {
+    std::vector<Vec3> t = regular_targets(p, cap[f]);
+    if (alpha > 0 && size[f] > 0) {
+      const FaceFrame fr = face_frame(p);
+      const double g = std::sqrt(fr.sigma1 * fr.sigma2);
+      if (g > 0) {
+        const double k = std::pow(size[f] / g, alpha);
+        for (Vec3& x : t) x = fr.centroid + k * (x - fr.centroid);
+      }
+    }
+    return t;
+  };
+}
+
+}  // namespace
+
+PolyMesh regularize(const PolyMesh& mesh, const SurfaceProjector& surface,
+                    const std::vector<VertexConstraint>& constraints,
+                    const RegularizeOptions& options, RegularizeStats* stats) {
+  check_input(mesh, constraints, options);
+  return run(mesh, surface, constraints, options, regular_step(mesh, options), stats);
+}
+
+PolyMesh regularize(const PolyMesh& mesh, const TriMesh& surface,
+                    const std::vector<VertexConstraint>& constraints,
+                    const RegularizeOptions& options, RegularizeStats* stats) {
+  check_input(mesh, constraints, options);
+  const auto t0 = Clock::now();
+  const SurfaceProjector proj(surface);
+  const double build = seconds_since(t0);
+  PolyMesh out = run(mesh, proj, constraints, options, regular_step(mesh, options), stats);
+  if (stats) {
+    stats->seconds += build;
+    stats->setup_seconds += build;
+  }
+  return out;
+}
+
+RegularizeOptions planarize_options() {
+  RegularizeOptions o;
+  o.projection = RegularizeOptions::Projection::soft;
+  o.closeness = 0.1;
+  o.max_iterations = 300;
+  o.energy_tolerance = 1e-4;
+  return o;
+}
+
+PolyMesh planarize(const PolyMesh& mesh, const TriMesh& surface,
+                   const std::vector<VertexConstraint>& constraints,
+                   const RegularizeOptions& options, RegularizeStats* stats) {
+  check_input(mesh, constraints, options);
+  const SurfaceProjector proj(surface);
+  return run(
+      mesh, proj, constraints, options,
+      [](int, const std::vector<Vec3>& p) { return plane_targets(p); }, stats);
+}
+
+}  // namespace gridshell
