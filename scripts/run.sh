@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 
 PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libsuitesparse-dev
   libspectra-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libtbb-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev calculix-ccx)
+  libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev libopenblas0-serial calculix-ccx)
 
 install_packages() {
   local missing=()
