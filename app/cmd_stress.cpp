@@ -81,7 +81,12 @@ int run_stress(const StressArgs& a, const CLI::App* sub) {
   const double t_read = since(t0);
   io::ensure_directory(a.run.out_dir);
 
-  const fem::ShellResult r = fem::solve_shell(model);
+  fem::ShellResult r;
+  try {
+    r = fem::solve_shell(model);
+  } catch (const Error& e) {
+    throw Error(a.input, e.what());  // name the input file, not the internal "model"
+  }
 
   const auto tw = Clock::now();
   const std::filesystem::path dir(a.run.out_dir);
