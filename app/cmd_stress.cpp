@@ -167,8 +167,8 @@ void register_stress(CLI::App& app, Action& action) {
   add_run_options(sub, a->run);
   a->opt_thickness = sub->add_option("--thickness", a->defaults.thickness, "shell thickness (m)")
                          ->default_str("0.1");
-  a->opt_E =
-      sub->add_option("--E", a->defaults.material.E, "Young's modulus (Pa)")->default_str("3e10");
+  a->opt_E = sub->add_option("-E,--E", a->defaults.material.E, "Young's modulus (Pa)")
+                 ->default_str("3e10");
   a->opt_nu =
       sub->add_option("--nu", a->defaults.material.nu, "Poisson's ratio")->default_str("0.2");
   a->opt_density = sub->add_option("--density", a->defaults.material.density, "density (kg/m³)")
