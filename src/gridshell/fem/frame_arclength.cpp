@@ -42,7 +42,7 @@ struct Converged {
 // tangent at the new point in `solver`) and returns the number of iterations, else −1.
 int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::VectorXd& W,
              const ArcLengthOptions& opt, TangentSolver& solver, const Converged& from, double ds,
-             bool first, Converged& to) {
+             bool first, bool count_pivots, Converged& to) {
   const Eigen::VectorXd& f = mesh.load;
   // Tangent at the start point: `solver` holds it on entry.
   Eigen::VectorXd ut = solver.solve(f);
@@ -78,7 +78,9 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
       to.lambda = lam;
       to.du = du;
       to.dlambda = lam - from.lambda;
-      to.negative = solver.negative_pivots();
+      // Only a change from positive definite matters for the first critical point: the LDLᵀ
+      // count is needed only when the start was already indefinite.
+      to.negative = solver.positive_definite() ? 0 : (count_pivots ? solver.negative_pivots() : 1);
       return it;
     }
     if (it % kRefresh == 0 && !solver.factorize(asmb.tangent(st, &fint))) return -1;
@@ -140,7 +142,8 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
 
   while (res.steps < opt.max_steps) {
     Converged next;
-    const int its = arc_step(mesh, asmb, W, opt, solver, cur, ds, first, next);
+    const int its =
+        arc_step(mesh, asmb, W, opt, solver, cur, ds, first, base_negative != 0, next);
     res.iterations += std::max(its, 0);
     if (its < 0) {
       ++res.cutbacks;
