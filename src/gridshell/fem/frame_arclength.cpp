@@ -221,7 +221,7 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
         ds = std::min(ds * factor, ds_max);
       }
     }
-    spdlog::debug("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} negative pivots",
+    spdlog::info("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} negative pivots",
                   res.steps, cur.lambda, umax, its, cur.negative);
   }
   if (critical) {
