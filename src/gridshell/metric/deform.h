@@ -51,6 +51,10 @@ struct DeformOptions {
   /// mean edge length of the current rest mesh. Without it the local/global iterations crumple
   /// M′ (folded triangles) where the metric is not realisable. 0 = pure membrane energy.
   double bending = 1;
+  /// A refinement round that splits fewer than this fraction of the edges is not followed by a
+  /// re-solve: midpoint splits leave M′ the same piecewise-linear map (children carry the
+  /// parent's target), so only the new factorisation would be paid for. 0 = always re-solve.
+  double resolve_fraction = 0.02;
   int iterations = 30;        ///< local/global iterations on the input mesh (≥ 0)
   int refine_iterations = 8;  ///< local/global iterations after each refinement round
   int max_rounds = 16;        ///< refinement rounds before giving up (Error)
