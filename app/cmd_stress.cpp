@@ -81,7 +81,12 @@ int run_stress(const StressArgs& a, const CLI::App* sub) {
   const double t_read = since(t0);
   io::ensure_directory(a.run.out_dir);
 
-  const fem::ShellResult r = fem::solve_shell(model);
+  fem::ShellResult r;
+  try {
+    r = fem::solve_shell(model);
+  } catch (const Error& e) {
+    throw Error(a.input, e.what());  // name the input file, not the internal "model"
+  }
 
   const auto tw = Clock::now();
   const std::filesystem::path dir(a.run.out_dir);
@@ -162,8 +167,8 @@ void register_stress(CLI::App& app, Action& action) {
   add_run_options(sub, a->run);
   a->opt_thickness = sub->add_option("--thickness", a->defaults.thickness, "shell thickness (m)")
                          ->default_str("0.1");
-  a->opt_E =
-      sub->add_option("--E", a->defaults.material.E, "Young's modulus (Pa)")->default_str("3e10");
+  a->opt_E = sub->add_option("-E,--E", a->defaults.material.E, "Young's modulus (Pa)")
+                 ->default_str("3e10");
   a->opt_nu =
       sub->add_option("--nu", a->defaults.material.nu, "Poisson's ratio")->default_str("0.2");
   a->opt_density = sub->add_option("--density", a->defaults.material.density, "density (kg/m³)")

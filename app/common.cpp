@@ -49,7 +49,7 @@ nlohmann::json resolved_config(const CLI::App* sub) {
       for (const auto& r : opt->results()) positional.push_back(r);
       continue;
     }
-    if (opt->get_type_size() == 0) {  // a flag
+    if (opt->get_type_size() == 0 || opt->get_expected_max() == 0) {  // a flag
       options[name] = opt->count() > 0;
     } else if (opt->count() > 0) {
       options[name] = opt->results().size() == 1 ? nlohmann::json(opt->results()[0])

@@ -552,3 +552,26 @@ TEST(AnalyzeCli, ObjSupportsCommentIsHonoured) {
   EXPECT_GT(rep["structure"]["delta_max_m"].get<double>(),
             analysis::analyze_frame(all, o).delta_max_m);
 }
+
+TEST(GridshellFrame, ImperfectionFollowsTheFirstBucklingMode) {
+  std::vector<int> sup;
+  const PolyMesh mesh = quad_shell(sup);
+  const FrameModel m = analysis::gridshell_frame(mesh, sup, {});
+  FrameMesh fm = discretize(m);
+  const FrameAssembler asmb(fm);
+  const LinearResult lin = linear_static(fm, asmb);
+  const BucklingResult b = linear_buckling(fm, asmb, lin);
+  ASSERT_FALSE(b.modes.empty());
+  const Points X0 = fm.X;
+  analysis::perturb_geometry(fm, b.modes[0], 0.02);
+  EXPECT_NEAR((fm.X - X0).rowwise().norm().maxCoeff(), 0.02, 1e-12);  // modes: max |u| = 1
+  // The imperfect shell reaches its critical point no later than the perfect one (within the
+  // bracket tolerance), and both are finite.
+  analysis::FrameAnalysisOptions o;
+  const analysis::FrameResult perfect = analysis::analyze_frame(m, o);
+  o.imperfection = true;
+  const analysis::FrameResult imperfect = analysis::analyze_frame(m, o);
+  ASSERT_TRUE(perfect.lambda_nonlinear && imperfect.lambda_nonlinear);
+  EXPECT_LE(*imperfect.lambda_nonlinear, *perfect.lambda_nonlinear * 1.001);
+  EXPECT_GT(*imperfect.lambda_nonlinear, 0.3 * *perfect.lambda_nonlinear);
+}

@@ -470,6 +470,11 @@ TEST(ShellCli, SurfaceWithDefaults) {
   EXPECT_NEAR(reacted, -applied, 1e-8 * std::abs(applied));
   const auto cfg = nlohmann::json::parse(io::read_file(dir / "config.json"));
   EXPECT_EQ(cfg["command"], "stress");
+  // The run repeats from its config.json.
+  const auto again = test::run_gridshell("stress --config '" + (dir / "config.json").string() +
+                                         "' --out '" + (dir / "again").string() + "'");
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_EQ(io::read_file(dir / "stress.csv"), io::read_file(dir / "again" / "stress.csv"));
 }
 
 TEST(ShellCli, IdenticalOutputForAnyThreadCount) {

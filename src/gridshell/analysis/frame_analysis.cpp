@@ -108,7 +108,7 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
     ArcLengthOptions ao = o.arc;
     if (!(ao.initial_lambda > 0)) {
       ao.initial_lambda = res.lambda_linear_buckling
-                              ? *res.lambda_linear_buckling / 20
+                              ? *res.lambda_linear_buckling / 10
                               : span / 2000 / std::max(res.delta_max_m, 1e-300);
     }
     if (!(ao.max_displacement > 0)) ao.max_displacement = span / 5;

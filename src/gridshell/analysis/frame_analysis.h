@@ -27,7 +27,7 @@ struct FrameAnalysisOptions {
   int buckling_modes = 5;
   bool imperfection = false;          ///< perturb the geometry by the first LBA mode for the path
   double imperfection_amplitude = 0;  ///< [m]; 0 = span / 300 (span = largest plan extent)
-  /// Arc-length settings; initial_lambda ≤ 0 = automatic (λ_LBA / 20, or the factor giving a
+  /// Arc-length settings; initial_lambda ≤ 0 = automatic (λ_LBA / 10, or the factor giving a
   /// linear displacement of span / 2000); max_displacement ≤ 0 = span / 5.
   fem::ArcLengthOptions arc{.initial_lambda = 0};
   std::string subject = "model";  ///< named in error messages

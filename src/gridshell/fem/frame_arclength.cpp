@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -39,13 +40,15 @@ struct Converged {
 };
 
 // One arc-length step from `from` with radius ds. On success fills `to` (including the factorised
-// tangent at the new point in `solver`) and returns the number of iterations, else −1.
+// tangent at the new point in `work`) and returns the number of iterations, else −1.
 int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::VectorXd& W,
-             const ArcLengthOptions& opt, TangentSolver& solver, const Converged& from, double ds,
-             bool first, Converged& to) {
+             const ArcLengthOptions& opt, const TangentSolver& start, TangentSolver& work,
+             const Converged& from, double ds, bool first, bool count_pivots, Converged& to) {
   const Eigen::VectorXd& f = mesh.load;
-  // Tangent at the start point: `solver` holds it on entry.
-  Eigen::VectorXd ut = solver.solve(f);
+  // `start` holds the factorised tangent at the start point and is not modified, so a failed or
+  // refined step needs no refactorisation; refreshed and final tangents go into `work`.
+  const TangentSolver* solver = &start;
+  Eigen::VectorXd ut = solver->solve(f);
   if (!ut.allFinite()) return -1;
   const double nt = std::sqrt(ut.dot(W.cwiseProduct(ut)));
   if (!(nt > 0)) return -1;
@@ -73,17 +76,22 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
     const bool floor = it >= 4 && rn <= 1e-5 * scale && rn >= 0.5 * rprev;
     rprev = rn;
     if (rn <= opt.tolerance * scale || floor) {
-      if (!solver.factorize(asmb.tangent(st, &fint))) return -1;
+      if (!work.factorize(asmb.tangent(st, &fint))) return -1;
       to.state = std::move(st);
       to.lambda = lam;
       to.du = du;
       to.dlambda = lam - from.lambda;
-      to.negative = solver.negative_pivots();
+      // Only a change from positive definite matters for the first critical point: the LDLᵀ
+      // count is needed only when the start was already indefinite.
+      to.negative = work.positive_definite() ? 0 : (count_pivots ? work.negative_pivots() : 1);
       return it;
     }
-    if (it % kRefresh == 0 && !solver.factorize(asmb.tangent(st, &fint))) return -1;
-    const Eigen::VectorXd ur = solver.solve(r);
-    ut = solver.solve(f);
+    if (it % kRefresh == 0) {
+      if (!work.factorize(asmb.tangent(st, &fint))) return -1;
+      solver = &work;
+    }
+    const Eigen::VectorXd ur = solver->solve(r);
+    ut = solver->solve(f);
     const Eigen::VectorXd base = du + ur;
     const double a = ut.dot(W.cwiseProduct(ut));
     const double b = 2 * ut.dot(W.cwiseProduct(base));
@@ -111,7 +119,9 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
                            const ArcLengthOptions& opt, const FrameState& start) {
   ArcLengthResult res;
   const Eigen::VectorXd W = arc_weights(mesh);
-  TangentSolver solver;
+  auto solver_cur = std::make_unique<TangentSolver>(),
+       solver_work = std::make_unique<TangentSolver>();
+  TangentSolver& solver = *solver_cur;
   Converged cur;
   cur.state = start;
   {
@@ -140,14 +150,12 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
 
   while (res.steps < opt.max_steps) {
     Converged next;
-    const int its = arc_step(mesh, asmb, W, opt, solver, cur, ds, first, next);
+    const int its = arc_step(mesh, asmb, W, opt, *solver_cur, *solver_work, cur, ds, first,
+                             base_negative != 0, next);
     res.iterations += std::max(its, 0);
     if (its < 0) {
       ++res.cutbacks;
       ds *= 0.5;
-      // Restore the tangent at the current point.
-      Eigen::VectorXd fint;
-      solver.factorize(asmb.tangent(cur.state, &fint));
       if (ds < ds_min) {
         res.stop_reason = "the arc-length step could not converge";
         break;
@@ -163,8 +171,6 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
         // Refine: go back to the last stable point with half the radius.
         bracketing = true;
         ds *= 0.5;
-        Eigen::VectorXd fint;
-        solver.factorize(asmb.tangent(cur.state, &fint));
         continue;
       }
       // Bracketed: classify with the tangent at the last stable point. Near a limit point the
@@ -172,14 +178,13 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
       // φ ⟂ f and v has no large component along φ.
       critical = true;
       stable_state = cur.state;
-      Eigen::VectorXd fint;
-      solver.factorize(asmb.tangent(cur.state, &fint));
-      const Eigen::VectorXd v = solver.solve(mesh.load);
+      const TangentSolver& sc = *solver_cur;  // the tangent at the last stable point
+      const Eigen::VectorXd v = sc.solve(mesh.load);
       Eigen::VectorXd phi(mesh.num_dofs);
       Rng rng(12345);
       for (int i = 0; i < phi.size(); ++i) phi(i) = rng.uniform(-1, 1);
       for (int k = 0; k < 40; ++k) {
-        phi = solver.solve(phi);
+        phi = sc.solve(phi);
         const double nrm = phi.norm();
         if (!(nrm > 0) || !std::isfinite(nrm)) break;
         phi /= nrm;
@@ -195,7 +200,8 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
       cur = std::move(next);
       break;
     }
-    // Accept the step.
+    // Accept the step: the new point's factorised tangent becomes the current one.
+    std::swap(solver_cur, solver_work);
     ++res.steps;
     first = false;
     cur = std::move(next);
@@ -218,8 +224,8 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
         ds = std::min(ds * factor, ds_max);
       }
     }
-    spdlog::debug("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} negative pivots",
-                  res.steps, cur.lambda, umax, its, cur.negative);
+    spdlog::info("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} negative pivots",
+                 res.steps, cur.lambda, umax, its, cur.negative);
   }
   if (critical) {
     res.lambda_critical = lam_crit;

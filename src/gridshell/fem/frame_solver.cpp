@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Spectra/SymEigsSolver.h>
 #include <fmt/format.h>
@@ -420,23 +421,44 @@ bool TangentSolver::factorize(const SpMat& K) {
   }
   pd_ = false;
   if (L->minor < L->n) failed_ = perm ? perm[L->minor] : static_cast<int>(L->minor);
-  if (!m.ldlt_analyzed) {
-    m.ldlt.analyzePattern(K);
-    m.ldlt_analyzed = true;
-  }
-  m.ldlt.factorize(K);
-  if (m.ldlt.info() != Eigen::Success) return false;
-  const Eigen::VectorXd D = m.ldlt.vectorD();
-  negative_ = 0;
-  for (int i = 0; i < D.size(); ++i) {
-    if (!std::isfinite(D(i)) || D(i) == 0) return false;
-    if (D(i) < 0) ++negative_;
-  }
+  K_ = K;
+  ldlt_done_ = false;
   return true;
 }
 
+bool TangentSolver::ldlt() const {
+  if (pd_) return true;
+  Impl& m = *impl_;
+  if (!ldlt_done_) {
+    ldlt_done_ = true;
+    if (!m.ldlt_analyzed) {
+      m.ldlt.analyzePattern(K_);
+      m.ldlt_analyzed = true;
+    }
+    m.ldlt.factorize(K_);
+    negative_ = -1;
+    if (m.ldlt.info() != Eigen::Success) return false;
+    const Eigen::VectorXd D = m.ldlt.vectorD();
+    int neg = 0;
+    for (int i = 0; i < D.size(); ++i) {
+      if (!std::isfinite(D(i)) || D(i) == 0) return false;
+      if (D(i) < 0) ++neg;
+    }
+    negative_ = neg;
+  }
+  return negative_ >= 0;
+}
+
+int TangentSolver::negative_pivots() const {
+  if (pd_) return 0;
+  ldlt();
+  return negative_;
+}
+
 Eigen::VectorXd TangentSolver::solve(const Eigen::VectorXd& b) const {
-  return pd_ ? Eigen::VectorXd(impl_->llt.solve(b)) : Eigen::VectorXd(impl_->ldlt.solve(b));
+  if (pd_) return impl_->llt.solve(b);
+  if (!ldlt()) return Eigen::VectorXd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
+  return impl_->ldlt.solve(b);
 }
 
 std::string describe_dof(const FrameMesh& mesh, int equation) {

@@ -95,12 +95,14 @@ class TangentSolver {
   ~TangentSolver();
   TangentSolver(const TangentSolver&) = delete;
   TangentSolver& operator=(const TangentSolver&) = delete;
-  /// Factorises K (pattern must not change between calls). Returns false if singular.
+  /// Factorises K (pattern must not change between calls) by LLᵀ. When K is not positive
+  /// definite the LDLᵀ factorisation is deferred until a solve or the pivot count asks for it.
+  /// Returns false if K is found singular.
   bool factorize(const SpMat& K);
   /// True when the last factorisation was positive definite.
   bool positive_definite() const { return pd_; }
-  /// Number of negative pivots of LDLᵀ (0 when positive definite).
-  int negative_pivots() const { return negative_; }
+  /// Number of negative pivots of LDLᵀ (0 when positive definite); −1 if LDLᵀ broke down.
+  int negative_pivots() const;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   /// When not positive definite: the equation at which LLᵀ broke down (for mechanism messages).
   int failed_equation() const { return failed_; }
@@ -112,8 +114,11 @@ class TangentSolver {
 
  private:
   std::unique_ptr<Impl> impl_;
+  bool ldlt() const;
   bool pd_ = false;
-  int negative_ = 0;
+  mutable int negative_ = 0;
+  mutable bool ldlt_done_ = false;
+  SpMat K_;
   int failed_ = -1;
   double min_ratio_ = 0;
   int min_eq_ = -1;

@@ -276,7 +276,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
       fixed[6 * v + k] = !used[v] || (!model.fixed.empty() && model.fixed[v][k]);
 
   // Facet frames; refuse degenerate facets.
-  double diag = (m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).norm();
+  const double diag = (m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).norm();
   std::vector<FacetFrame> frames(nf);
   for (int f = 0; f < nf; ++f) {
     frames[f] = facet_frame(m.vertex(m.F(f, 0)), m.vertex(m.F(f, 1)), m.vertex(m.F(f, 2)));
@@ -287,8 +287,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
 
   // Load vector.
   ShellResult res;
-  Eigen::VectorXd rhs;
-  rhs = load_vector(model, frames);
+  Eigen::VectorXd rhs = load_vector(model, frames);
   if (!rhs.allFinite()) throw Error("model", "non-finite load");
   for (int v = 0; v < n; ++v) res.applied_force += rhs.segment<3>(6 * v);
 

@@ -4,8 +4,9 @@
 /// (shell_element.h: OPT membrane with drilling dof + DKT bending, 6 dof per node).
 ///
 /// Units: SI (m, N, Pa, kg) unless the model is given in other consistent units.
-/// Cost: assembly O(faces), parallel over elements; one sparse Cholesky (SuiteSparse CHOLMOD,
-/// fill-reducing ordering), about 1 s at 50 K triangles on 2 cores (docs/shell.md).
+/// Cost: assembly O(faces), parallel over elements; one sparse supernodal Cholesky (SuiteSparse
+/// CHOLMOD, METIS order of the node graph). At 50 K triangles (155 K dofs): 15 GFlop, 0.4 GB;
+/// ≈ 3.3 s of CPU with OpenBLAS, ≈ 11 s with the reference BLAS (docs/shell.md).
 
 #include <array>
 #include <string>

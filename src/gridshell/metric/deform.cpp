@@ -344,6 +344,8 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
     throw Error("metric", "iteration counts and limits must be non-negative");
   if (std::isnan(o.max_edge)) throw Error("metric", "max_edge is NaN");
   if (!std::isfinite(o.bending) || o.bending < 0) throw Error("metric", "bending must be ≥ 0");
+  if (!(o.resolve_fraction >= 0 && o.resolve_fraction <= 1))
+    throw Error("metric", "resolve_fraction must be in [0, 1]");
   if (!(o.split_ratio > 0 && o.split_ratio <= 1))
     throw Error("metric", "split_ratio must be in (0, 1]");
   const bool refine = o.max_edge > 0 && std::isfinite(o.max_edge);
@@ -375,7 +377,8 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
                                         "(longest {})",
                                         o.max_edge, out.rounds, longest));
     std::vector<int> parent;
-    split_long_edges(out.rest, out.deformed, o.split_ratio * o.max_edge, parent);
+    const int edges_before = out.rest.num_faces() * 3 / 2;
+    const int split = split_long_edges(out.rest, out.deformed, o.split_ratio * o.max_edge, parent);
     if (out.rest.num_faces() > o.max_faces)
       throw Error("metric", fmt::format("refinement exceeds {} faces (q = {} too small for the "
                                         "surface)",
@@ -409,6 +412,10 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
     out.field = std::move(child);
     out.parent_face = std::move(grand);
     ++out.rounds;
+    // Midpoint splits keep M′ the same piecewise-linear map and the children carry the parent's
+    // target, so the residual is unchanged: a round that split only a few edges is not worth a
+    // new factorisation.
+    if (split < o.resolve_fraction * edges_before) continue;
     build_level(lv, out.rest, out.field, o.bending);
     set_reference(lv, out.deformed.V);
     out.residual = iterate(lv, out.rest, out.deformed.V, o.refine_iterations);

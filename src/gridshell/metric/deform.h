@@ -15,13 +15,16 @@
 /// d× larger across u. A radius R measured on M′ is the cell size on M in the sparsest region.
 /// Area of M′ ≈ Σ_t area_t · d_t² / a_t.
 ///
-/// Method: minimise Σ_t area_t ‖J_t − R_t S_t‖²_F over the positions of M′ (J_t the 3×2
-/// Jacobian of the piecewise-linear map from the face's (u, u⊥) coordinates) and the 3×2
-/// orthonormal frames R_t, by local/global iterations: local = per-triangle polar decomposition
-/// (closed-form 2×2 eigen solve, SVD fallback), global = a cotangent-Laplacian Poisson system with
-/// one vertex per connected component fixed, factorised once per refinement level (CHOLMOD
-/// supernodal LLᵀ) and re-solved with three right-hand sides per iteration. Initial guess: the
-/// Poisson solve with R_t = (u, u⊥), i.e. the target Jacobians integrated in place.
+/// Method: minimise Σ_t area_t ‖J_t − R_t S_t‖²_F (J_t the 3×2 Jacobian of the piecewise-linear
+/// map from the face's (u, u⊥) coordinates, R_t a 3×2 orthonormal frame) plus a bending
+/// regulariser μ Σ_v |Δ(x′ − x_ref)_v|²/area_v that stops the iterations from crumpling M′, by
+/// local/global iterations: local = per-triangle polar decomposition (closed-form 2×2 eigen
+/// solve, SVD fallback, TBB-parallel), global = one sparse SPD system (cotangent Laplacian of M
+/// plus the bending matrix) with one vertex per connected component fixed, factorised once per
+/// refinement level (CHOLMOD simplicial LLᵀ) and re-solved with three right-hand sides per
+/// iteration. Initial guess (and bending reference x_ref): the membrane-only Poisson solve with
+/// R_t = (u, u⊥), i.e. the target Jacobians integrated in place; on refined levels x_ref is the
+/// warm start.
 ///
 /// Refinement: edges of M′ longer than max_edge (q = R/5) are split at their midpoint in both M
 /// and M′ (red-green: 1, 2 or 3 split edges per triangle give 2, 3 or 4 children), the field is
@@ -48,6 +51,10 @@ struct DeformOptions {
   /// mean edge length of the current rest mesh. Without it the local/global iterations crumple
   /// M′ (folded triangles) where the metric is not realisable. 0 = pure membrane energy.
   double bending = 1;
+  /// A refinement round that splits fewer than this fraction of the edges is not followed by a
+  /// re-solve: midpoint splits leave M′ the same piecewise-linear map (children carry the
+  /// parent's target), so only the new factorisation would be paid for. 0 = always re-solve.
+  double resolve_fraction = 0.02;
   int iterations = 30;        ///< local/global iterations on the input mesh (≥ 0)
   int refine_iterations = 8;  ///< local/global iterations after each refinement round
   int max_rounds = 16;        ///< refinement rounds before giving up (Error)
