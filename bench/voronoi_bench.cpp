@@ -110,6 +110,7 @@ int figures(const std::vector<int>& counts) {
       if (const char* e = std::getenv("VOR_TOL")) o.tolerance = std::atof(e);
       if (const char* e = std::getenv("VOR_BS")) o.boundary_spacing = std::atof(e);
       if (const char* e = std::getenv("VOR_SPLIT")) o.boundary_split = std::atof(e);
+      if (const char* e = std::getenv("VOR_FINE")) o.fine_iterations = std::atoi(e);
       if (const char* e = std::getenv("VOR_OMEGA")) o.over_relaxation = std::atof(e);
       if (const char* e = std::getenv("VOR_COARSE")) o.coarse_edge = std::atof(e);
       if (const char* e = std::getenv("VOR_CTOL")) o.coarse_tolerance = std::atof(e);
@@ -127,6 +128,9 @@ int figures(const std::vector<int>& counts) {
             base, n, q.faces, T.iterations, 100 * q.hex_share_interior,
             100 * q.valence3_share_interior, q.edge_length_cv, fmt::format("{:.3f}", cvi), q.euler,
             euler, q.boundary_loops, topo.boundary_loops.size(), T.support_vertices, sec);
+        if (std::getenv("VOR_TIMES"))
+          std::cout << fmt::format("    setup {:.2f} s, lloyd {:.2f} s, extraction {:.2f} s\n",
+                                   T.seconds_setup, T.seconds_lloyd, T.seconds_extraction);
       } catch (const std::exception& e) {
         std::cout << name << " " << n << ": FAILED " << e.what() << "\n";
       }

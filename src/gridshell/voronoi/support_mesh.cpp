@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include "gridshell/core/error.h"
 
@@ -51,25 +50,30 @@ std::array<int, 2> midpoint_origin(const std::array<int, 2>& a, const std::array
 int refine_support_mesh(SupportMesh& m, const std::function<bool(int, int)>& split,
                         std::vector<int>* source) {
   const int nf = m.rest.num_faces();
-  std::unordered_map<std::uint64_t, int> mid;
-  mid.reserve(static_cast<std::size_t>(nf));
+  // Unique edges, sorted by key; each gets its midpoint id or -1.
+  std::vector<std::uint64_t> keys(static_cast<std::size_t>(nf) * 3);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k)
+      keys[3 * f + k] = edge_key(m.rest.F(f, k), m.rest.F(f, (k + 1) % 3));
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<int> mid_of(keys.size(), -1);
   std::vector<Vec3> new_rest, new_def;
   int nv = m.rest.num_vertices();
   const int nv0 = nv;
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = m.rest.F(f, k), b = m.rest.F(f, (k + 1) % 3);
-      const std::uint64_t key = edge_key(a, b);
-      if (mid.count(key)) continue;
-      if (!split(a, b)) {
-        mid.emplace(key, -1);
-        continue;
-      }
-      mid.emplace(key, nv++);
-      new_rest.push_back(0.5 * (m.rest.vertex(a) + m.rest.vertex(b)));
-      new_def.push_back(0.5 * (m.deformed.vertex(a) + m.deformed.vertex(b)));
-      m.origin.push_back(midpoint_origin(m.origin[a], m.origin[b]));
-    }
+  for (std::size_t e = 0; e < keys.size(); ++e) {
+    const int a = static_cast<int>(keys[e] >> 32), b = static_cast<int>(keys[e] & 0xFFFFFFFFu);
+    if (!split(a, b)) continue;
+    mid_of[e] = nv++;
+    new_rest.push_back(0.5 * (m.rest.vertex(a) + m.rest.vertex(b)));
+    new_def.push_back(0.5 * (m.deformed.vertex(a) + m.deformed.vertex(b)));
+    m.origin.push_back(midpoint_origin(m.origin[a], m.origin[b]));
+  }
+  auto mid_lookup = [&](int a, int b) {
+    const std::uint64_t key = edge_key(a, b);
+    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+    return mid_of[it - keys.begin()];
+  };
   const int added = nv - nv0;
   if (added == 0) {
     if (source) {
@@ -98,7 +102,7 @@ int refine_support_mesh(SupportMesh& m, const std::function<bool(int, int)>& spl
     }
     int marked = 0;
     for (int k = 0; k < 3; ++k) {
-      id[3 + k] = mid[edge_key(id[k], id[(k + 1) % 3])];
+      id[3 + k] = mid_lookup(id[k], id[(k + 1) % 3]);
       bary[3 + k] = 0.5 * (bary[k] + bary[(k + 1) % 3]);
       if (id[3 + k] >= 0) ++marked;
     }

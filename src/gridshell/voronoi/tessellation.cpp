@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 #include <unordered_map>
 
 #include <spdlog/spdlog.h>
@@ -825,6 +826,60 @@ Extraction extract(const Engine& E) {
   return X;
 }
 
+/// Collapses every output edge shorter than `min_length` that ends on the boundary: a Voronoi
+/// vertex just inside the boundary, or two boundary joints side by side, would otherwise leave
+/// a stub beam. The boundary end (a corner when there is one) is kept. Faces keep ≥ 3 corners;
+/// unused nodes are dropped when the mesh is built.
+int collapse_boundary_stubs(Extraction& X, const Engine& E, double min_length) {
+  std::vector<Vec3> pos(X.nodes.size());
+  for (std::size_t n = 0; n < X.nodes.size(); ++n)
+    pos[n] = E.rest_point(X.nodes[n].tri, X.nodes[n].bary);
+  // Candidate stubs, shortest first.
+  std::vector<std::tuple<double, int, int>> stubs;
+  for (const auto& f : X.faces)
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      int a = f[k], b = f[(k + 1) % f.size()];
+      // a is removed into b: Voronoi vertices into boundary joints, boundary joints into
+      // corners or other boundary joints; corners never move.
+      if (X.nodes[a].kind > X.nodes[b].kind) std::swap(a, b);
+      if (X.nodes[b].kind == 0 || X.nodes[a].kind == 2) continue;
+      const double l = (pos[a] - pos[b]).norm();
+      if (l < min_length) stubs.emplace_back(l, a, b);
+    }
+  std::sort(stubs.begin(), stubs.end());
+  std::vector<int> into(X.nodes.size(), -1);
+  std::vector<char> touched(X.nodes.size(), 0);
+  // Faces around each node, to check that no face falls below 3 corners.
+  std::vector<std::vector<int>> node_faces(X.nodes.size());
+  for (std::size_t f = 0; f < X.faces.size(); ++f)
+    for (int v : X.faces[f]) node_faces[v].push_back(static_cast<int>(f));
+  int done = 0;
+  for (const auto& [l, a, b] : stubs) {
+    if (touched[a] || touched[b]) continue;
+    bool ok = true;
+    for (int f : node_faces[a]) {
+      const auto& face = X.faces[f];
+      if (std::find(face.begin(), face.end(), b) != face.end() && face.size() <= 3) ok = false;
+    }
+    if (!ok) continue;
+    into[a] = b;
+    touched[a] = touched[b] = 1;
+    for (int f : node_faces[a]) {
+      auto& face = X.faces[f];
+      std::vector<int> out;
+      for (int v : face) {
+        const int w = into[v] >= 0 ? into[v] : v;
+        if (out.empty() || out.back() != w) out.push_back(w);
+      }
+      while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+      face = std::move(out);
+    }
+    for (int f : node_faces[a]) node_faces[b].push_back(f);
+    ++done;
+  }
+  return done;
+}
+
 int euler_of(const TriMesh& m) {
   const Topology t = build_topology(m);
   return m.num_vertices() - t.num_edges() + m.num_faces();
@@ -839,6 +894,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
                       const std::vector<char>& supported, const std::vector<char>& corners,
                       int input_euler, int input_loops, double R, int cells,
                       const TessellationOptions& o) {
+  const auto t_setup = std::chrono::steady_clock::now();
   Engine E;
   E.R = R;
   E.boundary_split = o.boundary_split;
@@ -867,6 +923,9 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   seed_interior(E, n_int, 0.8 * kSqrt3 * R, rng);
   Tessellation T;
   T.radius = R;
+  T.seconds_setup =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_setup).count();
+  const auto t_lloyd = std::chrono::steady_clock::now();
   const double tol = o.tolerance * R;
   int it = 0;
   if (two_level) {
@@ -885,7 +944,9 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
     E.relocate_seeds(source, old_faces);
   }
   T.support_vertices = E.S.deformed.num_vertices();
-  for (; it < o.max_iterations; ++it) {
+  const int fine_end =
+      two_level ? std::min(o.max_iterations, it + o.fine_iterations) : o.max_iterations;
+  for (; it < fine_end; ++it) {
     E.compute_labels();
     const double move = E.lloyd_step(o.over_relaxation);
     spdlog::debug("lloyd {} rms move/R {:.3e}", it, move / R);
@@ -896,6 +957,9 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
     }
   }
   T.iterations = it;
+  T.seconds_lloyd =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_lloyd).count();
+  const auto t_extract = std::chrono::steady_clock::now();
   // Seeds on M (before the mesh is refined further for extraction).
   std::vector<Vec3> seed_rest(E.seeds.size());
   for (std::size_t i = 0; i < E.seeds.size(); ++i)
@@ -903,7 +967,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   // Extraction: refine across borders, then extract; repair by refining around bad cells.
   E.compute_labels();
   const double he = o.extraction_edge * R;
-  for (int pass = 0; pass < 8; ++pass) {
+  for (int pass = 0; pass < o.extraction_passes; ++pass) {
     const double h2 = he * he;
     const int n = refine_support_mesh(E.S, [&](int a, int b) {
       return E.label[a] != E.label[b] &&
@@ -913,14 +977,34 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
     if (n == 0) break;
     E.compute_labels();
   }
+  spdlog::debug(
+      "extraction refinement: {} support vertices, {:.2f} s", E.S.deformed.num_vertices(),
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_extract).count());
   Extraction X;
   double hr = he;
   for (int attempt = 0;; ++attempt) {
     E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
     X = extract(E);
+    spdlog::debug(
+        "extract attempt {}: {} ({:.2f} s)", attempt, X.ok ? "ok" : X.problem,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_extract).count());
     PolyMesh poly;
     std::vector<int> face_seed;
     if (X.ok) {
+      if (o.stub_length > 0) collapse_boundary_stubs(X, E, o.stub_length * R);
+      // Keep the nodes that faces use, in order.
+      std::vector<int> id(X.nodes.size(), -1);
+      for (const auto& f : X.faces)
+        for (int v : f) id[v] = 0;
+      std::vector<Node> used;
+      for (std::size_t n = 0; n < X.nodes.size(); ++n)
+        if (id[n] >= 0) {
+          id[n] = static_cast<int>(used.size());
+          used.push_back(X.nodes[n]);
+        }
+      X.nodes = std::move(used);
+      for (auto& f : X.faces)
+        for (int& v : f) v = id[v];
       poly.V.resize(static_cast<int>(X.nodes.size()), 3);
       for (std::size_t n = 0; n < X.nodes.size(); ++n)
         poly.V.row(static_cast<int>(n)) = E.rest_point(X.nodes[n].tri, X.nodes[n].bary).transpose();
@@ -1004,6 +1088,8 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
           if (sup[n]) T.supports.push_back(n);
         for (int f : face_seed) T.seeds.push_back(seed_rest[f]);
         T.repairs = attempt;
+        T.seconds_extraction =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t_extract).count();
         return T;
       }
     }

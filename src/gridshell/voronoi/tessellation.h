@@ -49,15 +49,20 @@ struct TessellationOptions {
   /// First Lloyd level on a coarser support mesh (edges ≤ coarse_edge·R) until seeds move less
   /// than coarse_tolerance·R; then the fine level. coarse_edge ≤ support_edge: one level.
   double coarse_edge = 0.5;
-  double coarse_tolerance = 5e-3;
+  double coarse_tolerance = 2e-3;
+  int fine_iterations = 30;       ///< at most this many iterations on the fine level
   double over_relaxation = 1.0;   ///< Lloyd step factor ω (1 = plain Lloyd, < 2)
   double extraction_edge = 0.05;  ///< border-crossing edges refined to ≤ this·R before extraction
+  int extraction_passes = 3;      ///< refinement passes at most for that
   double corner_angle_deg = 30;   ///< boundary turning angle above which a vertex is a corner
   double boundary_spacing = 1.0;  ///< boundary seed spacing in units of √3·R (hex seed spacing)
   /// Boundary edges of the output (chords between consecutive boundary joints, ≈ √3·R long
   /// between boundary seeds) are divided along the input boundary into round(chord /
   /// (boundary_split·R)) pieces; the extra joints have valence 2. 0 = keep them whole.
   double boundary_split = 1.0;
+  /// Output edges shorter than stub_length·R with an end on the boundary are collapsed into
+  /// that end (a corner is never moved). 0 = keep them.
+  double stub_length = 0.2;
 };
 
 /// Quality figures of a polygon mesh (the tessellation's acceptance figures).
@@ -94,6 +99,9 @@ struct Tessellation {
   int length_runs = 1;               ///< tessellations computed to meet `length`
   int repairs = 0;                   ///< extraction repairs (local refinements) needed
   TessellationQuality quality;
+  double seconds_setup = 0;       ///< support mesh and seeding (final run)
+  double seconds_lloyd = 0;       ///< Lloyd relaxation (final run)
+  double seconds_extraction = 0;  ///< refinement, extraction, checks, supports (final run)
 };
 
 /// Tessellates `rest` under the metric of `deformed` (same connectivity). `rest_supports`:
