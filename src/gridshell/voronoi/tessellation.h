@@ -48,7 +48,7 @@ struct TessellationOptions {
   double support_edge = 0.2;  ///< support-mesh edges ≤ support_edge·R on M'
   /// First Lloyd level on a coarser support mesh (edges ≤ coarse_edge·R) until seeds move less
   /// than coarse_tolerance·R; then the fine level. coarse_edge ≤ support_edge: one level.
-  double coarse_edge = 0.5;
+  double coarse_edge = 0.3;
   double coarse_tolerance = 2e-3;
   int fine_iterations = 30;       ///< at most this many iterations on the fine level
   double over_relaxation = 1.0;   ///< Lloyd step factor ω (1 = plain Lloyd, < 2)
