@@ -43,15 +43,15 @@ struct TessellationOptions {
   double length_tolerance = 0.05;
   int default_cells = 300;
   std::uint64_t seed = 1;     ///< seeds the Poisson sampling
-  int max_iterations = 400;   ///< Lloyd iterations at most
+  int max_iterations = 300;   ///< Lloyd iterations at most
   double tolerance = 2e-3;    ///< stop when the seeds' RMS move is below tolerance·R
   double support_edge = 0.2;  ///< support-mesh edges ≤ support_edge·R on M'
   /// First Lloyd level on a coarser support mesh (edges ≤ coarse_edge·R) until seeds move less
   /// than coarse_tolerance·R; then the fine level. coarse_edge ≤ support_edge: one level.
   double coarse_edge = 0.3;
-  double coarse_tolerance = 2e-3;
+  double coarse_tolerance = 5e-4;
   int fine_iterations = 30;       ///< at most this many iterations on the fine level
-  double over_relaxation = 1.0;   ///< Lloyd step factor ω (1 = plain Lloyd, < 2)
+  double over_relaxation = 1.7;   ///< Lloyd step factor ω (1 = plain Lloyd, < 2)
   double extraction_edge = 0.05;  ///< border-crossing edges refined to ≤ this·R before extraction
   int extraction_passes = 3;      ///< refinement passes at most for that
   double corner_angle_deg = 30;   ///< boundary turning angle above which a vertex is a corner
