@@ -31,8 +31,8 @@ TEST(Topology, EdgesLoopsAndEuler) {
 TEST(Topology, DetectsEveryProblemKind) {
   PolyMesh m = square_with_two_triangles();
   m.V.conservativeResize(7, 3);
-  m.V.row(4) << 0, 0, 0;  // duplicate of vertex 0
-  m.V.row(5) << 5, 5, 5;  // unreferenced
+  m.V.row(4) << 0, 0, 0;   // duplicate of vertex 0
+  m.V.row(5) << 5, 5, 5;   // unreferenced
   m.V.row(6) << 0.5, 0.5, 1;
   m.faces.push_back({0, 2, 6});  // third face on edge 0–2: non-manifold
   m.faces.push_back({1, 1, 2});  // repeated corner

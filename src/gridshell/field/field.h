@@ -14,10 +14,13 @@
 ///
 /// Processing, in order (make_field):
 ///   1. raw (u, d, a) from the stresses (u projected onto the triangle's plane),
-///   2. u smoothed as a line field (smooth_line_field: one sparse SPD solve),
-///   3. d and a made Lipschitz by an upper saturation that keeps maxima (saturate_lipschitz),
-///   4. d and a clamped to percentiles and rescaled exactly onto [1, D] and [1, A]
-///      (rescale_robust); a constant field maps to 1.
+///   2. u smoothed as a line field (smooth_line_field: one sparse Hermitian solve),
+///   3. d and a clamped to their [low, high] percentiles (robust against FEM spikes),
+///   4. d and a made Lipschitz by an upper saturation that keeps maxima (saturate_lipschitz),
+///   5. d and a mapped linearly onto exactly [1, D] and [1, A] (rescale_robust); a constant field
+///      maps to 1.
+/// (Clamping comes before saturation on purpose: saturating a raw spike would flood the surface
+/// with a cone of near-maximal values.)
 ///
 /// Everything is per face of the given mesh, deterministic, and free of global state.
 
@@ -68,7 +71,7 @@ struct FaceFrames {
 FaceFrames face_frames(const TriMesh& mesh);
 
 /// The whole field stage: raw triple from `stress`, smoothing, saturation, rescaling.
-/// `stress.size()` must equal the number of faces. Cost: one sparse Cholesky of size 2F plus
+/// `stress.size()` must equal the number of faces. Cost: one complex sparse Cholesky of size F plus
 /// O(F log F). Throws Error for mismatched sizes, non-finite stresses or bad options.
 Field make_field(const TriMesh& mesh, const StressField& stress, const FieldOptions& options);
 
@@ -85,8 +88,9 @@ struct LineFieldOptions {
 /// where T_fg is the discrete parallel transport across the shared edge (the edge keeps its
 /// angle), l_e the edge length, h_e the distance between the two centroids, A_f the area and
 /// ω_f ≥ 0 the faithfulness weight of face f (make_field uses 1 − 1/a_raw + 10⁻³). One sparse
-/// SPD solve (CHOLMOD) of size 2F. Returns unit tangent directions (the input direction where
-/// |z| vanishes). Directions are projected onto the face planes first.
+/// Hermitian positive-definite solve of size F (complex LLᵀ, AMD ordering). Returns unit tangent
+/// directions (the input direction where |z| vanishes). Directions are projected onto the face
+/// planes first.
 std::vector<Vec3> smooth_line_field(const TriMesh& mesh, const std::vector<Vec3>& directions,
                                     const std::vector<double>& weights,
                                     const LineFieldOptions& options = {});
