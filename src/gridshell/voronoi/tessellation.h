@@ -38,7 +38,7 @@ struct TessellationOptions {
   /// length, i.e. the beam length). At most one of radius / cells / length may be set;
   /// none set = `default_cells` cells.
   double radius = 0;
-  int cells = 0;      ///< number of cells (faces) wanted, exact
+  int cells = 0;      ///< cells (faces) wanted; exact unless below boundary seeds + 1
   double length = 0;  ///< total edge length on M wanted (m), held within `length_tolerance`
   double length_tolerance = 0.05;
   int default_cells = 300;
