@@ -1,6 +1,6 @@
-// gridshell design [SURFACE] [--field uniform] [--radius R | --cells N | --length L] -o DIR:
-// the paper's pipeline (tessellation stage for now; stress field, regularization and analysis
-// plug in as they land).
+// gridshell design [SURFACE] -D 3 -A 3 [--length L | --radius R | --cells N] -o DIR: the whole
+// pipeline of the paper (stress → field → metric → tessellation → symmetry → regularization →
+// analysis), each stage timed in report.json.
 
 #include <chrono>
 #include <filesystem>
@@ -12,8 +12,8 @@
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
 #include "gridshell/io/mesh_io.h"
-#include "gridshell/mesh/topology.h"
 #include "gridshell/pipeline/design.h"
+#include "gridshell/pipeline/gridshell_output.h"
 
 namespace gridshell::app {
 
@@ -25,7 +25,6 @@ struct DesignArgs {
   RunOptions run;
   DesignOptions design;
   bool no_regularize = false;
-  std::string symmetry;
 };
 
 int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
@@ -35,80 +34,60 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   DesignOptions options = a.design;
   options.tessellation.seed = a.run.seed;
   options.regularize = !a.no_regularize;
-  if (!a.symmetry.empty()) throw Error("--symmetry", "not available yet");
-  auto t0 = clock::now();
-  spdlog::info("design: loading {}", a.surface);
+  spdlog::info("[load] {}", a.surface);
   const Surface surface = load_surface(a.surface, a.surface_options);
-  const double t_load = std::chrono::duration<double>(clock::now() - t0).count();
+  const double t_load = std::chrono::duration<double>(clock::now() - start).count();
   const DesignResult r = run_design(surface, options);
 
-  t0 = clock::now();
+  auto t0 = clock::now();
   const std::filesystem::path dir(a.run.out_dir);
   io::ensure_directory(dir);
-  io::write_obj(dir / "gridshell_raw.obj", r.raw.mesh, r.raw.supports);
-  io::write_obj(dir / "gridshell.obj", r.mesh, r.supports);
-  io::write_ply(dir / "gridshell.ply", r.mesh, r.supports);
-  {
-    const int nv = r.mesh.num_vertices(), nf = r.mesh.num_faces();
-    Eigen::MatrixXd support = Eigen::MatrixXd::Zero(nv, 1), boundary(nv, 1), sides(nf, 1),
-                    area(nf, 1);
-    for (int v : r.supports) support(v, 0) = 1;
-    for (int v = 0; v < nv; ++v) boundary(v, 0) = r.raw.on_boundary[v];
-    for (int f = 0; f < nf; ++f) {
-      sides(f, 0) = static_cast<double>(r.mesh.faces[f].size());
-      area(f, 0) = polygon_area(r.mesh, f);
-    }
-    io::write_vtp(dir / "gridshell.vtp", r.mesh, {{"support", support}, {"boundary", boundary}},
-                  {{"sides", sides}, {"area", area}});
-  }
-  std::string csv = "face,sides,area,d_target,a_target\n";
-  for (int f = 0; f < r.mesh.num_faces(); ++f)
-    csv += fmt::format("{},{},{},{},{}\n", f, r.mesh.faces[f].size(),
-                       io::format_number(polygon_area(r.mesh, f)), io::format_number(r.d_target[f]),
-                       io::format_number(r.a_target[f]));
-  io::write_file_atomic(dir / "cells.csv", csv);
+  GridShellOutput out;
+  out.mesh = r.mesh;
+  out.raw = r.raw;
+  out.supports = r.supports;
+  out.d_target = r.d_target;
+  out.a_target = r.a_target;
+  out.planarity = r.metrics.planarity;
+  out.regularity = r.metrics.regularity;
+  write_gridshell_files(dir, out);
+  io::write_vtp(dir / "field.vtp", to_poly(surface.mesh), {}, field_attributes(r.field));
 
-  const TessellationQuality& q = r.raw.quality;
-  nlohmann::json sides = nlohmann::json::object();
-  for (const auto& [n, c] : q.face_sides) sides[std::to_string(n)] = c;
   nlohmann::json report;
   report["surface"] = a.surface;
-  report["mesh"] = {{"vertices", r.mesh.num_vertices()},
-                    {"faces", r.mesh.num_faces()},
-                    {"edges", q.edges},
-                    {"total_length_m", q.total_length},
-                    {"face_sides", sides},
-                    {"planarity_mean", r.metrics.planarity_mean},
-                    {"regularity_mean", r.metrics.regularity_mean},
-                    {"hex_share_interior", q.hex_share_interior},
-                    {"valence3_share_interior", q.valence3_share_interior},
-                    {"edge_length_cv", q.edge_length_cv},
-                    {"edge_length_mean_m", q.edge_length_mean},
-                    {"edge_length_min_m", q.edge_length_min},
-                    {"euler_characteristic", q.euler},
-                    {"boundary_loops", q.boundary_loops},
-                    {"radius_m", r.raw.radius},
-                    {"lloyd_iterations", r.raw.iterations},
-                    {"lloyd_converged", r.raw.converged},
-                    {"support_mesh_vertices", r.raw.support_vertices},
-                    {"length_runs", r.raw.length_runs},
-                    {"supports", r.supports}};
-  report["field"] = {{"kind", options.field}, {"D", options.D}, {"A", options.A}};
-  report["regularized"] = false;
-  report["analysis"] = options.analyze;
+  nlohmann::json mesh = mesh_block(out);
+  mesh["planarity_mean_raw"] = r.raw_metrics.planarity_mean;
+  mesh["regularity_mean_raw"] = r.raw_metrics.regularity_mean;
+  mesh["edge_length_cv_raw"] = r.raw_metrics.edge_length_cv;
+  mesh["total_length_raw_m"] = r.raw_metrics.total_length;
+  const Tessellation& t = r.tessellation;
+  mesh["hex_share_interior_raw"] = t.quality.hex_share_interior;
+  mesh["radius_m"] = t.radius;
+  mesh["lloyd_iterations"] = t.iterations;
+  mesh["lloyd_converged"] = t.converged;
+  mesh["support_mesh_vertices"] = t.support_vertices;
+  mesh["length_runs"] = t.length_runs;
   if (options.tessellation.length > 0) {
-    report["mesh"]["target_length_m"] = options.tessellation.length;
-    report["mesh"]["length_error"] = q.total_length / options.tessellation.length - 1;
+    mesh["target_length_m"] = options.tessellation.length;
+    mesh["length_error"] = r.metrics.total_length / options.tessellation.length - 1;
   }
+  report["mesh"] = mesh;
+  report["design"] = r.details;
+  report["design"]["regularized"] = options.regularize && !options.planarize;
+  report["design"]["planarized"] = options.planarize;
+  report["design"]["analysis"] = options.analyze;
+  if (r.structure) report["structure"] = structure_block(*r.structure);
   nlohmann::json timings = nlohmann::json::object();
   timings["load"] = t_load;
-  for (const auto& [stage, s] : r.timings) timings[stage] = s;
+  for (const auto& [stage, s] : r.timings) timings[stage] = timings.value(stage, 0.0) + s;
   timings["write"] = std::chrono::duration<double>(clock::now() - t0).count();
   timings["total"] = std::chrono::duration<double>(clock::now() - start).count();
   report["timings_s"] = timings;
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
-  spdlog::info("design: wrote {}", dir.string());
+  spdlog::info("[done] {} joints, {} panels, {:.1f} m of beams in {:.1f} s -> {}",
+               r.mesh.num_vertices(), r.mesh.num_faces(), r.metrics.total_length,
+               timings["total"].get<double>(), dir.string());
   return 0;
 }
 
@@ -118,34 +97,44 @@ void register_design(CLI::App& app, Action& action) {
   auto a = std::make_shared<DesignArgs>();
   CLI::App* sub = app.add_subcommand(
       "design",
-      "The grid-shell pipeline: a hex-dominant centroidal Voronoi tessellation of the surface "
-      "(stress-driven field, regularization and analysis come with their stages)");
+      "The paper's pipeline: shell stress → field → metric → centroidal Voronoi tessellation → "
+      "regularization → steel-frame analysis");
   sub->add_option("surface", a->surface,
                   "PLY/OBJ/OFF file or builtin:NAME (default builtin:funicular)")
       ->default_str(kDefaultSurface);
   sub->add_option("--field", a->design.field,
-                  "cell-size field: uniform (isotropic cells). 'stress' (the contract's default) "
-                  "comes with the stress-field stage")
-      ->default_str("uniform");
-  sub->add_option("-D", a->design.D, "density ratio D (only 1 until the stress field lands)")
-      ->default_str("1");
-  sub->add_option("-A", a->design.A, "anisotropy ratio A (only 1 until the stress field lands)")
-      ->default_str("1");
+                  "stress (shell analysis of the surface), uniform (isotropic cells), or a field "
+                  "file (BLK, or CSV vertex,s1,s2,d1x,d1y,d1z)")
+      ->default_str("stress");
+  sub->add_option("-D", a->design.D, "density ratio: the densest cells are D× smaller across")
+      ->default_str("3");
+  sub->add_option("-A", a->design.A, "anisotropy ratio: cells up to A× longer along the stress")
+      ->default_str("3");
   auto* radius = sub->add_option("--radius", a->design.tessellation.radius,
-                                 "cell size R in metres (≈ beam length)");
+                                 "cell size R in metres on M' (≈ beam length where d = 1)");
   auto* cells = sub->add_option("--cells", a->design.tessellation.cells, "number of cells");
   auto* length = sub->add_option("--length", a->design.tessellation.length,
                                  "target total beam length in metres (held within 5%)");
   radius->excludes(cells)->excludes(length);
   cells->excludes(length);
-  sub->add_option("--symmetry", a->symmetry, "x|y|xy (not available yet)");
-  sub->add_flag("--no-regularize", a->no_regularize, "skip regularization (not implemented yet)");
-  sub->add_option("--analyze", a->design.analyze, "none (linear|nonlinear come with analysis)")
-      ->default_str("none");
+  sub->add_option("--symmetry", a->design.symmetry,
+                  "x | y | xy: exact mirror symmetry about the bounding-box mid-planes");
+  sub->add_flag("--no-regularize", a->no_regularize, "keep the raw tessellation");
+  sub->add_flag("--planarize", a->design.planarize,
+                "ShapeUp planarity projection instead of regularization");
+  sub->add_option("--analyze", a->design.analyze, "none | linear | buckling | nonlinear")
+      ->default_str("nonlinear");
+  sub->add_option("--area-load", a->design.frame.area_load_kN_m2,
+                  "analysis: extra panel/snow load in kN/m² on top of the bars' weight")
+      ->default_str("0");
+  sub->add_option("--elements", a->design.frame.elements, "analysis: beam elements per bar")
+      ->default_str("2");
+  sub->add_option("--diameter", a->design.frame.diameter, "analysis: solid bar diameter (m)")
+      ->default_str("0.037");
   sub->footer(
       "Default size when none of --radius/--cells/--length is given: 300 cells.\n"
-      "Writes gridshell_raw.obj, gridshell.obj, gridshell.ply, gridshell.vtp, cells.csv,\n"
-      "report.json and config.json in the output folder.");
+      "Writes gridshell_raw.obj, gridshell.obj, gridshell.ply, gridshell.vtp, field.vtp,\n"
+      "cells.csv, report.json and config.json in the output folder.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_design_cmd(*a, sub); }; });

@@ -45,9 +45,8 @@ case "$cmd" in
   build) build build ;;
   demo)
     build build -DGRIDSHELL_BUILD_TESTS=OFF
-    if ./build/gridshell design --help >/dev/null 2>&1 && ./build/gridshell design -o demo; then :; else
-      mkdir -p demo && ./build/gridshell info builtin:funicular --json > demo/surface_info.json && cat demo/surface_info.json; fi
-    echo "results in $(pwd)/demo (open gridshell.obj or gridshell.vtp in MeshLab/ParaView)"
+    ./build/gridshell design -o demo
+    echo "results in $(pwd)/demo (open gridshell.obj in MeshLab or gridshell.vtp / field.vtp in ParaView; report.json has δ and λ)"
     ;;
   test)
     build build

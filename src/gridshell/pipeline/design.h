@@ -1,51 +1,81 @@
 #pragma once
 /// \file design.h
-/// `gridshell design`: the paper's pipeline in order, each stage timed. For now the field stage
-/// is the uniform one (M' = M: an isotropic centroidal Voronoi tessellation); the stress field,
-/// regularization and structural analysis plug in here as their modules land.
+/// `gridshell design`: the paper's pipeline, stage by stage, each timed.
+///
+///   stress   shell FEM of the surface (uniform plan load, pinned supports)  fem/shell_solver.h
+///   field    direction u, density d ∈ [1, D], anisotropy a ∈ [1, A]        field/field.h
+///   sector   (with --symmetry) the surface cut to one symmetric sector       grids/plane_cut.h
+///   metric   deformed surface M′ in which the field's metric is Euclidean  metric/deform.h
+///   tessellation  centroidal Voronoi tessellation on M′, mapped back to M   voronoi/tessellation.h
+///   symmetry reflect the sector's cells and weld them                       optimize/symmetry.h
+///   regularization  stretched-regular faces (or --planarize)                 optimize/regularize.h
+///   analysis δ, λ_LBA, λ_nonlinear of the steel frame                       analysis/
+///
+/// With D = A = 1 (or `--field uniform`) the stress analysis is skipped and M′ = M.
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "gridshell/mesh/mesh.h"
+#include <nlohmann/json.hpp>
+
+#include "gridshell/analysis/frame_analysis.h"
+#include "gridshell/analysis/gridshell_frame.h"
+#include "gridshell/fem/shell_solver.h"
+#include "gridshell/field/field.h"
+#include "gridshell/metric/deform.h"
+#include "gridshell/optimize/metrics.h"
+#include "gridshell/optimize/regularize.h"
 #include "gridshell/voronoi/tessellation.h"
 
 namespace gridshell {
 
 struct DesignOptions {
-  std::string field = "uniform";  ///< "uniform" (only one available yet); "stress" comes later
-  double D = 1;                   ///< density ratio; only 1 until the field stage lands
-  double A = 1;                   ///< anisotropy ratio; only 1 until the field stage lands
-  std::string analyze = "none";   ///< "none" only for now
-  bool regularize = true;         ///< recorded; regularization is not implemented yet
+  /// "stress" (shell analysis of the surface), "uniform" (isotropic cells), or a field file
+  /// (BLK or CSV, see field/field_io.h).
+  std::string field = "stress";
+  double D = 3;  ///< density ratio: densest cells D× smaller across than the sparsest
+  double A = 3;  ///< anisotropy ratio: cells up to A× longer along u than across
+  /// "none", "linear", "buckling" (linear + LBA) or "nonlinear" (+ the arc-length path).
+  std::string analyze = "nonlinear";
+  bool regularize = true;
+  bool planarize = false;  ///< ShapeUp planarity projection instead of regularization
+  std::string symmetry;    ///< "", "x", "y" or "xy"
   TessellationOptions tessellation;
+  FieldOptions field_options;  ///< D and A are taken from above
+  fem::ShellDefaults shell;
+  DeformOptions deform;  ///< max_edge is set from the cell size (metric_edge × R)
+  /// Edges of M′ are refined to metric_edge × R by the deformation; the tessellation engine then
+  /// refines M and M′ together to its support-mesh size (≤ R/5 on M′) where the diagram needs it.
+  /// Deforming the coarser mesh is much cheaper and the field has the input's resolution anyway.
+  double metric_edge = 1.0;
+  RegularizeOptions regularize_options;
+  analysis::GridshellFrameOptions frame;
+  analysis::FrameAnalysisOptions frame_analysis;  ///< linear/buckling/nonlinear set from analyze
 };
-
-/// Per-face shape metrics of a polygon mesh (GUIDE stage 10 definitions).
-struct FaceMetrics {
-  /// Mean over faces of (mean distance of the face's vertices to its least-squares plane) /
-  /// (half its perimeter). 0 for planar faces.
-  double planarity_mean = 0;
-  /// Mean over faces of (Σ squared distances of its vertices, projected on that plane, to the
-  /// best rigidly aligned regular polygon with the same sides and perimeter) / (face area).
-  double regularity_mean = 0;
-};
-FaceMetrics face_metrics(const PolyMesh& mesh);
 
 struct DesignResult {
-  Tessellation raw;              ///< the tessellation before regularization (gridshell_raw.obj)
-  PolyMesh mesh;                 ///< the final grid-shell (identical to raw.mesh for now)
-  std::vector<int> supports;     ///< support joints of `mesh`, sorted
-  std::vector<double> d_target;  ///< per face: rescaled density the field asked for (≥ 1)
-  std::vector<double> a_target;  ///< per face: rescaled anisotropy the field asked for (≥ 1)
-  FaceMetrics metrics;           ///< of `mesh`
-  /// Stage name → seconds, in pipeline order (the app adds "load", "write" and "total").
-  std::vector<std::pair<std::string, double>> timings;
+  PolyMesh raw;                   ///< tessellation before regularization
+  PolyMesh mesh;                  ///< final grid-shell
+  std::vector<int> supports;      ///< support joints (same for raw and mesh: topology kept)
+  std::vector<double> d_target;   ///< per face: rescaled density asked for (≥ 1)
+  std::vector<double> a_target;   ///< per face: rescaled anisotropy asked for (≥ 1)
+  MeshMetrics metrics, raw_metrics;
+  Tessellation tessellation;      ///< engine output (of the sector when symmetric)
+  Field field;                    ///< on the input surface, per triangle
+  std::optional<analysis::FrameResult> structure;
+  nlohmann::json details;         ///< per-stage figures for report.json
+  std::vector<std::pair<std::string, double>> timings;  ///< stage → seconds, in order
 };
 
-/// Runs the pipeline on `surface`. Throws Error for options that are not available yet
-/// (subject = the option) or bad input.
+/// Runs the pipeline on `surface`. Throws Error for bad options or input.
 DesignResult run_design(const Surface& surface, const DesignOptions& options);
+
+/// The report.json `structure` block of a frame analysis (CONTRACT keys plus details).
+nlohmann::json structure_block(const analysis::FrameResult& r);
+
+/// Sets linear/buckling/nonlinear of `options` from a level name; throws Error("--analyze").
+void set_analysis_level(analysis::FrameAnalysisOptions& options, const std::string& level);
 
 }  // namespace gridshell
