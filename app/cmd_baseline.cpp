@@ -2,14 +2,20 @@
 // grid-shells of the paper at equal total length, with the same outputs as design.
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "common.h"
 #include "gridshell/core/error.h"
+#include "gridshell/grids/dual.h"
 #include "gridshell/grids/quad_grid.h"
+#include "gridshell/grids/supports.h"
+#include "gridshell/mesh/topology.h"
+#include "gridshell/pipeline/design.h"
 #include "gridshell/io/files.h"
 #include "gridshell/pipeline/gridshell_output.h"
 
@@ -20,8 +26,9 @@ namespace {
 struct BaselineArgs {
   std::string surface = kDefaultSurface;
   std::string kind = "quad";
-  double length = 0, spacing = 0, angle_deg = 0;
-  std::string analyze = "none";
+  double length = 0, spacing = 0, angle_deg = 0, radius = 0;
+  int cells = 0;
+  std::string analyze = "nonlinear";
   SurfaceOptions surface_options;
   RunOptions run;
 };
@@ -34,8 +41,10 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   auto lap = [&](const char* stage, clock::time_point since) {
     timings[stage] = std::chrono::duration<double>(clock::now() - since).count();
   };
-  if (a.analyze != "none")
-    throw Error("--analyze", "structural analysis of baselines arrives with the analysis stage; use none");
+  if (a.analyze != "none") {
+    analysis::FrameAnalysisOptions check;
+    set_analysis_level(check, a.analyze);
+  }
   Surface surface = load_surface(a.surface, a.surface_options);
   lap("load", t0);
   GridShellOutput out;
@@ -48,25 +57,86 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
       spdlog::info("[baseline] quad grid at total length {} m", a.length);
       g = quad_grid_for_length(surface, a.length, qo);
     } else {
-      if (!(a.spacing > 0)) throw Error("--length", "give --length L (m) or --spacing S (m)");
+      if (!(a.spacing > 0)) throw Error("--length", "quad needs --length L (m) or --spacing S (m)");
       qo.spacing = a.spacing;
       g = quad_grid(surface, qo);
     }
     out.mesh = std::move(g.mesh);
     out.supports = std::move(g.supports);
-  } else if (a.kind == "tri" || a.kind == "voronoi-iso") {
-    throw Error("--kind", fmt::format("'{}' needs the tessellation engine (not built yet)", a.kind));
+  } else if (a.kind == "voronoi-iso") {
+    // The isotropic centroidal Voronoi tessellation (D = A = 1), regularized as design does.
+    DesignOptions o;
+    o.field = "uniform";
+    o.D = o.A = 1;
+    o.analyze = "none";
+    o.tessellation.seed = a.run.seed;
+    o.tessellation.length = a.length;
+    o.tessellation.radius = a.radius;
+    o.tessellation.cells = a.cells;
+    DesignResult r = run_design(surface, o);
+    out.mesh = std::move(r.mesh);
+    out.raw = std::move(r.raw);
+    out.supports = std::move(r.supports);
+    out.planarity = r.metrics.planarity;
+    out.regularity = r.metrics.regularity;
+  } else if (a.kind == "tri") {
+    // The dual of the isotropic tessellation: seeds joined across every valence-3 joint. Its
+    // beams are about √3 × longer than the Voronoi ones, so the tessellation's length target is
+    // corrected until the triangulation meets --length.
+    TessellationOptions t;
+    t.seed = a.run.seed;
+    t.radius = a.radius;
+    t.cells = a.cells;
+    double target = a.length > 0 ? a.length / std::sqrt(3.0) : 0;
+    const double tol = 1e-6 * bbox_diagonal(surface.mesh.V);
+    for (int it = 0; it < 6; ++it) {
+      t.length = target;
+      Tessellation tess;
+      for (int attempt = 0;; ++attempt) {  // as in design: another seed if extraction fails
+        t.seed = a.run.seed + 7919 * static_cast<std::uint64_t>(attempt);
+        try {
+          tess = tessellate(surface.mesh, surface.mesh, surface.supports, t);
+          break;
+        } catch (const Error&) {
+          if (attempt == 2) throw;
+        }
+      }
+      out.mesh = dual_triangulation(tess.mesh, tess.seeds);
+      if (a.length <= 0) break;
+      const double l = total_edge_length(out.mesh);
+      spdlog::info("[baseline] tri: {:.1f} m of beams for {:.1f} m asked", l, a.length);
+      if (std::abs(l - a.length) <= 0.02 * a.length) break;
+      target *= a.length / l;
+    }
+    out.supports = transfer_supports(out.mesh.V, surface, std::max(tol, 1e-9));
   } else {
     throw Error("--kind", fmt::format("'{}' is not one of quad, tri, voronoi-iso", a.kind));
   }
   lap("grid", t1);
-  out.raw = out.mesh;
+  if (out.raw.num_faces() == 0) out.raw = out.mesh;
+  if (out.planarity.empty()) {
+    const MeshMetrics m = mesh_metrics(out.mesh);
+    out.planarity = m.planarity;
+    out.regularity = m.regularity;
+  }
+  std::optional<analysis::FrameResult> structure;
+  if (a.analyze != "none") {
+    const auto t2 = clock::now();
+    spdlog::info("[analysis] {} frame: {} joints", a.analyze, out.mesh.num_vertices());
+    structure = analyze_gridshell(out.mesh, out.supports, a.analyze);
+    lap("analysis", t2);
+  }
   io::ensure_directory(a.run.out_dir);
   write_gridshell_files(a.run.out_dir, out);
   nlohmann::json report;
   report["kind"] = a.kind;
   report["surface"] = a.surface;
   report["mesh"] = mesh_block(out);
+  if (a.length > 0) {
+    report["mesh"]["target_length_m"] = a.length;
+    report["mesh"]["length_error"] = report["mesh"]["total_length_m"].get<double>() / a.length - 1;
+  }
+  if (structure) report["structure"] = structure_block(*structure);
   timings["total"] = std::chrono::duration<double>(clock::now() - t0).count();
   report["timings_s"] = timings;
   write_config(a.run.out_dir, sub);
@@ -87,8 +157,10 @@ void register_baseline(CLI::App& app, Action& action) {
   sub->add_option("--length", a->length, "target total beam length (m), held within 5%");
   sub->add_option("--spacing", a->spacing, "quad: grid spacing in plan (m) instead of --length");
   sub->add_option("--angle", a->angle_deg, "quad: rotation of the grid in plan (degrees)")->default_str("0");
-  sub->add_option("--analyze", a->analyze, "none (structural analysis: coming with the analysis stage)")
-      ->default_str("none");
+  sub->add_option("--radius", a->radius, "voronoi-iso/tri: cell size R (m) instead of --length");
+  sub->add_option("--cells", a->cells, "voronoi-iso/tri: number of cells instead of --length");
+  sub->add_option("--analyze", a->analyze, "none | linear | buckling | nonlinear")
+      ->default_str("nonlinear");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_baseline(*a, sub); }; });

@@ -1,20 +1,115 @@
-// gridshell sweep: not implemented yet (issue 8).
+// gridshell sweep SURFACE --D 1:4 --A 1:4 --repeats 3 --length L [--shard K/N] -o DIR: the
+// paper's tuning experiment. Every (D, A, repeat) case is designed at the same total length and
+// analysed; cases run in parallel (TBB) and each has its own deterministic seed, so shards or
+// thread counts never change a row.
 
-#include <iostream>
+#include <chrono>
+#include <atomic>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include "common.h"
+#include "gridshell/core/error.h"
+#include "gridshell/io/files.h"
+#include "gridshell/pipeline/design.h"
+#include "gridshell/pipeline/sweep.h"
 
 namespace gridshell::app {
 
-void register_sweep(CLI::App& app, Action& action) {
-  CLI::App* sub = app.add_subcommand("sweep", "(not implemented yet)");
-  sub->allow_extras();
-  sub->callback([&action] {
-    action = [] {
-      std::cerr << "gridshell: error: sweep: not implemented yet (issue 8)\n";
-      return 2;
-    };
+namespace {
+
+struct SweepArgs {
+  std::string surface = kDefaultSurface;
+  std::string D = "1:4", A = "1:4", shard, analyze = "nonlinear", field = "stress";
+  int repeats = 3;
+  double length = 0;
+  int cells = 0;
+  SurfaceOptions surface_options;
+  RunOptions run;
+};
+
+int run_sweep_cmd(const SweepArgs& a, const CLI::App* sub) {
+  const auto guard = apply_run_options(a.run);
+  const auto start = std::chrono::steady_clock::now();
+  if (!(a.length > 0) && a.cells <= 0)
+    throw Error("--length", "give the common total beam length L (m) (or --cells N)");
+  const Surface surface = load_surface(a.surface, a.surface_options);
+  std::vector<SweepCase> cases =
+      sweep_cases(parse_range(a.D, "--D"), parse_range(a.A, "--A"), a.repeats, a.run.seed);
+  const std::size_t all = cases.size();
+  if (!a.shard.empty()) cases = shard_cases(cases, a.shard);
+  spdlog::info("[sweep] {} of {} cases on {}", cases.size(), all, a.surface);
+  for (const auto& c : cases)
+    if (c.D < 1 || c.A < 1) throw Error("--D/--A", "values must be ≥ 1");
+  std::atomic<int> finished{0};
+  const auto rows = run_sweep(cases, [&](const SweepCase& c) {
+    DesignOptions o;
+    o.field = a.field;
+    o.D = c.D, o.A = c.A;
+    o.analyze = a.analyze;
+    o.tessellation.seed = c.seed;
+    o.tessellation.length = a.length;
+    o.tessellation.cells = a.length > 0 ? 0 : a.cells;
+    const DesignResult r = run_design(surface, o);
+    SweepRow row;
+    row.c = c;
+    row.cells = r.mesh.num_faces();
+    row.total_length = r.metrics.total_length;
+    if (r.structure) {
+      row.delta = r.structure->delta_max_m;
+      row.lambda = r.structure->lambda_nonlinear.value_or(
+          r.structure->lambda_linear_buckling.value_or(0.0));
+    }
+    spdlog::info("[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m",
+                 ++finished, cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta);
+    return row;
   });
+  const std::filesystem::path dir(a.run.out_dir);
+  io::ensure_directory(dir);
+  io::write_file_atomic(dir / "sweep.csv", sweep_csv(rows));
+  io::write_file_atomic(dir / "lambda.svg",
+                        sweep_heatmap_svg(rows, "mean buckling factor λ over (D, A)",
+                                          [](const SweepRow& r) { return r.lambda; }));
+  io::write_file_atomic(dir / "delta.svg",
+                        sweep_heatmap_svg(rows, "mean deflection δ (m) over (D, A)",
+                                          [](const SweepRow& r) { return r.delta; }));
+  nlohmann::json report;
+  report["surface"] = a.surface;
+  report["cases"] = rows.size();
+  report["cases_total"] = all;
+  report["shard"] = a.shard.empty() ? "1/1" : a.shard;
+  report["timings_s"] = {
+      {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+  write_config(a.run.out_dir, sub);
+  write_report(a.run.out_dir, report);
+  return 0;
+}
+
+}  // namespace
+
+void register_sweep(CLI::App& app, Action& action) {
+  auto a = std::make_shared<SweepArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "sweep", "The tuning experiment: designs over a (D, A) grid at equal length, analysed");
+  sub->add_option("surface", a->surface, "PLY/OBJ/OFF file or builtin:NAME")
+      ->default_str(kDefaultSurface);
+  sub->add_option("--D", a->D, "density ratios a:b[:step]")->default_str("1:4");
+  sub->add_option("--A", a->A, "anisotropy ratios a:b[:step]")->default_str("1:4");
+  sub->add_option("--repeats", a->repeats, "repeats per (D, A) with different seeds")
+      ->default_str("3");
+  sub->add_option("--length", a->length, "common total beam length (m)");
+  sub->add_option("--cells", a->cells, "number of cells instead of --length");
+  sub->add_option("--shard", a->shard, "K/N: run only shard K of N (cases K-1, K-1+N, ...)");
+  sub->add_option("--field", a->field, "stress | FILE (as in design)")->default_str("stress");
+  sub->add_option("--analyze", a->analyze, "linear | buckling | nonlinear")
+      ->default_str("nonlinear");
+  sub->footer("Writes sweep.csv (D,A,repeat,seed,cells,total_length,lambda,delta), lambda.svg,\n"
+              "delta.svg, report.json and config.json.");
+  add_surface_options(sub, a->surface_options);
+  add_run_options(sub, a->run);
+  sub->callback([a, sub, &action] { action = [a, sub] { return run_sweep_cmd(*a, sub); }; });
 }
 
 }  // namespace gridshell::app

@@ -57,3 +57,44 @@ TEST(Cli, BadBaselineOptions) {
   EXPECT_EQ(test::run_gridshell("baseline builtin:dome --kind quad").status, 2);
   EXPECT_EQ(test::run_gridshell("baseline builtin:dome --kind quad --length -5").status, 2);
 }
+
+TEST(Cli, VoronoiAndTriangleBaselinesHitTheLength) {
+  for (const char* kind : {"voronoi-iso", "tri"}) {
+    SCOPED_TRACE(kind);
+    fs::path d = test::temp_dir(kind);
+    test::RunResult r = test::run_gridshell(std::string("baseline builtin:dome --kind ") + kind +
+                                            " --length 400 --analyze linear --quiet -o " + d.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    auto report = nlohmann::json::parse(slurp(d / "report.json"));
+    EXPECT_NEAR(report["mesh"]["total_length_m"].get<double>(), 400, 20);
+    EXPECT_GT(report["structure"]["delta_max_m"].get<double>(), 0);
+    if (std::string(kind) == "tri") {
+      EXPECT_EQ(report["mesh"]["face_sides"].size(), 1u);
+      EXPECT_GT(report["mesh"]["face_sides"]["3"].get<int>(), 0);
+    }
+  }
+}
+
+TEST(Cli, SweepShardsReproduceTheUnshardedRows) {
+  fs::path d = test::temp_dir("sweep");
+  const std::string base =
+      "sweep builtin:dome --D 1:2 --A 1:2 --repeats 2 --cells 40 --analyze linear --quiet ";
+  ASSERT_EQ(test::run_gridshell(base + "-o " + (d / "all").string()).status, 0);
+  ASSERT_EQ(test::run_gridshell(base + "--shard 1/2 -o " + (d / "s1").string()).status, 0);
+  ASSERT_EQ(test::run_gridshell(base + "--shard 2/2 --threads 1 -o " + (d / "s2").string()).status, 0);
+  auto rows = [&](const fs::path& p) {
+    std::vector<std::string> out;
+    std::istringstream in(slurp(p / "sweep.csv"));
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) out.push_back(line);
+    return out;
+  };
+  std::vector<std::string> all = rows(d / "all"), parts = rows(d / "s1");
+  for (const auto& l : rows(d / "s2")) parts.push_back(l);
+  ASSERT_EQ(all.size(), 8u);
+  std::sort(all.begin(), all.end());
+  std::sort(parts.begin(), parts.end());
+  EXPECT_EQ(all, parts);
+  EXPECT_TRUE(fs::exists(d / "all" / "lambda.svg"));
+}

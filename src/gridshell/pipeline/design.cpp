@@ -90,6 +90,16 @@ nlohmann::json structure_block(const analysis::FrameResult& r) {
   return st;
 }
 
+analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,
+                                        const std::string& level,
+                                        const analysis::GridshellFrameOptions& frame,
+                                        analysis::FrameAnalysisOptions options) {
+  set_analysis_level(options, level);
+  if (options.subject == "model") options.subject = "analysis";
+  const fem::FrameModel model = analysis::gridshell_frame(mesh, supports, frame);
+  return analysis::analyze_frame(model, options);
+}
+
 DesignResult run_design(const Surface& surface, const DesignOptions& o) {
   if (!(o.D >= 1) || !(o.A >= 1) || !std::isfinite(o.D) || !std::isfinite(o.A))
     throw Error(!(o.D >= 1) || !std::isfinite(o.D) ? "-D" : "-A", "must be a number ≥ 1");
@@ -307,17 +317,15 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
 
   // 7. Structural analysis of the steel frame.
   if (o.analyze != "none") {
-    analysis::FrameAnalysisOptions ao = o.frame_analysis;
-    set_analysis_level(ao, o.analyze);
-    ao.subject = "design";
-    spdlog::info("[analysis] {} frame: {} joints, {} beams", o.analyze, r.mesh.num_vertices(),
-                 r.metrics.total_length > 0 ? build_topology(r.mesh).num_edges() : 0);
-    const fem::FrameModel model = analysis::gridshell_frame(r.mesh, r.supports, o.frame);
-    r.structure = analysis::analyze_frame(model, ao);
+    spdlog::info("[analysis] {} frame: {} joints", o.analyze, r.mesh.num_vertices());
+    r.structure = analyze_gridshell(r.mesh, r.supports, o.analyze, o.frame, o.frame_analysis);
     spdlog::info("[analysis] delta = {:.4g} m, lambda_LBA = {}, lambda_nonlinear = {} ({})",
                  r.structure->delta_max_m,
-                 r.structure->lambda_linear_buckling ? fmt::format("{:.4g}", *r.structure->lambda_linear_buckling) : "-",
-                 r.structure->lambda_nonlinear ? fmt::format("{:.4g}", *r.structure->lambda_nonlinear) : "-",
+                 r.structure->lambda_linear_buckling
+                     ? fmt::format("{:.4g}", *r.structure->lambda_linear_buckling)
+                     : "-",
+                 r.structure->lambda_nonlinear ? fmt::format("{:.4g}", *r.structure->lambda_nonlinear)
+                                               : "-",
                  r.structure->limit_type);
     r.timings.emplace_back("analysis", seconds_since(t));
   }

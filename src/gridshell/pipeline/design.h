@@ -72,6 +72,12 @@ struct DesignResult {
 /// Runs the pipeline on `surface`. Throws Error for bad options or input.
 DesignResult run_design(const Surface& surface, const DesignOptions& options);
 
+/// Analyses a grid-shell as the paper's steel frame at `level` (linear | buckling | nonlinear).
+analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,
+                                        const std::string& level,
+                                        const analysis::GridshellFrameOptions& frame = {},
+                                        analysis::FrameAnalysisOptions options = {});
+
 /// The report.json `structure` block of a frame analysis (CONTRACT keys plus details).
 nlohmann::json structure_block(const analysis::FrameResult& r);
 
