@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "common.h"
+#include "gridshell/pipeline/design.h"
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/error.h"
@@ -43,10 +44,6 @@ std::string lower_ext(const std::string& path) {
 
 std::string fmt_num(double x) {
   return io::format_number(x);
-}
-
-nlohmann::json opt_num(const std::optional<double>& v) {
-  return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
 
 int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
@@ -188,21 +185,10 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
                         {{"displacement", disp}, {"support", sup}}, {{"axial_force", axial}});
   }
   nlohmann::json report;
-  nlohmann::json st;
-  st["delta_max_m"] = r.delta_max_m;
-  st["lambda_linear_buckling"] = opt_num(r.lambda_linear_buckling);
-  st["lambda_nonlinear"] = opt_num(r.lambda_nonlinear);
-  st["limit_type"] = r.limit_type;
-  st["mass_kg"] = r.mass_kg;
-  st["total_length_m"] = r.total_length_m;
-  st["buckling_lambdas"] = r.buckling_lambdas;
-  st["delta_node"] = r.delta_node;
-  st["equilibrium_error"] = r.equilibrium_error;
-  st["nonlinear_stop_reason"] = r.nonlinear_stop_reason;
+  nlohmann::json st = structure_block(r);
+  st.erase("timings_s");  // report.json has them at the top level
   st["nodes"] = model.num_nodes();
   st["members"] = model.members.size();
-  st["elements"] = r.num_elements;
-  st["dofs"] = r.num_dofs;
   st["supports"] = supports.size();
   st["analysis"] = level;
   Vec3 total = fem::total_load(model);
