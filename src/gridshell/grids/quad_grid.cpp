@@ -49,7 +49,7 @@ GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
     for (int k = 0; k < 3; ++k) c += cut.mesh.vertex(cut.mesh.F(f, k)) / 3;
     const int i = static_cast<int>(std::floor((c - centre).dot(du) / h + 0.5));
     const int j = static_cast<int>(std::floor((c - centre).dot(dw) / h + 0.5));
-    label[f] = (i + 50000) * 100000 + (j + 50000);
+    label[f] = (i + 5000) * 10000 + (j + 5000);  // |i|, |j| ≤ 2000 (spacing ≥ diag/2000)
   }
   RegionOptions ro;
   ro.min_area = o.min_cell_fraction * h * h;
