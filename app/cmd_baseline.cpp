@@ -14,9 +14,9 @@
 #include "gridshell/grids/dual.h"
 #include "gridshell/grids/quad_grid.h"
 #include "gridshell/grids/supports.h"
+#include "gridshell/io/files.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/pipeline/design.h"
-#include "gridshell/io/files.h"
 #include "gridshell/pipeline/gridshell_output.h"
 
 namespace gridshell::app {
@@ -152,11 +152,13 @@ void register_baseline(CLI::App& app, Action& action) {
   auto a = std::make_shared<BaselineArgs>();
   CLI::App* sub = app.add_subcommand(
       "baseline", "Comparison grid-shells of the paper (quad, tri, voronoi-iso) at equal length");
-  sub->add_option("surface", a->surface, "PLY/OBJ/OFF file or builtin:NAME")->default_str(kDefaultSurface);
+  sub->add_option("surface", a->surface, "PLY/OBJ/OFF file or builtin:NAME")
+      ->default_str(kDefaultSurface);
   sub->add_option("--kind", a->kind, "quad | tri | voronoi-iso")->default_str("quad");
   sub->add_option("--length", a->length, "target total beam length (m), held within 5%");
   sub->add_option("--spacing", a->spacing, "quad: grid spacing in plan (m) instead of --length");
-  sub->add_option("--angle", a->angle_deg, "quad: rotation of the grid in plan (degrees)")->default_str("0");
+  sub->add_option("--angle", a->angle_deg, "quad: rotation of the grid in plan (degrees)")
+      ->default_str("0");
   sub->add_option("--radius", a->radius, "voronoi-iso/tri: cell size R (m) instead of --length");
   sub->add_option("--cells", a->cells, "voronoi-iso/tri: number of cells instead of --length");
   sub->add_option("--analyze", a->analyze, "none | linear | buckling | nonlinear")

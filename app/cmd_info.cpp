@@ -50,8 +50,9 @@ int run_info(const InfoArgs& a) {
                              s.mesh.num_vertices(), s.mesh.num_faces(), topo.num_edges());
     std::cout << fmt::format("  boundary loops  {}\n  supports        {}\n",
                              topo.boundary_loops.size(), s.supports.size());
-    std::cout << fmt::format("  bbox            [{:.4g}, {:.4g}, {:.4g}] – [{:.4g}, {:.4g}, {:.4g}]\n",
-                             lo(0), lo(1), lo(2), hi(0), hi(1), hi(2));
+    std::cout << fmt::format(
+        "  bbox            [{:.4g}, {:.4g}, {:.4g}] – [{:.4g}, {:.4g}, {:.4g}]\n", lo(0), lo(1),
+        lo(2), hi(0), hi(1), hi(2));
     std::cout << fmt::format("  extent          {:.4g} x {:.4g} x {:.4g}\n", hi(0) - lo(0),
                              hi(1) - lo(1), hi(2) - lo(2));
     std::cout << fmt::format("  area            {:.6g}\n  Euler char.     {}\n", area, euler);

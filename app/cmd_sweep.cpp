@@ -3,8 +3,8 @@
 // analysed; cases run in parallel (TBB) and each has its own deterministic seed, so shards or
 // thread counts never change a row.
 
-#include <chrono>
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -59,8 +59,8 @@ int run_sweep_cmd(const SweepArgs& a, const CLI::App* sub) {
     row.total_length = r.metrics.total_length;
     if (r.structure) {
       row.delta = r.structure->delta_max_m;
-      row.lambda = r.structure->lambda_nonlinear.value_or(
-          r.structure->lambda_linear_buckling.value_or(0.0));
+      row.lambda =
+          r.structure->lambda_nonlinear.value_or(r.structure->lambda_linear_buckling.value_or(0.0));
     }
     spdlog::info("[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m",
                  ++finished, cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta);
@@ -105,8 +105,9 @@ void register_sweep(CLI::App& app, Action& action) {
   sub->add_option("--field", a->field, "stress | FILE (as in design)")->default_str("stress");
   sub->add_option("--analyze", a->analyze, "linear | buckling | nonlinear")
       ->default_str("nonlinear");
-  sub->footer("Writes sweep.csv (D,A,repeat,seed,cells,total_length,lambda,delta), lambda.svg,\n"
-              "delta.svg, report.json and config.json.");
+  sub->footer(
+      "Writes sweep.csv (D,A,repeat,seed,cells,total_length,lambda,delta), lambda.svg,\n"
+      "delta.svg, report.json and config.json.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_sweep_cmd(*a, sub); }; });

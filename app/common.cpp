@@ -53,7 +53,7 @@ nlohmann::json resolved_config(const CLI::App* sub) {
       options[name] = opt->count() > 0;
     } else if (opt->count() > 0) {
       options[name] = opt->results().size() == 1 ? nlohmann::json(opt->results()[0])
-                                                  : nlohmann::json(opt->results());
+                                                 : nlohmann::json(opt->results());
     } else if (!opt->get_default_str().empty()) {
       options[name] = opt->get_default_str();
     }
@@ -124,7 +124,8 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
   // Positional arguments: only if none was given after the command.
   std::size_t positional_given = 0;
   for (std::size_t i = 1; i < kept.size(); ++i)
-    if (kept[i].rfind("-", 0) != 0 && (kept[i - 1].rfind("-", 0) != 0 || i == 1)) ++positional_given;
+    if (kept[i].rfind("-", 0) != 0 && (kept[i - 1].rfind("-", 0) != 0 || i == 1))
+      ++positional_given;
   if (kept.size() <= 1 || positional_given == 0)
     if (cfg.contains("positional"))
       for (const auto& p : cfg["positional"]) out.push_back(p.get<std::string>());

@@ -30,8 +30,8 @@ TEST(Cli, HelpExitsZero) {
 
 TEST(Cli, QuadBaselineWritesTheContractFilesAndReplaysFromConfig) {
   fs::path d = test::temp_dir("bq");
-  test::RunResult r =
-      test::run_gridshell("baseline builtin:court --kind quad --length 600 --quiet -o " + (d / "a").string());
+  test::RunResult r = test::run_gridshell(
+      "baseline builtin:court --kind quad --length 600 --quiet -o " + (d / "a").string());
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* f : {"gridshell.obj", "gridshell_raw.obj", "gridshell.ply", "gridshell.vtp",
                         "cells.csv", "report.json", "config.json"})
@@ -46,8 +46,8 @@ TEST(Cli, QuadBaselineWritesTheContractFilesAndReplaysFromConfig) {
   EXPECT_EQ(std::count(cells.begin(), cells.end(), '\n'), report["mesh"]["faces"].get<int>() + 1);
   EXPECT_EQ(cells.rfind("face,sides,area,d_target,a_target", 0), 0u);
   // Replaying the config elsewhere gives identical files.
-  r = test::run_gridshell("baseline --config " + (d / "a" / "config.json").string() + " --quiet -o " +
-                          (d / "b").string());
+  r = test::run_gridshell("baseline --config " + (d / "a" / "config.json").string() +
+                          " --quiet -o " + (d / "b").string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(slurp(d / "a" / "gridshell.obj"), slurp(d / "b" / "gridshell.obj"));
 }
@@ -62,8 +62,9 @@ TEST(Cli, VoronoiAndTriangleBaselinesHitTheLength) {
   for (const char* kind : {"voronoi-iso", "tri"}) {
     SCOPED_TRACE(kind);
     fs::path d = test::temp_dir(kind);
-    test::RunResult r = test::run_gridshell(std::string("baseline builtin:dome --kind ") + kind +
-                                            " --length 400 --analyze linear --quiet -o " + d.string());
+    test::RunResult r =
+        test::run_gridshell(std::string("baseline builtin:dome --kind ") + kind +
+                            " --length 400 --analyze linear --quiet -o " + d.string());
     ASSERT_EQ(r.status, 0) << r.err;
     auto report = nlohmann::json::parse(slurp(d / "report.json"));
     EXPECT_NEAR(report["mesh"]["total_length_m"].get<double>(), 400, 20);
@@ -81,7 +82,8 @@ TEST(Cli, SweepShardsReproduceTheUnshardedRows) {
       "sweep builtin:dome --D 1:2 --A 1:2 --repeats 2 --cells 40 --analyze linear --quiet ";
   ASSERT_EQ(test::run_gridshell(base + "-o " + (d / "all").string()).status, 0);
   ASSERT_EQ(test::run_gridshell(base + "--shard 1/2 -o " + (d / "s1").string()).status, 0);
-  ASSERT_EQ(test::run_gridshell(base + "--shard 2/2 --threads 1 -o " + (d / "s2").string()).status, 0);
+  ASSERT_EQ(test::run_gridshell(base + "--shard 2/2 --threads 1 -o " + (d / "s2").string()).status,
+            0);
   auto rows = [&](const fs::path& p) {
     std::vector<std::string> out;
     std::istringstream in(slurp(p / "sweep.csv"));

@@ -27,8 +27,10 @@ std::string slurp(const fs::path& p) {
 
 TEST(DesignCli, WritesTheContractFiles) {
   const fs::path d = temp_dir("out");
-  const auto r = run_gridshell("design builtin:dome --cells 80 --seed 3 --field uniform --no-regularize "
-                               "--analyze none -o " + d.string());
+  const auto r = run_gridshell(
+      "design builtin:dome --cells 80 --seed 3 --field uniform --no-regularize "
+      "--analyze none -o " +
+      d.string());
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* f : {"gridshell_raw.obj", "gridshell.obj", "gridshell.ply", "gridshell.vtp",
                         "cells.csv", "report.json", "config.json"})
@@ -80,8 +82,10 @@ TEST(DesignCli, WritesTheContractFiles) {
   EXPECT_EQ(slurp(d / "gridshell.obj"), slurp(d2 / "gridshell.obj"));
   // Thread count does not change the result.
   const fs::path d3 = temp_dir("threads");
-  const auto r3 = run_gridshell("design builtin:dome --cells 80 --seed 3 --field uniform --no-regularize "
-                    "--analyze none --quiet --threads 1 -o " + d3.string());
+  const auto r3 = run_gridshell(
+      "design builtin:dome --cells 80 --seed 3 --field uniform --no-regularize "
+      "--analyze none --quiet --threads 1 -o " +
+      d3.string());
   ASSERT_EQ(r3.status, 0) << r3.err;
   EXPECT_EQ(slurp(d / "gridshell.obj"), slurp(d3 / "gridshell.obj"));
 }
@@ -102,8 +106,8 @@ TEST(DesignCli, StressDrivenPipelineWithAnalysis) {
   // Dome on its rim: shell stress → field (D = A = 2) → metric → tessellation → regularization →
   // linear frame analysis.
   const fs::path d = temp_dir("stress");
-  const auto r = run_gridshell("design builtin:dome --cells 90 -D 2 -A 2 --analyze buckling --quiet -o " +
-                               d.string());
+  const auto r = run_gridshell(
+      "design builtin:dome --cells 90 -D 2 -A 2 --analyze buckling --quiet -o " + d.string());
   ASSERT_EQ(r.status, 0) << r.err;
   const auto report = nlohmann::json::parse(slurp(d / "report.json"));
   const auto& m = report.at("mesh");
@@ -139,7 +143,8 @@ TEST(DesignCli, StressDrivenPipelineWithAnalysis) {
 TEST(DesignCli, SymmetryXyIsExact) {
   const fs::path d = temp_dir("sym");
   const auto r = run_gridshell(
-      "design builtin:paraboloid --cells 120 --field uniform --symmetry xy --analyze none --quiet -o " +
+      "design builtin:paraboloid --cells 120 --field uniform --symmetry xy --analyze none --quiet "
+      "-o " +
       d.string());
   ASSERT_EQ(r.status, 0) << r.err;
   const auto file = gridshell::io::read_mesh(d / "gridshell.ply");

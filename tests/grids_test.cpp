@@ -4,9 +4,9 @@
 
 #include "gridshell/grids/dual.h"
 #include "gridshell/grids/plane_cut.h"
-#include "gridshell/grids/supports.h"
 #include "gridshell/grids/quad_grid.h"
 #include "gridshell/grids/regions.h"
+#include "gridshell/grids/supports.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/builtin.h"
 #include "gridshell/surfaces/load.h"
@@ -100,7 +100,10 @@ TEST(QuadGrid, HitsATargetLength) {
 
 TEST(QuadGrid, SharedSurfacesAtThePapersLengths) {
   SKIP_WITHOUT_SHARED_DATA();
-  struct C { const char* file; double length; };
+  struct C {
+    const char* file;
+    double length;
+  };
   for (C c : {C{"surfaces/Shell.ply", 415}, C{"surfaces/Botanic.ply", 2018},
               C{"surfaces/aquadom_Vouga.ply", 3898}}) {
     SCOPED_TRACE(c.file);
@@ -108,7 +111,8 @@ TEST(QuadGrid, SharedSurfacesAtThePapersLengths) {
     GridShell g = quad_grid_for_length(s, c.length, {});
     EXPECT_NEAR(total_edge_length(g.mesh), c.length, 0.05 * c.length);
     EXPECT_TRUE(check_mesh(g.mesh).ok());
-    EXPECT_EQ(build_topology(g.mesh).boundary_loops.size(), build_topology(s.mesh).boundary_loops.size());
+    EXPECT_EQ(build_topology(g.mesh).boundary_loops.size(),
+              build_topology(s.mesh).boundary_loops.size());
   }
 }
 
@@ -129,7 +133,8 @@ TEST(Dual, OfAQuadGridGivesConsistentlyOrientedTriangles) {
   EXPECT_EQ(d.num_faces(), expected);
   EXPECT_TRUE(check_mesh(d).inconsistent_orientation == 0);
   for (int f = 0; f < d.num_faces(); ++f) {
-    const Vec3 a = d.vertex(d.faces[f][0]), b = d.vertex(d.faces[f][1]), c = d.vertex(d.faces[f][2]);
+    const Vec3 a = d.vertex(d.faces[f][0]), b = d.vertex(d.faces[f][1]),
+               c = d.vertex(d.faces[f][2]);
     EXPECT_GT((b - a).cross(c - a).z(), 0);
   }
 }

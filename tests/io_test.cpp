@@ -116,8 +116,8 @@ TEST(MeshIO, ObjPolygonsAndNegativeIndices) {
   EXPECT_EQ(r.mesh.faces[0], (std::vector<int>{0, 1, 2, 3}));
   EXPECT_EQ(r.mesh.faces[1], (std::vector<int>{1, 4, 2}));
   Surface s = load_surface(p.string());
-  EXPECT_EQ(s.mesh.num_faces(), 3);          // the quad fan-triangulated
-  EXPECT_EQ(s.supports.size(), 5u);          // no colours: the whole boundary
+  EXPECT_EQ(s.mesh.num_faces(), 3);  // the quad fan-triangulated
+  EXPECT_EQ(s.supports.size(), 5u);  // no colours: the whole boundary
 }
 
 TEST(MeshIO, OffFile) {

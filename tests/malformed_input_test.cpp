@@ -38,7 +38,8 @@ std::vector<Case> cases() {
       {"empty", "e.ply", "", "empty"},
       {"whitespace only", "w.obj", "  \n\n", "empty"},
       {"garbage ply", "g.ply", "this is not a mesh\n\x01\x02", "not a PLY"},
-      {"ply without end_header", "h.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "end_header"},
+      {"ply without end_header", "h.ply", "ply\nformat ascii 1.0\nelement vertex 3\n",
+       "end_header"},
       {"ply absurd vertex count", "a.ply",
        "ply\nformat ascii 1.0\nelement vertex 4000000000000\nproperty float x\nproperty float "
        "y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" +
@@ -51,16 +52,16 @@ std::vector<Case> cases() {
        "too short"},
       {"ply truncated ascii", "t.ply",
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
-       "float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n" + kTri +
-           "3 0 1 2\n",
+       "float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n" +
+           kTri + "3 0 1 2\n",
        "ply"},
       {"ply truncated binary", "tb.ply", binary_truncated, "truncated"},
       {"ply bad format", "f.ply",
        "ply\nformat utf16 1.0\nelement vertex 3\nproperty float x\nend_header\n", "format"},
       {"ply index out of range", "i.ply",
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
-       "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" + kTri +
-           "3 0 1 7\n",
+       "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+           kTri + "3 0 1 7\n",
        "vertex 7"},
       {"ply nan coordinate", "n.ply",
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
@@ -69,7 +70,8 @@ std::vector<Case> cases() {
        "ply"},
       {"ply no faces", "nf.ply",
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
-       "float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n" + kTri,
+       "float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n" +
+           kTri,
        "no faces"},
       {"ply without z", "z.ply",
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nelement face "

@@ -20,9 +20,13 @@ struct Expect {
 }  // namespace
 
 TEST(Builtin, EveryBuiltinIsAValidSurface) {
-  const Expect cases[] = {{"paraboloid", 1, 1}, {"dome", 1, 1},  {"barrel", 1, 1},
-                          {"court", 2, 0},      {"funicular", 1, 1},
-                          {"dome:span=30,rise=4,res=10", 1, 1}, {"court:res=16,hole=3", 2, 0}};
+  const Expect cases[] = {{"paraboloid", 1, 1},
+                          {"dome", 1, 1},
+                          {"barrel", 1, 1},
+                          {"court", 2, 0},
+                          {"funicular", 1, 1},
+                          {"dome:span=30,rise=4,res=10", 1, 1},
+                          {"court:res=16,hole=3", 2, 0}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.spec);
     Surface s = make_builtin(std::string(c.spec));
@@ -64,7 +68,8 @@ TEST(Builtin, ShapesMatchTheirDefinitions) {
   Surface barrel = make_builtin("barrel", o);
   for (int v : barrel.supports) EXPECT_NEAR(barrel.mesh.V(v, 2), 0.0, 1e-9);
   int ground = 0;
-  for (int v = 0; v < barrel.mesh.num_vertices(); ++v) ground += std::abs(barrel.mesh.V(v, 2)) < 1e-9;
+  for (int v = 0; v < barrel.mesh.num_vertices(); ++v)
+    ground += std::abs(barrel.mesh.V(v, 2)) < 1e-9;
   EXPECT_EQ(ground, static_cast<int>(barrel.supports.size()));
   // Court: both boundaries at z = 0, all boundary vertices supported.
   Surface court = make_builtin("court", o);
@@ -88,7 +93,8 @@ TEST(Builtin, SymmetricAboutBothMidPlanes) {
         Vec3 m = s.mesh.vertex(v);
         m[axis] = -m[axis];
         double best = 1e300;
-        for (int w = 0; w < s.mesh.num_vertices(); ++w) best = std::min(best, (s.mesh.vertex(w) - m).norm());
+        for (int w = 0; w < s.mesh.num_vertices(); ++w)
+          best = std::min(best, (s.mesh.vertex(w) - m).norm());
         ASSERT_LT(best, 1e-9) << "axis " << axis << " vertex " << v;
       }
     }
@@ -104,7 +110,8 @@ TEST(Funicular, ForceDensityEquilibrium) {
   // paraboloid fit.
   const double h = 10;
   EXPECT_LT(std::abs(f.surface.mesh.V.col(0).maxCoeff()), h + 1e-9);
-  EXPECT_LE(f.surface.supports.size() * 20, static_cast<std::size_t>(f.surface.mesh.num_vertices()));
+  EXPECT_LE(f.surface.supports.size() * 20,
+            static_cast<std::size_t>(f.surface.mesh.num_vertices()));
   for (int v : f.surface.supports) {
     Vec3 p = f.surface.mesh.vertex(v);
     EXPECT_NEAR(p.z(), 0, 1e-12);
@@ -113,7 +120,8 @@ TEST(Funicular, ForceDensityEquilibrium) {
   // The mid-edge boundary vertex is pulled inwards by the edge cable.
   double ymin_mid = 1e300;
   for (int v = 0; v < f.surface.mesh.num_vertices(); ++v)
-    if (std::abs(f.surface.mesh.V(v, 0)) < 1e-9) ymin_mid = std::min(ymin_mid, f.surface.mesh.V(v, 1));
+    if (std::abs(f.surface.mesh.V(v, 0)) < 1e-9)
+      ymin_mid = std::min(ymin_mid, f.surface.mesh.V(v, 1));
   EXPECT_GT(ymin_mid, -h + 0.2);
 }
 
@@ -146,8 +154,8 @@ TEST(Builtin, InfoReportsNoProblems) {
 
 TEST(Info, JsonHasTheContractKeys) {
   SKIP_WITHOUT_SHARED_DATA();
-  test::RunResult r =
-      test::run_gridshell("info " + test::shared_file("surfaces/aquadom_Vouga.ply").string() + " --json");
+  test::RunResult r = test::run_gridshell(
+      "info " + test::shared_file("surfaces/aquadom_Vouga.ply").string() + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("\"vertices\": 4005"), std::string::npos);
   EXPECT_NE(r.out.find("\"faces\": 7742"), std::string::npos);

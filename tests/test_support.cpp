@@ -1,9 +1,9 @@
 #include "test_support.h"
 
+#include <sys/wait.h>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
-#include <sys/wait.h>
 
 #include <gtest/gtest.h>
 
@@ -42,8 +42,8 @@ static std::string slurp(const fs::path& p) {
 
 RunResult run_gridshell(const std::string& args) {
   fs::path d = temp_dir("run");
-  std::string cmd = std::string(GRIDSHELL_EXE) + " " + args + " >" + (d / "out").string() +
-                    " 2>" + (d / "err").string() + " </dev/null";
+  std::string cmd = std::string(GRIDSHELL_EXE) + " " + args + " >" + (d / "out").string() + " 2>" +
+                    (d / "err").string() + " </dev/null";
   int rc = std::system(cmd.c_str());
   RunResult r;
   r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;

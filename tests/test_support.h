@@ -26,7 +26,7 @@ RunResult run_gridshell(const std::string& args);
 
 }  // namespace gridshell::test
 
-#define SKIP_WITHOUT_SHARED_DATA()                                             \
-  do {                                                                         \
+#define SKIP_WITHOUT_SHARED_DATA()                                                   \
+  do {                                                                               \
     if (gridshell::test::shared_data().empty()) GTEST_SKIP() << "no ../shared/data"; \
   } while (0)

@@ -61,8 +61,8 @@ void cut_along_plane(CutMesh& m, const CutPlane& plane, double snap) {
       const int sk = (s[v[k]] > 0) - (s[v[k]] < 0);
       const int s1 = (s[v[(k + 1) % 3]] > 0) - (s[v[(k + 1) % 3]] < 0);
       const int s2 = (s[v[(k + 2) % 3]] > 0) - (s[v[(k + 2) % 3]] < 0);
-      if (sk == 0 && s1 * s2 < 0) lone = k;              // one vertex on the plane
-      if (sk != 0 && s1 == -sk && s2 == -sk) lone = k;   // one against two
+      if (sk == 0 && s1 * s2 < 0) lone = k;             // one vertex on the plane
+      if (sk != 0 && s1 == -sk && s2 == -sk) lone = k;  // one against two
     }
     const int a = v[lone], b = v[(lone + 1) % 3], c = v[(lone + 2) % 3];
     if (s[a] == 0) {  // the plane runs through a and crosses bc

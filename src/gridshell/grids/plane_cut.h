@@ -20,8 +20,8 @@ struct CutPlane {
 /// A surface together with per-vertex data that must follow the cuts.
 struct CutMesh {
   TriMesh mesh;
-  std::vector<char> support;      ///< per vertex
-  std::vector<int> parent_face;   ///< per face: the face of the original mesh it came from
+  std::vector<char> support;     ///< per vertex
+  std::vector<int> parent_face;  ///< per face: the face of the original mesh it came from
 };
 
 CutMesh make_cut_mesh(const Surface& surface);

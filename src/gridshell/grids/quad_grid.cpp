@@ -24,8 +24,10 @@ GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
     throw Error("quad grid", "spacing must be positive");
   const double diag = bbox_diagonal(surface.mesh.V);
   if (o.spacing < diag / 2000) throw Error("quad grid", "spacing too small for the surface");
-  const Vec3 du(std::cos(o.angle), std::sin(o.angle), 0), dw(-std::sin(o.angle), std::cos(o.angle), 0);
-  const Vec3 centre = 0.5 * (surface.mesh.V.colwise().minCoeff() + surface.mesh.V.colwise().maxCoeff()).transpose();
+  const Vec3 du(std::cos(o.angle), std::sin(o.angle), 0),
+      dw(-std::sin(o.angle), std::cos(o.angle), 0);
+  const Vec3 centre =
+      0.5 * (surface.mesh.V.colwise().minCoeff() + surface.mesh.V.colwise().maxCoeff()).transpose();
   double umin = 1e300, umax = -1e300, wmin = 1e300, wmax = -1e300;
   for (int v = 0; v < surface.mesh.num_vertices(); ++v) {
     const Vec3 p = surface.mesh.vertex(v) - centre;
@@ -37,7 +39,8 @@ GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
   const double h = o.spacing;
   // Lines at centre + (k + 1/2) h so that the centre lies in a cell middle.
   for (const auto& [dir, lo, hi] : {std::tuple{du, umin, umax}, std::tuple{dw, wmin, wmax}}) {
-    for (int k = static_cast<int>(std::floor(lo / h - 0.5)); k <= static_cast<int>(std::ceil(hi / h)); ++k) {
+    for (int k = static_cast<int>(std::floor(lo / h - 0.5));
+         k <= static_cast<int>(std::ceil(hi / h)); ++k) {
       const double offset = (k + 0.5) * h;
       if (offset <= lo || offset >= hi) continue;
       cut_along_plane(cut, CutPlane{dir, dir.dot(centre) + offset}, snap);

@@ -158,9 +158,8 @@ RegionMesh extract_regions(const TriMesh& mesh, std::vector<int> label, const Re
         out.mesh.V.row(static_cast<int>(i)) = mesh.V.row(out.source_vertex[i]);
       return out;
     }
-    std::sort(victims.begin(), victims.end(), [&](int a, int b) {
-      return bad[a] != bad[b] ? bad[a] > bad[b] : area[a] < area[b];
-    });
+    std::sort(victims.begin(), victims.end(),
+              [&](int a, int b) { return bad[a] != bad[b] ? bad[a] > bad[b] : area[a] < area[b]; });
     std::vector<int> region_label(l.count, -1);
     for (int f = 0; f < nf; ++f) region_label[l.region[f]] = label[f];
     std::vector<int> new_label = region_label;
@@ -169,9 +168,10 @@ RegionMesh extract_regions(const TriMesh& mesh, std::vector<int> label, const Re
       if (touched[victim]) continue;
       if (border[victim].empty())
         throw Error("regions", "a region is not a disk and has no neighbour to merge with");
-      const int target = std::max_element(border[victim].begin(), border[victim].end(),
-                                           [](auto& a, auto& b) { return a.second < b.second; })
-                             ->first;
+      const int target =
+          std::max_element(border[victim].begin(), border[victim].end(), [](auto& a, auto& b) {
+            return a.second < b.second;
+          })->first;
       if (touched[target]) continue;
       new_label[victim] = region_label[target];
       touched[victim] = touched[target] = 1;

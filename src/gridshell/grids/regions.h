@@ -21,9 +21,9 @@ struct RegionOptions {
 };
 
 struct RegionMesh {
-  PolyMesh mesh;                  ///< one polygon per region
-  std::vector<int> source_vertex; ///< per polygon vertex: the fine-mesh vertex it sits on
-  std::vector<int> face_label;    ///< per polygon: the label of its region
+  PolyMesh mesh;                   ///< one polygon per region
+  std::vector<int> source_vertex;  ///< per polygon vertex: the fine-mesh vertex it sits on
+  std::vector<int> face_label;     ///< per polygon: the label of its region
 };
 
 /// Extracts the polygon mesh of the labelling. Regions that are not disks or have fewer than

@@ -1,9 +1,9 @@
 #include "gridshell/io/files.h"
 
+#include <unistd.h>
 #include <cmath>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include <fmt/format.h>
 

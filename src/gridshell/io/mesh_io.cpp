@@ -33,8 +33,7 @@ std::string lower(std::string s) {
 int ply_type_size(const std::string& t) {
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
   if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" ||
-      t == "float32")
+  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32")
     return 4;
   if (t == "double" || t == "float64") return 8;
   return 0;
@@ -286,7 +285,8 @@ namespace {
 void append_data_arrays(std::string& s, const Attributes& attrs, Eigen::Index rows) {
   for (const auto& [name, values] : attrs) {
     if (values.rows() != rows)
-      throw Error(name, fmt::format("internal: attribute has {} rows, expected {}", values.rows(), rows));
+      throw Error(name,
+                  fmt::format("internal: attribute has {} rows, expected {}", values.rows(), rows));
     s += fmt::format(
         "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
         name, values.cols());

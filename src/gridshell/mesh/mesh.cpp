@@ -18,7 +18,8 @@ PolyMesh to_poly(const TriMesh& tri) {
   PolyMesh out;
   out.V = tri.V;
   out.faces.reserve(tri.F.rows());
-  for (int f = 0; f < tri.F.rows(); ++f) out.faces.push_back({tri.F(f, 0), tri.F(f, 1), tri.F(f, 2)});
+  for (int f = 0; f < tri.F.rows(); ++f)
+    out.faces.push_back({tri.F(f, 0), tri.F(f, 1), tri.F(f, 2)});
   return out;
 }
 

@@ -81,7 +81,9 @@ Topology build_topology(const PolyMesh& mesh) {
   return t;
 }
 
-Topology build_topology(const TriMesh& mesh) { return build_topology(to_poly(mesh)); }
+Topology build_topology(const TriMesh& mesh) {
+  return build_topology(to_poly(mesh));
+}
 
 int euler_characteristic(const PolyMesh& mesh, const Topology& topo) {
   int referenced = 0;
@@ -100,7 +102,8 @@ double polygon_area(const PolyMesh& mesh, int face) {
 double surface_area(const TriMesh& mesh) {
   double area = 0;
   for (int f = 0; f < mesh.num_faces(); ++f) {
-    Vec3 a = mesh.vertex(mesh.F(f, 0)), b = mesh.vertex(mesh.F(f, 1)), c = mesh.vertex(mesh.F(f, 2));
+    Vec3 a = mesh.vertex(mesh.F(f, 0)), b = mesh.vertex(mesh.F(f, 1)),
+         c = mesh.vertex(mesh.F(f, 2));
     area += 0.5 * (b - a).cross(c - a).norm();
   }
   return area;
@@ -202,7 +205,8 @@ MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance) {
       }
     }
     int roots = 0;
-    for (std::size_t i = 0; i < vf.size(); ++i) roots += (find(static_cast<int>(i)) == static_cast<int>(i));
+    for (std::size_t i = 0; i < vf.size(); ++i)
+      roots += (find(static_cast<int>(i)) == static_cast<int>(i));
     if (roots > 1) ++p.non_manifold_vertices;
   }
   // Exact duplicate positions.

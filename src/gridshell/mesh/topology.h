@@ -41,16 +41,16 @@ int euler_characteristic(const PolyMesh& mesh, const Topology& topo);
 
 /// Counts of everything `info` reports as a validity problem.
 struct MeshProblems {
-  int non_finite_coordinates = 0;   ///< vertices with a NaN or infinite coordinate
-  int bad_indices = 0;              ///< face corners out of range
-  int small_faces = 0;              ///< faces with fewer than 3 vertices
-  int repeated_corner_faces = 0;    ///< faces that use a vertex twice
-  int degenerate_faces = 0;         ///< faces of (near) zero area
-  int non_manifold_edges = 0;       ///< edges with more than two faces
-  int non_manifold_vertices = 0;    ///< vertices whose faces form more than one fan
-  int inconsistent_orientation = 0; ///< interior edges walked the same way by both faces
-  int duplicate_vertices = 0;       ///< vertices at exactly the same position as another
-  int unreferenced_vertices = 0;    ///< vertices no face uses
+  int non_finite_coordinates = 0;    ///< vertices with a NaN or infinite coordinate
+  int bad_indices = 0;               ///< face corners out of range
+  int small_faces = 0;               ///< faces with fewer than 3 vertices
+  int repeated_corner_faces = 0;     ///< faces that use a vertex twice
+  int degenerate_faces = 0;          ///< faces of (near) zero area
+  int non_manifold_edges = 0;        ///< edges with more than two faces
+  int non_manifold_vertices = 0;     ///< vertices whose faces form more than one fan
+  int inconsistent_orientation = 0;  ///< interior edges walked the same way by both faces
+  int duplicate_vertices = 0;        ///< vertices at exactly the same position as another
+  int unreferenced_vertices = 0;     ///< vertices no face uses
 
   /// One human-readable line per kind of problem present ("3 degenerate faces", …).
   std::vector<std::string> describe() const;

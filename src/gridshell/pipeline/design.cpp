@@ -68,7 +68,8 @@ void set_analysis_level(analysis::FrameAnalysisOptions& o, const std::string& le
   } else if (level == "nonlinear") {
     o.linear = true, o.buckling = true, o.nonlinear = true;
   } else {
-    throw Error("--analyze", fmt::format("'{}' is not one of none, linear, buckling, nonlinear", level));
+    throw Error("--analyze",
+                fmt::format("'{}' is not one of none, linear, buckling, nonlinear", level));
   }
 }
 
@@ -104,7 +105,8 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
   if (!(o.D >= 1) || !(o.A >= 1) || !std::isfinite(o.D) || !std::isfinite(o.A))
     throw Error(!(o.D >= 1) || !std::isfinite(o.D) ? "-D" : "-A", "must be a number ≥ 1");
   if (o.D > 8 || o.A > 8)
-    spdlog::warn("design: D or A above ~4 may fold the deformed surface (D = {}, A = {})", o.D, o.A);
+    spdlog::warn("design: D or A above ~4 may fold the deformed surface (D = {}, A = {})", o.D,
+                 o.A);
   if (o.analyze != "none") {
     analysis::FrameAnalysisOptions check;
     set_analysis_level(check, o.analyze);
@@ -149,8 +151,8 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
   // folds, the engine may fail to extract valid cells: then we retry with another seed and,
   // failing that, with the field's contrast halved (reported in report.json), down to the
   // isotropic tessellation, which always exists.
-  std::vector<double> strengths = isotropic ? std::vector<double>{0.0}
-                                            : std::vector<double>{1.0, 0.5, 0.0};
+  std::vector<double> strengths =
+      isotropic ? std::vector<double>{0.0} : std::vector<double>{1.0, 0.5, 0.0};
   TriMesh rest, deformed;
   Field rest_field;
   std::string last_error;
@@ -208,19 +210,16 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
       }
       DeformOptions dopt = o.deform;
       dopt.max_edge = o.metric_edge * estimate_radius(topt, area_rest, area_def, sectors);
-      spdlog::info("[metric] deforming {} triangles (edges of M' ≤ {:.3g} m)", work.mesh.num_faces(),
-                   dopt.max_edge);
+      spdlog::info("[metric] deforming {} triangles (edges of M' ≤ {:.3g} m)",
+                   work.mesh.num_faces(), dopt.max_edge);
       Deformed def = deform_metric(work.mesh, work_field, dopt);
       rest = std::move(def.rest);
       deformed = std::move(def.deformed);
       rest_field = std::move(def.field);
       rest_supports = transfer_supports(rest.V, work, 1e-9 * bbox_diagonal(rest.V));
-      r.details["metric"] = {{"triangles", rest.num_faces()},
-                             {"rounds", def.rounds},
-                             {"iterations", def.iterations},
-                             {"residual", def.residual},
-                             {"max_edge", def.max_edge},
-                             {"folded_edges", def.folded_edges}};
+      r.details["metric"] = {{"triangles", rest.num_faces()}, {"rounds", def.rounds},
+                             {"iterations", def.iterations},  {"residual", def.residual},
+                             {"max_edge", def.max_edge},      {"folded_edges", def.folded_edges}};
       if (def.folded_edges > 0)
         spdlog::warn("[metric] {} folded edges in M' (D or A large for this surface)",
                      def.folded_edges);
@@ -235,7 +234,8 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
     }
     for (int attempt = 0; attempt < (iso ? 3 : 2) && !done; ++attempt) {
       topt.seed = o.tessellation.seed + 7919 * static_cast<std::uint64_t>(attempt);
-      spdlog::info("[tessellation] {} triangles, {} supports", rest.num_faces(), rest_supports.size());
+      spdlog::info("[tessellation] {} triangles, {} supports", rest.num_faces(),
+                   rest_supports.size());
       try {
         r.tessellation = tessellate(rest, deformed, rest_supports, topt);
         done = true;
@@ -319,14 +319,14 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
   if (o.analyze != "none") {
     spdlog::info("[analysis] {} frame: {} joints", o.analyze, r.mesh.num_vertices());
     r.structure = analyze_gridshell(r.mesh, r.supports, o.analyze, o.frame, o.frame_analysis);
-    spdlog::info("[analysis] delta = {:.4g} m, lambda_LBA = {}, lambda_nonlinear = {} ({})",
-                 r.structure->delta_max_m,
-                 r.structure->lambda_linear_buckling
-                     ? fmt::format("{:.4g}", *r.structure->lambda_linear_buckling)
-                     : "-",
-                 r.structure->lambda_nonlinear ? fmt::format("{:.4g}", *r.structure->lambda_nonlinear)
-                                               : "-",
-                 r.structure->limit_type);
+    spdlog::info(
+        "[analysis] delta = {:.4g} m, lambda_LBA = {}, lambda_nonlinear = {} ({})",
+        r.structure->delta_max_m,
+        r.structure->lambda_linear_buckling
+            ? fmt::format("{:.4g}", *r.structure->lambda_linear_buckling)
+            : "-",
+        r.structure->lambda_nonlinear ? fmt::format("{:.4g}", *r.structure->lambda_nonlinear) : "-",
+        r.structure->limit_type);
     r.timings.emplace_back("analysis", seconds_since(t));
   }
   return r;

@@ -56,16 +56,16 @@ struct DesignOptions {
 };
 
 struct DesignResult {
-  PolyMesh raw;                   ///< tessellation before regularization
-  PolyMesh mesh;                  ///< final grid-shell
-  std::vector<int> supports;      ///< support joints (same for raw and mesh: topology kept)
-  std::vector<double> d_target;   ///< per face: rescaled density asked for (≥ 1)
-  std::vector<double> a_target;   ///< per face: rescaled anisotropy asked for (≥ 1)
+  PolyMesh raw;                  ///< tessellation before regularization
+  PolyMesh mesh;                 ///< final grid-shell
+  std::vector<int> supports;     ///< support joints (same for raw and mesh: topology kept)
+  std::vector<double> d_target;  ///< per face: rescaled density asked for (≥ 1)
+  std::vector<double> a_target;  ///< per face: rescaled anisotropy asked for (≥ 1)
   MeshMetrics metrics, raw_metrics;
-  Tessellation tessellation;      ///< engine output (of the sector when symmetric)
-  Field field;                    ///< on the input surface, per triangle
+  Tessellation tessellation;  ///< engine output (of the sector when symmetric)
+  Field field;                ///< on the input surface, per triangle
   std::optional<analysis::FrameResult> structure;
-  nlohmann::json details;         ///< per-stage figures for report.json
+  nlohmann::json details;                               ///< per-stage figures for report.json
   std::vector<std::pair<std::string, double>> timings;  ///< stage → seconds, in order
 };
 

@@ -18,11 +18,11 @@
 namespace gridshell {
 
 struct GridShellOutput {
-  PolyMesh mesh;                 ///< final grid-shell
-  PolyMesh raw;                  ///< before regularization (same as mesh when none)
-  std::vector<int> supports;     ///< joints that are supported (sorted)
-  std::vector<double> d_target;  ///< per face, ≥ 1 (1 when the field is uniform)
-  std::vector<double> a_target;  ///< per face, ≥ 1
+  PolyMesh mesh;                    ///< final grid-shell
+  PolyMesh raw;                     ///< before regularization (same as mesh when none)
+  std::vector<int> supports;        ///< joints that are supported (sorted)
+  std::vector<double> d_target;     ///< per face, ≥ 1 (1 when the field is uniform)
+  std::vector<double> a_target;     ///< per face, ≥ 1
   io::Attributes extra_cell_data;   ///< further per-face arrays for the .vtp
   io::Attributes extra_point_data;  ///< further per-vertex arrays for the .vtp
   std::vector<double> planarity;    ///< per face (empty: not computed)

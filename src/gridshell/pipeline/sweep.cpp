@@ -84,7 +84,8 @@ std::vector<SweepRow> run_sweep(const std::vector<SweepCase>& cases,
                                 bool parallel) {
   std::vector<SweepRow> rows(cases.size());
   if (parallel) {
-    tbb::parallel_for(std::size_t(0), cases.size(), [&](std::size_t i) { rows[i] = run_case(cases[i]); });
+    tbb::parallel_for(std::size_t(0), cases.size(),
+                      [&](std::size_t i) { rows[i] = run_case(cases[i]); });
   } else {
     for (std::size_t i = 0; i < cases.size(); ++i) rows[i] = run_case(cases[i]);
   }
@@ -94,9 +95,10 @@ std::vector<SweepRow> run_sweep(const std::vector<SweepCase>& cases,
 std::string sweep_csv(const std::vector<SweepRow>& rows) {
   std::string s = "D,A,repeat,seed,cells,total_length,lambda,delta\n";
   for (const auto& r : rows)
-    s += fmt::format("{},{},{},{},{},{},{},{}\n", io::format_number(r.c.D), io::format_number(r.c.A),
-                     r.c.repeat, r.c.seed, r.cells, io::format_number(r.total_length),
-                     io::format_number(r.lambda), io::format_number(r.delta));
+    s +=
+        fmt::format("{},{},{},{},{},{},{},{}\n", io::format_number(r.c.D), io::format_number(r.c.A),
+                    r.c.repeat, r.c.seed, r.cells, io::format_number(r.total_length),
+                    io::format_number(r.lambda), io::format_number(r.delta));
   return s;
 }
 
@@ -123,7 +125,8 @@ std::string sweep_heatmap_svg(const std::vector<SweepRow>& rows, const std::stri
   const int h = top + cell * static_cast<int>(As.size()) + 50;
   std::string s = fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" "
-      "font-family=\"sans-serif\" font-size=\"12\">\n<text x=\"{}\" y=\"25\" font-size=\"15\">{}</text>\n",
+      "font-family=\"sans-serif\" font-size=\"12\">\n<text x=\"{}\" y=\"25\" "
+      "font-size=\"15\">{}</text>\n",
       w, h, left, title);
   for (std::size_t i = 0; i < Ds.size(); ++i)
     for (std::size_t j = 0; j < As.size(); ++j) {
@@ -136,14 +139,16 @@ std::string sweep_heatmap_svg(const std::vector<SweepRow>& rows, const std::stri
                 b = static_cast<int>(160 - 120 * t);
       const int x = left + cell * static_cast<int>(i);
       const int y = top + cell * static_cast<int>(As.size() - 1 - j);
-      s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"rgb({},{},{})\"/>\n",
-                       x, y, cell, cell, r, g, b);
+      s += fmt::format(
+          "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"rgb({},{},{})\"/>\n", x, y,
+          cell, cell, r, g, b);
       s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{:.3g}</text>\n",
                        x + cell / 2, y + cell / 2 + 4, m);
     }
   for (std::size_t i = 0; i < Ds.size(); ++i)
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">D={:g}</text>\n",
-                     left + cell * static_cast<int>(i) + cell / 2, top + cell * static_cast<int>(As.size()) + 18, Ds[i]);
+                     left + cell * static_cast<int>(i) + cell / 2,
+                     top + cell * static_cast<int>(As.size()) + 18, Ds[i]);
   for (std::size_t j = 0; j < As.size(); ++j)
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"end\">A={:g}</text>\n", left - 6,
                      top + cell * static_cast<int>(As.size() - 1 - j) + cell / 2 + 4, As[j]);

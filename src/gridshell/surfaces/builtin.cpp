@@ -50,7 +50,9 @@ std::vector<int> boundary_vertices(const TriMesh& m) {
   return out;
 }
 
-double or_default(double v, double d) { return v > 0 ? v : d; }
+double or_default(double v, double d) {
+  return v > 0 ? v : d;
+}
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw Error("builtin", what);
@@ -75,7 +77,8 @@ Surface dome(const BuiltinOptions& o) {
   const int n = o.res > 0 ? o.res / 2 : 16;  // rings
   require(n >= 1, "dome: res must be ≥ 2");
   const double a = span / 2;
-  require(rise <= a, "dome: rise must not exceed half the span (a cap, not more than a hemisphere)");
+  require(rise <= a,
+          "dome: rise must not exceed half the span (a cap, not more than a hemisphere)");
   const double R = (a * a + rise * rise) / (2 * rise);
   TriMesh m;
   std::vector<Vec3> pts{Vec3(0, 0, rise)};
@@ -195,9 +198,8 @@ FunicularResult make_funicular(const BuiltinOptions& o) {
   require(n >= 4 && n % 2 == 0, "funicular: res must be even and ≥ 4");
   require(2 * corner < n, "funicular: corner supports would cover a whole edge");
   const double h = span / 2;
-  TriMesh grid = make_grid(n, n, [&](int i, int j) {
-    return Vec3(-h + span * i / n, -h + span * j / n, 0);
-  });
+  TriMesh grid =
+      make_grid(n, n, [&](int i, int j) { return Vec3(-h + span * i / n, -h + span * j / n, 0); });
   Topology topo = build_topology(grid);
   ForceDensityProblem pb;
   pb.X = grid.V;
@@ -272,17 +274,26 @@ Surface make_builtin(const std::string& spec) {
       }
       if (!std::isfinite(x) || x < 0 || (x <= 0 && key != "corner"))
         throw Error("builtin:" + spec, fmt::format("{} must be positive", key));
-      if (key == "span") o.span = x;
-      else if (key == "rise") o.rise = x;
-      else if (key == "res") o.res = static_cast<int>(x);
-      else if (key == "width") o.width = x;
-      else if (key == "length") o.length = x;
-      else if (key == "hole") o.hole = x;
-      else if (key == "edge_q") o.edge_q = x;
-      else if (key == "corner") o.corner = static_cast<int>(x);
+      if (key == "span")
+        o.span = x;
+      else if (key == "rise")
+        o.rise = x;
+      else if (key == "res")
+        o.res = static_cast<int>(x);
+      else if (key == "width")
+        o.width = x;
+      else if (key == "length")
+        o.length = x;
+      else if (key == "hole")
+        o.hole = x;
+      else if (key == "edge_q")
+        o.edge_q = x;
+      else if (key == "corner")
+        o.corner = static_cast<int>(x);
       else
         throw Error("builtin:" + spec, fmt::format("unknown key '{}' (span, rise, res, width, "
-                                                   "length, hole, edge_q, corner)", key));
+                                                   "length, hole, edge_q, corner)",
+                                                   key));
       if ((key == "res" || key == "corner") && x > 2000)
         throw Error("builtin:" + spec, fmt::format("{} is too large", key));
     }

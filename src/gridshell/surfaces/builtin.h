@@ -12,8 +12,8 @@
 /// | barrel      | circular barrel vault, chord span, length `length`      | the two ground edges |
 /// | court       | rectangle span × width with a central circular hole     | both boundaries    |
 /// |             | (radius `hole`), z = rise · 4t(1−t) between them         |                    |
-/// | funicular   | force-density form-found shell on a square plan, four   | a few nodes at each corner |
-/// |             | corner supports, stiffer edge cables, crown height rise  |                    |
+/// | funicular   | force-density form-found shell on a square plan, four   | a few nodes at each
+/// corner | |             | corner supports, stiffer edge cables, crown height rise  | |
 ///
 /// Keys: span, rise, res (divisions along the span), and width / length / hole / edge_q /
 /// corner where they apply. Defaults give meshes of a few thousand triangles.
@@ -26,9 +26,9 @@
 namespace gridshell {
 
 struct BuiltinOptions {
-  double span = 0;  ///< m; 0 = the surface's default
-  double rise = 0;  ///< m
-  int res = 0;      ///< divisions along the span
+  double span = 0;    ///< m; 0 = the surface's default
+  double rise = 0;    ///< m
+  int res = 0;        ///< divisions along the span
   double width = 0;   ///< court: plan width (m)
   double length = 0;  ///< barrel: length (m)
   double hole = 0;    ///< court: hole radius (m)

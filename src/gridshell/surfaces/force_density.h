@@ -22,8 +22,8 @@ struct ForceDensityProblem {
 };
 
 struct ForceDensityResult {
-  Points X;                  ///< equilibrium positions
-  double residual = 0;       ///< max over free nodes of |Σ q (x_j − x_i) + p_i| / max |p|
+  Points X;             ///< equilibrium positions
+  double residual = 0;  ///< max over free nodes of |Σ q (x_j − x_i) + p_i| / max |p|
 };
 
 /// Solves the linear force-density equilibrium (one Cholesky factorisation, three solves).

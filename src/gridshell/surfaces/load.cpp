@@ -47,7 +47,8 @@ std::vector<int> supports_from_json(const std::string& path, int nv) {
     if (!v.is_number_integer()) throw Error(path, "support ids must be integers");
     const long long id = v.get<long long>();
     if (id < 0 || id >= nv)
-      throw Error(path, fmt::format("support vertex {} out of range (mesh has {} vertices)", id, nv));
+      throw Error(path,
+                  fmt::format("support vertex {} out of range (mesh has {} vertices)", id, nv));
     out.push_back(static_cast<int>(id));
   }
   std::sort(out.begin(), out.end());
@@ -78,7 +79,8 @@ std::vector<int> resolve_supports(const SurfaceOptions& o, const PolyMesh& mesh,
   }
   if (o.supports == "red") {
     if (red.empty())
-      throw Error("--supports", "'red' asked for, but the surface has no pure red (255,0,0) vertices");
+      throw Error("--supports",
+                  "'red' asked for, but the surface has no pure red (255,0,0) vertices");
     return red;
   }
   if (o.supports == "boundary") return boundary_of(mesh);
