@@ -7,6 +7,7 @@
 #include <fstream>
 #include <numbers>
 
+#include "gridshell/surfaces/grid.h"
 #include "gridshell/core/error.h"
 #include "gridshell/core/rng.h"
 #include "gridshell/field/field.h"
@@ -23,26 +24,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 /// Regular grid over [0, w] × [0, h] with nx × ny squares split along alternating diagonals.
-TriMesh grid(int nx, int ny, double w, double h) {
-  TriMesh m;
-  m.V.resize((nx + 1) * (ny + 1), 3);
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) m.V.row(j * (nx + 1) + i) << w * i / nx, h * j / ny, 0;
-  m.F.resize(2 * nx * ny, 3);
-  int f = 0;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;
-      if ((i + j) % 2 == 0) {
-        m.F.row(f++) << a, b, d;
-        m.F.row(f++) << a, d, c;
-      } else {
-        m.F.row(f++) << a, b, c;
-        m.F.row(f++) << b, d, c;
-      }
-    }
-  return m;
-}
+TriMesh grid(int nx, int ny, double w, double h) { return flat_grid(nx, ny, w, h); }
 
 /// One row of n equilateral triangles (side 1) alternating up/down: the face graph is a path with
 /// uniform weights, so the smoothed z is exactly linear along it.

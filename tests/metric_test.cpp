@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "gridshell/surfaces/grid.h"
 #include "gridshell/core/error.h"
 #include "gridshell/field/field.h"
 #include "gridshell/mesh/topology.h"
@@ -17,26 +18,7 @@ using namespace gridshell;
 
 namespace {
 
-TriMesh grid(int nx, int ny, double w, double h) {
-  TriMesh m;
-  m.V.resize((nx + 1) * (ny + 1), 3);
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) m.V.row(j * (nx + 1) + i) << w * i / nx, h * j / ny, 0;
-  m.F.resize(2 * nx * ny, 3);
-  int f = 0;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;
-      if ((i + j) % 2 == 0) {
-        m.F.row(f++) << a, b, d;
-        m.F.row(f++) << a, d, c;
-      } else {
-        m.F.row(f++) << a, b, c;
-        m.F.row(f++) << b, d, c;
-      }
-    }
-  return m;
-}
+TriMesh grid(int nx, int ny, double w, double h) { return flat_grid(nx, ny, w, h); }
 
 Vec3 centroid(const TriMesh& m, int f) {
   return (m.vertex(m.F(f, 0)) + m.vertex(m.F(f, 1)) + m.vertex(m.F(f, 2))) / 3;
