@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <iostream>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -15,6 +16,7 @@
 #include "gridshell/io/files.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/sweep.h"
+#include "mpi.h"
 
 namespace gridshell::app {
 
@@ -30,8 +32,10 @@ struct SweepArgs {
   RunOptions run;
 };
 
-int run_sweep_cmd(const SweepArgs& a, const CLI::App* sub) {
-  const auto guard = apply_run_options(a.run);
+int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& mpi) {
+  RunOptions run = a.run;
+  if (mpi.active() && run.threads == 0) run.threads = mpi.threads_per_rank();
+  const auto guard = apply_run_options(run);
   const auto start = std::chrono::steady_clock::now();
   if (!(a.length > 0) && a.cells <= 0)
     throw Error("--length", "give the common total beam length L (m) (or --cells N)");
@@ -40,11 +44,19 @@ int run_sweep_cmd(const SweepArgs& a, const CLI::App* sub) {
       sweep_cases(parse_range(a.D, "--D"), parse_range(a.A, "--A"), a.repeats, a.run.seed);
   const std::size_t all = cases.size();
   if (!a.shard.empty()) cases = shard_cases(cases, a.shard);
-  spdlog::info("[sweep] {} of {} cases on {}", cases.size(), all, a.surface);
+  if (mpi.active()) {  // rank r takes every size-th case of the (sharded) list
+    std::vector<SweepCase> mine;
+    for (std::size_t i = static_cast<std::size_t>(mpi.rank()); i < cases.size();
+         i += static_cast<std::size_t>(mpi.size()))
+      mine.push_back(cases[i]);
+    cases = std::move(mine);
+  }
+  spdlog::info("[sweep] {} of {} cases on {}{}", cases.size(), all, a.surface,
+               mpi.active() ? fmt::format(" (MPI rank {} of {})", mpi.rank(), mpi.size()) : "");
   for (const auto& c : cases)
     if (c.D < 1 || c.A < 1) throw Error("--D/--A", "values must be ≥ 1");
   std::atomic<int> finished{0};
-  const auto rows = run_sweep(cases, [&](const SweepCase& c) {
+  const auto mine = run_sweep(cases, [&](const SweepCase& c) {
     DesignOptions o;
     o.field = a.field;
     o.D = c.D, o.A = c.A;
@@ -66,6 +78,8 @@ int run_sweep_cmd(const SweepArgs& a, const CLI::App* sub) {
                  ++finished, cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta);
     return row;
   });
+  const std::vector<SweepRow> rows = mpi.gather(mine);
+  if (mpi.rank() != 0) return 0;  // rank 0 writes every output
   const std::filesystem::path dir(a.run.out_dir);
   io::ensure_directory(dir);
   io::write_file_atomic(dir / "sweep.csv", sweep_csv(rows));
@@ -80,11 +94,27 @@ int run_sweep_cmd(const SweepArgs& a, const CLI::App* sub) {
   report["cases"] = rows.size();
   report["cases_total"] = all;
   report["shard"] = a.shard.empty() ? "1/1" : a.shard;
+  report["mpi_ranks"] = mpi.size();
   report["timings_s"] = {
       {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
   return 0;
+}
+
+int run_sweep_cmd(const SweepArgs& a, const CLI::App* sub) {
+  const MpiSession mpi;
+  if (!mpi.active()) return run_sweep_cases(a, sub, mpi);
+  // Under MPI a failing rank must end all of them, or the others wait forever in the gather.
+  try {
+    return run_sweep_cases(a, sub, mpi);
+  } catch (const Error& e) {
+    std::cerr << "gridshell: error: " << e.message() << "\n";
+    mpi.abort(2);
+  } catch (const std::exception& e) {
+    std::cerr << "gridshell: internal error: " << e.what() << "\n";
+    mpi.abort(1);
+  }
 }
 
 }  // namespace
@@ -107,7 +137,8 @@ void register_sweep(CLI::App& app, Action& action) {
       ->default_str("nonlinear");
   sub->footer(
       "Writes sweep.csv (D,A,repeat,seed,cells,total_length,lambda,delta), lambda.svg,\n"
-      "delta.svg, report.json and config.json.");
+      "delta.svg, report.json and config.json. Under `mpirun -n K` (MPI build) the ranks share\n"
+      "the cases and rank 0 writes the outputs; rows equal those of a single process.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_sweep_cmd(*a, sub); }; });

@@ -12,6 +12,9 @@ PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libsuitespa
   libspectra-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev calculix-ccx)
 
+# Open MPI: the optional distributed sweep (`mpirun -n K gridshell sweep ...`) and its test.
+PACKAGES+=(libopenmpi-dev openmpi-bin)
+
 install_packages() {
   local missing=()
   for p in "${PACKAGES[@]}"; do
@@ -58,7 +61,7 @@ case "$cmd" in
     ctest --test-dir build --output-on-failure -j "$(nproc)"
     # The sanitizer pass: -O1 (faster to build), without the heavy programs.
     build build-sanitize -DGRIDSHELL_SANITIZE=ON -DGRIDSHELL_BUILD_BENCH=OFF \
-      -DGRIDSHELL_HEAVY_TESTS=OFF "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG"
+      -DGRIDSHELL_HEAVY_TESTS=OFF -DGRIDSHELL_MPI=OFF "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
       ctest --test-dir build-sanitize --output-on-failure -j "$(nproc)" -LE heavy
     ;;
