@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 # Not OpenBLAS: Debian's serial OpenBLAS is not thread-safe (concurrent CHOLMOD factorisations in
 # a parallel sweep gave wrong pivots), and the threaded one makes results depend on thread count.
 PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libsuitesparse-dev
-  libspectra-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libtbb-dev
+  libspectra-dev liblbfgspp-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev calculix-ccx)
 
 # Open MPI: the optional distributed sweep (`mpirun -n K gridshell sweep ...`) and its test.

@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <numbers>
+
+#include <tbb/global_control.h>
 
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
@@ -158,6 +161,41 @@ TEST(Tessellation, PlanarSquareIsAHexagonalCvt) {
   EXPECT_TRUE(T.converged);
   // Mean interior edge length within 15% of R (hexagon of circumradius R has edges R).
   EXPECT_NEAR(T.quality.edge_length_mean / T.radius, 1.0, 0.15);
+}
+
+TEST(Tessellation, QuasiNewtonNeedsFewerDiagramsThanLloyd) {
+  // The same CVT problem by L-BFGS on the energy and by over-relaxed Lloyd steps, to the same
+  // tolerance on the Lloyd move: both converge to a hexagonal CVT, L-BFGS with fewer diagrams.
+  const Surface s = make_builtin("paraboloid:rise=2,span=10,res=10");
+  TessellationOptions o;
+  o.cells = 150;
+  const Tessellation qn = tessellate(s.mesh, s.mesh, s.supports, o);
+  o.quasi_newton = false;
+  o.max_iterations = 1000;
+  const Tessellation lloyd = tessellate(s.mesh, s.mesh, s.supports, o);
+  expect_invariants(s, qn, "L-BFGS");
+  expect_invariants(s, lloyd, "Lloyd");
+  EXPECT_TRUE(qn.converged);
+  EXPECT_TRUE(lloyd.converged);
+  EXPECT_LT(3 * qn.iterations, 2 * lloyd.iterations);
+  std::cout << "diagrams: L-BFGS " << qn.iterations << ", Lloyd " << lloyd.iterations
+            << "; hexagons " << qn.quality.hex_share_interior << " / "
+            << lloyd.quality.hex_share_interior << "\n";
+  EXPECT_NEAR(qn.quality.edge_length_mean / qn.radius, 1.0, 0.15);
+}
+
+TEST(Tessellation, SameResultForAnyThreadCount) {
+  const Surface s = make_builtin("dome");
+  const Tessellation a = run(s, 200);
+  Tessellation b;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    b = run(s, 200);
+  }
+  ASSERT_EQ(a.mesh.num_vertices(), b.mesh.num_vertices());
+  EXPECT_TRUE(a.mesh.V == b.mesh.V);
+  EXPECT_EQ(a.mesh.faces, b.mesh.faces);
+  EXPECT_EQ(a.iterations, b.iterations);
 }
 
 class Builtins : public ::testing::TestWithParam<const char*> {};

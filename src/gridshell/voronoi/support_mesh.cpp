@@ -50,21 +50,23 @@ std::array<int, 2> midpoint_origin(const std::array<int, 2>& a, const std::array
 int refine_support_mesh(SupportMesh& m, const std::function<bool(int, int)>& split,
                         std::vector<int>* source) {
   const int nf = m.rest.num_faces();
-  // Unique edges, sorted by key; each gets its midpoint id or -1.
-  std::vector<std::uint64_t> keys(static_cast<std::size_t>(nf) * 3);
+  // The edges to split, sorted by key (the midpoints are numbered in that order). Only those are
+  // sorted: a pass that splits few edges (the extraction's border refinement) stays cheap.
+  std::vector<std::uint64_t> keys;
   for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k)
-      keys[3 * f + k] = edge_key(m.rest.F(f, k), m.rest.F(f, (k + 1) % 3));
+    for (int k = 0; k < 3; ++k) {
+      int a = m.rest.F(f, k), b = m.rest.F(f, (k + 1) % 3);
+      if (a > b) std::swap(a, b);
+      if (split(a, b)) keys.push_back(edge_key(a, b));
+    }
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  std::vector<int> mid_of(keys.size(), -1);
   std::vector<Vec3> new_rest, new_def;
   int nv = m.rest.num_vertices();
   const int nv0 = nv;
-  for (std::size_t e = 0; e < keys.size(); ++e) {
-    const int a = static_cast<int>(keys[e] >> 32), b = static_cast<int>(keys[e] & 0xFFFFFFFFu);
-    if (!split(a, b)) continue;
-    mid_of[e] = nv++;
+  for (const std::uint64_t key : keys) {
+    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xFFFFFFFFu);
+    ++nv;
     new_rest.push_back(0.5 * (m.rest.vertex(a) + m.rest.vertex(b)));
     new_def.push_back(0.5 * (m.deformed.vertex(a) + m.deformed.vertex(b)));
     m.origin.push_back(midpoint_origin(m.origin[a], m.origin[b]));
@@ -72,7 +74,7 @@ int refine_support_mesh(SupportMesh& m, const std::function<bool(int, int)>& spl
   auto mid_lookup = [&](int a, int b) {
     const std::uint64_t key = edge_key(a, b);
     const auto it = std::lower_bound(keys.begin(), keys.end(), key);
-    return mid_of[it - keys.begin()];
+    return it != keys.end() && *it == key ? nv0 + static_cast<int>(it - keys.begin()) : -1;
   };
   const int added = nv - nv0;
   if (added == 0) {

@@ -7,6 +7,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include <LBFGS.h>
 #include <spdlog/spdlog.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -36,41 +37,46 @@ struct Adjacency {
 
 Adjacency build_adjacency(const Triangles& F, int nv) {
   const int nt = static_cast<int>(F.rows());
-  std::vector<std::pair<std::uint64_t, int>> he(static_cast<std::size_t>(nt) * 3);
+  // Half-edges 3t+k (F(t,k) → F(t,k+1)) grouped by their origin vertex (counting sort: linear).
+  std::vector<int> start(nv + 1, 0);
   for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) {
-      int a = F(t, k), b = F(t, (k + 1) % 3);
-      if (a > b) std::swap(a, b);
-      he[3 * t + k] = {(static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b),
-                       3 * t + k};
-    }
-  std::sort(he.begin(), he.end());
+    for (int k = 0; k < 3; ++k) ++start[F(t, k) + 1];
+  for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<int> from(static_cast<std::size_t>(nt) * 3), to(from.size());
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int t = 0; t < nt; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int q = fill[F(t, k)]++;
+        from[q] = 3 * t + k;
+        to[q] = F(t, (k + 1) % 3);
+      }
+  }
   Adjacency adj;
   adj.nbr.assign(nt, {-1, -1, -1});
   adj.nbr_edge.assign(nt, {-1, -1, -1});
   std::vector<int> out(nv, -1);  // boundary half-edge leaving each vertex
-  for (std::size_t i = 0; i < he.size();) {
-    std::size_t j = i;
-    while (j < he.size() && he[j].first == he[i].first) ++j;
-    if (j - i > 2) throw Error("surface", "non-manifold edge (more than two triangles)");
-    if (j - i == 2) {
-      const int h0 = he[i].second, h1 = he[i + 1].second;
-      const int t0 = h0 / 3, k0 = h0 % 3, t1 = h1 / 3, k1 = h1 % 3;
-      if (F(t0, k0) == F(t1, k1))
-        throw Error("surface", "inconsistently oriented triangles (flip some faces)");
-      adj.nbr[t0][k0] = t1;
-      adj.nbr_edge[t0][k0] = k1;
-      adj.nbr[t1][k1] = t0;
-      adj.nbr_edge[t1][k1] = k0;
-    } else {
-      const int h = he[i].second;
-      const int a = F(h / 3, h % 3);
-      if (out[a] >= 0)
-        throw Error("surface", "non-manifold boundary vertex (two boundaries touch)");
-      out[a] = h;
+  for (int t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(t, k), b = F(t, (k + 1) % 3);
+      int same = 0, twin = -1, twins = 0;
+      for (int q = start[a]; q < start[a + 1]; ++q) same += to[q] == b;
+      for (int q = start[b]; q < start[b + 1]; ++q)
+        if (to[q] == a) {
+          twin = from[q];
+          ++twins;
+        }
+      if (same + twins > 2) throw Error("surface", "non-manifold edge (more than two triangles)");
+      if (same > 1) throw Error("surface", "inconsistently oriented triangles (flip some faces)");
+      if (twin >= 0) {
+        adj.nbr[t][k] = twin / 3;
+        adj.nbr_edge[t][k] = twin % 3;
+      } else {
+        if (out[a] >= 0)
+          throw Error("surface", "non-manifold boundary vertex (two boundaries touch)");
+        out[a] = 3 * t + k;
+      }
     }
-    i = j;
-  }
   std::vector<char> used(nv, 0);
   for (int v = 0; v < nv; ++v) {
     if (out[v] < 0 || used[v]) continue;
@@ -116,6 +122,31 @@ class SeedGrid {
     items_.resize(pts.size());
     std::vector<int> fill(start_.begin(), start_.end() - 1);
     for (std::size_t i = 0; i < pts.size(); ++i) items_[fill[key[i]]++] = static_cast<int>(i);
+  }
+
+  /// Index of the seed nearest to p (ties: lowest index), knowing a seed `hint`: only the cells
+  /// meeting the box of half-width |p − hint| around p can hold a nearer (or tied) seed.
+  int nearest(const Vec3& p, int hint) const {
+    double bd = (pts_[hint] - p).squaredNorm();
+    int best = hint;
+    const double r = std::sqrt(bd);
+    int c0[3], c1[3];
+    coords(p - Vec3::Constant(r), c0);
+    coords(p + Vec3::Constant(r), c1);
+    for (int k = c0[2]; k <= c1[2]; ++k)
+      for (int j = c0[1]; j <= c1[1]; ++j)
+        for (int i = c0[0]; i <= c1[0]; ++i) {
+          const int cc = (k * n_[1] + j) * n_[0] + i;
+          for (int s = start_[cc]; s < start_[cc + 1]; ++s) {
+            const int q = items_[s];
+            const double d = (pts_[q] - p).squaredNorm();
+            if (d < bd || (d == bd && q < best)) {
+              bd = d;
+              best = q;
+            }
+          }
+        }
+    return best;
   }
 
   /// Index of the seed nearest to p (ties: lowest index).
@@ -195,27 +226,19 @@ void clip(Poly& P, const Vec3& si, const Vec3& sj) {
     P.n = 0;
     return;
   }
-  Poly Q;
+  Vec3 q[32];
+  int m = 0;
   for (int k = 0; k < P.n; ++k) {
     const int l = (k + 1) % P.n;
     const bool in_k = d[k] <= 0, in_l = d[l] <= 0;
-    if (in_k && Q.n < 31) Q.p[Q.n++] = P.p[k];
-    if (in_k != in_l && Q.n < 31) {
+    if (in_k && m < 31) q[m++] = P.p[k];
+    if (in_k != in_l && m < 31) {
       const double t = d[k] / (d[k] - d[l]);
-      Q.p[Q.n++] = P.p[k] + t * (P.p[l] - P.p[k]);
+      q[m++] = P.p[k] + t * (P.p[l] - P.p[k]);
     }
   }
-  P = Q;
-}
-
-void poly_moments(const Poly& P, double& area, Vec3& moment) {
-  area = 0;
-  moment.setZero();
-  for (int k = 1; k + 1 < P.n; ++k) {
-    const double a = 0.5 * (P.p[k] - P.p[0]).cross(P.p[k + 1] - P.p[0]).norm();
-    area += a;
-    moment += a * (P.p[0] + P.p[k] + P.p[k + 1]) / 3.0;
-  }
+  P.n = m;
+  std::copy(q, q + m, P.p);
 }
 
 /// Closest point to p on triangle (a, b, c); returns barycentrics (Ericson, RTCD 5.1.5).
@@ -288,14 +311,24 @@ struct Engine {
     return p;
   }
 
-  void compute_labels() {
+  /// Labels every support vertex from `first` on with its nearest seed (exact, uniform grid).
+  /// Vertices below `labelled` keep their label as a hint (seeds move little between two
+  /// diagrams, so the search box around the old seed is small); the result does not depend on it.
+  void compute_labels(int first = 0, int labelled = 0) {
     const std::vector<Vec3> pts = seed_positions();
     SeedGrid grid(pts, lo, hi, R);
     const int nv = S.deformed.num_vertices();
-    label.assign(nv, 0);
-    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 4096), [&](const tbb::blocked_range<int>& r) {
-      for (int v = r.begin(); v < r.end(); ++v) label[v] = grid.nearest(S.deformed.vertex(v));
-    });
+    const int ns = static_cast<int>(seeds.size());
+    labelled = std::min(labelled, static_cast<int>(label.size()));
+    label.resize(nv, 0);
+    tbb::parallel_for(
+        tbb::blocked_range<int>(first, nv, 4096), [&](const tbb::blocked_range<int>& r) {
+          for (int v = r.begin(); v < r.end(); ++v) {
+            const Vec3 p = S.deformed.vertex(v);
+            label[v] = v < labelled && label[v] >= 0 && label[v] < ns ? grid.nearest(p, label[v])
+                                                                      : grid.nearest(p);
+          }
+        });
   }
 
   /// After a refinement with per-new-triangle `source`: moves every seed's (triangle,
@@ -331,98 +364,229 @@ struct Engine {
     }
   }
 
+  // Restricted Voronoi diagram integrals (filled by integrate()).
+  std::vector<double> area;                ///< per seed: area of its region on M'
+  std::vector<Vec3> moment;                ///< per seed: first moment ∫ x dA of its region
+  double energy = 0;                       ///< CVT energy Σ_i ∫_{V_i} |x − s_i|² dA
+  std::vector<int> cell_start, cell_tris;  ///< per seed: the triangles its region meets
+
+  struct Piece {
+    int cell, tri;
+    double area, energy;
+    Vec3 moment;
+  };
+  std::vector<std::vector<Piece>> chunk_pieces;  ///< per block of triangles, reused
+
+  /// Integrates the restricted Voronoi diagram of the current seeds (labels must be current):
+  /// a triangle whose three corners share a label goes whole to that seed; any other triangle is
+  /// clipped by the bisector planes of the seeds labelling its corners and its neighbours'
+  /// opposite corners. Blocks of triangles are clipped in parallel and summed in triangle order,
+  /// so the result does not depend on the thread count.
+  void integrate() {
+    constexpr int kBlock = 2048;
+    const int ns = static_cast<int>(seeds.size());
+    const int nt = S.deformed.num_faces();
+    const int nb = (nt + kBlock - 1) / kBlock;
+    chunk_pieces.resize(nb);
+    const auto& F = S.deformed.F;
+    auto tri_energy = [](const Vec3& a, const Vec3& b, const Vec3& c, double ar) {
+      return ar / 6.0 *
+             (a.squaredNorm() + b.squaredNorm() + c.squaredNorm() + a.dot(b) + b.dot(c) + c.dot(a));
+    };
+    tbb::parallel_for(tbb::blocked_range<int>(0, nb, 1), [&](const tbb::blocked_range<int>& r) {
+      for (int blk = r.begin(); blk < r.end(); ++blk) {
+        auto& out = chunk_pieces[blk];
+        out.clear();
+        const int t1 = std::min(nt, (blk + 1) * kBlock);
+        int cand[12];
+        for (int t = blk * kBlock; t < t1; ++t) {
+          const int a = F(t, 0), b = F(t, 1), c = F(t, 2);
+          const int la = label[a], lb = label[b], lc = label[c];
+          const Vec3 pa = S.deformed.vertex(a), pb = S.deformed.vertex(b),
+                     pc = S.deformed.vertex(c);
+          if (la == lb && lb == lc) {
+            const double ar = 0.5 * (pb - pa).cross(pc - pa).norm();
+            const Vec3& s = seeds[la].pos;
+            out.push_back(
+                {la, t, ar, tri_energy(pa - s, pb - s, pc - s, ar), ar * (pa + pb + pc) / 3.0});
+            continue;
+          }
+          int nc = 0;
+          auto add = [&](int l) {
+            for (int q = 0; q < nc; ++q)
+              if (cand[q] == l) return;
+            cand[nc++] = l;
+          };
+          add(la);
+          add(lb);
+          add(lc);
+          for (int k = 0; k < 3; ++k) {
+            const int u = adj.nbr[t][k];
+            if (u < 0) continue;
+            add(label[F(u, (adj.nbr_edge[t][k] + 2) % 3)]);
+          }
+          for (int q = 0; q < nc; ++q) {
+            const int i = cand[q];
+            Poly P;
+            P.n = 3;
+            P.p[0] = pa;
+            P.p[1] = pb;
+            P.p[2] = pc;
+            for (int r2 = 0; r2 < nc && P.n > 0; ++r2)
+              if (r2 != q) clip(P, seeds[i].pos, seeds[cand[r2]].pos);
+            if (P.n < 3) continue;
+            const Vec3& s = seeds[i].pos;
+            double ar = 0, en = 0;
+            Vec3 mo = Vec3::Zero();
+            for (int k = 1; k + 1 < P.n; ++k) {
+              const double x = 0.5 * (P.p[k] - P.p[0]).cross(P.p[k + 1] - P.p[0]).norm();
+              ar += x;
+              mo += x * (P.p[0] + P.p[k] + P.p[k + 1]) / 3.0;
+              en += tri_energy(P.p[0] - s, P.p[k] - s, P.p[k + 1] - s, x);
+            }
+            if (ar <= 0) continue;
+            out.push_back({i, t, ar, en, mo});
+          }
+        }
+      }
+    });
+    area.assign(ns, 0.0);
+    moment.assign(ns, Vec3::Zero());
+    energy = 0;
+    cell_start.assign(ns + 1, 0);
+    for (const auto& blk : chunk_pieces)
+      for (const Piece& p : blk) {
+        area[p.cell] += p.area;
+        moment[p.cell] += p.moment;
+        energy += p.energy;
+        ++cell_start[p.cell + 1];
+      }
+    for (int i = 0; i < ns; ++i) cell_start[i + 1] += cell_start[i];
+    cell_tris.resize(cell_start[ns]);
+    std::vector<int> fill(cell_start.begin(), cell_start.end() - 1);
+    for (const auto& blk : chunk_pieces)
+      for (const Piece& p : blk) cell_tris[fill[p.cell]++] = p.tri;
+  }
+
+  /// Moves interior seed i to the closest point to `c` on the triangles its region meets
+  /// (integrate() must be current). Returns the squared distance moved.
+  double place_on_region(int i, const Vec3& c) {
+    const auto& F = S.deformed.F;
+    double best = std::numeric_limits<double>::infinity();
+    int bt = seeds[i].tri;
+    Vec3 bb = seeds[i].bary;
+    for (int s = cell_start[i]; s < cell_start[i + 1]; ++s) {
+      const int t = cell_tris[s];
+      const Vec3 w = closest_bary(c, S.deformed.vertex(F(t, 0)), S.deformed.vertex(F(t, 1)),
+                                  S.deformed.vertex(F(t, 2)));
+      const double d = (point(t, w) - c).squaredNorm();
+      if (d < best) {
+        best = d;
+        bt = t;
+        bb = w;
+      }
+    }
+    seeds[i].tri = bt;
+    seeds[i].bary = bb;
+    const Vec3 p = point(bt, bb);
+    const double moved = (p - seeds[i].pos).squaredNorm();
+    seeds[i].pos = p;
+    return moved;
+  }
+
   /// One Lloyd step (labels must be current), the move over-relaxed by `omega`. Returns the
   /// root-mean-square move of the interior seeds divided by omega.
   double lloyd_step(double omega = 1.0) {
-    const int ns = static_cast<int>(seeds.size());
-    const int nt = S.deformed.num_faces();
-    std::vector<double> area(ns, 0.0);
-    std::vector<Vec3> moment(ns, Vec3::Zero());
-    std::vector<std::pair<int, int>> cell_tri;
-    cell_tri.reserve(static_cast<std::size_t>(nt) + nt / 4);
-    const auto& F = S.deformed.F;
-    int cand[12];
-    for (int t = 0; t < nt; ++t) {
-      const int a = F(t, 0), b = F(t, 1), c = F(t, 2);
-      const int la = label[a], lb = label[b], lc = label[c];
-      const Vec3 pa = S.deformed.vertex(a), pb = S.deformed.vertex(b), pc = S.deformed.vertex(c);
-      if (la == lb && lb == lc) {
-        const double ar = 0.5 * (pb - pa).cross(pc - pa).norm();
-        area[la] += ar;
-        moment[la] += ar * (pa + pb + pc) / 3.0;
-        cell_tri.emplace_back(la, t);
-        continue;
-      }
-      int nc = 0;
-      auto add = [&](int l) {
-        for (int q = 0; q < nc; ++q)
-          if (cand[q] == l) return;
-        cand[nc++] = l;
-      };
-      add(la);
-      add(lb);
-      add(lc);
-      for (int k = 0; k < 3; ++k) {
-        const int u = adj.nbr[t][k];
-        if (u < 0) continue;
-        add(label[F(u, (adj.nbr_edge[t][k] + 2) % 3)]);
-      }
-      for (int q = 0; q < nc; ++q) {
-        const int i = cand[q];
-        Poly P;
-        P.n = 3;
-        P.p[0] = pa;
-        P.p[1] = pb;
-        P.p[2] = pc;
-        for (int r = 0; r < nc && P.n > 0; ++r)
-          if (r != q) clip(P, seeds[i].pos, seeds[cand[r]].pos);
-        if (P.n < 3) continue;
-        double ar;
-        Vec3 mo;
-        poly_moments(P, ar, mo);
-        if (ar <= 0) continue;
-        area[i] += ar;
-        moment[i] += mo;
-        cell_tri.emplace_back(i, t);
-      }
-    }
-    // Group the triangles by cell (counting sort keeps the triangle order: deterministic).
-    std::vector<int> start(ns + 1, 0);
-    for (const auto& [i, t] : cell_tri) ++start[i + 1];
-    for (int i = 0; i < ns; ++i) start[i + 1] += start[i];
-    std::vector<int> tris(cell_tri.size());
-    {
-      std::vector<int> fill(start.begin(), start.end() - 1);
-      for (const auto& [i, t] : cell_tri) tris[fill[i]++] = t;
-    }
+    integrate();
     double sum_move2 = 0;
     int moved = 0;
-    for (int i = 0; i < ns; ++i) {
+    for (std::size_t i = 0; i < seeds.size(); ++i) {
       if (seeds[i].kind != kInterior || area[i] <= 0) continue;
       const Vec3 g = moment[i] / area[i];
-      const Vec3 c = seeds[i].pos + omega * (g - seeds[i].pos);
-      double best = std::numeric_limits<double>::infinity();
-      int bt = seeds[i].tri;
-      Vec3 bb = seeds[i].bary;
-      for (int s = start[i]; s < start[i + 1]; ++s) {
-        const int t = tris[s];
-        const Vec3 w = closest_bary(c, S.deformed.vertex(F(t, 0)), S.deformed.vertex(F(t, 1)),
-                                    S.deformed.vertex(F(t, 2)));
-        const double d = (point(t, w) - c).squaredNorm();
-        if (d < best) {
-          best = d;
-          bt = t;
-          bb = w;
-        }
-      }
-      seeds[i].tri = bt;
-      seeds[i].bary = bb;
-      const Vec3 p = point(bt, bb);
-      sum_move2 += (p - seeds[i].pos).squaredNorm() / (omega * omega);
+      sum_move2 += place_on_region(static_cast<int>(i), seeds[i].pos + omega * (g - seeds[i].pos)) /
+                   (omega * omega);
       ++moved;
-      seeds[i].pos = p;
     }
     return moved ? std::sqrt(sum_move2 / moved) : 0.0;
+  }
+
+  /// Minimises the CVT energy of the interior seeds by L-BFGS (Liu et al. 2009), the seeds kept
+  /// on the surface: E = Σ_i ∫_{V_i} |x − s_i|² dA, ∂E/∂s_i = 2 m_i (s_i − c_i). Every point the
+  /// solver asks for is first put back on the surface (each seed to the closest point of the
+  /// triangles its region met at the previous evaluation, written back into the iterate), and the
+  /// gradient is projected on the tangent plane there. Stops when the RMS tangential Lloyd move
+  /// |P_T(c_i − s_i)| is below `tol` (m) — the measure of the Lloyd iteration, whose move is
+  /// projected on the surface too — after `max_evals` diagrams, or when the line search can make
+  /// no progress; the seeds are left at the evaluated point of lowest energy (labels and
+  /// integrals are then not current). Returns the number of diagrams computed.
+  int minimize_energy(double tol, int max_evals, int history, bool* converged = nullptr) {
+    std::vector<int> free;
+    for (std::size_t i = 0; i < seeds.size(); ++i)
+      if (seeds[i].kind == kInterior) free.push_back(static_cast<int>(i));
+    const int n = static_cast<int>(free.size());
+    if (n == 0 || max_evals <= 0) return 0;
+    // Scaled variables (positions / R about the box centre, energy / R⁴) keep the numbers O(1).
+    const Vec3 o = 0.5 * (lo + hi);
+    const double R3 = R * R * R, R4 = R3 * R;
+    const auto& F = S.deformed.F;
+    Eigen::VectorXd x(3 * n);
+    for (int k = 0; k < n; ++k) x.segment<3>(3 * k) = (seeds[free[k]].pos - o) / R;
+    std::vector<Seed> best_seeds;
+    double best_f = std::numeric_limits<double>::infinity();
+    int evals = 0;
+    struct Stop {};
+    auto f = [&](Eigen::VectorXd& y, Eigen::VectorXd& grad) -> double {
+      if (evals > 0)
+        for (int k = 0; k < n; ++k) {
+          const int i = free[k];
+          const Vec3 p = o + R * y.segment<3>(3 * k);
+          if (cell_start[i + 1] > cell_start[i]) place_on_region(i, p);
+          y.segment<3>(3 * k) = (seeds[i].pos - o) / R;
+        }
+      compute_labels(0, evals > 0 ? static_cast<int>(label.size()) : 0);
+      integrate();
+      ++evals;
+      grad.resize(3 * n);
+      double sum = 0;
+      for (int k = 0; k < n; ++k) {
+        const int i = free[k];
+        const int t = seeds[i].tri;
+        const Vec3 a = S.deformed.vertex(F(t, 0));
+        const Vec3 nrm =
+            (S.deformed.vertex(F(t, 1)) - a).cross(S.deformed.vertex(F(t, 2)) - a).normalized();
+        Vec3 g = area[i] * seeds[i].pos - moment[i];
+        if (nrm.allFinite()) g -= g.dot(nrm) * nrm;
+        grad.segment<3>(3 * k) = 2.0 * g / R3;
+        if (area[i] > 0) sum += g.squaredNorm() / (area[i] * area[i]);
+      }
+      const double fx = energy / R4;
+      const double move = std::sqrt(sum / n);
+      if (fx < best_f || move < tol) {
+        best_f = move < tol ? -std::numeric_limits<double>::infinity() : fx;
+        best_seeds = seeds;
+        if (move < tol && converged) *converged = true;
+      }
+      spdlog::debug("cvt energy {} {:.9e} rms move/R {:.3e}", evals, fx, move / R);
+      if (move < tol || evals >= max_evals) throw Stop{};
+      return fx;
+    };
+    LBFGSpp::LBFGSParam<double> param;
+    param.m = history;
+    param.epsilon = 0;
+    param.epsilon_rel = 0;
+    param.max_iterations = 0;
+    param.max_linesearch = 20;
+    param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
+    LBFGSpp::LBFGSSolver<double> solver(param);
+    double fx = 0;
+    try {
+      solver.minimize(f, x, fx);
+    } catch (const Stop&) {
+    } catch (const std::exception& e) {
+      spdlog::debug("cvt energy: L-BFGS stopped ({})", e.what());
+    }
+    if (!best_seeds.empty()) seeds = std::move(best_seeds);
+    return evals;
   }
 };
 
@@ -928,34 +1092,47 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   const auto t_lloyd = std::chrono::steady_clock::now();
   const double tol = o.tolerance * R;
   int it = 0;
-  if (two_level) {
-    // Coarse level: the same exact clipping on a coarser support mesh, to a looser tolerance.
+  // Level 1: the CVT on the (coarse) support mesh. The diagram is clipped exactly on the planar
+  // triangles, so a coarse support mesh gives the same cells wherever every cell meeting a triangle
+  // labels one of its corners or its neighbours' opposite corners.
+  const double level1_tol = two_level ? o.coarse_tolerance * R : tol;
+  if (o.quasi_newton) {
+    it += E.minimize_energy(level1_tol, o.max_iterations, o.lbfgs_history, &T.converged);
+    spdlog::debug("cvt: {} diagrams", it);
+  } else {
     for (; it < o.max_iterations; ++it) {
-      E.compute_labels();
+      E.compute_labels(0, static_cast<int>(E.label.size()));
       const double move = E.lloyd_step(o.over_relaxation);
-      spdlog::debug("coarse lloyd {} move/R {:.3e}", it, move / R);
-      if (move < o.coarse_tolerance * R) break;
+      spdlog::debug("lloyd {} move/R {:.3e}", it, move / R);
+      if (move < level1_tol) {
+        T.converged = true;
+        ++it;
+        break;
+      }
     }
+  }
+  // Level 2: a finer support mesh and a few (over-relaxed) Lloyd steps to `tolerance`.
+  if (two_level && o.fine_iterations > 0) {
+    T.converged = false;
     std::vector<int> source;
     const int old_faces = E.S.deformed.num_faces();
     refine_to_length(E.S, o.support_edge * R, &source);
     E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
     E.corner_vertex.resize(E.S.deformed.num_vertices(), 0);
     E.relocate_seeds(source, old_faces);
-  }
-  T.support_vertices = E.S.deformed.num_vertices();
-  const int fine_end =
-      two_level ? std::min(o.max_iterations, it + o.fine_iterations) : o.max_iterations;
-  for (; it < fine_end; ++it) {
-    E.compute_labels();
-    const double move = E.lloyd_step(o.over_relaxation);
-    spdlog::debug("lloyd {} rms move/R {:.3e}", it, move / R);
-    if (move < tol) {
-      T.converged = true;
-      ++it;
-      break;
+    const int fine_end = std::min(o.max_iterations, it + o.fine_iterations);
+    for (; it < fine_end; ++it) {
+      E.compute_labels(0, static_cast<int>(E.label.size()));
+      const double move = E.lloyd_step(o.over_relaxation);
+      spdlog::debug("fine lloyd {} rms move/R {:.3e}", it, move / R);
+      if (move < tol) {
+        T.converged = true;
+        ++it;
+        break;
+      }
     }
   }
+  T.support_vertices = E.S.deformed.num_vertices();
   T.iterations = it;
   T.seconds_lloyd =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_lloyd).count();
@@ -965,17 +1142,37 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   for (std::size_t i = 0; i < E.seeds.size(); ++i)
     seed_rest[i] = E.rest_point(E.seeds[i].tri, E.seeds[i].bary);
   // Extraction: refine across borders, then extract; repair by refining around bad cells.
-  E.compute_labels();
+  E.compute_labels(0, static_cast<int>(E.label.size()));
+  if (o.extraction_base > 0) {
+    // A cell corner can poke between the corners of a coarse triangle without labelling any of
+    // them; the border refinement below would not see it. Sample the whole surface at
+    // extraction_base·R first (as the old single-level engine did at 0.2 R).
+    const int nv0 = E.S.deformed.num_vertices();
+    refine_to_length(E.S, o.extraction_base * R);
+    E.corner_vertex.resize(E.S.deformed.num_vertices(), 0);
+    E.compute_labels(nv0);
+  }
   const double he = o.extraction_edge * R;
-  for (int pass = 0; pass < o.extraction_passes; ++pass) {
+  // Passes to bring the longest border edge down to `extraction_edge`, and a few more.
+  double longest = 0;
+  for (int t = 0; t < E.S.deformed.num_faces(); ++t)
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, (E.S.deformed.vertex(E.S.deformed.F(t, k)) -
+                                   E.S.deformed.vertex(E.S.deformed.F(t, (k + 1) % 3)))
+                                      .squaredNorm());
+  const int passes =
+      std::max(o.extraction_passes,
+               static_cast<int>(std::ceil(std::log2(std::max(1.0, std::sqrt(longest) / he)))) + 1);
+  for (int pass = 0; pass < passes; ++pass) {
     const double h2 = he * he;
+    const int nv0 = E.S.deformed.num_vertices();
     const int n = refine_support_mesh(E.S, [&](int a, int b) {
       return E.label[a] != E.label[b] &&
              (E.S.deformed.vertex(a) - E.S.deformed.vertex(b)).squaredNorm() > h2;
     });
     E.corner_vertex.resize(E.S.deformed.num_vertices(), 0);
     if (n == 0) break;
-    E.compute_labels();
+    E.compute_labels(nv0);  // the seeds did not move: only the new vertices need labels
   }
   spdlog::debug(
       "extraction refinement: {} support vertices, {:.2f} s", E.S.deformed.num_vertices(),
@@ -1103,13 +1300,14 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
       if (l >= 0 && l < static_cast<int>(bad.size())) bad[l] = 1;
     for (int pass = 0; pass < 3; ++pass) {
       const double h2 = hr * hr;
+      const int nv0 = E.S.deformed.num_vertices();
       const int n = refine_support_mesh(E.S, [&](int a, int b) {
         return (bad[E.label[a]] || bad[E.label[b]]) && (E.label[a] != E.label[b] || pass == 0) &&
                (E.S.deformed.vertex(a) - E.S.deformed.vertex(b)).squaredNorm() > h2;
       });
       E.corner_vertex.resize(E.S.deformed.num_vertices(), 0);
       if (n == 0) break;
-      E.compute_labels();
+      E.compute_labels(nv0);
     }
   }
 }

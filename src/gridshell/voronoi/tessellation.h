@@ -10,20 +10,23 @@
 ///  2. seeds: sharp boundary corners (fixed), evenly spaced seeds along every boundary loop
 ///     between corners (the fixed point of 1-D Lloyd along the loop, in M' arc length), 2-D
 ///     Poisson-disk sampling of the interior constrained by those (seeded `Rng`);
-///  3. Lloyd relaxation to convergence: the restricted Voronoi diagram (Euclidean in M') is
-///     computed exactly on the support mesh (every vertex labelled with its nearest seed, every
-///     triangle with several labels clipped by the bisector planes of the seeds around it), and
-///     each interior seed moves to the area-weighted centroid of its region, projected back onto
-///     the region's triangles (seeds stay surface points: triangle + barycentrics, no snapping);
-///  4. extraction: support edges crossing cell borders are refined further, Voronoi vertices are
-///     placed at the exact equidistant points in 3-label triangles and on boundary edges, plus
-///     boundary corners; borders are traced into polygon edges; every region is checked to be a
-///     disk bounded by one cycle and the output to be a manifold with the input's Euler
-///     characteristic and boundary loops (repaired by local refinement, else Error);
+///  3. CVT optimisation: the restricted Voronoi diagram (Euclidean in M') is computed exactly
+///     on the support mesh (every vertex labelled with its nearest seed, every triangle with
+///     several labels clipped by the bisector planes of the seeds around it), giving the CVT
+///     energy and its gradient 2 m_i (s_i − c_i); L-BFGS (LBFGS++) minimises it with the seeds
+///     kept on the surface (projected onto their region's triangles, gradient in the tangent
+///     plane; seeds are surface points: triangle + barycentrics, no snapping) until the RMS
+///     Lloyd move is below `tolerance`·R (plain over-relaxed Lloyd with `quasi_newton` = false);
+///  4. extraction: the support mesh is refined to `extraction_base`·R, the edges crossing cell
+///     borders further; Voronoi vertices are placed at the exact equidistant points in 3-label
+///     triangles and on boundary edges, plus boundary corners; borders are traced into polygon
+///     edges; every region is checked to be a disk bounded by one cycle and the output to be a
+///     manifold with the input's Euler characteristic and boundary loops (repaired by local
+///     refinement, else Error);
 ///  5. output positions mapped back onto M through (triangle, barycentrics).
 ///
-/// Cost: O(support triangles) per Lloyd iteration (≈ 25 R⁻² · area triangles), a few hundred
-/// iterations at most; see docs/voronoi.md for measured times.
+/// Cost: O(support triangles) per diagram (≈ 6 R⁻² · area triangles at support_edge 0.6), about
+/// 50–170 diagrams; see docs/voronoi.md for measured times.
 
 #include <cstdint>
 #include <map>
@@ -42,16 +45,29 @@ struct TessellationOptions {
   double length = 0;  ///< total edge length on M wanted (m), held within `length_tolerance`
   double length_tolerance = 0.05;
   int default_cells = 300;
-  std::uint64_t seed = 1;     ///< seeds the Poisson sampling
-  int max_iterations = 300;   ///< Lloyd iterations at most
-  double tolerance = 2e-3;    ///< stop when the seeds' RMS move is below tolerance·R
-  double support_edge = 0.2;  ///< support-mesh edges ≤ support_edge·R on M'
-  /// First Lloyd level on a coarser support mesh (edges ≤ coarse_edge·R) until seeds move less
-  /// than coarse_tolerance·R; then the fine level. coarse_edge ≤ support_edge: one level.
-  double coarse_edge = 0.3;
-  double coarse_tolerance = 5e-4;
-  int fine_iterations = 30;       ///< at most this many iterations on the fine level
-  double over_relaxation = 1.7;   ///< Lloyd step factor ω (1 = plain Lloyd, < 2)
+  std::uint64_t seed = 1;    ///< seeds the Poisson sampling
+  int max_iterations = 300;  ///< CVT diagrams (L-BFGS evaluations or Lloyd steps) at most
+  /// Stop when the seeds' RMS distance to their region's centroid (the Lloyd move) is below
+  /// tolerance·R.
+  double tolerance = 5e-4;
+  /// Support-mesh edges ≤ support_edge·R on M' while the CVT is optimised. The diagram is clipped
+  /// exactly on the planar triangles, so this only needs to be fine enough for every cell meeting
+  /// a triangle to label one of its corners or its neighbours' opposite corners; the borders are
+  /// refined to extraction_edge·R before extraction.
+  double support_edge = 0.6;
+  /// Optional first level on a coarser support mesh (edges ≤ coarse_edge·R) until seeds move
+  /// less than coarse_tolerance·R, then ≤ fine_iterations Lloyd steps on the support_edge mesh.
+  /// coarse_edge ≤ support_edge: one level (the default).
+  double coarse_edge = 0;
+  double coarse_tolerance = 1e-3;
+  int fine_iterations = 30;      ///< at most this many iterations on the fine level
+  double over_relaxation = 1.7;  ///< Lloyd step factor ω (1 = plain Lloyd, < 2)
+  /// Optimise by L-BFGS on the CVT energy (Liu et al. 2009) instead of Lloyd steps.
+  bool quasi_newton = true;
+  int lbfgs_history = 7;  ///< L-BFGS correction pairs kept
+  /// Before extraction the whole support mesh is refined to edges ≤ extraction_base·R (0 = not),
+  /// then the edges crossing cell borders to ≤ extraction_edge·R.
+  double extraction_base = 0.3;
   double extraction_edge = 0.05;  ///< border-crossing edges refined to ≤ this·R before extraction
   int extraction_passes = 3;      ///< refinement passes at most for that
   double corner_angle_deg = 30;   ///< boundary turning angle above which a vertex is a corner
@@ -93,8 +109,8 @@ struct Tessellation {
   std::vector<Vec3> vertex_bary;     ///< per output vertex: barycentrics in that triangle
   std::vector<Vec3> seeds;           ///< per face: its seed, on M
   double radius = 0;                 ///< R used (m, on M')
-  int iterations = 0;                ///< Lloyd iterations of the final run
-  bool converged = false;            ///< Lloyd met `tolerance` before `max_iterations`
+  int iterations = 0;                ///< CVT diagrams computed (final run): L-BFGS or Lloyd steps
+  bool converged = false;            ///< the CVT met `tolerance` before `max_iterations`
   int support_vertices = 0;          ///< support-mesh size used for Lloyd
   int length_runs = 1;               ///< tessellations computed to meet `length`
   int repairs = 0;                   ///< extraction repairs (local refinements) needed
