@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -61,7 +62,14 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
     G.sorted = 1;
     G.packed = 1;
     std::vector<int> node_perm(nn), perm(6 * static_cast<std::size_t>(nn));
+    // METIS keeps its random-number state in a global (GKlib): concurrent calls from a parallel
+    // sweep interleave it and give run-to-run different orderings (the same solution to rounding,
+    // but different bits; ShellSolver.ConcurrentSolvesAreIdenticalToASerialOne). One METIS call
+    // at a time; the fallback cholmod_analyze may call METIS too.
+    static std::mutex metis_mutex;
+    std::unique_lock<std::mutex> lock(metis_mutex);
     if (nn > 1 && cholmod_metis(&G, nullptr, 0, 0, node_perm.data(), &c)) {
+      lock.unlock();
       for (int q = 0; q < nn; ++q)
         for (int k = 0; k < 6; ++k) perm[6 * q + k] = 6 * node_perm[q] + k;
       c.nmethods = 1;
