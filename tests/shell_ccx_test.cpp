@@ -157,8 +157,8 @@ TEST(ShellCcx, CurvedVaultAgainstCalculixS6) {
   }
   const double rel = std::sqrt(num / den);
   std::printf(
-      "curvedVault: %d triangles, %d supports; max |u| ours %.5g ccx %.5g; relative L2 "
-      "difference %.4f\n",
+      "curvedVault: %d triangles, %d supports; max |u| ours %.12g ccx %.5g; relative L2 "
+      "difference %.12g\n",
       m.num_faces(), nsup, umax, umax_ref, rel);
   EXPECT_LT(rel, 0.05);
   EXPECT_NEAR(umax / umax_ref, 1.0, 0.05);
@@ -189,8 +189,8 @@ TEST(ShellCcx, CurvedVaultAgainstCalculixS6) {
   const double mean_angle = asum / wsum;
   const double srel = std::sqrt(snum / sden);
   std::printf(
-      "curvedVault: anisotropy-weighted mean direction difference %.3f deg; membrane "
-      "stress relative L2 difference %.4f\n",
+      "curvedVault: anisotropy-weighted mean direction difference %.12g deg; membrane "
+      "stress relative L2 difference %.12g\n",
       mean_angle, srel);
   EXPECT_LT(mean_angle, 5.0);
   EXPECT_LT(srel, 0.15);  // measured 0.098: constant-stress facets vs. quadratic S6

@@ -7,17 +7,18 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
+#include <thread>
 
 #include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
-#include "gridshell/surfaces/grid.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/shell_element.h"
 #include "gridshell/fem/shell_solver.h"
 #include "gridshell/io/files.h"
 #include "gridshell/io/shell_model_json.h"
+#include "gridshell/surfaces/grid.h"
 #include "test_support.h"
 
 using namespace gridshell;
@@ -159,7 +160,7 @@ TEST(ShellSolver, NavierPlate) {
   const double w_ref = 0.00406235 * q * std::pow(a, 4) / D;
   const double w = -r.displacement(nearest(mesh, Vec3(a / 2, a / 2, 0)), kUz);
   EXPECT_NEAR(w / w_ref, 1.0, 0.01) << "w = " << w << ", reference " << w_ref;
-  std::printf("Navier 12x12: %.6g / %.6g\n", w, w_ref);
+  std::printf("Navier 12x12: %.12g / %.6g\n", w, w_ref);
   // Equilibrium: the reactions carry the load.
   EXPECT_NEAR(r.reaction_force.z(), q * a * a, 1e-6 * q * a * a);
   EXPECT_NEAR(r.applied_force.z(), -q * a * a, 1e-9 * q * a * a);
@@ -171,7 +172,7 @@ TEST(ShellSolver, ScordelisLoRoof) {
   const double w = scordelis_lo(12, &r);
   EXPECT_NEAR(w / 0.3024, 1.0, 0.02) << "w = " << w;
   RecordProperty("w", std::to_string(w));
-  std::printf("Scordelis-Lo 12x12: %.5f\n", w);
+  std::printf("Scordelis-Lo 12x12: %.12g\n", w);
   // Equilibrium of the reactions with the total load 90 · area.
   const double total = 90 * 50 * 25 * (80 * kPi / 180);
   EXPECT_NEAR(-r.applied_force.z() / total, 1.0, 2e-3);  // facet area vs. the true cylinder
@@ -286,10 +287,46 @@ TEST(ShellSolver, PinchedHemisphere) {
   force(D, Vec3(0, 2, 0));
   const ShellResult r = solve_shell(model);
   const double w = 0.5 * (r.displacement(A, kUx) - r.displacement(B, kUx));
-  std::printf("Pinched hemisphere 24x24: %.5f\n", w);
+  std::printf("Pinched hemisphere 24x24: %.12g\n", w);
   EXPECT_NEAR(w / 0.094, 1.0, 0.05) << "w = " << w;
   EXPECT_NEAR(0.5 * (r.displacement(D, kUy) - r.displacement(C, kUy)), w, 0.02 * w);  // symmetry
   EXPECT_LT(r.reaction.norm(), 1e-6);  // self-equilibrated load, determinate restraints
+}
+
+// Concurrent factorisations from several threads (a parallel design sweep) must give the bits
+// of a serial run. This tests the BLAS that libblas.so.3 points to: Debian's serial OpenBLAS
+// 0.3.21 is not thread-safe (built without USE_LOCKING) and fails here with false pivots or wrong
+// digits; reference BLAS and BLIS pass.
+TEST(ShellSolver, ConcurrentSolvesAreIdenticalToASerialOne) {
+  const double R = 10;
+  const int N = 24;  // 4608 facets, 13 824 dofs: supernodes large enough for BLAS level 3
+  TriMesh mesh = weld(hemisphere(R, 18 * kPi / 180, N, 4 * N), 1e-9);
+  ShellModel model = empty_model(mesh, 6.825e7, 0.3, 0.04);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (std::abs(mesh.V(v, 2)) < 1e-9) model.fixed[v] = {true, true, true, false, false, false};
+  ShellLoad q;
+  q.kind = ShellLoad::Kind::kProjected;
+  q.q = Vec3(0, 0, -1e3);
+  model.loads.push_back(q);
+  const Eigen::MatrixXd serial = solve_shell(model).displacement;
+  ASSERT_GT(serial.cwiseAbs().maxCoeff(), 0);
+  constexpr int kThreads = 4, kRepeats = 2;
+  std::vector<std::string> errors(kThreads);
+  std::vector<int> identical(kThreads, 0);
+  std::vector<std::thread> pool;
+  for (int t = 0; t < kThreads; ++t)
+    pool.emplace_back([&, t] {
+      for (int k = 0; k < kRepeats; ++k) try {
+          identical[t] += solve_shell(model).displacement == serial ? 1 : 0;
+        } catch (const std::exception& e) {
+          errors[t] = e.what();
+        }
+    });
+  for (auto& th : pool) th.join();
+  for (int t = 0; t < kThreads; ++t) {
+    EXPECT_EQ(errors[t], "") << "thread " << t;
+    EXPECT_EQ(identical[t], kRepeats) << "thread " << t << ": solutions differ from the serial one";
+  }
 }
 
 TEST(ShellSolver, SphericalCapMembraneState) {
@@ -317,7 +354,7 @@ TEST(ShellSolver, SphericalCapMembraneState) {
     worst =
         std::max({worst, std::abs(r.stress[f].s1 / ref - 1), std::abs(r.stress[f].s2 / ref - 1)});
   }
-  std::printf("Spherical cap: %d facets, worst relative error %.4f\n", count, worst);
+  std::printf("Spherical cap: %d facets, worst relative error %.12g\n", count, worst);
   EXPECT_GT(count, 50);
   EXPECT_LT(worst, 0.01);
   // Equilibrium: vertical reactions = p × plan area of the cap.

@@ -2,9 +2,14 @@
 
 #include "gridshell/fem/shell_solver.h"
 
+#include <dlfcn.h>
+
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
+#include <ctime>
+#include <mutex>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -42,7 +47,8 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
   /// Symbolic analysis with METIS nested dissection of the node graph (6× smaller than the dof
   /// graph), each node's 6 dofs kept together. `graph` is the upper pattern of the node graph
   /// (with diagonal) in CSC; K the upper triangle of the stiffness (CSC, 6 dofs per node).
-  void analyze_by_nodes(cholmod_sparse* K, std::vector<int>& gp, std::vector<int>& gi) {
+  /// Returns whether the METIS node ordering was used (else CHOLMOD's default ordering).
+  bool analyze_by_nodes(cholmod_sparse* K, std::vector<int>& gp, std::vector<int>& gi) {
     cholmod_common& c = this->cholmod();
     if (this->m_cholmodFactor) {
       cholmod_free_factor(&this->m_cholmodFactor, &c);
@@ -61,12 +67,21 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
     G.sorted = 1;
     G.packed = 1;
     std::vector<int> node_perm(nn), perm(6 * static_cast<std::size_t>(nn));
+    // METIS keeps its random-number state in a global (GKlib): concurrent calls from a parallel
+    // sweep interleave it and give run-to-run different orderings (the same solution to rounding,
+    // but different bits; ShellSolver.ConcurrentSolvesAreIdenticalToASerialOne). One METIS call
+    // at a time; the fallback cholmod_analyze may call METIS too.
+    bool by_nodes = false;
+    static std::mutex metis_mutex;
+    std::unique_lock<std::mutex> lock(metis_mutex);
     if (nn > 1 && cholmod_metis(&G, nullptr, 0, 0, node_perm.data(), &c)) {
+      lock.unlock();
       for (int q = 0; q < nn; ++q)
         for (int k = 0; k < 6; ++k) perm[6 * q + k] = 6 * node_perm[q] + k;
       c.nmethods = 1;
       c.method[0].ordering = CHOLMOD_GIVEN;
       this->m_cholmodFactor = cholmod_analyze_p(K, perm.data(), nullptr, 0, &c);
+      by_nodes = true;
     } else {
       this->m_cholmodFactor = cholmod_analyze(K, &c);
     }
@@ -74,6 +89,7 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
     this->m_info = this->m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
     this->m_analysisIsOk = this->m_cholmodFactor != nullptr;
     this->m_factorizationIsOk = false;
+    return by_nodes;
   }
   void factorize_raw(cholmod_sparse* K) {
     cholmod_factorize(K, this->m_cholmodFactor, &this->cholmod());
@@ -89,6 +105,39 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
     if (L->Perm == nullptr) return k;
     return static_cast<long>(static_cast<const int*>(L->Perm)[k]);
   }
+};
+
+// CHOLMOD's supernodal factorisation opens OpenMP parallel regions with a compiled-in
+// num_threads(4) (CHOLMOD_OMP_NUM_THREADS) for its scatter loops, one batch per supernode. On
+// this 2-core target, and inside a parallel design sweep, they cost more than they give (50 K
+// triangles: factorisation CPU 2.6 s → 1.4–1.9 s with one thread); they partition by column, so
+// the result does not depend on them. This keeps them at one thread on the calling thread for
+// the scope (libgomp's max-active-levels is per thread), restoring the previous value. The
+// OpenMP runtime is found at run time (it is CHOLMOD's dependency, not ours); without one,
+// nothing is done.
+class SerialOpenMpScope {
+  using Get = int (*)();
+  using Set = void (*)(int);
+
+ public:
+  SerialOpenMpScope()
+      : get_(std::bit_cast<Get>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"))),
+        set_(std::bit_cast<Set>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"))) {
+    if (get_ && set_) {
+      previous_ = get_();
+      set_(0);
+    }
+  }
+  ~SerialOpenMpScope() {
+    if (get_ && set_) set_(previous_);
+  }
+  SerialOpenMpScope(const SerialOpenMpScope&) = delete;
+  SerialOpenMpScope& operator=(const SerialOpenMpScope&) = delete;
+
+ private:
+  Get get_;
+  Set set_;
+  int previous_ = 1;
 };
 
 const char* kDofNames[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
@@ -386,12 +435,17 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
     for (int v = 0; v < n; ++v) gp[v + 1] = gp[v] + static_cast<int>(nbr[v].size());
     gi.reserve(gp[n]);
     for (int v = 0; v < n; ++v) gi.insert(gi.end(), nbr[v].begin(), nbr[v].end());
-    llt.analyze_by_nodes(&K, gp, gi);
+    res.ordering = llt.analyze_by_nodes(&K, gp, gi) ? "metis-nodes" : "cholmod-default";
   }
   if (llt.info() != Eigen::Success) throw Error("model", "sparse analysis failed (out of memory?)");
   res.t_order = seconds_since(t1);
   t1 = Clock::now();
-  llt.factorize_raw(&K);
+  const std::clock_t c1 = std::clock();
+  {
+    SerialOpenMpScope serial_openmp;
+    llt.factorize_raw(&K);
+  }
+  res.cpu_factor = static_cast<double>(std::clock() - c1) / CLOCKS_PER_SEC;
   res.t_factor = seconds_since(t1);
   res.factor_nnz = llt.cholmod().lnz;
   res.factor_flops = llt.cholmod().fl;

@@ -80,6 +80,12 @@ struct ShellResult {
   double factor_nnz = 0;    ///< non-zeros of the Cholesky factor
   double factor_flops = 0;  ///< floating-point operations of the factorisation
   double t_assemble = 0, t_order = 0, t_factor = 0, t_solve = 0, t_stress = 0;  ///< seconds
+  /// Process CPU seconds during the factorisation (the benchmark's figure on a loaded machine;
+  /// includes other threads of the process if any run meanwhile).
+  double cpu_factor = 0;
+  /// Fill-reducing ordering used: "metis-nodes" (METIS nested dissection of the node graph,
+  /// 6 dofs per node kept together) or "cholmod-default" (fallback if METIS failed).
+  std::string ordering;
 };
 
 /// Solves K u = f. Throws Error("model", ...) for: bad indices, degenerate facets, a
