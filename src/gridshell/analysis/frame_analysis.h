@@ -50,6 +50,8 @@ struct FrameResult {
   Eigen::VectorXd reactions;        ///< linear, 6 per model node
   double equilibrium_error = 0;     ///< |Σ reactions + Σ loads| / Σ |loads| (forces)
   std::vector<fem::PathPoint> path;
+  int nonlinear_steps = 0, nonlinear_iterations = 0;  ///< arc-length effort
+  int nonlinear_factorizations = 0;                   ///< tangent factorisations of the path
   /// nonlinear_static results (when asked): per model node.
   std::optional<Points> nonlinear_displacement, nonlinear_rotation;
   std::vector<double> nonlinear_axial_force;

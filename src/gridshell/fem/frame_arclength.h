@@ -30,7 +30,7 @@ struct ArcLengthOptions {
   double max_lambda = 1e9;       ///< stop when λ exceeds this
   double max_displacement = 0;  ///< stop when the largest nodal displacement exceeds this (0 = off)
   int max_steps = 300;
-  int desired_iterations = 6;
+  int desired_iterations = 15;  ///< step control target (modified-Newton iterations)
   int max_iterations = 40;
   double tolerance = 1e-8;           ///< residual norm relative to |λ f|
   double critical_tolerance = 2e-4;  ///< relative width of the bracket on the critical λ
@@ -50,6 +50,7 @@ struct ArcLengthResult {
   FrameState critical_state;  ///< the last stable state before the critical point
   FrameState final_state;
   int steps = 0, iterations = 0, cutbacks = 0;
+  int factorizations = 0;  ///< tangent assemblies + factorisations (the dominant cost)
   std::string stop_reason;
   double critical_mode_alignment = 0;  ///< |φ·K⁻¹f| / |K⁻¹f| at the last stable point
 };
