@@ -7,7 +7,8 @@
 /// first buckling mode; and the non-linear equilibrium at a given factor.
 ///
 /// Cost: linear and LBA one sparse Cholesky each (plus ~50 Lanczos solves); the non-linear path
-/// one corotational tangent + factorisation per iteration (typically 40–200 iterations).
+/// one corotational tangent + factorisation per step and refresh (Lilium, 7 547 beams: 22 steps,
+/// 47 factorisations, 302 cheap corrector iterations).
 
 #include <map>
 #include <optional>
