@@ -230,6 +230,11 @@ TEST(FrameStarDome, LinearBucklingAndLimitPoint) {
   EXPECT_NEAR(nl.lambda_critical / 146.7, 1.0, 0.02);
   const double w = nl.critical_state.x(0, 2) - m.nodes(0, 2);
   EXPECT_NEAR(-w, 0.30, 0.05);
+  std::printf(
+      "star dome: crown %.6f in at 220.46 lb, LBA %.2f lb, limit %.3f lb (%s), w %.4f in, "
+      "%d steps, %d iterations, %d factorisations\n",
+      lin.displacement(0, 2) * 220.46, b.lambdas[0], nl.lambda_critical, nl.limit_type.c_str(), w,
+      nl.steps, nl.iterations, nl.factorizations);
 }
 
 namespace {
@@ -432,6 +437,8 @@ TEST(GridshellFrame, LinearEquilibriumAndPath) {
   // matches δ within a few percent.
   ASSERT_GE(r.path.size(), 3u);
   EXPECT_NEAR(r.path[1].displacement / r.path[1].lambda / r.delta_max_m, 1.0, 0.05);
+  std::printf("quad grid-shell: lambda_LBA %.4f, lambda_nl %.4f (%s), %zu path points\n",
+              *r.lambda_linear_buckling, *r.lambda_nonlinear, r.limit_type.c_str(), r.path.size());
 }
 
 TEST(FrameErrors, MechanismZeroLengthBadReferenceBadSection) {

@@ -120,6 +120,9 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
     res.lambda_nonlinear = al.lambda_critical;
     res.limit_type = al.limit_type;
     res.nonlinear_stop_reason = al.stop_reason;
+    res.nonlinear_steps = al.steps;
+    res.nonlinear_iterations = al.iterations;
+    res.nonlinear_factorizations = al.factorizations;
     spdlog::info("non-linear: lambda = {:.6g} ({}; {} steps, {} iterations)", al.lambda_critical,
                  al.limit_type, al.steps, al.iterations);
   }

@@ -7,7 +7,8 @@
 /// first buckling mode; and the non-linear equilibrium at a given factor.
 ///
 /// Cost: linear and LBA one sparse Cholesky each (plus ~50 Lanczos solves); the non-linear path
-/// one corotational tangent + factorisation per iteration (typically 40–200 iterations).
+/// one corotational tangent + factorisation per step and refresh (Lilium, 7 547 beams: 22 steps,
+/// 47 factorisations, 302 cheap corrector iterations).
 
 #include <map>
 #include <optional>
@@ -50,6 +51,8 @@ struct FrameResult {
   Eigen::VectorXd reactions;        ///< linear, 6 per model node
   double equilibrium_error = 0;     ///< |Σ reactions + Σ loads| / Σ |loads| (forces)
   std::vector<fem::PathPoint> path;
+  int nonlinear_steps = 0, nonlinear_iterations = 0;  ///< arc-length effort
+  int nonlinear_factorizations = 0;                   ///< tangent factorisations of the path
   /// nonlinear_static results (when asked): per model node.
   std::optional<Points> nonlinear_displacement, nonlinear_rotation;
   std::vector<double> nonlinear_axial_force;

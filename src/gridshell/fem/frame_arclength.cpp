@@ -39,17 +39,31 @@ struct Converged {
   int negative = 0;
 };
 
-// One arc-length step from `from` with radius ds. On success fills `to` (including the factorised
-// tangent at the new point in `work`) and returns the number of iterations, else −1.
+// Factorises the tangent at `st` into `solver` (and counts it).
+bool factorize_tangent(const FrameAssembler& asmb, const FrameState& st, TangentSolver& solver,
+                       int& factorizations) {
+  ++factorizations;
+  return solver.factorize(asmb.tangent(st, nullptr));
+}
+
+// A factorisation (tangent + CHOLMOD) costs about as much as this many modified-Newton
+// iterations (internal forces + one solve): the corrector refreshes its tangent only when the
+// observed contraction predicts more iterations than that.
+constexpr double kRefreshIterations = 20;
+constexpr double kPolish = 1e-2;
+constexpr int kMaxRefreshes = 3;  // per attempt
+
+// One arc-length step from `from` with radius ds. `start` holds the factorised tangent at the
+// start point and ut0 = K⁻¹f; neither is modified, so a failed or refined step needs no
+// refactorisation. Refreshed tangents go into `work`. On success fills `to` (without factorising
+// its tangent) and returns the number of iterations, else −1.
 int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::VectorXd& W,
-             const ArcLengthOptions& opt, const TangentSolver& start, TangentSolver& work,
-             const Converged& from, double ds, bool first, bool count_pivots, Converged& to) {
+             const ArcLengthOptions& opt, const TangentSolver& start, const Eigen::VectorXd& ut0,
+             TangentSolver& work, const Converged& from, double ds, bool first,
+             bool indefinite_start, Converged& to, int& factorizations) {
   const Eigen::VectorXd& f = mesh.load;
-  // `start` holds the factorised tangent at the start point and is not modified, so a failed or
-  // refined step needs no refactorisation; refreshed and final tangents go into `work`.
   const TangentSolver* solver = &start;
-  Eigen::VectorXd ut = solver->solve(f);
-  if (!ut.allFinite()) return -1;
+  Eigen::VectorXd ut = ut0;  // K⁻¹f of the tangent in use
   const double nt = std::sqrt(ut.dot(W.cwiseProduct(ut)));
   if (!(nt > 0)) return -1;
   double sign = 1;
@@ -61,43 +75,75 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
   double lam = from.lambda + dlam;
   const double fnorm = f.norm();
   Eigen::VectorXd fint;
-  double rprev = 1e300;
-  // Modified Newton: the factorised tangent of the start point is reused and refreshed every
-  // `kRefresh` iterations; a fresh tangent is factorised at the converged point (needed for the
-  // pivot count and the next predictor).
-  constexpr int kRefresh = 4;
+  double rprev = 0;
+  int last_refresh = 0, growing = 0, refreshes = 0;
+  bool fresh = false;        // the tangent in use is that of the previous iterate
+  bool stable_only = false;  // a refreshed tangent was indefinite
+  // Modified Newton: the start tangent is kept while the residual contracts fast enough
+  // (linear convergence, each iteration one residual and one solve); it is refreshed at the
+  // current iterate when the contraction rate predicts more than kRefreshIterations iterations.
   for (int it = 1; it <= opt.max_iterations; ++it) {
     fint = asmb.internal_force(st);
     const Eigen::VectorXd r = lam * f - asmb.reduce(fint);
     if (!r.allFinite()) return -1;
     const double scale = fnorm * std::max(std::abs(lam), 1e-3 * std::abs(dlam));
     const double rn = r.norm();
-    // Converged, or stagnating at the round-off floor well below an engineering tolerance.
-    const bool floor = it >= 4 && rn <= 1e-5 * scale && rn >= 0.5 * rprev;
-    rprev = rn;
-    if (rn <= opt.tolerance * scale || floor) {
-      if (!work.factorize(asmb.tangent(st, &fint))) return -1;
+    // A stale tangent converges linearly and stops just below the tolerance, where Newton's
+    // quadratic convergence would overshoot it by far: the modified corrector iterates on to
+    // kPolish × tolerance (each iteration is cheap) and accepts the plain tolerance only when
+    // the contraction stalls. The residual left in a near-critical mode acts as an imperfection,
+    // so this keeps perfect structures on their fundamental path up to a bifurcation.
+    const double tol = opt.tolerance * scale * kPolish;
+    const double rho = it >= 2 ? rn / rprev : 0;
+    const bool floor = (rn <= opt.tolerance * scale && rho >= 0.5) ||
+                       (fresh && it >= 3 && rn <= 1e-5 * scale && rho >= 0.5);
+    if (rn <= tol || floor) {
       to.state = std::move(st);
       to.lambda = lam;
       to.du = du;
       to.dlambda = lam - from.lambda;
-      // Only a change from positive definite matters for the first critical point: the LDLᵀ
-      // count is needed only when the start was already indefinite.
-      to.negative = work.positive_definite() ? 0 : (count_pivots ? work.negative_pivots() : 1);
       return it;
     }
-    if (it % kRefresh == 0) {
-      if (!work.factorize(asmb.tangent(st, &fint))) return -1;
-      solver = &work;
+    fresh = false;
+    if (it >= 2) {
+      growing = rho >= 1 ? growing + 1 : 0;
+      // Diverging: the residual keeps growing, or grows with a fresh tangent after the
+      // refreshes an attempt may spend (the step is too long: a shorter one is cheaper).
+      if (growing >= 4 || (refreshes >= kMaxRefreshes && rho >= 1)) {
+        spdlog::debug("  diverging at iteration {}", it);
+        return -1;
+      }
+      const bool slow = rho >= 1 || std::log(tol / rn) / std::log(rho) > kRefreshIterations;
+      if (slow && it - last_refresh >= 2 && !stable_only && refreshes < kMaxRefreshes) {
+        last_refresh = it;
+        ++refreshes;
+        if (!factorize_tangent(asmb, st, work, factorizations)) return -1;
+        spdlog::debug("  refresh at iteration {}: residual {:.3g}, contraction {:.3g}, {}", it,
+                      rn / scale, rho,
+                      work.positive_definite() ? "positive definite" : "indefinite");
+        // An indefinite tangent (the iterate is past a critical point of a path that started
+        // stable) is not used: its solves would amplify the critical mode and can throw the
+        // iterate onto another branch; the last stable tangent is kept.
+        if (work.positive_definite() || indefinite_start) {
+          solver = &work;
+          ut = work.solve(f);
+          if (!ut.allFinite()) return -1;
+          fresh = true;
+        } else {
+          stable_only = true;  // past a critical point: no further refreshes in this step
+        }
+      }
     }
+    rprev = rn;
     const Eigen::VectorXd ur = solver->solve(r);
-    ut = solver->solve(f);
     const Eigen::VectorXd base = du + ur;
     const double a = ut.dot(W.cwiseProduct(ut));
     const double b = 2 * ut.dot(W.cwiseProduct(base));
     const double c = base.dot(W.cwiseProduct(base)) - ds * ds;
-    const double disc = b * b - 4 * a * c;
-    if (!(disc >= 0) || !(a > 0)) return -1;
+    if (!(a > 0)) return -1;
+    // No real root (the stale tangent near a limit point): take the λ-correction that comes
+    // closest to the constraint; the following iterations restore it.
+    const double disc = std::max(b * b - 4 * a * c, 0.0);
     const double sq = std::sqrt(disc);
     const double q = -0.5 * (b + (b >= 0 ? sq : -sq));
     double r1 = q / a, r2 = q != 0 ? c / q : r1;
@@ -110,6 +156,7 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
     lam += dl;
     apply_increment(mesh, corr, st);
   }
+  spdlog::debug("  no convergence in {} iterations", opt.max_iterations);
   return -1;
 }
 
@@ -119,39 +166,40 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
                            const ArcLengthOptions& opt, const FrameState& start) {
   ArcLengthResult res;
   const Eigen::VectorXd W = arc_weights(mesh);
+  // solver_cur: the factorised tangent at the current (last converged) point, with its load
+  // tangent ut_cur = K⁻¹f; solver_work: refreshed and candidate tangents.
   auto solver_cur = std::make_unique<TangentSolver>(),
        solver_work = std::make_unique<TangentSolver>();
-  TangentSolver& solver = *solver_cur;
   Converged cur;
   cur.state = start;
-  {
-    Eigen::VectorXd fint;
-    const SpMat K = asmb.tangent(start, &fint);
-    if (!solver.factorize(K)) {
-      res.stop_reason = "the initial tangent is singular";
-      res.final_state = res.critical_state = start;
-      return res;
-    }
-    cur.negative = solver.negative_pivots();
+  if (!factorize_tangent(asmb, start, *solver_cur, res.factorizations)) {
+    res.stop_reason = "the initial tangent is singular";
+    res.final_state = res.critical_state = start;
+    return res;
   }
+  cur.negative = solver_cur->negative_pivots();
   res.path.push_back({0.0, max_displacement(mesh, start), cur.negative});
-  Eigen::VectorXd ut0 = solver.solve(mesh.load);
-  const double ds0 = opt.initial_lambda * std::sqrt(ut0.dot(W.cwiseProduct(ut0)));
+  Eigen::VectorXd ut_cur = solver_cur->solve(mesh.load);
+  if (!ut_cur.allFinite()) {
+    res.stop_reason = "the initial tangent is singular";
+    res.final_state = res.critical_state = start;
+    return res;
+  }
+  const double ds0 = opt.initial_lambda * std::sqrt(ut_cur.dot(W.cwiseProduct(ut_cur)));
   double ds = ds0;
   const double ds_min = 1e-7 * ds0, ds_max = 50 * ds0;
   double lam_max = 0;
   bool first = true;
   bool critical = false;  // an event has been bracketed
   double lam_crit = 0;
-  int base_negative = cur.negative;
+  const int base_negative = cur.negative;
   FrameState stable_state = start;
-  // Bracketing state.
   bool bracketing = false;
 
   while (res.steps < opt.max_steps) {
     Converged next;
-    const int its = arc_step(mesh, asmb, W, opt, *solver_cur, *solver_work, cur, ds, first,
-                             base_negative != 0, next);
+    const int its = arc_step(mesh, asmb, W, opt, *solver_cur, ut_cur, *solver_work, cur, ds, first,
+                             base_negative != 0, next, res.factorizations);
     res.iterations += std::max(its, 0);
     if (its < 0) {
       ++res.cutbacks;
@@ -162,12 +210,38 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
       }
       continue;
     }
-    const bool event =
-        !critical && (next.negative > base_negative ||
-                      (!first && cur.lambda > 0 && next.lambda < cur.lambda * (1 - 1e-6)));
+    // A fall of λ is an event by itself; otherwise the tangent at the new point decides (it is
+    // needed anyway: it becomes the next step's tangent).
+    const bool fell = !first && cur.lambda > 0 && next.lambda < cur.lambda * (1 - 1e-6);
+    const double width = std::abs(next.lambda - cur.lambda);
+    const bool refine =
+        width > opt.critical_tolerance * std::max(std::abs(cur.lambda), 1e-300) && ds > ds_min;
+    const auto count_negative = [&]() {
+      if (!factorize_tangent(asmb, next.state, *solver_work, res.factorizations)) return false;
+      // Only a change from positive definite matters for the first critical point: the LDLᵀ
+      // count is needed only when the start was already indefinite.
+      next.negative =
+          solver_work->positive_definite()
+              ? 0
+              : (base_negative != 0 ? solver_work->negative_pivots() : base_negative + 1);
+      return true;
+    };
+    if (!(fell && refine) && !count_negative()) {
+      ++res.cutbacks;
+      ds *= 0.5;
+      if (ds < ds_min) {
+        res.stop_reason = "the arc-length step could not converge";
+        break;
+      }
+      continue;
+    }
+    const bool event = fell || next.negative > base_negative;
+    spdlog::debug(
+        "arc-length attempt: ds {:.4g}, {} its, lambda {:.8g} -> {:.8g}, fell {}, "
+        "negative {}, event {}",
+        ds, its, cur.lambda, next.lambda, fell, next.negative, event);
     if (event) {
-      const double width = std::abs(next.lambda - cur.lambda);
-      if (width > opt.critical_tolerance * std::max(std::abs(cur.lambda), 1e-300) && ds > ds_min) {
+      if (refine) {
         // Refine: go back to the last stable point with half the radius.
         bracketing = true;
         ds *= 0.5;
@@ -179,15 +253,19 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
       critical = true;
       stable_state = cur.state;
       const TangentSolver& sc = *solver_cur;  // the tangent at the last stable point
-      const Eigen::VectorXd v = sc.solve(mesh.load);
+      const Eigen::VectorXd& v = ut_cur;
       Eigen::VectorXd phi(mesh.num_dofs);
       Rng rng(12345);
       for (int i = 0; i < phi.size(); ++i) phi(i) = rng.uniform(-1, 1);
+      phi.normalize();
       for (int k = 0; k < 40; ++k) {
-        phi = sc.solve(phi);
-        const double nrm = phi.norm();
+        Eigen::VectorXd y = sc.solve(phi);
+        const double nrm = y.norm();
         if (!(nrm > 0) || !std::isfinite(nrm)) break;
-        phi /= nrm;
+        y /= nrm;
+        const double change = (y - phi).norm();
+        phi = std::move(y);
+        if (change < 1e-10) break;
       }
       const double along = std::abs(phi.dot(v)) / std::max(v.norm(), 1e-300);
       res.critical_mode_alignment = along;
@@ -202,30 +280,29 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
     }
     // Accept the step: the new point's factorised tangent becomes the current one.
     std::swap(solver_cur, solver_work);
+    ut_cur = solver_cur->solve(mesh.load);
     ++res.steps;
     first = false;
     cur = std::move(next);
     lam_max = std::max(lam_max, cur.lambda);
     const double umax = max_displacement(mesh, cur.state);
     res.path.push_back({cur.lambda, umax, cur.negative});
-    if (!critical) {
-      if (cur.lambda >= opt.max_lambda) {
-        res.stop_reason = "maximum load factor reached";
-        break;
-      }
-      if (opt.max_displacement > 0 && umax >= opt.max_displacement) {
-        res.stop_reason = "maximum displacement reached";
-        break;
-      }
-      stable_state = cur.state;
-      if (!bracketing) {
-        const double factor =
-            std::clamp(std::sqrt(double(opt.desired_iterations) / std::max(its, 1)), 0.5, 2.0);
-        ds = std::min(ds * factor, ds_max);
-      }
+    if (cur.lambda >= opt.max_lambda) {
+      res.stop_reason = "maximum load factor reached";
+      break;
     }
-    spdlog::info("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} negative pivots",
-                 res.steps, cur.lambda, umax, its, cur.negative);
+    if (opt.max_displacement > 0 && umax >= opt.max_displacement) {
+      res.stop_reason = "maximum displacement reached";
+      break;
+    }
+    stable_state = cur.state;
+    if (!bracketing) {
+      const double factor =
+          std::clamp(std::sqrt(double(opt.desired_iterations) / std::max(its, 1)), 0.5, 2.0);
+      ds = std::min(ds * factor, ds_max);
+    }
+    spdlog::info("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} factorisations",
+                 res.steps, cur.lambda, umax, its, res.factorizations);
   }
   if (critical) {
     res.lambda_critical = lam_crit;

@@ -9,7 +9,6 @@
 #include <tbb/parallel_for.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
 
 #include "gridshell/core/error.h"
 
@@ -350,10 +349,29 @@ Eigen::VectorXd FrameAssembler::expand(const Eigen::VectorXd& free) const {
 // Factorisation
 
 namespace {
+// Fill-reducing ordering for all CHOLMOD factorisations: the better (fewer flops) of AMD and
+// METIS nested dissection. For grid-shell frames METIS saves about a quarter of the flops; the
+// extra analysis is done once per pattern.
+void configure(cholmod_common& c) {
+  c.print = 0;
+  c.nmethods = 2;
+  c.method[0].ordering = CHOLMOD_AMD;
+  c.method[1].ordering = CHOLMOD_METIS;
+  c.postorder = 1;
+}
+
 class Llt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
  public:
+  Llt() { configure(cholmod()); }
   cholmod_factor* factor() const { return m_cholmodFactor; }
   cholmod_common* common() const { return &const_cast<Llt*>(this)->cholmod(); }
+};
+
+// Simplicial LDLᵀ (no pivoting) for indefinite tangents; D is read off the factor.
+class Ldlt : public Eigen::CholmodSimplicialLDLT<SpMat, Eigen::Lower> {
+ public:
+  Ldlt() { configure(cholmod()); }
+  const cholmod_factor* factor() const { return m_cholmodFactor; }
 };
 
 // Applies a CHOLMOD solve stage (CHOLMOD_L, _Lt, _P, _Pt) to x.
@@ -375,12 +393,11 @@ Eigen::VectorXd cholmod_stage(const Llt& llt, int sys, const Eigen::VectorXd& x)
 
 struct TangentSolver::Impl {
   Llt llt;
-  Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  Ldlt ldlt;
   bool llt_analyzed = false, ldlt_analyzed = false;
 };
 
 TangentSolver::TangentSolver() : impl_(std::make_unique<Impl>()) {
-  impl_->llt.cholmod().print = 0;
   impl_->llt.cholmod().quick_return_if_not_posdef = 1;
 }
 TangentSolver::~TangentSolver() = default;
@@ -437,12 +454,15 @@ bool TangentSolver::ldlt() const {
     }
     m.ldlt.factorize(K_);
     negative_ = -1;
-    if (m.ldlt.info() != Eigen::Success) return false;
-    const Eigen::VectorXd D = m.ldlt.vectorD();
+    const cholmod_factor* L = m.ldlt.factor();
+    if (m.ldlt.info() != Eigen::Success || L->is_super || L->is_ll) return false;
+    const double* x = static_cast<const double*>(L->x);
+    const int* p = static_cast<const int*>(L->p);
     int neg = 0;
-    for (int i = 0; i < D.size(); ++i) {
-      if (!std::isfinite(D(i)) || D(i) == 0) return false;
-      if (D(i) < 0) ++neg;
+    for (size_t j = 0; j < L->n; ++j) {
+      const double d = x[p[j]];  // the diagonal of an LDLᵀ factor holds D
+      if (!std::isfinite(d) || d == 0) return false;
+      if (d < 0) ++neg;
     }
     negative_ = neg;
   }
@@ -595,7 +615,6 @@ BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& asse
     }
   } else {
     Llt llt;
-    llt.cholmod().print = 0;
     llt.compute(K);
     if (llt.info() != Eigen::Success) return out;
     BucklingOp op(llt, B);

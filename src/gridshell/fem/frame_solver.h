@@ -5,8 +5,9 @@
 /// linear, geometric and corotational tangent stiffness, linear static analysis, linearised
 /// buckling (K + λ K_G) and geometrically non-linear equilibrium at a load factor.
 ///
-/// Sparse SPD solves use CHOLMOD (supernodal LLᵀ); indefinite tangents are factorised with
-/// Eigen's SimplicialLDLT, whose D gives the number of negative pivots. The sparsity pattern is
+/// Sparse SPD solves use CHOLMOD (supernodal LLᵀ, ordering the better of AMD and METIS);
+/// indefinite tangents are factorised with CHOLMOD's simplicial LDLᵀ, whose D gives the number
+/// of negative pivots (only done when asked: a solve or a pivot count). The sparsity pattern is
 /// built once; assembly is parallel per element into disjoint slots, then summed in a fixed
 /// order, so results do not depend on the thread count.
 
