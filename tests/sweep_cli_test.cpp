@@ -32,22 +32,37 @@ std::vector<std::string> rows(const fs::path& dir) {
   return out;
 }
 
+// The unsharded sweep, run once per test process; a failure fails every test that needs it
+// (a failing fixture set-up would only skip them).
+const fs::path& full_sweep(int& status, std::string& err) {
+  static const fs::path dir = temp_dir("sweep48");
+  static int st = -1;
+  static std::string message;
+  if (st == -1) {
+    const auto r = run_gridshell(kSweep + "-o " + (dir / "all").string());
+    st = r.status;
+    message = r.err;
+  }
+  status = st;
+  err = message;
+  return dir;
+}
+
 class SweepCli : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    dir_ = new fs::path(temp_dir("sweep48"));
-    const auto r = run_gridshell(kSweep + "-o " + (*dir_ / "all").string());
-    ASSERT_EQ(r.status, 0) << r.err;
+  void SetUp() override {
+    int status = 0;
+    std::string err;
+    dir_ = full_sweep(status, err);
+    ASSERT_EQ(status, 0) << err;
   }
-  static void TearDownTestSuite() { delete dir_; }
-  static fs::path* dir_;
+  fs::path dir_;
 };
-fs::path* SweepCli::dir_ = nullptr;
 
 }  // namespace
 
 TEST_F(SweepCli, FullGridGivesFortyEightRowsWithDistinctSeeds) {
-  const auto all = rows(*dir_ / "all");
+  const auto all = rows(dir_ / "all");
   ASSERT_EQ(all.size(), 48u);
   std::vector<std::string> seeds;
   for (const auto& l : all) {
@@ -63,19 +78,19 @@ TEST_F(SweepCli, FullGridGivesFortyEightRowsWithDistinctSeeds) {
   }
   std::sort(seeds.begin(), seeds.end());
   EXPECT_EQ(std::unique(seeds.begin(), seeds.end()), seeds.end());
-  EXPECT_TRUE(fs::exists(*dir_ / "all" / "lambda.svg"));
-  EXPECT_TRUE(fs::exists(*dir_ / "all" / "delta.svg"));
+  EXPECT_TRUE(fs::exists(dir_ / "all" / "lambda.svg"));
+  EXPECT_TRUE(fs::exists(dir_ / "all" / "delta.svg"));
 }
 
 TEST_F(SweepCli, ShardsTogetherReproduceTheRows) {
   for (const char* k : {"1", "2"}) {
     const auto r = run_gridshell(kSweep + "--shard " + k + "/2 --threads 1 -o " +
-                                 (*dir_ / ("shard" + std::string(k))).string());
+                                 (dir_ / ("shard" + std::string(k))).string());
     ASSERT_EQ(r.status, 0) << r.err;
   }
-  auto all = rows(*dir_ / "all");
-  auto parts = rows(*dir_ / "shard1");
-  const auto second = rows(*dir_ / "shard2");
+  auto all = rows(dir_ / "all");
+  auto parts = rows(dir_ / "shard1");
+  const auto second = rows(dir_ / "shard2");
   EXPECT_EQ(parts.size(), 24u);
   EXPECT_EQ(second.size(), 24u);
   parts.insert(parts.end(), second.begin(), second.end());
@@ -90,12 +105,12 @@ TEST_F(SweepCli, TwoMpiRanksReproduceTheRowsInOrder) {
   // Open MPI refuses root unless told; CI runs as root.
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-  const fs::path out = *dir_ / "mpi";
+  const fs::path out = dir_ / "mpi";
   const std::string cmd = mpiexec + " --oversubscribe -n 2 " + std::string(GRIDSHELL_EXE) + " " +
-                          kSweep + "-o " + out.string() + " >" + (*dir_ / "mpi.log").string() +
+                          kSweep + "-o " + out.string() + " >" + (dir_ / "mpi.log").string() +
                           " 2>&1 </dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  EXPECT_EQ(rows(out), rows(*dir_ / "all"));  // same rows, same (case) order
+  EXPECT_EQ(rows(out), rows(dir_ / "all"));  // same rows, same (case) order
   std::ifstream report(out / "report.json");
   std::stringstream ss;
   ss << report.rdbuf();

@@ -1,6 +1,7 @@
 #include "test_support.h"
 
 #include <sys/wait.h>
+#include <unistd.h>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -27,7 +28,9 @@ fs::path shared_file(const std::string& relative) {
 fs::path temp_dir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string tag = info ? std::string(info->test_suite_name()) + "_" + info->name() : "t";
-  fs::path p = fs::temp_directory_path() / ("gridshell_test_" + tag + "_" + name);
+  // The pid keeps parallel ctest processes (and fixtures' set-up, which has no test name) apart.
+  fs::path p = fs::temp_directory_path() /
+               ("gridshell_test_" + tag + "_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
   fs::create_directories(p);
   return p;

@@ -10,6 +10,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 
+#include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
 
 namespace gridshell::fem {
@@ -405,10 +406,13 @@ TangentSolver::~TangentSolver() = default;
 bool TangentSolver::factorize(const SpMat& K) {
   Impl& m = *impl_;
   if (!m.llt_analyzed) {
-    m.llt.analyzePattern(K);
+    analyze_pattern(m.llt, K);
     m.llt_analyzed = true;
   }
-  m.llt.factorize(K);
+  {
+    const SerialOpenMpScope serial_openmp;
+    m.llt.factorize(K);
+  }
   failed_ = -1;
   min_ratio_ = 0;
   min_eq_ = -1;
@@ -449,7 +453,7 @@ bool TangentSolver::ldlt() const {
   if (!ldlt_done_) {
     ldlt_done_ = true;
     if (!m.ldlt_analyzed) {
-      m.ldlt.analyzePattern(K_);
+      analyze_pattern(m.ldlt, K_);
       m.ldlt_analyzed = true;
     }
     m.ldlt.factorize(K_);
@@ -615,7 +619,10 @@ BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& asse
     }
   } else {
     Llt llt;
-    llt.compute(K);
+    {
+      const SerialOpenMpScope serial_openmp;
+      compute_factorization(llt, K);
+    }
     if (llt.info() != Eigen::Success) return out;
     BucklingOp op(llt, B);
     const int nev = std::min(options.modes, n - 2);

@@ -2,10 +2,7 @@
 
 #include "gridshell/fem/shell_solver.h"
 
-#include <dlfcn.h>
-
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -19,6 +16,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
 
+#include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/shell_element.h"
 
@@ -67,13 +65,11 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
     G.sorted = 1;
     G.packed = 1;
     std::vector<int> node_perm(nn), perm(6 * static_cast<std::size_t>(nn));
-    // METIS keeps its random-number state in a global (GKlib): concurrent calls from a parallel
-    // sweep interleave it and give run-to-run different orderings (the same solution to rounding,
-    // but different bits; ShellSolver.ConcurrentSolvesAreIdenticalToASerialOne). One METIS call
-    // at a time; the fallback cholmod_analyze may call METIS too.
+    // One METIS call at a time (core/cholmod_support.h; test:
+    // ShellSolver.ConcurrentSolvesAreIdenticalToASerialOne); the fallback cholmod_analyze may
+    // call METIS too.
     bool by_nodes = false;
-    static std::mutex metis_mutex;
-    std::unique_lock<std::mutex> lock(metis_mutex);
+    std::unique_lock<std::mutex> lock = lock_symbolic_analysis();
     if (nn > 1 && cholmod_metis(&G, nullptr, 0, 0, node_perm.data(), &c)) {
       lock.unlock();
       for (int q = 0; q < nn; ++q)
@@ -105,39 +101,6 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
     if (L->Perm == nullptr) return k;
     return static_cast<long>(static_cast<const int*>(L->Perm)[k]);
   }
-};
-
-// CHOLMOD's supernodal factorisation opens OpenMP parallel regions with a compiled-in
-// num_threads(4) (CHOLMOD_OMP_NUM_THREADS) for its scatter loops, one batch per supernode. On
-// this 2-core target, and inside a parallel design sweep, they cost more than they give (50 K
-// triangles: factorisation CPU 2.6 s → 1.4–1.9 s with one thread); they partition by column, so
-// the result does not depend on them. This keeps them at one thread on the calling thread for
-// the scope (libgomp's max-active-levels is per thread), restoring the previous value. The
-// OpenMP runtime is found at run time (it is CHOLMOD's dependency, not ours); without one,
-// nothing is done.
-class SerialOpenMpScope {
-  using Get = int (*)();
-  using Set = void (*)(int);
-
- public:
-  SerialOpenMpScope()
-      : get_(std::bit_cast<Get>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"))),
-        set_(std::bit_cast<Set>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"))) {
-    if (get_ && set_) {
-      previous_ = get_();
-      set_(0);
-    }
-  }
-  ~SerialOpenMpScope() {
-    if (get_ && set_) set_(previous_);
-  }
-  SerialOpenMpScope(const SerialOpenMpScope&) = delete;
-  SerialOpenMpScope& operator=(const SerialOpenMpScope&) = delete;
-
- private:
-  Get get_;
-  Set set_;
-  int previous_ = 1;
 };
 
 const char* kDofNames[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};

@@ -12,6 +12,7 @@
 #include <Eigen/SVD>
 #include <Eigen/Sparse>
 
+#include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
 
@@ -151,7 +152,7 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
   lv.Lff.resize(lv.num_free, lv.num_free);
   lv.Lff.setFromTriplets(trip.begin(), trip.end());
   if (lv.num_free > 0) {
-    lv.llt.compute(lv.Lff);
+    compute_factorization(lv.llt, lv.Lff);
     if (lv.llt.info() != Eigen::Success)
       throw Error("metric", "deformation system could not be factorised");
   }

@@ -10,6 +10,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
+#include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/optimize/metrics.h"
@@ -148,7 +149,7 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
     for (int r = 0; r < nfree; ++r) trip.emplace_back(r, r, o.closeness);
     Eigen::SparseMatrix<double> A(nfree, nfree);
     A.setFromTriplets(trip.begin(), trip.end());
-    llt.compute(A);
+    compute_factorization(llt, A);
     if (llt.info() != Eigen::Success)
       throw Error("regularize", "the per-vertex system could not be factorised");
   }

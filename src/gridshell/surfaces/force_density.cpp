@@ -3,6 +3,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
+#include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
 
 namespace gridshell {
@@ -34,7 +35,8 @@ ForceDensityResult solve_force_density(const ForceDensityProblem& pb) {
   }
   Eigen::SparseMatrix<double> D(nfree, nfree);
   D.setFromTriplets(trip.begin(), trip.end());
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(D);
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
+  compute_factorization(solver, D);
   if (solver.info() != Eigen::Success)
     throw Error("force density", "network has free nodes not connected to an anchor");
   Eigen::MatrixX3d xf = solver.solve(rhs);
