@@ -51,7 +51,9 @@ Mat32 face_frame(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& u_i
   return fr;
 }
 
-void build_level(Level& lv, const TriMesh& rest, const Field& field, double bending) {
+/// `bending_length`: the length h of the bending weight μ = bending · h².
+void build_level(Level& lv, const TriMesh& rest, const Field& field, double bending,
+                 double bending_length) {
   const int nf = rest.num_faces(), nv = rest.num_vertices();
   lv.D.resize(nf);
   lv.frame.resize(nf);
@@ -109,12 +111,10 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
   trip.reserve(9 * static_cast<std::size_t>(nf));
   std::vector<double> vertex_area(nv, 0.0);
   std::vector<char> boundary(nv, 0);
-  double edge_sum = 0;
   for (int f = 0; f < nf; ++f) {
     const Mat33 K = lv.area[f] * lv.D[f] * lv.D[f].transpose();
     for (int i = 0; i < 3; ++i) {
       vertex_area[rest.F(f, i)] += lv.area[f] / 3;
-      edge_sum += (rest.V.row(rest.F(f, i)) - rest.V.row(rest.F(f, (i + 1) % 3))).norm();
       for (int j = 0; j < 3; ++j) trip.emplace_back(rest.F(f, i), rest.F(f, j), K(i, j));
     }
   }
@@ -129,7 +129,7 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
     for (int v = 0; v < nv; ++v)
       if (vertex_area[v] > 0)
         w[v] = (topo.on_boundary[v] ? kBoundaryBending : 1.0) / vertex_area[v];
-    const double h = edge_sum / (3.0 * nf);
+    const double h = bending_length;
     lv.muB = (bending * h * h) * Eigen::SparseMatrix<double>(A * w.asDiagonal() * A);
     A = A + lv.muB;
   } else {
@@ -358,12 +358,22 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
   out.deformed = mesh;
 
   Level lv;
+  // The regulariser's length h is the input mesh's mean edge length on every level: with the
+  // level's own (halving) h the bending weight fell 4× per refinement round and M′ creased on
+  // the finer levels (barrel, D = A = 3: 8–16 folded edges along the crown).
+  double bending_length = 0;
+  {
+    const Topology topo = build_topology(mesh);
+    for (const auto& [a, b] : topo.edges)
+      bending_length += (mesh.vertex(a) - mesh.vertex(b)).norm();
+    bending_length /= std::max(1, topo.num_edges());
+  }
   // Initial guess: integrate the target Jacobians in the rest frames (membrane energy only), then
   // take that shape as the bending reference of the iterations.
-  build_level(lv, out.rest, out.field, 0.0);
+  build_level(lv, out.rest, out.field, 0.0, 0.0);
   global_step(lv, out.rest, out.deformed.V, lv.frame);
   if (o.bending > 0) {
-    build_level(lv, out.rest, out.field, o.bending);
+    build_level(lv, out.rest, out.field, o.bending, bending_length);
     set_reference(lv, out.deformed.V);
   }
   out.residual = iterate(lv, out.rest, out.deformed.V, o.iterations);
@@ -396,6 +406,8 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
       child.d_raw.resize(n);
       child.a_raw.resize(n);
     }
+    const bool coherent = out.field.coherence.size() == out.field.u.size();
+    if (coherent) child.coherence.resize(n);
     std::vector<int> grand(n);
     for (std::size_t i = 0; i < n; ++i) {
       const int p = parent[i];
@@ -407,6 +419,7 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
         child.d_raw[i] = out.field.d_raw[p];
         child.a_raw[i] = out.field.a_raw[p];
       }
+      if (coherent) child.coherence[i] = out.field.coherence[p];
       grand[i] = out.parent_face[p];
     }
     out.field = std::move(child);
@@ -416,7 +429,7 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
     // target, so the residual is unchanged: a round that split only a few edges is not worth a
     // new factorisation.
     if (split < o.resolve_fraction * edges_before) continue;
-    build_level(lv, out.rest, out.field, o.bending);
+    build_level(lv, out.rest, out.field, o.bending, bending_length);
     set_reference(lv, out.deformed.V);
     out.residual = iterate(lv, out.rest, out.deformed.V, o.refine_iterations);
     out.iterations += o.refine_iterations;

@@ -48,8 +48,10 @@ struct DeformOptions {
   double split_ratio = 0.85;
   /// Weight of the bending regulariser μ Σ_v |Δ(x′ − x_ref)_v|²/area_v (interior vertices, Δ the
   /// cotangent Laplacian of M, x_ref the initial M′ of the level) with μ = bending · h², h the
-  /// mean edge length of the current rest mesh. Without it the local/global iterations crumple
-  /// M′ (folded triangles) where the metric is not realisable. 0 = pure membrane energy.
+  /// mean edge length of the input mesh, the same on every refinement level (the regulariser
+  /// must not fade as the mesh is refined, else M′ creases on the fine levels). Without it the
+  /// local/global iterations crumple M′ (folded triangles) where the metric is not realisable. 0 =
+  /// pure membrane energy.
   double bending = 1;
   /// A refinement round that splits fewer than this fraction of the edges is not followed by a
   /// re-solve: midpoint splits leave M′ the same piecewise-linear map (children carry the
