@@ -205,14 +205,51 @@ void set_reference(Level& lv, const Points& X) {
 }
 
 /// Local step: best frames for the current X; returns the relative residual before the update.
+/// Orientation-preserving fit for a triangle turned over in M′: the membrane energy cannot tell a
+/// triangle from its mirror image (both have the same metric), so the plain polar fit keeps a
+/// flipped triangle flipped. Here R spans the triangle's plane with the orientation of `n_ref`
+/// (the normal of the surface around it) and its 2×2 part is the rotation (det +1) closest to
+/// the reflection the triangle shows; the global step then turns the triangle back.
+Mat32 oriented_fit(const Mat32& M, const Vec3& n_ref) {
+  Vec3 n = M.col(0).cross(M.col(1));
+  if (!(n.norm() > 0)) return polar32(M);
+  n.normalize();
+  if (n.dot(n_ref) < 0) n = -n;  // the plane of the triangle, oriented like its surroundings
+  Vec3 b1 = M.col(0).norm() > M.col(1).norm() ? M.col(0) : M.col(1);
+  b1 = (b1 - b1.dot(n) * n).normalized();
+  Mat32 B;
+  B.col(0) = b1;
+  B.col(1) = n.cross(b1);
+  const Eigen::Matrix2d M2 = B.transpose() * M;
+  Eigen::JacobiSVD<Eigen::Matrix2d> svd(M2, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix2d U = svd.matrixU();
+  if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(1) *= -1;
+  return B * (U * svd.matrixV().transpose());
+}
+
+/// Local step: best frames for the current X; returns the relative residual before the update.
 double local_step(const Level& lv, const TriMesh& rest, const Points& X, std::vector<Mat32>& R) {
   const int nf = rest.num_faces();
   std::vector<double> e(nf), s(nf);
+  // Normal of the surface around each face: the area-weighted normals of the faces sharing a
+  // vertex with it (itself excluded), to detect triangles turned over against their neighbours.
+  std::vector<Vec3> fn(nf);
+  Eigen::MatrixXd vn = Eigen::MatrixXd::Zero(X.rows(), 3);
+  for (int f = 0; f < nf; ++f) {
+    const Vec3 p0 = X.row(rest.F(f, 0)).transpose();
+    fn[f] = (Vec3(X.row(rest.F(f, 1)).transpose()) - p0)
+                .cross(Vec3(X.row(rest.F(f, 2)).transpose()) - p0);
+    for (int k = 0; k < 3; ++k) vn.row(rest.F(f, k)) += fn[f].transpose();
+  }
   tbb::parallel_for(0, nf, [&](int f) {
     Mat33 Xt;
     for (int k = 0; k < 3; ++k) Xt.col(k) = X.row(rest.F(f, k)).transpose();
     const Mat32 J = Xt * lv.D[f];
-    R[f] = polar32(J * lv.target[f].asDiagonal());
+    const Mat32 M = J * lv.target[f].asDiagonal();
+    const Vec3 around =
+        (vn.row(rest.F(f, 0)) + vn.row(rest.F(f, 1)) + vn.row(rest.F(f, 2))).transpose() -
+        3 * fn[f];
+    R[f] = fn[f].dot(around) < 0 ? oriented_fit(M, around) : polar32(M);
     e[f] = lv.area[f] * (J - R[f] * lv.target[f].asDiagonal()).squaredNorm();
     s[f] = lv.area[f] * lv.target[f].squaredNorm();
   });
@@ -340,7 +377,8 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
     throw Error("field", fmt::format("field has {} entries for {} faces", field.size(), nf));
   if (nf == 0) throw Error("mesh", "no faces to deform");
   if (!mesh.V.allFinite()) throw Error("mesh", "non-finite vertex coordinates");
-  if (o.iterations < 0 || o.refine_iterations < 0 || o.max_rounds < 0 || o.max_faces <= 0)
+  if (o.iterations < 0 || o.refine_iterations < 0 || o.max_rounds < 0 || o.max_faces <= 0 ||
+      o.membrane_iterations < 0)
     throw Error("metric", "iteration counts and limits must be non-negative");
   if (std::isnan(o.max_edge)) throw Error("metric", "max_edge is NaN");
   if (!std::isfinite(o.bending) || o.bending < 0) throw Error("metric", "bending must be ≥ 0");
@@ -368,15 +406,20 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
       bending_length += (mesh.vertex(a) - mesh.vertex(b)).norm();
     bending_length /= std::max(1, topo.num_edges());
   }
-  // Initial guess: integrate the target Jacobians in the rest frames (membrane energy only), then
-  // take that shape as the bending reference of the iterations.
+  // Initial guess: integrate the target Jacobians in the rest frames (membrane energy only), a
+  // few membrane-only iterations to undo its folds, then that shape is the bending reference of
+  // the iterations (a fold in the reference would be kept by the regulariser).
   build_level(lv, out.rest, out.field, 0.0, 0.0);
   global_step(lv, out.rest, out.deformed.V, lv.frame);
+  out.iterations = 0;
   if (o.bending > 0) {
+    const int membrane = std::min(o.membrane_iterations, o.iterations);
+    iterate(lv, out.rest, out.deformed.V, membrane);
+    out.iterations += membrane;
     build_level(lv, out.rest, out.field, o.bending, bending_length);
     set_reference(lv, out.deformed.V);
   }
-  out.residual = iterate(lv, out.rest, out.deformed.V, o.iterations);
+  out.residual = iterate(lv, out.rest, out.deformed.V, o.iterations - out.iterations);
   out.iterations = o.iterations;
 
   while (refine) {

@@ -57,7 +57,12 @@ struct DeformOptions {
   /// re-solve: midpoint splits leave M′ the same piecewise-linear map (children carry the
   /// parent's target), so only the new factorisation would be paid for. 0 = always re-solve.
   double resolve_fraction = 0.02;
-  int iterations = 30;        ///< local/global iterations on the input mesh (≥ 0)
+  int iterations = 30;  ///< local/global iterations on the input mesh (≥ 0)
+  /// The first of those iterations run without the bending term; their result is the bending
+  /// reference. The initial guess (the targets integrated in place) can have folds, which a
+  /// regulariser against it would keep (Aquadom at D = A = 3: 3 folded edges that the bending
+  /// iterations kept; 5 membrane iterations remove them).
+  int membrane_iterations = 5;
   int refine_iterations = 8;  ///< local/global iterations after each refinement round
   int max_rounds = 16;        ///< refinement rounds before giving up (Error)
   int max_faces = 4'000'000;  ///< refined size limit (Error beyond)
