@@ -7,7 +7,6 @@
 #include <fstream>
 #include <numbers>
 
-#include "gridshell/surfaces/grid.h"
 #include "gridshell/core/error.h"
 #include "gridshell/core/rng.h"
 #include "gridshell/field/field.h"
@@ -15,6 +14,7 @@
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/builtin.h"
+#include "gridshell/surfaces/grid.h"
 #include "test_support.h"
 
 using namespace gridshell;
@@ -24,7 +24,9 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 /// Regular grid over [0, w] × [0, h] with nx × ny squares split along alternating diagonals.
-TriMesh grid(int nx, int ny, double w, double h) { return flat_grid(nx, ny, w, h); }
+TriMesh grid(int nx, int ny, double w, double h) {
+  return flat_grid(nx, ny, w, h);
+}
 
 /// One row of n equilateral triangles (side 1) alternating up/down: the face graph is a path with
 /// uniform weights, so the smoothed z is exactly linear along it.
@@ -177,6 +179,140 @@ TEST(Saturation, KeepsMaximaAndBoundsTheSlopeLikeBruteForce) {
     EXPECT_LE(std::abs(g[p] - g[q]), L * (c[p] - c[q]).norm() * (1 + 1e-12));
   // L ≤ 0 leaves the values alone.
   EXPECT_EQ(saturate_lipschitz(m, f, 0), f);
+}
+
+TEST(Saturation, StretchedDistancesMatchBruteForceAndSlowTheRiseAlongU) {
+  // Same reference as above with the anisotropic pair lengths: a step e from face f measures
+  // √((e·u/a)² + |e|² − (e·u)²), averaged over the pair. With u = x and a = 3 everywhere the
+  // slope along x is bounded by L/3, across by L.
+  const TriMesh m = grid(6, 5, 3, 2.5);
+  const int nf = m.num_faces();
+  Rng rng(12);
+  std::vector<double> f(nf), a(nf);
+  std::vector<Vec3> u(nf);
+  for (int k = 0; k < nf; ++k) {
+    f[k] = rng.uniform(0, 10);
+    a[k] = rng.uniform(1, 3);
+    const double t = rng.uniform(0, kPi);
+    u[k] = Vec3(std::cos(t), std::sin(t), 0);
+  }
+  const double L = 4.0;
+  const SaturationStretch stretch{u, a};
+  const auto g = saturate_lipschitz(m, f, L, &stretch);
+  const Topology topo = build_topology(m);
+  std::vector<Vec3> c(nf);
+  for (int k = 0; k < nf; ++k)
+    c[k] = (m.vertex(m.F(k, 0)) + m.vertex(m.F(k, 1)) + m.vertex(m.F(k, 2))) / 3;
+  auto len = [&](int k, const Vec3& e) {
+    const double eu = e.dot(u[k]);
+    return std::sqrt(eu * eu / (a[k] * a[k]) + e.squaredNorm() - eu * eu);
+  };
+  std::vector<std::vector<double>> dist(nf, std::vector<double>(nf, 1e300));
+  for (int k = 0; k < nf; ++k) dist[k][k] = 0;
+  for (const auto& ef : topo.edge_faces)
+    if (ef.size() == 2) {
+      const Vec3 e = c[ef[1]] - c[ef[0]];
+      dist[ef[0]][ef[1]] = dist[ef[1]][ef[0]] = 0.5 * (len(ef[0], e) + len(ef[1], e));
+    }
+  for (int k = 0; k < nf; ++k)
+    for (int i = 0; i < nf; ++i)
+      for (int j = 0; j < nf; ++j) dist[i][j] = std::min(dist[i][j], dist[i][k] + dist[k][j]);
+  for (int p = 0; p < nf; ++p) {
+    double ref = -1e300;
+    for (int q = 0; q < nf; ++q) ref = std::max(ref, f[q] - L * dist[p][q]);
+    EXPECT_NEAR(g[p], ref, 1e-12);
+  }
+  // One peak in the middle of a long strip, u = x, a = 3: the cone falls 3× slower along x.
+  const TriMesh strip = grid(40, 40, 20, 20);
+  const int ns = strip.num_faces();
+  std::vector<double> peak(ns, 0.0), three(ns, 3.0);
+  std::vector<Vec3> ux(ns, Vec3::UnitX());
+  auto nearest = [&](double x, double y) {
+    int best = 0;
+    double bd = 1e300;
+    for (int k = 0; k < ns; ++k) {
+      const Vec3 q = (strip.vertex(strip.F(k, 0)) + strip.vertex(strip.F(k, 1)) +
+                      strip.vertex(strip.F(k, 2))) /
+                     3;
+      if ((q - Vec3(x, y, 0)).norm() < bd) bd = (q - Vec3(x, y, 0)).norm(), best = k;
+    }
+    return best;
+  };
+  const int centre = nearest(10, 10);
+  peak[centre] = 10;
+  const SaturationStretch sx{ux, three};
+  const auto cone = saturate_lipschitz(strip, peak, 1.0, &sx);
+  auto value_at = [&](double x, double y) { return cone[nearest(x, y)]; };
+  const double along = (cone[centre] - value_at(16, 10)) / 6,
+               across = (cone[centre] - value_at(10, 16)) / 6;
+  // Centroid paths on a triangle grid zigzag (every step has a cross-u component of a third of
+  // a cell), so along u the cone falls at 0.62, between the continuous L/a = 1/3 and L; across
+  // it falls at ≈ L (paths ~10% longer than straight lines).
+  EXPECT_GE(along, 1.0 / 3);
+  EXPECT_LT(along, 0.7);
+  EXPECT_NEAR(across, 1.0, 0.15);
+}
+
+TEST(LineField, CoherenceIsOneForAConstantFieldAndVanishesWhereUTurns) {
+  const TriMesh m = grid(40, 10, 20, 5);
+  const int nf = m.num_faces();
+  std::vector<double> cst, turn;
+  smooth_line_field(m, std::vector<Vec3>(nf, Vec3(1, 2, 0)), std::vector<double>(nf, 1.0), {1.0},
+                    &cst);
+  for (double c : cst) EXPECT_NEAR(c, 1.0, 1e-9);
+  // u = x on the left half, u = y on the right: z = +1 and −1, the smoothed z passes through 0
+  // at x = 10 (the strip where u turns by 90°), and returns to 1 far from it.
+  std::vector<Vec3> dir(nf);
+  std::vector<double> x(nf);
+  for (int f = 0; f < nf; ++f) {
+    x[f] = (m.V(m.F(f, 0), 0) + m.V(m.F(f, 1), 0) + m.V(m.F(f, 2), 0)) / 3;
+    dir[f] = x[f] < 10 ? Vec3::UnitX() : Vec3::UnitY();
+  }
+  smooth_line_field(m, dir, std::vector<double>(nf, 1.0), {1.0}, &turn);
+  double near = 0, far = 1;
+  for (int f = 0; f < nf; ++f) {
+    if (std::abs(x[f] - 10) < 0.3) near = std::max(near, turn[f]);
+    if (std::abs(x[f] - 10) > 5) far = std::min(far, turn[f]);
+  }
+  EXPECT_LT(near, 0.25);
+  EXPECT_GT(far, 0.95);
+}
+
+TEST(MakeField, AnisotropyFadesWhereTheDirectionIsIncoherent) {
+  // Strongly anisotropic stress (a_raw = 5; 1.5 in the bottom row, which sets the low end)
+  // whose direction switches from x to y at x = 10: the anisotropy is kept far from the switch
+  // and falls towards 1 on it.
+  const TriMesh m = grid(40, 10, 20, 5);
+  const int nf = m.num_faces();
+  StressField st(nf);
+  std::vector<Vec3> c(nf);
+  for (int f = 0; f < nf; ++f) {
+    c[f] = (m.vertex(m.F(f, 0)) + m.vertex(m.F(f, 1)) + m.vertex(m.F(f, 2))) / 3;
+    const double weak = c[f].y() < 0.5 ? -5 / 1.5 : -1;
+    st[f].s1 = c[f].x() < 10 ? -5 : weak;
+    st[f].s2 = c[f].x() < 10 ? weak : -5;
+    st[f].d1 = Vec3::UnitX();
+    st[f].d2 = Vec3::UnitY();
+  }
+  FieldOptions o;
+  o.smoothing = 1;
+  o.A = 3;
+  const Field fd = make_field(m, st, o);
+  ASSERT_EQ(fd.coherence.size(), static_cast<std::size_t>(nf));
+  double near = 0, far = 3;
+  for (int f = 0; f < nf; ++f) {
+    if (c[f].y() < 2) continue;
+    if (std::abs(c[f].x() - 10) < 0.3) near = std::max(near, fd.a[f]);
+    if (std::abs(c[f].x() - 10) > 5) far = std::min(far, fd.a[f]);
+  }
+  EXPECT_LT(near, 1.5);
+  EXPECT_GT(far, 2.8);
+  o.coherence_exponent = 0;  // off: no fading at the switch
+  const Field off = make_field(m, st, o);
+  for (int f = 0; f < nf; ++f)
+    if (c[f].y() > 2) {
+      EXPECT_GT(off.a[f], 2.8);
+    }
 }
 
 TEST(Rescale, ExactRangeClampedOutliersConstantToOne) {

@@ -81,7 +81,8 @@ FaceFrames face_frames(const TriMesh& mesh) {
 
 std::vector<Vec3> smooth_line_field(const TriMesh& mesh, const std::vector<Vec3>& directions,
                                     const std::vector<double>& weights,
-                                    const LineFieldOptions& options) {
+                                    const LineFieldOptions& options,
+                                    std::vector<double>* coherence) {
   const int nf = mesh.num_faces();
   if (static_cast<int>(directions.size()) != nf || static_cast<int>(weights.size()) != nf)
     throw Error("field", "line field and weights must have one entry per face");
@@ -136,8 +137,10 @@ std::vector<Vec3> smooth_line_field(const TriMesh& mesh, const std::vector<Vec3>
     throw Error("field", "line-field solve failed");
 
   std::vector<Vec3> out(nf);
+  if (coherence) coherence->resize(nf);
   for (int f = 0; f < nf; ++f) {
     const double x = z[f].real(), y = z[f].imag();
+    if (coherence) (*coherence)[f] = std::min(1.0, std::hypot(x, y));
     if (std::hypot(x, y) < 1e-9) {
       out[f] = dir[f];
       continue;
@@ -149,7 +152,7 @@ std::vector<Vec3> smooth_line_field(const TriMesh& mesh, const std::vector<Vec3>
 }
 
 std::vector<double> saturate_lipschitz(const TriMesh& mesh, const std::vector<double>& values,
-                                       double L) {
+                                       double L, const SaturationStretch* stretch) {
   const int nf = mesh.num_faces();
   if (static_cast<int>(values.size()) != nf)
     throw Error("field", "saturation needs one value per face");
@@ -169,8 +172,17 @@ std::vector<double> saturate_lipschitz(const TriMesh& mesh, const std::vector<do
   for (int f = 0; f < nf; ++f) start[f + 1] += start[f];
   std::vector<int> nb(start[nf]), fill(start.begin(), start.end() - 1);
   std::vector<double> dist(start[nf]);
+  if (stretch &&
+      (static_cast<int>(stretch->u.size()) != nf || static_cast<int>(stretch->a.size()) != nf))
+    throw Error("field", "saturation stretch needs one direction and factor per face");
+  auto length = [&](int f, const Vec3& e) {
+    const double eu = e.dot(stretch->u[f]) / stretch->u[f].norm();
+    return std::sqrt(eu * eu / (stretch->a[f] * stretch->a[f]) +
+                     std::max(0.0, e.squaredNorm() - eu * eu));
+  };
   for (const auto& p : adj.pairs) {
-    const double h = (c[p.f] - c[p.g]).norm();
+    const Vec3 e = c[p.g] - c[p.f];
+    const double h = stretch ? 0.5 * (length(p.f, e) + length(p.g, e)) : e.norm();
     nb[fill[p.f]] = p.g;
     dist[fill[p.f]++] = h;
     nb[fill[p.g]] = p.f;
@@ -235,6 +247,7 @@ Field uniform_field(const TriMesh& mesh) {
   fd.a.assign(nf, 1.0);
   fd.d_raw.assign(nf, 1.0);
   fd.a_raw.assign(nf, 1.0);
+  fd.coherence.assign(nf, 1.0);
   return fd;
 }
 
@@ -265,10 +278,15 @@ Field make_field(const TriMesh& mesh, const StressField& stress, const FieldOpti
   // Faithfulness: directional information of the tensor, 0 for an isotropic one.
   std::vector<double> w(nf);
   for (int f = 0; f < nf; ++f) w[f] = 1.0 - 1.0 / fd.a_raw[f] + 1e-3;
-  fd.u = smooth_line_field(mesh, fd.u_raw, w, LineFieldOptions{o.smoothing});
+  fd.u = smooth_line_field(mesh, fd.u_raw, w, LineFieldOptions{o.smoothing}, &fd.coherence);
 
   const double diag = bbox_diagonal(mesh.V);
-  auto process = [&](const std::vector<double>& raw, double top) {
+  if (!std::isfinite(o.coherence_exponent) || o.coherence_exponent < 0)
+    throw Error("field", "coherence exponent must be ≥ 0");
+  // `blend` (may be null): per-face factor in [0, 1] applied to the excess over the low level
+  // after saturation.
+  auto process = [&](const std::vector<double>& raw, double top, const std::vector<double>* blend,
+                     const SaturationStretch* stretch) {
     // Clamp first (so isolated spikes do not flood the saturation), then saturate, then map
     // min..max linearly onto [1, top] (exact ends).
     std::vector<double> sorted = raw;
@@ -278,14 +296,23 @@ Field make_field(const TriMesh& mesh, const StressField& stress, const FieldOpti
     const double hi = sorted[static_cast<std::size_t>(std::lround(o.high_percentile * n1))];
     std::vector<double> v(raw.size());
     for (std::size_t i = 0; i < raw.size(); ++i) v[i] = std::clamp(raw[i], lo, hi);
-    if (o.lipschitz > 0 && hi > lo) v = saturate_lipschitz(mesh, v, o.lipschitz * (hi - lo) / diag);
+    if (o.lipschitz > 0 && hi > lo)
+      v = saturate_lipschitz(mesh, v, o.lipschitz * (hi - lo) / diag, stretch);
+    if (blend)
+      for (std::size_t i = 0; i < v.size(); ++i) v[i] = lo + (v[i] - lo) * (*blend)[i];
     return rescale_robust(v, top, 0.0, 1.0);
   };
   if (!(o.low_percentile >= 0 && o.low_percentile <= o.high_percentile && o.high_percentile <= 1))
     throw Error("field", "percentiles must satisfy 0 ≤ low ≤ high ≤ 1");
   if (nf == 0) return fd;
-  fd.d = process(fd.d_raw, o.D);
-  fd.a = process(fd.a_raw, o.A);
+  std::vector<double> blend;
+  if (o.coherence_exponent > 0) {
+    blend.resize(nf);
+    for (int f = 0; f < nf; ++f) blend[f] = std::pow(fd.coherence[f], o.coherence_exponent);
+  }
+  fd.a = process(fd.a_raw, o.A, blend.empty() ? nullptr : &blend, nullptr);
+  const SaturationStretch stretch{fd.u, fd.a};
+  fd.d = process(fd.d_raw, o.D, nullptr, &stretch);
   return fd;
 }
 
@@ -309,6 +336,7 @@ io::Attributes field_attributes(const Field& field) {
   at["a"] = sca(field.a);
   at["d_raw"] = sca(field.d_raw);
   at["a_raw"] = sca(field.a_raw);
+  at["coherence"] = sca(field.coherence);
   return at;
 }
 

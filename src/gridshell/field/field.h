@@ -17,7 +17,11 @@
 ///   2. u smoothed as a line field (smooth_line_field: one sparse Hermitian solve),
 ///   3. d and a clamped to their [low, high] percentiles (robust against FEM spikes),
 ///   4. d and a made Lipschitz by an upper saturation that keeps maxima (saturate_lipschitz),
-///   5. d and a mapped linearly onto exactly [1, D] and [1, A] (rescale_robust); a constant field
+///      a first (Euclidean distances), then
+///   5. a blended towards isotropy where the smoothed direction is incoherent (|z| < 1) and
+///      mapped onto [1, A]; d saturated in distances shrunk a-fold along u (the metric of M′
+///      up to the scale d),
+///   6. d and a mapped linearly onto exactly [1, D] and [1, A] (rescale_robust); a constant field
 ///      maps to 1.
 /// (Clamping comes before saturation on purpose: saturating a raw spike would flood the surface
 /// with a cone of near-maximal values.)
@@ -48,6 +52,13 @@ struct FieldOptions {
   double low_percentile = 0.05;   ///< values below this quantile are clamped to it
   double high_percentile = 0.95;  ///< values above this quantile are clamped to it
   double anisotropy_cap = 10;     ///< raw anisotropy is capped here (> 1)
+  /// Isotropy where the direction is incoherent: the saturated anisotropy's excess over its low
+  /// level is multiplied by c^coherence_exponent, c = |z| ∈ [0, 1] the magnitude of the smoothed
+  /// line field (1 where neighbouring directions agree, 0 at singularities and in strips where u
+  /// turns by 90° within the smoothing length). Stretching cells along a direction that turns
+  /// faster than the cells are long asks for a metric that no surface realises: M′ folds.
+  /// 0 disables the blending.
+  double coherence_exponent = 1;
 };
 
 /// The sizing field, per face of the mesh it was computed on.
@@ -58,6 +69,9 @@ struct Field {
   std::vector<Vec3> u_raw;    ///< direction before smoothing
   std::vector<double> d_raw;  ///< max(|s1|, |s2|) as given (stress units)
   std::vector<double> a_raw;  ///< max/min magnitude, in [1, anisotropy_cap]
+  /// |z| of the smoothed line field in [0, 1] (see FieldOptions::coherence_exponent); may be
+  /// empty (uniform or imported fields without smoothing).
+  std::vector<double> coherence;
 
   int size() const { return static_cast<int>(u.size()); }
 };
@@ -91,16 +105,31 @@ struct LineFieldOptions {
 /// Hermitian positive-definite solve of size F (complex LLᵀ, AMD ordering). Returns unit tangent
 /// directions (the input direction where |z| vanishes). Directions are projected onto the face
 /// planes first.
+/// When `coherence` is given it receives |z_f| clamped to [0, 1]: 1 where the directions around
+/// f agree, → 0 where they cancel (a singularity, or a strip where u turns by 90° within ~ℓ).
 std::vector<Vec3> smooth_line_field(const TriMesh& mesh, const std::vector<Vec3>& directions,
                                     const std::vector<double>& weights,
-                                    const LineFieldOptions& options = {});
+                                    const LineFieldOptions& options = {},
+                                    std::vector<double>* coherence = nullptr);
 
 /// Upper saturation that keeps maxima: f'(p) = max_q ( f(q) − L · dist(p, q) ) with dist the
 /// shortest path over the face graph (centroid to centroid through shared edges). Afterwards
 /// f' ≥ f, max f' = max f, and |f'(p) − f'(q)| ≤ L · h_pq for adjacent faces. Dijkstra-like
 /// sweep, O(F log F). L ≤ 0 returns f unchanged.
+/// With `stretch` (per face: a unit tangent direction u and a factor a ≥ 1) the distances are
+/// anisotropic: a step e from face f measures √((e·u_f / a_f)² + |e|² − (e·u_f)²), averaged over
+/// the two faces of each pair, so along u the slope allowed per metre is L / a (for straight
+/// paths; centroid paths on a triangle mesh zigzag across u, which dilutes this: 0.62 L instead
+/// of L/3 for a = 3 on a chequerboard grid). make_field uses
+/// this for d with the final (u, a): in M′ both directions then see the same bound (lengths along
+/// u shrink by a there, which would otherwise steepen d's slope a-fold, and the metric's
+/// curvature a²-fold: the cause of the folds of M′ on the barrel at D = A = 3).
+struct SaturationStretch {
+  const std::vector<Vec3>& u;
+  const std::vector<double>& a;
+};
 std::vector<double> saturate_lipschitz(const TriMesh& mesh, const std::vector<double>& values,
-                                       double L);
+                                       double L, const SaturationStretch* stretch = nullptr);
 
 /// Clamps values to their [low, high] quantiles (nearest rank, so both bounds are values of the
 /// input) and maps them linearly onto [1, top]: the result spans exactly [1, top]. When the
@@ -108,7 +137,7 @@ std::vector<double> saturate_lipschitz(const TriMesh& mesh, const std::vector<do
 std::vector<double> rescale_robust(const std::vector<double>& values, double top,
                                    double low_percentile = 0.05, double high_percentile = 0.95);
 
-/// ParaView arrays per face: "u", "u_raw" (n×3), "d", "a", "d_raw", "a_raw" (n×1).
+/// ParaView arrays per face: "u", "u_raw" (n×3), "d", "a", "d_raw", "a_raw", "coherence" (n×1).
 io::Attributes field_attributes(const Field& field);
 
 }  // namespace gridshell

@@ -52,7 +52,9 @@ Mat32 face_frame(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& u_i
   return fr;
 }
 
-void build_level(Level& lv, const TriMesh& rest, const Field& field, double bending) {
+/// `bending_length`: the length h of the bending weight μ = bending · h².
+void build_level(Level& lv, const TriMesh& rest, const Field& field, double bending,
+                 double bending_length) {
   const int nf = rest.num_faces(), nv = rest.num_vertices();
   lv.D.resize(nf);
   lv.frame.resize(nf);
@@ -110,12 +112,10 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
   trip.reserve(9 * static_cast<std::size_t>(nf));
   std::vector<double> vertex_area(nv, 0.0);
   std::vector<char> boundary(nv, 0);
-  double edge_sum = 0;
   for (int f = 0; f < nf; ++f) {
     const Mat33 K = lv.area[f] * lv.D[f] * lv.D[f].transpose();
     for (int i = 0; i < 3; ++i) {
       vertex_area[rest.F(f, i)] += lv.area[f] / 3;
-      edge_sum += (rest.V.row(rest.F(f, i)) - rest.V.row(rest.F(f, (i + 1) % 3))).norm();
       for (int j = 0; j < 3; ++j) trip.emplace_back(rest.F(f, i), rest.F(f, j), K(i, j));
     }
   }
@@ -130,7 +130,7 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
     for (int v = 0; v < nv; ++v)
       if (vertex_area[v] > 0)
         w[v] = (topo.on_boundary[v] ? kBoundaryBending : 1.0) / vertex_area[v];
-    const double h = edge_sum / (3.0 * nf);
+    const double h = bending_length;
     lv.muB = (bending * h * h) * Eigen::SparseMatrix<double>(A * w.asDiagonal() * A);
     A = A + lv.muB;
   } else {
@@ -206,14 +206,51 @@ void set_reference(Level& lv, const Points& X) {
 }
 
 /// Local step: best frames for the current X; returns the relative residual before the update.
+/// Orientation-preserving fit for a triangle turned over in M′: the membrane energy cannot tell a
+/// triangle from its mirror image (both have the same metric), so the plain polar fit keeps a
+/// flipped triangle flipped. Here R spans the triangle's plane with the orientation of `n_ref`
+/// (the normal of the surface around it) and its 2×2 part is the rotation (det +1) closest to
+/// the reflection the triangle shows; the global step then turns the triangle back.
+Mat32 oriented_fit(const Mat32& M, const Vec3& n_ref) {
+  Vec3 n = M.col(0).cross(M.col(1));
+  if (!(n.norm() > 0)) return polar32(M);
+  n.normalize();
+  if (n.dot(n_ref) < 0) n = -n;  // the plane of the triangle, oriented like its surroundings
+  Vec3 b1 = M.col(0).norm() > M.col(1).norm() ? M.col(0) : M.col(1);
+  b1 = (b1 - b1.dot(n) * n).normalized();
+  Mat32 B;
+  B.col(0) = b1;
+  B.col(1) = n.cross(b1);
+  const Eigen::Matrix2d M2 = B.transpose() * M;
+  Eigen::JacobiSVD<Eigen::Matrix2d> svd(M2, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix2d U = svd.matrixU();
+  if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(1) *= -1;
+  return B * (U * svd.matrixV().transpose());
+}
+
+/// Local step: best frames for the current X; returns the relative residual before the update.
 double local_step(const Level& lv, const TriMesh& rest, const Points& X, std::vector<Mat32>& R) {
   const int nf = rest.num_faces();
   std::vector<double> e(nf), s(nf);
+  // Normal of the surface around each face: the area-weighted normals of the faces sharing a
+  // vertex with it (itself excluded), to detect triangles turned over against their neighbours.
+  std::vector<Vec3> fn(nf);
+  Eigen::MatrixXd vn = Eigen::MatrixXd::Zero(X.rows(), 3);
+  for (int f = 0; f < nf; ++f) {
+    const Vec3 p0 = X.row(rest.F(f, 0)).transpose();
+    fn[f] = (Vec3(X.row(rest.F(f, 1)).transpose()) - p0)
+                .cross(Vec3(X.row(rest.F(f, 2)).transpose()) - p0);
+    for (int k = 0; k < 3; ++k) vn.row(rest.F(f, k)) += fn[f].transpose();
+  }
   tbb::parallel_for(0, nf, [&](int f) {
     Mat33 Xt;
     for (int k = 0; k < 3; ++k) Xt.col(k) = X.row(rest.F(f, k)).transpose();
     const Mat32 J = Xt * lv.D[f];
-    R[f] = polar32(J * lv.target[f].asDiagonal());
+    const Mat32 M = J * lv.target[f].asDiagonal();
+    const Vec3 around =
+        (vn.row(rest.F(f, 0)) + vn.row(rest.F(f, 1)) + vn.row(rest.F(f, 2))).transpose() -
+        3 * fn[f];
+    R[f] = fn[f].dot(around) < 0 ? oriented_fit(M, around) : polar32(M);
     e[f] = lv.area[f] * (J - R[f] * lv.target[f].asDiagonal()).squaredNorm();
     s[f] = lv.area[f] * lv.target[f].squaredNorm();
   });
@@ -341,7 +378,8 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
     throw Error("field", fmt::format("field has {} entries for {} faces", field.size(), nf));
   if (nf == 0) throw Error("mesh", "no faces to deform");
   if (!mesh.V.allFinite()) throw Error("mesh", "non-finite vertex coordinates");
-  if (o.iterations < 0 || o.refine_iterations < 0 || o.max_rounds < 0 || o.max_faces <= 0)
+  if (o.iterations < 0 || o.refine_iterations < 0 || o.max_rounds < 0 || o.max_faces <= 0 ||
+      o.membrane_iterations < 0)
     throw Error("metric", "iteration counts and limits must be non-negative");
   if (std::isnan(o.max_edge)) throw Error("metric", "max_edge is NaN");
   if (!std::isfinite(o.bending) || o.bending < 0) throw Error("metric", "bending must be ≥ 0");
@@ -359,15 +397,30 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
   out.deformed = mesh;
 
   Level lv;
-  // Initial guess: integrate the target Jacobians in the rest frames (membrane energy only), then
-  // take that shape as the bending reference of the iterations.
-  build_level(lv, out.rest, out.field, 0.0);
+  // The regulariser's length h is the input mesh's mean edge length on every level: with the
+  // level's own (halving) h the bending weight fell 4× per refinement round and M′ creased on
+  // the finer levels (barrel, D = A = 3: 8–16 folded edges along the crown).
+  double bending_length = 0;
+  {
+    const Topology topo = build_topology(mesh);
+    for (const auto& [a, b] : topo.edges)
+      bending_length += (mesh.vertex(a) - mesh.vertex(b)).norm();
+    bending_length /= std::max(1, topo.num_edges());
+  }
+  // Initial guess: integrate the target Jacobians in the rest frames (membrane energy only), a
+  // few membrane-only iterations to undo its folds, then that shape is the bending reference of
+  // the iterations (a fold in the reference would be kept by the regulariser).
+  build_level(lv, out.rest, out.field, 0.0, 0.0);
   global_step(lv, out.rest, out.deformed.V, lv.frame);
+  out.iterations = 0;
   if (o.bending > 0) {
-    build_level(lv, out.rest, out.field, o.bending);
+    const int membrane = std::min(o.membrane_iterations, o.iterations);
+    iterate(lv, out.rest, out.deformed.V, membrane);
+    out.iterations += membrane;
+    build_level(lv, out.rest, out.field, o.bending, bending_length);
     set_reference(lv, out.deformed.V);
   }
-  out.residual = iterate(lv, out.rest, out.deformed.V, o.iterations);
+  out.residual = iterate(lv, out.rest, out.deformed.V, o.iterations - out.iterations);
   out.iterations = o.iterations;
 
   while (refine) {
@@ -397,6 +450,8 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
       child.d_raw.resize(n);
       child.a_raw.resize(n);
     }
+    const bool coherent = out.field.coherence.size() == out.field.u.size();
+    if (coherent) child.coherence.resize(n);
     std::vector<int> grand(n);
     for (std::size_t i = 0; i < n; ++i) {
       const int p = parent[i];
@@ -408,6 +463,7 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
         child.d_raw[i] = out.field.d_raw[p];
         child.a_raw[i] = out.field.a_raw[p];
       }
+      if (coherent) child.coherence[i] = out.field.coherence[p];
       grand[i] = out.parent_face[p];
     }
     out.field = std::move(child);
@@ -417,7 +473,7 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
     // target, so the residual is unchanged: a round that split only a few edges is not worth a
     // new factorisation.
     if (split < o.resolve_fraction * edges_before) continue;
-    build_level(lv, out.rest, out.field, o.bending);
+    build_level(lv, out.rest, out.field, o.bending, bending_length);
     set_reference(lv, out.deformed.V);
     out.residual = iterate(lv, out.rest, out.deformed.V, o.refine_iterations);
     out.iterations += o.refine_iterations;

@@ -48,14 +48,21 @@ struct DeformOptions {
   double split_ratio = 0.85;
   /// Weight of the bending regulariser μ Σ_v |Δ(x′ − x_ref)_v|²/area_v (interior vertices, Δ the
   /// cotangent Laplacian of M, x_ref the initial M′ of the level) with μ = bending · h², h the
-  /// mean edge length of the current rest mesh. Without it the local/global iterations crumple
-  /// M′ (folded triangles) where the metric is not realisable. 0 = pure membrane energy.
+  /// mean edge length of the input mesh, the same on every refinement level (the regulariser
+  /// must not fade as the mesh is refined, else M′ creases on the fine levels). Without it the
+  /// local/global iterations crumple M′ (folded triangles) where the metric is not realisable. 0 =
+  /// pure membrane energy.
   double bending = 1;
   /// A refinement round that splits fewer than this fraction of the edges is not followed by a
   /// re-solve: midpoint splits leave M′ the same piecewise-linear map (children carry the
   /// parent's target), so only the new factorisation would be paid for. 0 = always re-solve.
   double resolve_fraction = 0.02;
-  int iterations = 30;        ///< local/global iterations on the input mesh (≥ 0)
+  int iterations = 30;  ///< local/global iterations on the input mesh (≥ 0)
+  /// The first of those iterations run without the bending term; their result is the bending
+  /// reference. The initial guess (the targets integrated in place) can have folds, which a
+  /// regulariser against it would keep (Aquadom at D = A = 3: 3 folded edges that the bending
+  /// iterations kept; 5 membrane iterations remove them).
+  int membrane_iterations = 5;
   int refine_iterations = 8;  ///< local/global iterations after each refinement round
   int max_rounds = 16;        ///< refinement rounds before giving up (Error)
   int max_faces = 4'000'000;  ///< refined size limit (Error beyond)
