@@ -346,3 +346,30 @@ TEST(Anisotropy, AquadomDeformsWithoutTurnedOverTriangles) {
   EXPECT_EQ(inverted_triangles(def.deformed), 0);
   EXPECT_LT(def.residual, 0.01);
 }
+
+TEST(Anisotropy, BarrelAtThreeExtractsWithoutSoftening) {
+  // builtin barrel at D = A = 3 (300 cells): M′ near the supported long edges bends back within
+  // a cell size, so the Euclidean (restricted) Voronoi regions of about 25 cells there fall into
+  // several pieces — non-disk cells that no refinement repairs; the pipeline failed the
+  // extraction for two seeds and softened the field to D = A = 2. The engine now gives each
+  // detached piece to the neighbouring cell it shares most border with.
+  const Surface s = make_builtin("barrel");
+  DesignOptions d;
+  d.D = 3;
+  d.A = 3;
+  d.analyze = "none";
+  d.regularize = false;
+  const DesignResult r = run_design(s, d);
+  const Tessellation& t = r.tessellation;
+  std::printf("barrel D = A = 3: %d faces, %d vertices moved from detached pieces, hex %.3f\n",
+              t.mesh.num_faces(), t.orphan_vertices, t.quality.hex_share_interior);
+  EXPECT_FALSE(r.details["field"].contains("softened_from"));
+  EXPECT_FALSE(r.details.contains("tessellation_seed_retries"));
+  EXPECT_GT(t.orphan_vertices, 0);  // the case this test is about did occur
+  EXPECT_TRUE(t.quality.manifold);
+  EXPECT_EQ(t.quality.euler, 1);
+  EXPECT_EQ(t.quality.boundary_loops, 1);
+  EXPECT_EQ(t.quality.valence3_share_interior, 1.0);
+  EXPECT_EQ(t.mesh.num_faces(), 300);
+  EXPECT_GE(t.quality.hex_share_interior, 0.6);
+}

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <numbers>
+#include <numeric>
 #include <tuple>
 #include <unordered_map>
 
@@ -284,6 +287,9 @@ struct Seed {
   Vec3 bary{1, 0, 0};
   Vec3 pos{0, 0, 0};  ///< on M'
 };
+
+struct Engine;
+int merge_orphan_pieces(Engine& E);
 
 struct Engine {
   SupportMesh S;
@@ -990,6 +996,85 @@ Extraction extract(const Engine& E) {
   return X;
 }
 
+/// Makes every cell's region connected on the support mesh. The diagram is Euclidean in M′ (a
+/// restricted Voronoi diagram), so where M′ bends sharply (a ridge, a narrow boundary lobe near a
+/// support) the points nearest to one seed can fall into several pieces of the surface; such a
+/// cell is not a disk, and refining does not change it. Each label keeps the connected piece
+/// (vertices joined by support edges with that label) of its vertex nearest to the seed; every
+/// other piece (an orphan) goes to the neighbouring cell it shares most support edges with,
+/// counting edges to kept pieces only when there are any. Repeated until no orphan is left
+/// (at most 8 rounds). Sequential, so deterministic. Returns the vertices relabelled.
+int merge_orphan_pieces(Engine& E) {
+  const auto& F = E.S.deformed.F;
+  auto& L = E.label;
+  const int nv = E.S.deformed.num_vertices();
+  const int nt = static_cast<int>(F.rows());
+  const int ns = static_cast<int>(E.seeds.size());
+  int relabelled = 0;
+  std::vector<int> parent(nv);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (int round = 0; round < 8; ++round) {
+    std::iota(parent.begin(), parent.end(), 0);
+    for (int t = 0; t < nt; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int a = F(t, k), b = F(t, (k + 1) % 3);
+        if (L[a] != L[b]) continue;
+        const int ra = find(a), rb = find(b);
+        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+      }
+    // Each label keeps the piece of its vertex nearest to the seed.
+    std::vector<int> keep(ns, -1);
+    std::vector<double> best(ns, std::numeric_limits<double>::infinity());
+    for (int v = 0; v < nv; ++v) {
+      const int l = L[v];
+      const double d = (E.S.deformed.vertex(v) - E.seeds[l].pos).squaredNorm();
+      if (d < best[l]) {
+        best[l] = d;
+        keep[l] = v;
+      }
+    }
+    for (int l = 0; l < ns; ++l)
+      if (keep[l] >= 0) keep[l] = find(keep[l]);
+    auto kept = [&](int v) { return find(v) == keep[L[v]]; };
+    // Orphan pieces and their shared edges with other cells: (root, label) → (kept, any).
+    std::map<std::pair<int, int>, std::pair<int, int>> shared;
+    bool any_orphan = false;
+    for (int t = 0; t < nt; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int a = F(t, k), b = F(t, (k + 1) % 3);
+        if (L[a] == L[b]) continue;
+        for (const auto& [o, n] : {std::pair{a, b}, std::pair{b, a}}) {
+          if (kept(o)) continue;
+          any_orphan = true;
+          auto& c = shared[{find(o), L[n]}];
+          c.first += kept(n) ? 1 : 0;
+          c.second += 1;
+        }
+      }
+    if (!any_orphan) {
+      // An orphan piece with no border (a whole component of the surface) has nowhere to go.
+      break;
+    }
+    std::unordered_map<int, std::pair<std::pair<int, int>, int>> target;  // root → (score, label)
+    for (const auto& [key, c] : shared) {
+      const auto [root, l] = key;
+      auto it = target.find(root);
+      if (it == target.end() || c > it->second.first) target[root] = {c, l};
+    }
+    for (int v = 0; v < nv; ++v) {
+      if (kept(v)) continue;
+      const auto it = target.find(find(v));
+      if (it == target.end()) continue;
+      L[v] = it->second.second;
+      ++relabelled;
+    }
+  }
+  return relabelled;
+}
+
 /// Collapses every output edge shorter than `min_length` that ends on the boundary: a Voronoi
 /// vertex just inside the boundary, or two boundary joints side by side, would otherwise leave
 /// a stub beam. The boundary end (a corner when there is one) is kept. Faces keep ≥ 3 corners;
@@ -1181,6 +1266,11 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   double hr = he;
   for (int attempt = 0;; ++attempt) {
     E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
+    // Detached pieces of a cell's region (M′ bending back within a cell size) would make it
+    // a non-disk that no refinement repairs: they join a neighbouring cell first.
+    const int orphans = merge_orphan_pieces(E);
+    if (orphans > 0)
+      spdlog::debug("extraction: {} support vertices moved from detached cell pieces", orphans);
     X = extract(E);
     spdlog::debug(
         "extract attempt {}: {} ({:.2f} s)", attempt, X.ok ? "ok" : X.problem,
@@ -1285,6 +1375,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
           if (sup[n]) T.supports.push_back(n);
         for (int f : face_seed) T.seeds.push_back(seed_rest[f]);
         T.repairs = attempt;
+        T.orphan_vertices = orphans;
         T.seconds_extraction =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t_extract).count();
         return T;

@@ -22,7 +22,8 @@
 ///     triangles and on boundary edges, plus boundary corners; borders are traced into polygon
 ///     edges; every region is checked to be a disk bounded by one cycle and the output to be a
 ///     manifold with the input's Euler characteristic and boundary loops (repaired by local
-///     refinement, else Error);
+///     refinement, else Error); a cell whose Euclidean region falls into several pieces keeps
+///     the piece nearest to its seed, the others join the neighbour they share most border with;
 ///  5. output positions mapped back onto M through (triangle, barycentrics).
 ///
 /// Cost: O(support triangles) per diagram (≈ 6 R⁻² · area triangles at support_edge 0.6), about
@@ -114,6 +115,9 @@ struct Tessellation {
   int support_vertices = 0;          ///< support-mesh size used for Lloyd
   int length_runs = 1;               ///< tessellations computed to meet `length`
   int repairs = 0;                   ///< extraction repairs (local refinements) needed
+  /// Support vertices moved at extraction from a detached piece of a cell's Euclidean region
+  /// (M′ bending back within a cell size) to the neighbouring cell (final attempt).
+  int orphan_vertices = 0;
   TessellationQuality quality;
   double seconds_setup = 0;       ///< support mesh and seeding (final run)
   double seconds_lloyd = 0;       ///< Lloyd relaxation (final run)
