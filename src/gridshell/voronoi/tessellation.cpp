@@ -999,11 +999,11 @@ Extraction extract(const Engine& E) {
 /// Makes every cell's region connected on the support mesh. The diagram is Euclidean in M′ (a
 /// restricted Voronoi diagram), so where M′ bends sharply (a ridge, a narrow boundary lobe near a
 /// support) the points nearest to one seed can fall into several pieces of the surface; such a
-/// cell is not a disk, and refining does not change it. Each label keeps the connected piece
-/// (vertices joined by support edges with that label) of its vertex nearest to the seed; every
-/// other piece (an orphan) goes to the neighbouring cell it shares most support edges with,
-/// counting edges to kept pieces only when there are any. Repeated until no orphan is left
-/// (at most 8 rounds). Sequential, so deterministic. Returns the vertices relabelled.
+/// cell is not a disk, and refining does not change it. Each label keeps its largest connected
+/// piece (vertices joined by support edges with that label; area on M′); every other piece (an
+/// orphan) goes to the neighbouring cell it shares most support edges with, counting edges to kept
+/// pieces only when there are any. Repeated until no orphan is left (at most 8 rounds). Sequential,
+/// so deterministic. Returns the vertices relabelled.
 int merge_orphan_pieces(Engine& E) {
   const auto& F = E.S.deformed.F;
   auto& L = E.label;
@@ -1012,6 +1012,7 @@ int merge_orphan_pieces(Engine& E) {
   const int ns = static_cast<int>(E.seeds.size());
   int relabelled = 0;
   std::vector<int> parent(nv);
+  std::vector<double> area(nv);
   auto find = [&](int v) {
     while (parent[v] != v) v = parent[v] = parent[parent[v]];
     return v;
@@ -1025,19 +1026,22 @@ int merge_orphan_pieces(Engine& E) {
         const int ra = find(a), rb = find(b);
         if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
       }
-    // Each label keeps the piece of its vertex nearest to the seed.
-    std::vector<int> keep(ns, -1);
-    std::vector<double> best(ns, std::numeric_limits<double>::infinity());
-    for (int v = 0; v < nv; ++v) {
-      const int l = L[v];
-      const double d = (E.S.deformed.vertex(v) - E.seeds[l].pos).squaredNorm();
-      if (d < best[l]) {
-        best[l] = d;
-        keep[l] = v;
-      }
+    // Each label keeps its largest piece (area on M′; a vertex carries a third of its
+    // triangles): the piece nearest to a fixed boundary seed can be a sliver.
+    std::fill(area.begin(), area.end(), 0.0);
+    for (int t = 0; t < nt; ++t) {
+      const Vec3 a = E.S.deformed.vertex(F(t, 0));
+      const double third =
+          (E.S.deformed.vertex(F(t, 1)) - a).cross(E.S.deformed.vertex(F(t, 2)) - a).norm() / 6;
+      for (int k = 0; k < 3; ++k) area[find(F(t, k))] += third;
     }
-    for (int l = 0; l < ns; ++l)
-      if (keep[l] >= 0) keep[l] = find(keep[l]);
+    std::vector<int> keep(ns, -1);
+    std::vector<double> best(ns, -1.0);
+    for (int v = 0; v < nv; ++v)
+      if (find(v) == v && area[v] > best[L[v]]) {
+        best[L[v]] = area[v];
+        keep[L[v]] = v;
+      }
     auto kept = [&](int v) { return find(v) == keep[L[v]]; };
     // Orphan pieces and their shared edges with other cells: (root, label) → (kept, any).
     std::map<std::pair<int, int>, std::pair<int, int>> shared;

@@ -23,7 +23,7 @@
 ///     edges; every region is checked to be a disk bounded by one cycle and the output to be a
 ///     manifold with the input's Euler characteristic and boundary loops (repaired by local
 ///     refinement, else Error); a cell whose Euclidean region falls into several pieces keeps
-///     the piece nearest to its seed, the others join the neighbour they share most border with;
+///     its largest piece, the others join the neighbour they share most border with;
 ///  5. output positions mapped back onto M through (triangle, barycentrics).
 ///
 /// Cost: O(support triangles) per diagram (≈ 6 R⁻² · area triangles at support_edge 0.6), about
