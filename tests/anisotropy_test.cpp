@@ -35,10 +35,6 @@ namespace {
 
 constexpr double kSide = 10;  // the flat square [0, 10]²
 
-Vec3 centroid(const TriMesh& m, int f) {
-  return (m.vertex(m.F(f, 0)) + m.vertex(m.F(f, 1)) + m.vertex(m.F(f, 2))) / 3;
-}
-
 double median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];
@@ -84,19 +80,6 @@ std::vector<int> interior_cells(const Tessellation& t) {
     if (inside) out.push_back(f);
   }
   return out;
-}
-
-/// Field on the flat square with u = x and d, a functions of the position.
-template <class Fd, class Fa>
-Field synthetic(const TriMesh& m, Fd d, Fa a) {
-  Field fd = uniform_field(m);
-  for (int f = 0; f < m.num_faces(); ++f) {
-    const Vec3 c = centroid(m, f);
-    fd.u[f] = Vec3::UnitX();
-    fd.d[f] = d(c);
-    fd.a[f] = a(c);
-  }
-  return fd;
 }
 
 /// The pipeline of `design` on a field given per face: deform to edges ≤ R on M′ (R estimated
@@ -151,7 +134,7 @@ TEST(Anisotropy, DensityRampCellAreasFollowOneOverDSquared) {
   // (d_m,dense / d_m,sparse)² = (45.5^⅓ / 4.5^⅓)² = 4.68 — the extreme cells differ by 16×.
   const TriMesh m = flat_grid(24, 24, kSide, kSide);
   const auto d_of = [](const Vec3& c) { return 1 + 3 * c.x() / kSide; };
-  const Field fd = synthetic(m, d_of, [](const Vec3&) { return 1.0; });
+  const Field fd = test::synthetic_field(m, d_of, [](const Vec3&) { return 1.0; });
   const Pipeline r = tessellate_field(m, fd, 300);
   EXPECT_EQ(r.def.folded_edges, 0);
   EXPECT_EQ(r.tess.quality.euler, 1);
@@ -187,7 +170,7 @@ TEST(Anisotropy, AnisotropyRampCellsStretchAlongU) {
   // a for one stretched a-fold).
   const TriMesh m = flat_grid(24, 24, kSide, kSide);
   const auto a_of = [](const Vec3& c) { return 1 + 2 * c.y() / kSide; };
-  const Field fd = synthetic(
+  const Field fd = test::synthetic_field(
       m, [](const Vec3&) { return 1.0; }, a_of);
   const Pipeline r = tessellate_field(m, fd, 300);
   EXPECT_EQ(r.def.folded_edges, 0);
@@ -263,7 +246,7 @@ TEST(Anisotropy, UnitDensityAndAnisotropyGiveTheIsotropicTessellation) {
 TEST(Anisotropy, FinalDeformedSurfaceHasNoEdgeAboveAFifthOfR) {
   // The paper's support-mesh rule: q = R/5 on M′, with the R that the tessellation then uses.
   const TriMesh m = flat_grid(12, 12, kSide, kSide);
-  const Field fd = synthetic(
+  const Field fd = test::synthetic_field(
       m, [](const Vec3& c) { return 1 + 2 * c.x() / kSide; },
       [](const Vec3& c) { return 1 + 2 * c.y() / kSide; });
   double area_def = 0;

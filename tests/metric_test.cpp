@@ -3,44 +3,31 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "gridshell/surfaces/grid.h"
 #include "gridshell/core/error.h"
 #include "gridshell/field/field.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/metric/deform.h"
 #include "gridshell/surfaces/builtin.h"
+#include "gridshell/surfaces/grid.h"
 
 using namespace gridshell;
 
 namespace {
 
-TriMesh grid(int nx, int ny, double w, double h) { return flat_grid(nx, ny, w, h); }
-
-Vec3 centroid(const TriMesh& m, int f) {
-  return (m.vertex(m.F(f, 0)) + m.vertex(m.F(f, 1)) + m.vertex(m.F(f, 2))) / 3;
+TriMesh grid(int nx, int ny, double w, double h) {
+  return flat_grid(nx, ny, w, h);
 }
 
 double tri_area(const TriMesh& m, int f) {
   return 0.5 * (m.vertex(m.F(f, 1)) - m.vertex(m.F(f, 0)))
                    .cross(m.vertex(m.F(f, 2)) - m.vertex(m.F(f, 0)))
                    .norm();
-}
-
-/// Field with u = x, d and a given as functions of the centroid.
-template <class Fd, class Fa>
-Field synthetic(const TriMesh& m, Fd d, Fa a) {
-  Field fd = uniform_field(m);
-  for (int f = 0; f < m.num_faces(); ++f) {
-    const Vec3 c = centroid(m, f);
-    fd.u[f] = Vec3::UnitX();
-    fd.d[f] = d(c);
-    fd.a[f] = a(c);
-  }
-  return fd;
 }
 
 double median(std::vector<double> v) {
@@ -79,7 +66,7 @@ TEST(Metric, IdentityMetricGivesCongruentSurface) {
 TEST(Metric, ConstantAnisotropicMetricIsMetExactly) {
   // A constant target map is flat: the deformation reproduces it exactly (along = d/a, across = d).
   const TriMesh m = grid(10, 8, 5, 4);
-  const Field fd = synthetic(
+  const Field fd = test::synthetic_field(
       m, [](const Vec3&) { return 2.0; }, [](const Vec3&) { return 2.5; });
   DeformOptions o;
   o.iterations = 10;
@@ -95,7 +82,7 @@ TEST(Metric, ConstantAnisotropicMetricIsMetExactly) {
 TEST(Metric, DensityRampScalesAreasLikeDSquared) {
   // Flat square, d rising linearly in x from 1 to 4, a = 1: M′ triangle area / M area ≈ d².
   const TriMesh m = grid(24, 24, 10, 10);
-  const Field fd = synthetic(
+  const Field fd = test::synthetic_field(
       m, [](const Vec3& c) { return 1 + 3 * c.x() / 10; }, [](const Vec3&) { return 1.0; });
   DeformOptions o;
   o.iterations = 40;
@@ -104,7 +91,7 @@ TEST(Metric, DensityRampScalesAreasLikeDSquared) {
   for (int f = 0; f < m.num_faces(); ++f) {
     const double ratio = tri_area(r.deformed, f) / tri_area(m, f);
     rel.push_back(std::abs(ratio / (fd.d[f] * fd.d[f]) - 1));
-    const double x = centroid(m, f).x();
+    const double x = test::centroid(m, f).x();
     if (x < 2) sparse.push_back(ratio);
     if (x > 8) dense.push_back(ratio);
   }
@@ -125,7 +112,7 @@ TEST(Metric, AnisotropyRampStretchesAcrossU) {
   // Flat square, u = x, a rising from 1 to 3 along y, d = a: along-u scale d/a = 1, across = a.
   const TriMesh m = grid(24, 24, 10, 10);
   const auto a_of = [](const Vec3& c) { return 1 + 2 * c.y() / 10; };
-  const Field fd = synthetic(m, a_of, a_of);
+  const Field fd = test::synthetic_field(m, a_of, a_of);
   DeformOptions o;
   o.iterations = 40;
   const Deformed r = deform_metric(m, fd, o);
@@ -134,7 +121,7 @@ TEST(Metric, AnisotropyRampStretchesAcrossU) {
   for (int f = 0; f < m.num_faces(); ++f) {
     const double got = s.across[f] / s.along[f];
     err_aniso.push_back(std::abs(got / fd.a[f] - 1));
-    const double y = centroid(m, f).y();
+    const double y = test::centroid(m, f).y();
     if (y < 1.5) iso.push_back(got);
     if (y > 8.5) aniso.push_back(got);
   }
@@ -148,7 +135,7 @@ TEST(Metric, AnisotropyRampStretchesAcrossU) {
 TEST(Metric, RefinementBringsEveryEdgeBelowQ) {
   const Surface s = make_builtin("dome:span=20,rise=5,res=10");
   const TriMesh& m = s.mesh;
-  const Field fd = synthetic(
+  const Field fd = test::synthetic_field(
       m, [](const Vec3& c) { return 1 + 2 * (c.x() + 10) / 20; }, [](const Vec3&) { return 2.0; });
   DeformOptions o;
   o.max_edge = 1.0;
@@ -208,7 +195,7 @@ TEST(Metric, MidpointSplitKeepsThePiecewiseLinearMap) {
   // Why a round that splits few edges may skip the re-solve: children of a split triangle have
   // exactly the parent's Jacobian, so the stretch (and the residual) is unchanged.
   const TriMesh m = grid(8, 8, 4, 4);
-  const Field fd = synthetic(
+  const Field fd = test::synthetic_field(
       m, [](const Vec3& c) { return 1 + 0.5 * c.x(); },
       [](const Vec3& c) { return 1 + 0.3 * c.y(); });
   DeformOptions o;

@@ -105,6 +105,10 @@ TEST_F(SweepCli, TwoMpiRanksReproduceTheRowsInOrder) {
   // Open MPI refuses root unless told; CI runs as root.
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  // A machine whose MPI runtime cannot start two ranks at all (no usable transport in a
+  // container) says nothing about gridshell: skip, naming the cause.
+  const std::string probe = mpiexec + " --oversubscribe -n 2 true >/dev/null 2>&1 </dev/null";
+  if (std::system(probe.c_str()) != 0) GTEST_SKIP() << "the MPI runtime cannot start 2 ranks here";
   const fs::path out = dir_ / "mpi";
   const std::string cmd = mpiexec + " --oversubscribe -n 2 " + std::string(GRIDSHELL_EXE) + " " +
                           kSweep + "-o " + out.string() + " >" + (dir_ / "mpi.log").string() +

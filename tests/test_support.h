@@ -4,6 +4,9 @@
 #include <filesystem>
 #include <string>
 
+#include "gridshell/field/field.h"
+#include "gridshell/mesh/mesh.h"
+
 namespace gridshell::test {
 
 /// ../shared/data beside the checkout, or empty when absent (tests then GTEST_SKIP).
@@ -23,6 +26,24 @@ struct RunResult {
   std::string err;
 };
 RunResult run_gridshell(const std::string& args);
+
+/// Centroid of triangle f.
+inline Vec3 centroid(const TriMesh& m, int f) {
+  return (m.vertex(m.F(f, 0)) + m.vertex(m.F(f, 1)) + m.vertex(m.F(f, 2))) / 3;
+}
+
+/// A synthetic field: u = x everywhere, d and a given as functions of the triangle centroid.
+template <class Fd, class Fa>
+Field synthetic_field(const TriMesh& m, Fd d, Fa a) {
+  Field fd = uniform_field(m);
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const Vec3 c = centroid(m, f);
+    fd.u[f] = Vec3::UnitX();
+    fd.d[f] = d(c);
+    fd.a[f] = a(c);
+  }
+  return fd;
+}
 
 }  // namespace gridshell::test
 

@@ -138,17 +138,7 @@ class SeedGrid {
     coords(p + Vec3::Constant(r), c1);
     for (int k = c0[2]; k <= c1[2]; ++k)
       for (int j = c0[1]; j <= c1[1]; ++j)
-        for (int i = c0[0]; i <= c1[0]; ++i) {
-          const int cc = (k * n_[1] + j) * n_[0] + i;
-          for (int s = start_[cc]; s < start_[cc + 1]; ++s) {
-            const int q = items_[s];
-            const double d = (pts_[q] - p).squaredNorm();
-            if (d < bd || (d == bd && q < best)) {
-              bd = d;
-              best = q;
-            }
-          }
-        }
+        for (int i = c0[0]; i <= c1[0]; ++i) scan((k * n_[1] + j) * n_[0] + i, p, bd, best);
     return best;
   }
 
@@ -168,15 +158,7 @@ class SeedGrid {
           for (int k = c[2] - r; k <= c[2] + r; ++k) {
             if (k < 0 || k >= n_[2]) continue;
             if (!face_ij && k != c[2] - r && k != c[2] + r) continue;  // only the shell of ring r
-            const int cc = (k * n_[1] + j) * n_[0] + i;
-            for (int s = start_[cc]; s < start_[cc + 1]; ++s) {
-              const int q = items_[s];
-              const double d = (pts_[q] - p).squaredNorm();
-              if (d < bd || (d == bd && q < best)) {
-                bd = d;
-                best = q;
-              }
-            }
+            scan((k * n_[1] + j) * n_[0] + i, p, bd, best);
           }
         }
       }
@@ -187,6 +169,17 @@ class SeedGrid {
   }
 
  private:
+  /// Updates (bd, best) with the seeds of grid cell cc: squared distance, ties to the lowest index.
+  void scan(int cc, const Vec3& p, double& bd, int& best) const {
+    for (int s = start_[cc]; s < start_[cc + 1]; ++s) {
+      const int q = items_[s];
+      const double d = (pts_[q] - p).squaredNorm();
+      if (d < bd || (d == bd && q < best)) {
+        bd = d;
+        best = q;
+      }
+    }
+  }
   void coords(const Vec3& p, int c[3]) const {
     for (int d = 0; d < 3; ++d)
       c[d] = std::clamp(static_cast<int>(std::floor((p(d) - lo_(d)) / cell_)), 0, n_[d] - 1);
