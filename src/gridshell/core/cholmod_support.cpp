@@ -2,7 +2,9 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 
 namespace gridshell {
 
@@ -27,4 +29,74 @@ SerialOpenMpScope::~SerialOpenMpScope() {
   if (get_ && set_) set_(previous_);
 }
 
+// ---------------------------------------------------------------------------------------------
+// dpotrf_ for small blocks (see the header). CHOLMOD calls LAPACK's dpotrf_ on the diagonal block
+// of every supernode; this definition in the executable takes precedence over liblapack's.
+
+namespace {
+
+// Right-looking column Cholesky, A = L·Lᵀ in the lower triangle (column-major, leading dim lda).
+// Returns 0, or the 1-based order of the first leading minor that is not positive definite.
+int potrf_lower(int n, double* a, long lda) {
+  for (int j = 0; j < n; ++j) {
+    double* cj = a + j * lda;
+    const double d = cj[j];
+    if (!(d > 0.0)) return j + 1;  // also catches NaN
+    const double l = std::sqrt(d);
+    cj[j] = l;
+    const double inv = 1.0 / l;
+    for (int i = j + 1; i < n; ++i) cj[i] *= inv;
+    for (int k = j + 1; k < n; ++k) {  // update the trailing columns with column j
+      double* ck = a + k * lda;
+      const double f = cj[k];
+      for (int i = k; i < n; ++i) ck[i] -= f * cj[i];
+    }
+  }
+  return 0;
+}
+
+// A = Uᵀ·U in the upper triangle: column j of U from dot products of columns above the diagonal.
+int potrf_upper(int n, double* a, long lda) {
+  for (int j = 0; j < n; ++j) {
+    double* cj = a + j * lda;
+    for (int i = 0; i < j; ++i) {
+      const double* ci = a + i * lda;
+      double s = cj[i];
+      for (int k = 0; k < i; ++k) s -= ci[k] * cj[k];
+      cj[i] = s / ci[i];
+    }
+    double d = cj[j];
+    for (int k = 0; k < j; ++k) d -= cj[k] * cj[k];
+    if (!(d > 0.0)) {
+      cj[j] = d;
+      return j + 1;
+    }
+    cj[j] = std::sqrt(d);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int small_potrf(char uplo, int n, double* a, int lda) {
+  if (n <= 0) return 0;
+  return (uplo == 'U' || uplo == 'u') ? potrf_upper(n, a, lda) : potrf_lower(n, a, lda);
+}
+
 }  // namespace gridshell
+
+extern "C" void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info) {
+  const bool valid_uplo = *uplo == 'L' || *uplo == 'l' || *uplo == 'U' || *uplo == 'u';
+  if (valid_uplo && *n >= 0 && *n <= gridshell::kSmallPotrfMax && *lda >= std::max(1, *n)) {
+    *info = gridshell::small_potrf(*uplo, *n, a, *lda);
+    return;
+  }
+  using PotrfFn = void (*)(const char*, const int*, double*, const int*, int*);
+  static const auto next = std::bit_cast<PotrfFn>(dlsym(RTLD_NEXT, "dpotrf_"));
+  if (next != nullptr)
+    next(uplo, n, a, lda, info);
+  else if (valid_uplo && *n >= 0 && *lda >= std::max(1, *n))
+    *info = gridshell::small_potrf(*uplo, *n, a, *lda);
+  else
+    *info = -1;
+}

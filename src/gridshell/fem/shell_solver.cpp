@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <future>
 #include <mutex>
 #include <numeric>
 
@@ -338,6 +339,31 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
         for (int i = 0; i < (u < v ? 6 : k + 1); ++i) rowidx[p++] = 6 * u + i;
     }
   });
+  // Fill-reducing ordering and symbolic analysis need only the pattern: they run on their own
+  // thread while the element matrices are computed and added (a pattern-only view of K, so the
+  // analysis never reads the values being written).
+  cholmod_sparse K{};  // the assembled stiffness once the values are in
+  K.nrow = K.ncol = static_cast<size_t>(ndof);
+  K.nzmax = static_cast<size_t>(nnz);
+  K.p = colptr.data();
+  K.i = rowidx.data();
+  K.stype = 1;  // upper triangle stored
+  K.itype = CHOLMOD_INT;
+  K.xtype = CHOLMOD_PATTERN;
+  K.dtype = CHOLMOD_DOUBLE;
+  K.sorted = 1;
+  K.packed = 1;
+  CholmodLlt llt;
+  std::future<double> analysis = std::async(std::launch::async, [&, Kp = K]() mutable {
+    const auto ta = Clock::now();
+    std::vector<int> gp(n + 1, 0), gi;
+    for (int v = 0; v < n; ++v) gp[v + 1] = gp[v] + static_cast<int>(nbr[v].size());
+    gi.reserve(gp[n]);
+    for (int v = 0; v < n; ++v) gi.insert(gi.end(), nbr[v].begin(), nbr[v].end());
+    res.ordering = llt.analyze_by_nodes(&Kp, gp, gi) ? "metis-nodes" : "cholmod-default";
+    return seconds_since(ta);
+  });
+
   // Element matrices, computed in parallel by chunks (bounded memory) and added in face order
   // (results independent of the thread count).
   constexpr int kChunk = 8192;
@@ -346,7 +372,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
     const int f1 = std::min(nf, f0 + kChunk);
     tbb::parallel_for(f0, f1, [&](int f) { Ke[f - f0] = element_matrix(f); });
     for (int f = f0; f < f1; ++f) {
-      const Mat18& K = Ke[f - f0];
+      const Mat18& Kf = Ke[f - f0];
       for (int b = 0; b < 3; ++b) {
         const int v = m.F(f, b);
         const auto& nb = nbr[v];
@@ -358,7 +384,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
           for (int kj = 0; kj < 6; ++kj) {
             const int base = colptr[6 * v + kj] + pos;
             const int imax = u < v ? 6 : kj + 1;
-            for (int ki = 0; ki < imax; ++ki) vals[base + ki] += K(6 * a + ki, 6 * b + kj);
+            for (int ki = 0; ki < imax; ++ki) vals[base + ki] += Kf(6 * a + ki, 6 * b + kj);
           }
         }
       }
@@ -374,35 +400,16 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
     }
   for (int j = 0; j < ndof; ++j)
     if (fixed[j]) rhs(j) = 0;
-  cholmod_sparse K{};
-  K.nrow = K.ncol = static_cast<size_t>(ndof);
-  K.nzmax = static_cast<size_t>(nnz);
-  K.p = colptr.data();
-  K.i = rowidx.data();
   K.x = vals.data();
-  K.stype = 1;  // upper triangle stored
-  K.itype = CHOLMOD_INT;
   K.xtype = CHOLMOD_REAL;
-  K.dtype = CHOLMOD_DOUBLE;
-  K.sorted = 1;
-  K.packed = 1;
   res.dofs = ndof;
   res.free_dofs = static_cast<int>(std::count(fixed.begin(), fixed.end(), 0));
   res.t_assemble = seconds_since(t0);
 
   // Factorise and solve.
-  auto t1 = Clock::now();
-  CholmodLlt llt;
-  {
-    std::vector<int> gp(n + 1, 0), gi;
-    for (int v = 0; v < n; ++v) gp[v + 1] = gp[v] + static_cast<int>(nbr[v].size());
-    gi.reserve(gp[n]);
-    for (int v = 0; v < n; ++v) gi.insert(gi.end(), nbr[v].begin(), nbr[v].end());
-    res.ordering = llt.analyze_by_nodes(&K, gp, gi) ? "metis-nodes" : "cholmod-default";
-  }
+  res.t_order = analysis.get();  // its own duration, overlapped with the assembly
   if (llt.info() != Eigen::Success) throw Error("model", "sparse analysis failed (out of memory?)");
-  res.t_order = seconds_since(t1);
-  t1 = Clock::now();
+  auto t1 = Clock::now();
   const std::clock_t c1 = std::clock();
   {
     SerialOpenMpScope serial_openmp;

@@ -79,7 +79,9 @@ struct ShellResult {
   int free_dofs = 0;
   double factor_nnz = 0;    ///< non-zeros of the Cholesky factor
   double factor_flops = 0;  ///< floating-point operations of the factorisation
-  double t_assemble = 0, t_order = 0, t_factor = 0, t_solve = 0, t_stress = 0;  ///< seconds
+  /// Seconds per phase. The ordering and symbolic analysis (t_order) run on their own thread
+  /// during the assembly, so the wall time is about max(t_assemble, t_order) + t_factor + ….
+  double t_assemble = 0, t_order = 0, t_factor = 0, t_solve = 0, t_stress = 0;
   /// Process CPU seconds during the factorisation (the benchmark's figure on a loaded machine;
   /// includes other threads of the process if any run meanwhile).
   double cpu_factor = 0;
