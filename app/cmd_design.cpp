@@ -75,6 +75,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   report["design"] = r.details;
   report["design"]["regularized"] = options.regularize && !options.planarize;
   report["design"]["planarized"] = options.planarize;
+  report["design"]["restretch"] = options.regularize_options.restretch;
   report["design"]["analysis"] = options.analyze;
   if (r.structure) report["structure"] = structure_block(*r.structure);
   nlohmann::json timings = nlohmann::json::object();
@@ -122,6 +123,11 @@ void register_design(CLI::App& app, Action& action) {
   sub->add_flag("--no-regularize", a->no_regularize, "keep the raw tessellation");
   sub->add_flag("--planarize", a->design.planarize,
                 "ShapeUp planarity projection instead of regularization");
+  sub->add_option("--restretch", a->design.regularize_options.restretch,
+                  "regularization: how much of each cell's stretch its target keeps, 0 (regular "
+                  "polygons) … 1 (the paper's stretched regular polygons)")
+      ->default_str("0.6")
+      ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--analyze", a->design.analyze, "none | linear | buckling | nonlinear")
       ->default_str("nonlinear");
   sub->add_option("--area-load", a->design.frame.area_load_kN_m2,

@@ -1,9 +1,11 @@
 #include "gridshell/optimize/regularize.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <numbers>
 
 #include <tbb/parallel_for.h>
@@ -78,6 +80,7 @@ void check_input(const PolyMesh& mesh, const std::vector<VertexConstraint>& cons
     throw Error("closeness", "must be a positive number");
   if (!(o.damping > 0 && o.damping <= 2)) throw Error("damping", "must be in (0, 2]");
   if (!(o.stretch_growth >= 1)) throw Error("stretch_growth", "must be ≥ 1");
+  if (!(o.restretch >= 0 && o.restretch <= 1)) throw Error("restretch", "must lie in [0, 1]");
   if (!(o.size_anchor >= 0 && o.size_anchor <= 1)) throw Error("size_anchor", "must be in [0, 1]");
 }
 
@@ -134,7 +137,8 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
   std::vector<Coupling> couplings;
   if (global && nfree > 0) {
     std::vector<Eigen::Triplet<double>> trip;
-    for (const auto& f : mesh.faces) {
+    for (int fi = 0; fi < nf; ++fi) {
+      const auto& f = mesh.faces[fi];
       const double n = static_cast<double>(f.size());
       for (std::size_t i = 0; i < f.size(); ++i) {
         const int r = idx[f[i]];
@@ -146,6 +150,39 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
             trip.emplace_back(r, c, val);
           else
             couplings.push_back({r, f[j], val});
+        }
+      }
+    }
+    // Boundary fairing: w |x_b − (x_p + x_n)/2|² for each sliding boundary vertex b between its
+    // two neighbours p, n along the mesh boundary — keeps the beams along the edge even while
+    // the faces behind them move.
+    if (o.boundary_fairing > 0) {
+      std::map<std::pair<int, int>, int> edge_use;
+      for (const auto& f : mesh.faces)
+        for (std::size_t i = 0; i < f.size(); ++i) {
+          const int a = f[i], b = f[(i + 1) % f.size()];
+          ++edge_use[{std::min(a, b), std::max(a, b)}];
+        }
+      std::vector<std::vector<int>> along(nv);
+      for (const auto& [e, c] : edge_use)
+        if (c == 1) {
+          along[e.first].push_back(e.second);
+          along[e.second].push_back(e.first);
+        }
+      for (int b = 0; b < nv; ++b) {
+        if (idx[b] < 0 || cons[b] != VertexConstraint::boundary || along[b].size() != 2) continue;
+        const std::array<int, 3> v{b, along[b][0], along[b][1]};
+        const std::array<double, 3> a{1.0, -0.5, -0.5};
+        for (int i = 0; i < 3; ++i) {
+          const int r = idx[v[i]];
+          if (r < 0) continue;
+          for (int j = 0; j < 3; ++j) {
+            const double val = o.boundary_fairing * a[i] * a[j];
+            if (idx[v[j]] >= 0)
+              trip.emplace_back(r, idx[v[j]], val);
+            else
+              couplings.push_back({r, v[j], val});
+          }
         }
       }
     }
@@ -275,8 +312,9 @@ TargetFn regular_step(const PolyMesh& mesh, const RegularizeOptions& o) {
   for (int f = 0; f < mesh.num_faces(); ++f) {
     const FaceFrame fr = face_frame(face_points(mesh, f));
     size[f] = std::sqrt(fr.sigma1 * fr.sigma2);
+    const double beta = o.restretch;
     if (std::isfinite(o.stretch_growth))
-      cap[f] = polygon_stretch(face_points(mesh, f)) * o.stretch_growth;
+      cap[f] = std::pow(polygon_stretch(face_points(mesh, f)), beta) * o.stretch_growth;
   }
   const double alpha = o.size_anchor;
   return [cap = std::move(cap), size = std::move(size), alpha](int f, const std::vector<Vec3>& p) {
@@ -319,6 +357,7 @@ PolyMesh regularize(const PolyMesh& mesh, const TriMesh& surface,
 
 RegularizeOptions planarize_options() {
   RegularizeOptions o;
+  o.boundary_fairing = 0.0;
   o.projection = RegularizeOptions::Projection::soft;
   o.closeness = 0.1;
   o.max_iterations = 300;

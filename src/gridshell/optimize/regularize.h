@@ -12,11 +12,11 @@
 ///
 /// Per-vertex step:
 /// - `Solver::global` (default) — the ShapeUp global step: minimise
-///   Σ_f |N_f x_f − N_f t_f|² + w Σ_v |x_v − x̄_v|² over the non-fixed vertices, where N_f removes
-///   the face's mean (targets are translation-free, so the faces are not dragged back to where
-///   they were), t_f are the face targets and x̄_v the current (on-surface) position. The matrix
-///   depends only on the connectivity and is factorised once (CHOLMOD); each iteration is one
-///   back-substitution with 3 right-hand sides. w = `closeness` keeps the step on the surface.
+///   Σ_f w_f |N_f x_f − N_f t_f|² + w Σ_v |x_v − x̄_v|² over the non-fixed vertices, where N_f
+///   removes the face's mean (targets are translation-free, so the faces are not dragged back to
+///   where they were), t_f are the face targets and x̄_v the current (on-surface) position. The
+///   matrix depends only on the connectivity and is factorised once (CHOLMOD); each iteration is
+///   one back-substitution with 3 right-hand sides. w = `closeness` keeps the step on the surface.
 /// - `Solver::local` — the authors' scheme: each vertex moves to the damped average of its
 ///   targets, x ← x + damping (mean targets − x). Slow to converge; kept for comparison
 ///   (use damping ≤ 1 with it).
@@ -78,11 +78,23 @@ struct RegularizeOptions {
   /// ratio σ1/σ2 × this factor). The paper's target is invariant to stretching a face, so
   /// without a cap faces drift towards slivers over many iterations. ∞ = uncapped.
   double stretch_growth = 1.0;
+  /// regularize: exponent β in [0, 1] of the input face's stretch given back to its target, i.e.
+  /// the target's stretch is at most (σ1/σ2 of the input face)^β × stretch_growth. 1 = the
+  /// paper's re-stretch (the cells keep all the anisotropy the field asked for); 0 = isotropic
+  /// regular polygons, which is what the authors' library does (VCGlib's SmoothPCA builds its
+  /// templates with force_isotropy) and why it evens out beam lengths more. Default 0.6,
+  /// measured on five shared surfaces at D = A = 3 (docs/regularization.md): regularity 3.0–4.5×
+  /// better than raw and edge CV 0.56–0.79× raw, against 2.8–4.1× and 0.75–0.90× with β = 1.
+  double restretch = 0.6;
   /// regularize: 0 = the target has the perimeter of the current (un-stretched) face, as in the
   /// paper; 1 = the target keeps the size (rms radius √(σ1σ2)) the face had in the input, so
   /// cell sizes stay those the density field asked for; in between = geometric blend. The
   /// paper's target is scale-invariant: without an anchor, faces at the boundary can shrink.
   double size_anchor = 0.0;
+  /// global: weight of the boundary fairing term w Σ_b |x_b − (x_p + x_n)/2|² over the sliding
+  /// boundary vertices b (p, n: their neighbours along the boundary). 0 = off. Without it the
+  /// clipped cells along the edge pull the boundary joints into uneven spacing.
+  double boundary_fairing = 4.0;
   /// global: the stay-close term pulls towards the input positions (true) or the current ones.
   bool anchor_to_input = false;
 };
