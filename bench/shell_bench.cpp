@@ -189,9 +189,11 @@ void BM_ShellParaboloid(benchmark::State& state) {
   BuiltinOptions o;
   o.res = static_cast<int>(state.range(0));
   const Surface s = make_builtin("paraboloid", o);
+  ShellOptions options;  // second argument 0: one monolithic factorisation, for comparison
+  if (state.range(1) == 0) options.split_min_dofs = 1 << 30;
   ShellResult r;
   for (auto _ : state) {
-    r = analyze_surface_stress(s);
+    r = analyze_surface_stress(s, {}, options);
     benchmark::DoNotOptimize(r.max_displacement);
   }
   rusage ru{};
@@ -211,13 +213,14 @@ void BM_ShellParaboloid(benchmark::State& state) {
 }
 BENCHMARK(BM_ShellParaboloid)
     ->Name("BM_Shell50K")
-    ->Arg(160)
+    ->Args({160, 1})
+    ->Args({160, 0})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->MeasureProcessCPUTime();
 BENCHMARK(BM_ShellParaboloid)
     ->Name("BM_Shell5K")
-    ->Arg(50)
+    ->Args({50, 1})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3)
     ->MeasureProcessCPUTime();

@@ -20,6 +20,7 @@
 #include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/shell_element.h"
+#include "gridshell/fem/split_cholesky.h"
 
 namespace gridshell::fem {
 
@@ -354,13 +355,19 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   K.sorted = 1;
   K.packed = 1;
   CholmodLlt llt;
+  SplitCholesky split;
+  bool use_split = false;
   std::future<double> analysis = std::async(std::launch::async, [&, Kp = K]() mutable {
     const auto ta = Clock::now();
     std::vector<int> gp(n + 1, 0), gi;
     for (int v = 0; v < n; ++v) gp[v + 1] = gp[v] + static_cast<int>(nbr[v].size());
     gi.reserve(gp[n]);
     for (int v = 0; v < n; ++v) gi.insert(gi.end(), nbr[v].begin(), nbr[v].end());
-    res.ordering = llt.analyze_by_nodes(&Kp, gp, gi) ? "metis-nodes" : "cholmod-default";
+    use_split = ndof >= options.split_min_dofs && split.analyze(Kp, 6, gp, gi);
+    if (use_split)
+      res.ordering = "split-metis-nodes";
+    else
+      res.ordering = llt.analyze_by_nodes(&Kp, gp, gi) ? "metis-nodes" : "cholmod-default";
     return seconds_since(ta);
   });
 
@@ -408,19 +415,26 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
 
   // Factorise and solve.
   res.t_order = analysis.get();  // its own duration, overlapped with the assembly
-  if (llt.info() != Eigen::Success) throw Error("model", "sparse analysis failed (out of memory?)");
+  if (!use_split && llt.info() != Eigen::Success)
+    throw Error("model", "sparse analysis failed (out of memory?)");
   auto t1 = Clock::now();
   const std::clock_t c1 = std::clock();
-  {
+  long col = -1;
+  bool ok = true;
+  if (use_split) {
+    col = split.factorize(K);
+    ok = col < 0;
+  } else {
     SerialOpenMpScope serial_openmp;
     llt.factorize_raw(&K);
+    ok = llt.info() == Eigen::Success;
+    if (!ok) col = llt.failed_column();
   }
   res.cpu_factor = static_cast<double>(std::clock() - c1) / CLOCKS_PER_SEC;
   res.t_factor = seconds_since(t1);
-  res.factor_nnz = llt.cholmod().lnz;
-  res.factor_flops = llt.cholmod().fl;
-  if (llt.info() != Eigen::Success) {
-    const long col = llt.failed_column();
+  res.factor_nnz = use_split ? split.factor_nnz() : llt.cholmod().lnz;
+  res.factor_flops = use_split ? split.factor_flops() : llt.cholmod().fl;
+  if (!ok) {
     if (col >= 0)
       throw Error("model", fmt::format("the structure is a mechanism or ill-conditioned: the "
                                        "stiffness matrix is singular at vertex {} dof {} ({})",
@@ -429,7 +443,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
     throw Error("model", "the stiffness matrix could not be factorised (a mechanism?)");
   }
   t1 = Clock::now();
-  const Eigen::VectorXd u = llt.solve(rhs);
+  const Eigen::VectorXd u = use_split ? split.solve(rhs) : Eigen::VectorXd(llt.solve(rhs));
   res.t_solve = seconds_since(t1);
   if (!u.allFinite())
     throw Error("model", "the solution is not finite (the structure is a mechanism)");

@@ -64,6 +64,10 @@ struct ShellOptions {
   /// Refuse models with unrestrained rigid-body motions before factorising (recommended; the
   /// factorisation would catch them too, but less legibly).
   bool check_mechanism = true;
+  /// Models with at least this many dofs are factorised in two halves on two threads around a
+  /// vertex separator (fem/split_cholesky.h); smaller ones, or graphs that do not split well,
+  /// in one CHOLMOD factorisation. Either way the result does not depend on the machine.
+  int split_min_dofs = 60000;
 };
 
 struct ShellResult {
@@ -86,7 +90,8 @@ struct ShellResult {
   /// includes other threads of the process if any run meanwhile).
   double cpu_factor = 0;
   /// Fill-reducing ordering used: "metis-nodes" (METIS nested dissection of the node graph,
-  /// 6 dofs per node kept together) or "cholmod-default" (fallback if METIS failed).
+  /// 6 dofs per node kept together), "split-metis-nodes" (the same within the two halves of a
+  /// split factorisation) or "cholmod-default" (fallback if METIS failed).
   std::string ordering;
 };
 

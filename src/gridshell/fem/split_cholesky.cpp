@@ -1,0 +1,358 @@
+#include "gridshell/fem/split_cholesky.h"
+
+#include <cholmod.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <thread>
+
+#include "gridshell/core/cholmod_support.h"
+
+extern "C" void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
+
+namespace gridshell::fem {
+
+namespace {
+
+using RowMatrix = Eigen::MatrixXd;
+
+// One half h ∪ S of the split, factorised by CHOLMOD with S ordered last.
+struct Half {
+  cholmod_common c{};
+  cholmod_factor* L = nullptr;
+  cholmod_sparse K{};           // local upper CSC: pattern and values
+  std::vector<int> p, i;        // K's arrays
+  std::vector<double> x;        //
+  std::vector<long> source;     // K.x[k] = global K.x[source[k]]
+  std::vector<int> global_dof;  // local dof → global dof
+  int n = 0;                    // local dofs
+  int nh = 0;                   // dofs of the half itself (S follows)
+  std::vector<int> s_order;     // position q in the factor's S block → separator dof index
+  RowMatrix Lss;                // dense trailing block of L (factor order), lower
+  Half() { cholmod_start(&c); }
+  ~Half() {
+    if (L) cholmod_free_factor(&L, &c);
+    cholmod_finish(&c);
+  }
+  Half(const Half&) = delete;
+  Half& operator=(const Half&) = delete;
+};
+
+}  // namespace
+
+struct SplitCholesky::Impl {
+  int dpn = 6;
+  int ndof = 0;
+  std::vector<int> sep_dof;  // separator dof index → global dof
+  std::array<std::unique_ptr<Half>, 2> half;
+  RowMatrix C;  // dense Cholesky factor of the separator's Schur complement (lower)
+  std::vector<std::pair<long, long>> kss;  // (global K.x index, dense position r*m + c)
+};
+
+SplitCholesky::SplitCholesky() : impl_(std::make_unique<Impl>()) {}
+SplitCholesky::~SplitCholesky() = default;
+
+bool SplitCholesky::analyze(const cholmod_sparse& K, int dofs_per_node, const std::vector<int>& gp,
+                            const std::vector<int>& gi) {
+  Impl& I = *impl_;
+  I = Impl{};
+  I.dpn = dofs_per_node;
+  const int nn = static_cast<int>(gp.size()) - 1;
+  I.ndof = static_cast<int>(K.ncol);
+  if (nn < 64 || I.ndof != nn * I.dpn) return false;
+
+  // 1. Vertex separator of the node graph.
+  std::vector<int> part(nn, 0);
+  {
+    cholmod_common c;
+    cholmod_start(&c);
+    c.print = 0;
+    cholmod_sparse G{};
+    G.nrow = G.ncol = static_cast<size_t>(nn);
+    G.nzmax = static_cast<size_t>(gp.back());
+    G.p = const_cast<int*>(gp.data());
+    G.i = const_cast<int*>(gi.data());
+    G.stype = 1;
+    G.itype = CHOLMOD_INT;
+    G.xtype = CHOLMOD_PATTERN;
+    G.dtype = CHOLMOD_DOUBLE;
+    G.sorted = 1;
+    G.packed = 1;
+    long nsep = -1;
+    {
+      const auto lock = lock_symbolic_analysis();
+      nsep = cholmod_bisect(&G, nullptr, 0, 1, part.data(), &c);
+    }
+    cholmod_finish(&c);
+    if (nsep <= 0) return false;
+    const long n0 = std::count(part.begin(), part.end(), 0);
+    const long n1 = std::count(part.begin(), part.end(), 1);
+    if (nsep > 0.06 * nn || n0 < 0.2 * nn || n1 < 0.2 * nn) return false;
+  }
+  for (int v = 0; v < nn; ++v)
+    if (part[v] == 2)
+      for (int d = 0; d < I.dpn; ++d) I.sep_dof.push_back(I.dpn * v + d);
+  const int m = static_cast<int>(I.sep_dof.size());
+
+  // 2. Each half: local numbering (its nodes in METIS order, then the separator), pattern,
+  //    symbolic analysis with S kept last.
+  const int* Kp = static_cast<const int*>(K.p);
+  const int* Ki = static_cast<const int*>(K.i);
+  // The two halves are prepared side by side (only the METIS calls take turns, under the lock).
+  auto prepare = [&](int h) -> bool {
+    Half& H = *I.half[h];
+    H.c.print = 0;
+    H.c.supernodal = CHOLMOD_SUPERNODAL;
+    // The half's own node graph, for its fill-reducing ordering.
+    std::vector<int> local(nn, -1), nodes;
+    for (int v = 0; v < nn; ++v)
+      if (part[v] == h) {
+        local[v] = static_cast<int>(nodes.size());
+        nodes.push_back(v);
+      }
+    const int nh_nodes = static_cast<int>(nodes.size());
+    std::vector<int> hp(nh_nodes + 1, 0), hi;
+    for (int q = 0; q < nh_nodes; ++q) {
+      const int v = nodes[q];
+      for (int k = gp[v]; k < gp[v + 1]; ++k)
+        if (local[gi[k]] >= 0) hi.push_back(local[gi[k]]);
+      hp[q + 1] = static_cast<int>(hi.size());
+    }
+    // gi is sorted per column and local[] is increasing in v: hi stays sorted, upper.
+    cholmod_sparse G{};
+    G.nrow = G.ncol = static_cast<size_t>(nh_nodes);
+    G.nzmax = hi.size();
+    G.p = hp.data();
+    G.i = hi.data();
+    G.stype = 1;
+    G.itype = CHOLMOD_INT;
+    G.xtype = CHOLMOD_PATTERN;
+    G.dtype = CHOLMOD_DOUBLE;
+    G.sorted = 1;
+    G.packed = 1;
+    std::vector<int> node_perm(nh_nodes);
+    {
+      const auto lock = lock_symbolic_analysis();
+      if (!cholmod_metis(&G, nullptr, 0, 0, node_perm.data(), &H.c)) return false;
+    }
+    // Local dofs: the half's nodes in METIS order, then the separator nodes in id order.
+    std::vector<int> dof_local(I.ndof, -1);
+    H.nh = nh_nodes * I.dpn;
+    H.n = H.nh + m;
+    H.global_dof.resize(H.n);
+    for (int q = 0; q < nh_nodes; ++q)
+      for (int d = 0; d < I.dpn; ++d) H.global_dof[I.dpn * q + d] = I.dpn * nodes[node_perm[q]] + d;
+    for (int k = 0; k < m; ++k) H.global_dof[H.nh + k] = I.sep_dof[k];
+    for (int l = 0; l < H.n; ++l) dof_local[H.global_dof[l]] = l;
+    // Local upper pattern: every stored entry of K between dofs of h ∪ S, in the column of its
+    // larger local index (counting pass, then the short columns sorted by row).
+    H.p.assign(H.n + 1, 0);
+    for (int j = 0; j < I.ndof; ++j) {
+      const int lj = dof_local[j];
+      if (lj < 0) continue;
+      for (int k = Kp[j]; k < Kp[j + 1]; ++k) {
+        const int li = dof_local[Ki[k]];
+        if (li >= 0) ++H.p[std::max(li, lj) + 1];
+      }
+    }
+    for (int j = 0; j < H.n; ++j) H.p[j + 1] += H.p[j];
+    const long nnz = H.p[H.n];
+    std::vector<std::pair<int, long>> slot(nnz);  // (row, source)
+    std::vector<int> next(H.p.begin(), H.p.end() - 1);
+    for (int j = 0; j < I.ndof; ++j) {
+      const int lj = dof_local[j];
+      if (lj < 0) continue;
+      for (int k = Kp[j]; k < Kp[j + 1]; ++k) {
+        const int li = dof_local[Ki[k]];
+        if (li >= 0) slot[next[std::max(li, lj)]++] = {std::min(li, lj), k};
+      }
+    }
+    H.i.resize(nnz);
+    H.x.assign(nnz, 0.0);
+    H.source.resize(nnz);
+    for (int j = 0; j < H.n; ++j) {
+      std::sort(slot.begin() + H.p[j], slot.begin() + H.p[j + 1]);
+      for (int k = H.p[j]; k < H.p[j + 1]; ++k) {
+        H.i[k] = slot[k].first;
+        H.source[k] = slot[k].second;
+      }
+    }
+    H.K.nrow = H.K.ncol = static_cast<size_t>(H.n);
+    H.K.nzmax = static_cast<size_t>(nnz);
+    H.K.p = H.p.data();
+    H.K.i = H.i.data();
+    H.K.x = H.x.data();
+    H.K.stype = 1;
+    H.K.itype = CHOLMOD_INT;
+    H.K.xtype = CHOLMOD_REAL;
+    H.K.dtype = CHOLMOD_DOUBLE;
+    H.K.sorted = 1;
+    H.K.packed = 1;
+    // Identity ordering of the local numbering (already fill-reducing, S last). Postordering the
+    // elimination tree keeps S last when it is the top of a single tree; checked below.
+    std::vector<int> ident(H.n);
+    for (int l = 0; l < H.n; ++l) ident[l] = l;
+    H.c.nmethods = 1;
+    H.c.method[0].ordering = CHOLMOD_GIVEN;
+    H.c.postorder = 1;
+    H.L = cholmod_analyze_p(&H.K, ident.data(), nullptr, 0, &H.c);
+    if (H.L == nullptr) return false;
+    const int* perm = static_cast<const int*>(H.L->Perm);
+    H.s_order.resize(m);
+    for (int q = 0; q < m; ++q) {
+      const int l = perm[H.nh + q];
+      if (l < H.nh) return false;  // S did not stay last
+      H.s_order[q] = l - H.nh;
+    }
+    return true;
+  };
+  for (auto& h : I.half) h = std::make_unique<Half>();
+  bool ok1 = false;
+  std::thread other([&] { ok1 = prepare(1); });
+  const bool ok0 = prepare(0);
+  other.join();
+  if (!ok0 || !ok1) return false;
+  // Positions of K_SS's stored entries in the dense separator matrix.
+  std::vector<int> sep_of_dof(I.ndof, -1);
+  for (int k = 0; k < m; ++k) sep_of_dof[I.sep_dof[k]] = k;
+  for (int j = 0; j < I.ndof; ++j) {
+    const int sj = sep_of_dof[j];
+    if (sj < 0) continue;
+    for (int k = Kp[j]; k < Kp[j + 1]; ++k) {
+      const int si = sep_of_dof[Ki[k]];
+      if (si < 0) continue;
+      I.kss.emplace_back(k, static_cast<long>(std::max(si, sj)) * m + std::min(si, sj));
+    }
+  }
+  return true;
+}
+
+long SplitCholesky::factorize(const cholmod_sparse& K) {
+  Impl& I = *impl_;
+  const int m = static_cast<int>(I.sep_dof.size());
+  const double* Kx = static_cast<const double*>(K.x);
+  std::array<long, 2> failed{-1, -1};
+  std::array<RowMatrix, 2> share;  // L_SS L_SSᵀ of each half, separator order (lower)
+  auto run = [&](int h) {
+    Half& H = *I.half[h];
+    for (std::size_t k = 0; k < H.x.size(); ++k) H.x[k] = Kx[H.source[k]];
+    SerialOpenMpScope serial_openmp;
+    cholmod_factorize(&H.K, H.L, &H.c);
+    if (H.L->minor < H.L->n) {
+      const int* perm = static_cast<const int*>(H.L->Perm);
+      failed[h] = H.global_dof[perm[H.L->minor]];
+      return;
+    }
+    // The trailing m × m block of the supernodal factor (its last supernodes).
+    H.Lss = RowMatrix::Zero(m, m);
+    const int* super = static_cast<const int*>(H.L->super);
+    const int* pi = static_cast<const int*>(H.L->pi);
+    const int* px = static_cast<const int*>(H.L->px);
+    const int* Ls = static_cast<const int*>(H.L->s);
+    const double* Lx = static_cast<const double*>(H.L->x);
+    for (long s = static_cast<long>(H.L->nsuper) - 1; s >= 0 && super[s + 1] > H.nh; --s) {
+      const int k1 = super[s], k2 = super[s + 1];
+      const int nsrow = pi[s + 1] - pi[s];
+      for (int col = std::max(k1, H.nh); col < k2; ++col)
+        for (int r = 0; r < nsrow; ++r) {
+          const int row = Ls[pi[s] + r];
+          if (row >= H.nh) H.Lss(row - H.nh, col - H.nh) = Lx[px[s] + (col - k1) * nsrow + r];
+        }
+    }
+    const RowMatrix LLt = H.Lss.triangularView<Eigen::Lower>() * H.Lss.transpose();
+    share[h] = RowMatrix(m, m);
+    for (int b = 0; b < m; ++b)
+      for (int a = 0; a < m; ++a) share[h](H.s_order[a], H.s_order[b]) = LLt(a, b);
+  };
+  std::thread other(run, 1);
+  run(0);
+  other.join();
+  for (long f : failed)
+    if (f >= 0) return f;
+  // Schur complement of the separator and its dense Cholesky factor.
+  I.C = share[0] + share[1];
+  for (const auto& [k, pos] : I.kss) {
+    const long r = pos / m, c = pos % m;
+    I.C(r, c) -= Kx[k];
+    if (r != c) I.C(c, r) -= Kx[k];
+  }
+  int info = 0;
+  dpotrf_("L", &m, I.C.data(), &m, &info);
+  if (info > 0) return I.sep_dof[info - 1];
+  I.C.triangularView<Eigen::StrictlyUpper>().setZero();
+  return -1;
+}
+
+Eigen::VectorXd SplitCholesky::solve(const Eigen::VectorXd& b) const {
+  const Impl& I = *impl_;
+  const int m = static_cast<int>(I.sep_dof.size());
+  std::array<cholmod_dense*, 2> w{nullptr, nullptr};
+  std::array<Eigen::VectorXd, 2> g;  // Σ contributions L_SS w_S, separator order
+  auto forward = [&](int h) {
+    Half& H = *I.half[h];
+    cholmod_dense* r = cholmod_zeros(H.n, 1, CHOLMOD_REAL, &H.c);
+    double* rx = static_cast<double*>(r->x);
+    for (int l = 0; l < H.nh; ++l) rx[l] = b(H.global_dof[l]);
+    cholmod_dense* pr = cholmod_solve(CHOLMOD_P, H.L, r, &H.c);
+    w[h] = cholmod_solve(CHOLMOD_L, H.L, pr, &H.c);
+    cholmod_free_dense(&r, &H.c);
+    cholmod_free_dense(&pr, &H.c);
+    const Eigen::Map<const Eigen::VectorXd> ws(static_cast<double*>(w[h]->x) + H.nh, m);
+    const Eigen::VectorXd t = H.Lss.triangularView<Eigen::Lower>() * ws;
+    g[h] = Eigen::VectorXd(m);
+    for (int q = 0; q < m; ++q) g[h](H.s_order[q]) = t(q);
+  };
+  std::thread other(forward, 1);
+  forward(0);
+  other.join();
+  Eigen::VectorXd xs(m);
+  for (int k = 0; k < m; ++k) xs(k) = b(I.sep_dof[k]) + g[0](k) + g[1](k);
+  I.C.triangularView<Eigen::Lower>().solveInPlace(xs);
+  I.C.triangularView<Eigen::Lower>().transpose().solveInPlace(xs);
+
+  Eigen::VectorXd x(I.ndof);
+  for (int k = 0; k < m; ++k) x(I.sep_dof[k]) = xs(k);
+  auto backward = [&](int h) {
+    Half& H = *I.half[h];
+    Eigen::VectorXd xq(m);  // x_S in this half's factor order
+    for (int q = 0; q < m; ++q) xq(q) = xs(H.s_order[q]);
+    Eigen::Map<Eigen::VectorXd> ws(static_cast<double*>(w[h]->x) + H.nh, m);
+    ws = H.Lss.triangularView<Eigen::Lower>().transpose() * xq;
+    cholmod_dense* y = cholmod_solve(CHOLMOD_Lt, H.L, w[h], &H.c);
+    cholmod_dense* z = cholmod_solve(CHOLMOD_Pt, H.L, y, &H.c);
+    const double* zx = static_cast<const double*>(z->x);
+    for (int l = 0; l < H.nh; ++l) x(H.global_dof[l]) = zx[l];
+    cholmod_free_dense(&y, &H.c);
+    cholmod_free_dense(&z, &H.c);
+    cholmod_free_dense(&w[h], &H.c);
+  };
+  std::thread other2(backward, 1);
+  backward(0);
+  other2.join();
+  return x;
+}
+
+double SplitCholesky::factor_nnz() const {
+  const Impl& I = *impl_;
+  const double m = static_cast<double>(I.sep_dof.size());
+  double s = m * (m + 1) / 2;
+  for (const auto& h : I.half)
+    if (h) s += h->c.lnz;
+  return s;
+}
+
+double SplitCholesky::factor_flops() const {
+  const Impl& I = *impl_;
+  const double m = static_cast<double>(I.sep_dof.size());
+  double s = m * m * m / 3 + 2 * m * m * m / 2;  // dense factor + the two L_SS L_SSᵀ
+  for (const auto& h : I.half)
+    if (h) s += h->c.fl;
+  return s;
+}
+
+int SplitCholesky::separator_dofs() const {
+  return static_cast<int>(impl_->sep_dof.size());
+}
+
+}  // namespace gridshell::fem
