@@ -1,7 +1,9 @@
 #include "gridshell/grids/quad_grid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -18,6 +20,70 @@ double total_edge_length(const PolyMesh& mesh) {
   for (const auto& e : t.edges) len += (mesh.vertex(e[0]) - mesh.vertex(e[1])).norm();
   return len;
 }
+
+namespace {
+
+/// Beams shorter than `min_length` with an end on the boundary — a grid line crossing the
+/// boundary just beside a sharp corner or beside another line's crossing — are collapsed into
+/// their boundary end; a sharp corner never moves, faces keep at least 3 corners. Such stubs
+/// (down to 0.3 mm on Aquadom) make the frame's stiffness ill-conditioned. `rank` per polygon
+/// vertex: 0 interior, 1 boundary, 2 corner. Unused vertices are dropped.
+void collapse_boundary_stubs(RegionMesh& rm, const std::vector<int>& rank, double min_length) {
+  PolyMesh& m = rm.mesh;
+  std::vector<std::tuple<double, int, int>> stubs;  // shortest first
+  for (const auto& f : m.faces)
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      int a = f[k], b = f[(k + 1) % f.size()];
+      if (rank[a] > rank[b]) std::swap(a, b);  // a goes into b
+      if (rank[b] == 0 || rank[a] == 2) continue;
+      const double l = (m.vertex(a) - m.vertex(b)).norm();
+      if (l < min_length) stubs.emplace_back(l, a, b);
+    }
+  std::sort(stubs.begin(), stubs.end());
+  std::vector<std::vector<int>> vertex_faces(m.num_vertices());
+  for (int f = 0; f < m.num_faces(); ++f)
+    for (int v : m.faces[f]) vertex_faces[v].push_back(f);
+  std::vector<int> into(m.num_vertices(), -1);
+  std::vector<char> touched(m.num_vertices(), 0);
+  for (const auto& [l, a, b] : stubs) {
+    if (touched[a] || touched[b]) continue;
+    bool ok = true;
+    for (int f : vertex_faces[a]) {
+      const auto& face = m.faces[f];
+      if (face.size() <= 3 && std::find(face.begin(), face.end(), b) != face.end()) ok = false;
+    }
+    if (!ok) continue;
+    into[a] = b;
+    touched[a] = touched[b] = 1;
+    for (int f : vertex_faces[a]) {
+      std::vector<int> out;
+      for (int v : m.faces[f]) {
+        const int w = into[v] >= 0 ? into[v] : v;
+        if (out.empty() || out.back() != w) out.push_back(w);
+      }
+      while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+      m.faces[f] = std::move(out);
+      vertex_faces[b].push_back(f);
+    }
+  }
+  // Drop unused vertices.
+  std::vector<int> id(m.num_vertices(), -1);
+  for (const auto& f : m.faces)
+    for (int v : f) id[v] = 0;
+  int n = 0;
+  for (int v = 0; v < m.num_vertices(); ++v)
+    if (id[v] == 0) {
+      m.V.row(n) = m.V.row(v);
+      rm.source_vertex[n] = rm.source_vertex[v];
+      id[v] = n++;
+    }
+  m.V.conservativeResize(n, 3);
+  rm.source_vertex.resize(n);
+  for (auto& f : m.faces)
+    for (int& v : f) v = id[v];
+}
+
+}  // namespace
 
 GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
   if (!(o.spacing > 0) || !std::isfinite(o.spacing))
@@ -57,11 +123,20 @@ GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
   RegionOptions ro;
   ro.min_area = o.min_cell_fraction * h * h;
   RegionMesh rm = extract_regions(cut.mesh, label, ro);
+  Topology ct = build_topology(cut.mesh);
+  {
+    const std::vector<char> corner = boundary_corners(cut.mesh, ro.corner_angle);
+    std::vector<int> rank(rm.mesh.num_vertices(), 0);
+    for (int v = 0; v < rm.mesh.num_vertices(); ++v) {
+      const int s = rm.source_vertex[v];
+      rank[v] = corner[s] ? 2 : ct.on_boundary[s] ? 1 : 0;
+    }
+    collapse_boundary_stubs(rm, rank, o.min_edge_fraction * h);
+  }
   GridShell g;
   g.mesh = std::move(rm.mesh);
   // Supports: joints sitting on supported (cut-mesh) vertices; isolated interior supports of
   // the input go to the nearest joint.
-  Topology ct = build_topology(cut.mesh);
   std::vector<char> is_support(g.mesh.num_vertices(), 0);
   for (int v = 0; v < g.mesh.num_vertices(); ++v)
     if (cut.support[rm.source_vertex[v]]) is_support[v] = 1;

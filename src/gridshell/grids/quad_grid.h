@@ -1,9 +1,10 @@
 #pragma once
 /// \file quad_grid.h
 /// The paper's quad baseline: an isotropic square grid drawn in plan, lifted vertically onto the
-/// surface, with the cells at the boundary clipped by it (and slivers merged into a neighbour so
-/// no beam is absurdly short). The grid is centred on the plan's bounding box, so a surface
-/// symmetric about its mid-planes gets a symmetric grid.
+/// surface, with the cells at the boundary clipped by it (slivers merged into a neighbour, and
+/// stub beams at the boundary collapsed into their boundary end, so no beam is absurdly short). The
+/// grid is centred on the plan's bounding box, so a surface symmetric about its mid-planes gets a
+/// symmetric grid.
 
 #include <vector>
 
@@ -15,6 +16,8 @@ struct QuadGridOptions {
   double spacing = 1.0;            ///< grid spacing in plan (m)
   double angle = 0.0;              ///< rotation of the grid in plan (radians)
   double min_cell_fraction = 0.3;  ///< cells smaller than this × spacing² are merged
+  /// Beams shorter than this × spacing with an end on the boundary are collapsed into that end.
+  double min_edge_fraction = 0.1;
 };
 
 struct GridShell {
