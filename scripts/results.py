@@ -524,9 +524,14 @@ def claim_text(claims):
 
 
 def git_describe():
+    """The commit, with "-dirty" when files other than the generated docs/results.md differ."""
     try:
-        return subprocess.run(["git", "-C", str(ROOT), "describe", "--always", "--dirty"],
-                              capture_output=True, text=True, check=True).stdout.strip()
+        rev = subprocess.run(["git", "-C", str(ROOT), "describe", "--always"],
+                             capture_output=True, text=True, check=True).stdout.strip()
+        changed = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain",
+                                  "--untracked-files=no", "--", ".", ":!docs/results.md"],
+                                 capture_output=True, text=True, check=True).stdout.strip()
+        return rev + ("-dirty" if changed else "")
     except (OSError, subprocess.CalledProcessError):
         return "(unknown commit)"
 
