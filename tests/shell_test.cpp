@@ -297,10 +297,13 @@ TEST(ShellSolver, PinchedHemisphere) {
 // of a serial run. This tests the BLAS that libblas.so.3 points to: Debian's serial OpenBLAS
 // 0.3.21 is not thread-safe (built without USE_LOCKING) and fails here with false pivots or wrong
 // digits; reference BLAS and BLIS pass.
-TEST(ShellSolver, ConcurrentSolvesAreIdenticalToASerialOne) {
-  const double R = 10;
-  const int N = 24;  // 4608 facets, 13 824 dofs: supernodes large enough for BLAS level 3
-  TriMesh mesh = weld(hemisphere(R, 18 * kPi / 180, N, 4 * N), 1e-9);
+namespace {
+
+// Hemisphere (R = 10, 18° hole) pinned at its equator under a projected load: 4608 facets,
+// 13 824 dofs, supernodes large enough for BLAS level 3.
+ShellModel loaded_hemisphere() {
+  const int N = 24;
+  TriMesh mesh = weld(hemisphere(10, 18 * kPi / 180, N, 4 * N), 1e-9);
   ShellModel model = empty_model(mesh, 6.825e7, 0.3, 0.04);
   for (int v = 0; v < mesh.num_vertices(); ++v)
     if (std::abs(mesh.V(v, 2)) < 1e-9) model.fixed[v] = {true, true, true, false, false, false};
@@ -308,6 +311,13 @@ TEST(ShellSolver, ConcurrentSolvesAreIdenticalToASerialOne) {
   q.kind = ShellLoad::Kind::kProjected;
   q.q = Vec3(0, 0, -1e3);
   model.loads.push_back(q);
+  return model;
+}
+
+}  // namespace
+
+TEST(ShellSolver, ConcurrentSolvesAreIdenticalToASerialOne) {
+  const ShellModel model = loaded_hemisphere();
   const Eigen::MatrixXd serial = solve_shell(model).displacement;
   ASSERT_GT(serial.cwiseAbs().maxCoeff(), 0);
   constexpr int kThreads = 4, kRepeats = 2;
@@ -539,17 +549,8 @@ TEST(ShellSolver, ZeroPivotIsReportedWithItsDof) {
 
 TEST(ShellSolver, SplitFactorisationMatchesTheMonolithicOne) {
   // fem/split_cholesky.h: two halves and a dense separator, factorised on two threads. Same
-  // hemisphere as the concurrency test (13 824 dofs), forced through the split path.
-  const double R = 10;
-  const int N = 24;
-  TriMesh mesh = weld(hemisphere(R, 18 * kPi / 180, N, 4 * N), 1e-9);
-  ShellModel model = empty_model(mesh, 6.825e7, 0.3, 0.04);
-  for (int v = 0; v < mesh.num_vertices(); ++v)
-    if (std::abs(mesh.V(v, 2)) < 1e-9) model.fixed[v] = {true, true, true, false, false, false};
-  ShellLoad q;
-  q.kind = ShellLoad::Kind::kProjected;
-  q.q = Vec3(0, 0, -1e3);
-  model.loads.push_back(q);
+  // hemisphere as the concurrency test, forced through the split path.
+  const ShellModel model = loaded_hemisphere();
   ShellOptions mono;
   mono.split_min_dofs = 1 << 30;
   ShellOptions split;

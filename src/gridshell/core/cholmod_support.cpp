@@ -8,6 +8,22 @@
 
 namespace gridshell {
 
+cholmod_sparse upper_csc_view(int n, int* p, int* i, double* x) {
+  cholmod_sparse A{};
+  A.nrow = A.ncol = static_cast<size_t>(n);
+  A.nzmax = static_cast<size_t>(p[n]);
+  A.p = p;
+  A.i = i;
+  A.x = x;
+  A.stype = 1;
+  A.itype = CHOLMOD_INT;
+  A.xtype = x != nullptr ? CHOLMOD_REAL : CHOLMOD_PATTERN;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  return A;
+}
+
 std::unique_lock<std::mutex> lock_symbolic_analysis() {
   // One lock for the whole process: METIS's state is one global, whoever calls it.
   static std::mutex metis;

@@ -22,9 +22,16 @@
 ///   the same `info` for a matrix that is not positive definite), larger ones are passed on to
 ///   the system LAPACK (`dlsym(RTLD_NEXT)`), which is fast there.
 
+#include <cholmod.h>
+
 #include <mutex>
 
 namespace gridshell {
+
+/// A CHOLMOD view, without copy, of a symmetric n × n matrix stored as its upper triangle in
+/// compressed columns: `p` the n + 1 column starts, `i` the row indices (sorted in each column),
+/// `x` the values, or nullptr for a pattern only.
+cholmod_sparse upper_csc_view(int n, int* p, int* i, double* x = nullptr);
 
 /// Lock held for the duration of a CHOLMOD symbolic analysis (see above).
 [[nodiscard]] std::unique_lock<std::mutex> lock_symbolic_analysis();

@@ -55,17 +55,7 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
       this->m_cholmodFactor = nullptr;
     }
     const int nn = static_cast<int>(gp.size()) - 1;
-    cholmod_sparse G{};
-    G.nrow = G.ncol = static_cast<size_t>(nn);
-    G.nzmax = static_cast<size_t>(gp.back());
-    G.p = gp.data();
-    G.i = gi.data();
-    G.stype = 1;
-    G.itype = CHOLMOD_INT;
-    G.xtype = CHOLMOD_PATTERN;
-    G.dtype = CHOLMOD_DOUBLE;
-    G.sorted = 1;
-    G.packed = 1;
+    cholmod_sparse G = upper_csc_view(nn, gp.data(), gi.data());
     std::vector<int> node_perm(nn), perm(6 * static_cast<std::size_t>(nn));
     // One METIS call at a time (core/cholmod_support.h; test:
     // ShellSolver.ConcurrentSolvesAreIdenticalToASerialOne); the fallback cholmod_analyze may
@@ -343,17 +333,8 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   // Fill-reducing ordering and symbolic analysis need only the pattern: they run on their own
   // thread while the element matrices are computed and added (a pattern-only view of K, so the
   // analysis never reads the values being written).
-  cholmod_sparse K{};  // the assembled stiffness once the values are in
-  K.nrow = K.ncol = static_cast<size_t>(ndof);
-  K.nzmax = static_cast<size_t>(nnz);
-  K.p = colptr.data();
-  K.i = rowidx.data();
-  K.stype = 1;  // upper triangle stored
-  K.itype = CHOLMOD_INT;
-  K.xtype = CHOLMOD_PATTERN;
-  K.dtype = CHOLMOD_DOUBLE;
-  K.sorted = 1;
-  K.packed = 1;
+  // The assembled stiffness once the values are in (upper triangle stored).
+  cholmod_sparse K = upper_csc_view(ndof, colptr.data(), rowidx.data());
   CholmodLlt llt;
   SplitCholesky split;
   bool use_split = false;

@@ -68,17 +68,7 @@ bool SplitCholesky::analyze(const cholmod_sparse& K, int dofs_per_node, const st
     cholmod_common c;
     cholmod_start(&c);
     c.print = 0;
-    cholmod_sparse G{};
-    G.nrow = G.ncol = static_cast<size_t>(nn);
-    G.nzmax = static_cast<size_t>(gp.back());
-    G.p = const_cast<int*>(gp.data());
-    G.i = const_cast<int*>(gi.data());
-    G.stype = 1;
-    G.itype = CHOLMOD_INT;
-    G.xtype = CHOLMOD_PATTERN;
-    G.dtype = CHOLMOD_DOUBLE;
-    G.sorted = 1;
-    G.packed = 1;
+    cholmod_sparse G = upper_csc_view(nn, const_cast<int*>(gp.data()), const_cast<int*>(gi.data()));
     long nsep = -1;
     {
       const auto lock = lock_symbolic_analysis();
@@ -120,17 +110,7 @@ bool SplitCholesky::analyze(const cholmod_sparse& K, int dofs_per_node, const st
       hp[q + 1] = static_cast<int>(hi.size());
     }
     // gi is sorted per column and local[] is increasing in v: hi stays sorted, upper.
-    cholmod_sparse G{};
-    G.nrow = G.ncol = static_cast<size_t>(nh_nodes);
-    G.nzmax = hi.size();
-    G.p = hp.data();
-    G.i = hi.data();
-    G.stype = 1;
-    G.itype = CHOLMOD_INT;
-    G.xtype = CHOLMOD_PATTERN;
-    G.dtype = CHOLMOD_DOUBLE;
-    G.sorted = 1;
-    G.packed = 1;
+    cholmod_sparse G = upper_csc_view(nh_nodes, hp.data(), hi.data());
     std::vector<int> node_perm(nh_nodes);
     {
       const auto lock = lock_symbolic_analysis();
@@ -178,17 +158,7 @@ bool SplitCholesky::analyze(const cholmod_sparse& K, int dofs_per_node, const st
         H.source[k] = slot[k].second;
       }
     }
-    H.K.nrow = H.K.ncol = static_cast<size_t>(H.n);
-    H.K.nzmax = static_cast<size_t>(nnz);
-    H.K.p = H.p.data();
-    H.K.i = H.i.data();
-    H.K.x = H.x.data();
-    H.K.stype = 1;
-    H.K.itype = CHOLMOD_INT;
-    H.K.xtype = CHOLMOD_REAL;
-    H.K.dtype = CHOLMOD_DOUBLE;
-    H.K.sorted = 1;
-    H.K.packed = 1;
+    H.K = upper_csc_view(H.n, H.p.data(), H.i.data(), H.x.data());
     // Identity ordering of the local numbering (already fill-reducing, S last). Postordering the
     // elimination tree keeps S last when it is the top of a single tree; checked below.
     std::vector<int> ident(H.n);
