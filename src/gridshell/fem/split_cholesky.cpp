@@ -15,7 +15,7 @@ namespace gridshell::fem {
 
 namespace {
 
-using RowMatrix = Eigen::MatrixXd;
+using DenseMatrix = Eigen::MatrixXd;
 
 // One half h ∪ S of the split, factorised by CHOLMOD with S ordered last.
 struct Half {
@@ -29,7 +29,7 @@ struct Half {
   int n = 0;                    // local dofs
   int nh = 0;                   // dofs of the half itself (S follows)
   std::vector<int> s_order;     // position q in the factor's S block → separator dof index
-  RowMatrix Lss;                // dense trailing block of L (factor order), lower
+  DenseMatrix Lss;              // dense trailing block of L (factor order), lower
   Half() { cholmod_start(&c); }
   ~Half() {
     if (L) cholmod_free_factor(&L, &c);
@@ -46,7 +46,7 @@ struct SplitCholesky::Impl {
   int ndof = 0;
   std::vector<int> sep_dof;  // separator dof index → global dof
   std::array<std::unique_ptr<Half>, 2> half;
-  RowMatrix C;  // dense Cholesky factor of the separator's Schur complement (lower)
+  DenseMatrix C;  // dense Cholesky factor of the separator's Schur complement (lower)
   std::vector<std::pair<long, long>> kss;  // (global K.x index, dense position r*m + c)
 };
 
@@ -203,7 +203,7 @@ long SplitCholesky::factorize(const cholmod_sparse& K) {
   const int m = static_cast<int>(I.sep_dof.size());
   const double* Kx = static_cast<const double*>(K.x);
   std::array<long, 2> failed{-1, -1};
-  std::array<RowMatrix, 2> share;  // L_SS L_SSᵀ of each half, separator order (lower)
+  std::array<DenseMatrix, 2> share;  // L_SS L_SSᵀ of each half, separator order (lower)
   auto run = [&](int h) {
     Half& H = *I.half[h];
     for (std::size_t k = 0; k < H.x.size(); ++k) H.x[k] = Kx[H.source[k]];
@@ -215,7 +215,7 @@ long SplitCholesky::factorize(const cholmod_sparse& K) {
       return;
     }
     // The trailing m × m block of the supernodal factor (its last supernodes).
-    H.Lss = RowMatrix::Zero(m, m);
+    H.Lss = DenseMatrix::Zero(m, m);
     const int* super = static_cast<const int*>(H.L->super);
     const int* pi = static_cast<const int*>(H.L->pi);
     const int* px = static_cast<const int*>(H.L->px);
@@ -230,8 +230,8 @@ long SplitCholesky::factorize(const cholmod_sparse& K) {
           if (row >= H.nh) H.Lss(row - H.nh, col - H.nh) = Lx[px[s] + (col - k1) * nsrow + r];
         }
     }
-    const RowMatrix LLt = H.Lss.triangularView<Eigen::Lower>() * H.Lss.transpose();
-    share[h] = RowMatrix(m, m);
+    const DenseMatrix LLt = H.Lss.triangularView<Eigen::Lower>() * H.Lss.transpose();
+    share[h] = DenseMatrix(m, m);
     for (int b = 0; b < m; ++b)
       for (int a = 0; a < m; ++a) share[h](H.s_order[a], H.s_order[b]) = LLt(a, b);
   };
