@@ -287,7 +287,7 @@ TEST(MakeField, AnisotropyFadesWhereTheDirectionIsIncoherent) {
   StressField st(nf);
   std::vector<Vec3> c(nf);
   for (int f = 0; f < nf; ++f) {
-    c[f] = (m.vertex(m.F(f, 0)) + m.vertex(m.F(f, 1)) + m.vertex(m.F(f, 2))) / 3;
+    c[f] = test::centroid(m, f);
     const double weak = c[f].y() < 0.5 ? -5 / 1.5 : -1;
     st[f].s1 = c[f].x() < 10 ? -5 : weak;
     st[f].s2 = c[f].x() < 10 ? weak : -5;
@@ -338,7 +338,7 @@ TEST(MakeField, DirectionDensityAnisotropyAndRanges) {
   StressField st(nf);
   const FaceFrames fr = face_frames(m);
   for (int f = 0; f < nf; ++f) {
-    const Vec3 c = (m.vertex(m.F(f, 0)) + m.vertex(m.F(f, 1)) + m.vertex(m.F(f, 2))) / 3;
+    const Vec3 c = test::centroid(m, f);
     // Compression along y dominates (|s2| > |s1|) with magnitude rising with x.
     st[f].s1 = 1 + 0.1 * c.x();
     st[f].s2 = -(2 + 0.5 * c.x());

@@ -196,18 +196,21 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
   FrameState stable_state = start;
   bool bracketing = false;
 
+  // A failed step halves the arc length; false (with the reason set) once it is below ds_min.
+  const auto cut_back = [&] {
+    ++res.cutbacks;
+    ds *= 0.5;
+    if (ds >= ds_min) return true;
+    res.stop_reason = "the arc-length step could not converge";
+    return false;
+  };
   while (res.steps < opt.max_steps) {
     Converged next;
     const int its = arc_step(mesh, asmb, W, opt, *solver_cur, ut_cur, *solver_work, cur, ds, first,
                              base_negative != 0, next, res.factorizations);
     res.iterations += std::max(its, 0);
     if (its < 0) {
-      ++res.cutbacks;
-      ds *= 0.5;
-      if (ds < ds_min) {
-        res.stop_reason = "the arc-length step could not converge";
-        break;
-      }
+      if (!cut_back()) break;
       continue;
     }
     // A fall of λ is an event by itself; otherwise the tangent at the new point decides (it is
@@ -227,12 +230,7 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
       return true;
     };
     if (!(fell && refine) && !count_negative()) {
-      ++res.cutbacks;
-      ds *= 0.5;
-      if (ds < ds_min) {
-        res.stop_reason = "the arc-length step could not converge";
-        break;
-      }
+      if (!cut_back()) break;
       continue;
     }
     const bool event = fell || next.negative > base_negative;

@@ -25,48 +25,14 @@ namespace {
 
 /// Beams shorter than `min_length` with an end on the boundary — a grid line crossing the
 /// boundary just beside a sharp corner or beside another line's crossing — are collapsed into
-/// their boundary end; a sharp corner never moves, faces keep at least 3 corners. Such stubs
-/// (down to 0.3 mm on Aquadom) make the frame's stiffness ill-conditioned. `rank` per polygon
-/// vertex: 0 interior, 1 boundary, 2 corner. Unused vertices are dropped.
-void collapse_boundary_stubs(RegionMesh& rm, const std::vector<int>& rank, double min_length) {
+/// their boundary end (mesh/topology.h); such stubs (down to 0.3 mm on Aquadom) make the frame's
+/// stiffness ill-conditioned. `rank` per polygon vertex: 0 interior, 1 boundary, 2 corner.
+/// Unused vertices are dropped.
+void collapse_stubs_and_compact(RegionMesh& rm, const std::vector<int>& rank, double min_length) {
   PolyMesh& m = rm.mesh;
-  std::vector<std::tuple<double, int, int>> stubs;  // shortest first
-  for (const auto& f : m.faces)
-    for (std::size_t k = 0; k < f.size(); ++k) {
-      int a = f[k], b = f[(k + 1) % f.size()];
-      if (rank[a] > rank[b]) std::swap(a, b);  // a goes into b
-      if (rank[b] == 0 || rank[a] == 2) continue;
-      const double l = (m.vertex(a) - m.vertex(b)).norm();
-      if (l < min_length) stubs.emplace_back(l, a, b);
-    }
-  std::sort(stubs.begin(), stubs.end());
-  std::vector<std::vector<int>> vertex_faces(m.num_vertices());
-  for (int f = 0; f < m.num_faces(); ++f)
-    for (int v : m.faces[f]) vertex_faces[v].push_back(f);
-  std::vector<int> into(m.num_vertices(), -1);
-  std::vector<char> touched(m.num_vertices(), 0);
-  for (const auto& [l, a, b] : stubs) {
-    if (touched[a] || touched[b]) continue;
-    bool ok = true;
-    for (int f : vertex_faces[a]) {
-      const auto& face = m.faces[f];
-      if (face.size() <= 3 && std::find(face.begin(), face.end(), b) != face.end()) ok = false;
-    }
-    if (!ok) continue;
-    into[a] = b;
-    touched[a] = touched[b] = 1;
-    for (int f : vertex_faces[a]) {
-      std::vector<int> out;
-      for (int v : m.faces[f]) {
-        const int w = into[v] >= 0 ? into[v] : v;
-        if (out.empty() || out.back() != w) out.push_back(w);
-      }
-      while (out.size() > 1 && out.front() == out.back()) out.pop_back();
-      m.faces[f] = std::move(out);
-      vertex_faces[b].push_back(f);
-    }
-  }
-  // Drop unused vertices.
+  std::vector<Vec3> pos(m.num_vertices());
+  for (int v = 0; v < m.num_vertices(); ++v) pos[v] = m.vertex(v);
+  gridshell::collapse_boundary_stubs(m.faces, pos, rank, min_length);
   std::vector<int> id(m.num_vertices(), -1);
   for (const auto& f : m.faces)
     for (int v : f) id[v] = 0;
@@ -131,7 +97,7 @@ GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
       const int s = rm.source_vertex[v];
       rank[v] = corner[s] ? 2 : ct.on_boundary[s] ? 1 : 0;
     }
-    collapse_boundary_stubs(rm, rank, o.min_edge_fraction * h);
+    collapse_stubs_and_compact(rm, rank, o.min_edge_fraction * h);
   }
   GridShell g;
   g.mesh = std::move(rm.mesh);

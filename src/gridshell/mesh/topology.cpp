@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -223,6 +224,49 @@ MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance) {
         mesh.V.row(order[i]).allFinite())
       ++p.duplicate_vertices;
   return p;
+}
+
+int collapse_boundary_stubs(std::vector<std::vector<int>>& faces, const std::vector<Vec3>& position,
+                            const std::vector<int>& rank, double min_length) {
+  std::vector<std::tuple<double, int, int>> stubs;  // (length, removed, kept), shortest first
+  for (const auto& f : faces)
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      int a = f[k], b = f[(k + 1) % f.size()];
+      if (rank[a] > rank[b]) std::swap(a, b);  // a goes into b
+      if (rank[b] == 0 || rank[a] == 2) continue;
+      const double l = (position[a] - position[b]).norm();
+      if (l < min_length) stubs.emplace_back(l, a, b);
+    }
+  std::sort(stubs.begin(), stubs.end());
+  std::vector<std::vector<int>> vertex_faces(position.size());
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (int v : faces[f]) vertex_faces[v].push_back(static_cast<int>(f));
+  std::vector<int> into(position.size(), -1);
+  std::vector<char> touched(position.size(), 0);
+  int done = 0;
+  for (const auto& [l, a, b] : stubs) {
+    if (touched[a] || touched[b]) continue;
+    bool ok = true;
+    for (int f : vertex_faces[a]) {
+      const auto& face = faces[f];
+      if (face.size() <= 3 && std::find(face.begin(), face.end(), b) != face.end()) ok = false;
+    }
+    if (!ok) continue;
+    into[a] = b;
+    touched[a] = touched[b] = 1;
+    for (int f : vertex_faces[a]) {
+      std::vector<int> out;
+      for (int v : faces[f]) {
+        const int w = into[v] >= 0 ? into[v] : v;
+        if (out.empty() || out.back() != w) out.push_back(w);
+      }
+      while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+      faces[f] = std::move(out);
+      vertex_faces[b].push_back(f);
+    }
+    ++done;
+  }
+  return done;
 }
 
 }  // namespace gridshell

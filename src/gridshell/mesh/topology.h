@@ -68,4 +68,14 @@ double surface_area(const TriMesh& mesh);
 /// Length of the bounding-box diagonal.
 double bbox_diagonal(const Points& V);
 
+/// Collapses stub edges at a boundary: every edge shorter than `min_length` with an end of rank
+/// ≥ 1 is collapsed into its end of higher rank (rank per vertex: 0 interior, 1 boundary,
+/// 2 corner; a corner never moves, two corners are never merged, two interior vertices are left
+/// alone). Shortest first; each vertex takes part in at most one collapse; a collapse that would
+/// leave a face with fewer than 3 corners is skipped. `faces` (vertex cycles, empty ones
+/// allowed) are rewritten in place; collapsed vertices are left unused, not removed. Returns the
+/// number of collapses.
+int collapse_boundary_stubs(std::vector<std::vector<int>>& faces, const std::vector<Vec3>& position,
+                            const std::vector<int>& rank, double min_length);
+
 }  // namespace gridshell

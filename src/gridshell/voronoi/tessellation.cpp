@@ -1076,54 +1076,14 @@ int merge_orphan_pieces(Engine& E) {
 /// vertex just inside the boundary, or two boundary joints side by side, would otherwise leave
 /// a stub beam. The boundary end (a corner when there is one) is kept. Faces keep ≥ 3 corners;
 /// unused nodes are dropped when the mesh is built.
-int collapse_boundary_stubs(Extraction& X, const Engine& E, double min_length) {
+int collapse_extraction_stubs(Extraction& X, const Engine& E, double min_length) {
   std::vector<Vec3> pos(X.nodes.size());
-  for (std::size_t n = 0; n < X.nodes.size(); ++n)
+  std::vector<int> rank(X.nodes.size());
+  for (std::size_t n = 0; n < X.nodes.size(); ++n) {
     pos[n] = E.rest_point(X.nodes[n].tri, X.nodes[n].bary);
-  // Candidate stubs, shortest first.
-  std::vector<std::tuple<double, int, int>> stubs;
-  for (const auto& f : X.faces)
-    for (std::size_t k = 0; k < f.size(); ++k) {
-      int a = f[k], b = f[(k + 1) % f.size()];
-      // a is removed into b: Voronoi vertices into boundary joints, boundary joints into
-      // corners or other boundary joints; corners never move.
-      if (X.nodes[a].kind > X.nodes[b].kind) std::swap(a, b);
-      if (X.nodes[b].kind == 0 || X.nodes[a].kind == 2) continue;
-      const double l = (pos[a] - pos[b]).norm();
-      if (l < min_length) stubs.emplace_back(l, a, b);
-    }
-  std::sort(stubs.begin(), stubs.end());
-  std::vector<int> into(X.nodes.size(), -1);
-  std::vector<char> touched(X.nodes.size(), 0);
-  // Faces around each node, to check that no face falls below 3 corners.
-  std::vector<std::vector<int>> node_faces(X.nodes.size());
-  for (std::size_t f = 0; f < X.faces.size(); ++f)
-    for (int v : X.faces[f]) node_faces[v].push_back(static_cast<int>(f));
-  int done = 0;
-  for (const auto& [l, a, b] : stubs) {
-    if (touched[a] || touched[b]) continue;
-    bool ok = true;
-    for (int f : node_faces[a]) {
-      const auto& face = X.faces[f];
-      if (std::find(face.begin(), face.end(), b) != face.end() && face.size() <= 3) ok = false;
-    }
-    if (!ok) continue;
-    into[a] = b;
-    touched[a] = touched[b] = 1;
-    for (int f : node_faces[a]) {
-      auto& face = X.faces[f];
-      std::vector<int> out;
-      for (int v : face) {
-        const int w = into[v] >= 0 ? into[v] : v;
-        if (out.empty() || out.back() != w) out.push_back(w);
-      }
-      while (out.size() > 1 && out.front() == out.back()) out.pop_back();
-      face = std::move(out);
-    }
-    for (int f : node_faces[a]) node_faces[b].push_back(f);
-    ++done;
+    rank[n] = X.nodes[n].kind;  // Voronoi vertex, boundary joint, corner
   }
-  return done;
+  return gridshell::collapse_boundary_stubs(X.faces, pos, rank, min_length);
 }
 
 int euler_of(const TriMesh& m) {
@@ -1178,41 +1138,35 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   // triangles, so a coarse support mesh gives the same cells wherever every cell meeting a triangle
   // labels one of its corners or its neighbours' opposite corners.
   const double level1_tol = two_level ? o.coarse_tolerance * R : tol;
+  // Lloyd steps until the seeds move less than `tolerance` (true) or `it` reaches `end`.
+  const auto lloyd_until = [&](int end, double tolerance, const char* tag) {
+    for (; it < end; ++it) {
+      E.compute_labels(0, static_cast<int>(E.label.size()));
+      const double move = E.lloyd_step(o.over_relaxation);
+      spdlog::debug("{} {} move/R {:.3e}", tag, it, move / R);
+      if (move < tolerance) {
+        ++it;
+        return true;
+      }
+    }
+    return false;
+  };
   if (o.quasi_newton) {
     it += E.minimize_energy(level1_tol, o.max_iterations, o.lbfgs_history, &T.converged);
     spdlog::debug("cvt: {} diagrams", it);
   } else {
-    for (; it < o.max_iterations; ++it) {
-      E.compute_labels(0, static_cast<int>(E.label.size()));
-      const double move = E.lloyd_step(o.over_relaxation);
-      spdlog::debug("lloyd {} move/R {:.3e}", it, move / R);
-      if (move < level1_tol) {
-        T.converged = true;
-        ++it;
-        break;
-      }
-    }
+    T.converged = lloyd_until(o.max_iterations, level1_tol, "lloyd");
   }
   // Level 2: a finer support mesh and a few (over-relaxed) Lloyd steps to `tolerance`.
   if (two_level && o.fine_iterations > 0) {
-    T.converged = false;
     std::vector<int> source;
     const int old_faces = E.S.deformed.num_faces();
     refine_to_length(E.S, o.support_edge * R, &source);
     E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
     E.corner_vertex.resize(E.S.deformed.num_vertices(), 0);
     E.relocate_seeds(source, old_faces);
-    const int fine_end = std::min(o.max_iterations, it + o.fine_iterations);
-    for (; it < fine_end; ++it) {
-      E.compute_labels(0, static_cast<int>(E.label.size()));
-      const double move = E.lloyd_step(o.over_relaxation);
-      spdlog::debug("fine lloyd {} rms move/R {:.3e}", it, move / R);
-      if (move < tol) {
-        T.converged = true;
-        ++it;
-        break;
-      }
-    }
+    T.converged =
+        lloyd_until(std::min(o.max_iterations, it + o.fine_iterations), tol, "fine lloyd");
   }
   T.support_vertices = E.S.deformed.num_vertices();
   T.iterations = it;
@@ -1275,7 +1229,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
     PolyMesh poly;
     std::vector<int> face_seed;
     if (X.ok) {
-      if (o.stub_length > 0) collapse_boundary_stubs(X, E, o.stub_length * R);
+      if (o.stub_length > 0) collapse_extraction_stubs(X, E, o.stub_length * R);
       // Keep the nodes that faces use, in order.
       std::vector<int> id(X.nodes.size(), -1);
       for (const auto& f : X.faces)
