@@ -1,11 +1,11 @@
 #include "gridshell/fem/split_cholesky.h"
 
 #include <cholmod.h>
+#include <tbb/parallel_invoke.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
-#include <thread>
 
 #include "gridshell/core/cholmod_support.h"
 
@@ -178,10 +178,8 @@ bool SplitCholesky::analyze(const cholmod_sparse& K, int dofs_per_node, const st
     return true;
   };
   for (auto& h : I.half) h = std::make_unique<Half>();
-  bool ok1 = false;
-  std::thread other([&] { ok1 = prepare(1); });
-  const bool ok0 = prepare(0);
-  other.join();
+  bool ok0 = false, ok1 = false;
+  tbb::parallel_invoke([&] { ok0 = prepare(0); }, [&] { ok1 = prepare(1); });
   if (!ok0 || !ok1) return false;
   // Positions of K_SS's stored entries in the dense separator matrix.
   std::vector<int> sep_of_dof(I.ndof, -1);
@@ -235,9 +233,7 @@ long SplitCholesky::factorize(const cholmod_sparse& K) {
     for (int b = 0; b < m; ++b)
       for (int a = 0; a < m; ++a) share[h](H.s_order[a], H.s_order[b]) = LLt(a, b);
   };
-  std::thread other(run, 1);
-  run(0);
-  other.join();
+  tbb::parallel_invoke([&] { run(0); }, [&] { run(1); });
   for (long f : failed)
     if (f >= 0) return f;
   // Schur complement of the separator and its dense Cholesky factor.
@@ -273,9 +269,7 @@ Eigen::VectorXd SplitCholesky::solve(const Eigen::VectorXd& b) const {
     g[h] = Eigen::VectorXd(m);
     for (int q = 0; q < m; ++q) g[h](H.s_order[q]) = t(q);
   };
-  std::thread other(forward, 1);
-  forward(0);
-  other.join();
+  tbb::parallel_invoke([&] { forward(0); }, [&] { forward(1); });
   Eigen::VectorXd xs(m);
   for (int k = 0; k < m; ++k) xs(k) = b(I.sep_dof[k]) + g[0](k) + g[1](k);
   I.C.triangularView<Eigen::Lower>().solveInPlace(xs);
@@ -297,9 +291,7 @@ Eigen::VectorXd SplitCholesky::solve(const Eigen::VectorXd& b) const {
     cholmod_free_dense(&z, &H.c);
     cholmod_free_dense(&w[h], &H.c);
   };
-  std::thread other2(backward, 1);
-  backward(0);
-  other2.join();
+  tbb::parallel_invoke([&] { backward(0); }, [&] { backward(1); });
   return x;
 }
 

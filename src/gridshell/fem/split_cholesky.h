@@ -8,15 +8,16 @@
 /// ordering, S ordered last) as the matrix
 ///     K_h = [K_hh  K_hS]
 ///           [K_Sh  K_SS],
-/// the two on two threads. The trailing dense block L_SS of each factor gives the half's share
+/// the two side by side. The trailing dense block L_SS of each factor gives the half's share
 /// of the Schur complement: L_SS L_SSᵀ = K_SS − K_Sh K_hh⁻¹ K_hS, so the separator's matrix is
 ///     C = L_SS^A L_SS^Aᵀ + L_SS^B L_SS^Bᵀ − K_SS,
 /// factorised densely (LAPACK dpotrf). Solve: forward substitution in each half with [b_h; 0]
 /// gives w_h and K_Sh K_hh⁻¹ b_h = −L_SS w_h,S; x_S = C⁻¹(b_S + Σ_h L_SS w_h,S); then a backward
 /// substitution in each half with w_h's S part replaced by L_SSᵀ x_S returns x_h.
 ///
-/// Every step is a fixed sequence of floating-point operations (threads only run the two halves
-/// side by side), so results are the same bits on any machine and thread count. The analysis
+/// The halves run side by side as two TBB tasks (so inside a parallel sweep, or with
+/// `--threads 1`, they share the cores TBB has). Every step is a fixed sequence of floating-point
+/// operations, so results are the same bits on any machine and thread count. The analysis
 /// calls METIS and holds `lock_symbolic_analysis()` (core/cholmod_support.h).
 ///
 /// Worth it for large models: at 50 K shell triangles (155 K dofs) the two halves cost about
