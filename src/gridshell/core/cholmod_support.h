@@ -20,7 +20,9 @@
 ///   better). This library therefore defines `dpotrf_` itself: blocks up to `kSmallPotrfMax` are
 ///   factorised in place by `small_potrf` (a plain column Cholesky, same result to rounding and
 ///   the same `info` for a matrix that is not positive definite), larger ones are passed on to
-///   the system LAPACK (`dlsym(RTLD_NEXT)`), which is fast there.
+///   the system LAPACK (`dlsym(RTLD_NEXT)`), which is fast there. Not Eigen's in-place LLT:
+///   it reports a failure but not the failing column, which CHOLMOD needs (it is how a singular
+///   stiffness names its free dof).
 
 #include <cholmod.h>
 
