@@ -76,6 +76,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   report["design"]["regularized"] = options.regularize && !options.planarize;
   report["design"]["planarized"] = options.planarize;
   report["design"]["restretch"] = options.regularize_options.restretch;
+  report["design"]["size_evening"] = options.regularize_options.size_evening;
   report["design"]["analysis"] = options.analyze;
   if (r.structure) report["structure"] = structure_block(*r.structure);
   nlohmann::json timings = nlohmann::json::object();
@@ -126,7 +127,13 @@ void register_design(CLI::App& app, Action& action) {
   sub->add_option("--restretch", a->design.regularize_options.restretch,
                   "regularization: how much of each cell's stretch its target keeps, 0 (regular "
                   "polygons) … 1 (the paper's stretched regular polygons)")
-      ->default_str("0.6")
+      ->default_str("0.7")
+      ->check(CLI::Range(0.0, 1.0));
+  sub->add_option("--size-evening", a->design.regularize_options.size_evening,
+                  "regularization: how far cell sizes are evened out, 0 (keep the density "
+                  "field's sizes) … 1 (pull all towards their mean); evening is what makes beam "
+                  "lengths uniform")
+      ->default_str("0.8")
       ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--analyze", a->design.analyze, "none | linear | buckling | nonlinear")
       ->default_str("nonlinear");

@@ -2,6 +2,11 @@
 //
 //   ./build/optimize_bench --figures   convergence tables on perturbed duals (no timing loop)
 //   ./build/optimize_bench             Google Benchmark: time per iteration at ~10 K polygons
+//   ./build/optimize_bench --real RAW.obj SURFACE [key=value ...]
+//       regularizes a raw tessellation (e.g. gridshell_raw.obj of `design`) on its surface with
+//       RegularizeOptions overrides (restretch, size_anchor, size_evening, boundary_fairing,
+//       max_iterations; scale= scales the surface as `--scale`) and prints the acceptance ratios of
+//       issue 7 against the raw mesh
 //
 // Test meshes: the polygonal dual of a built-in surface (valence 3, hex-dominant), vertices
 // perturbed by ±0.25 × mean edge length (seeded) and put back on the surface.
@@ -9,17 +14,21 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
 
 #include "gridshell/core/rng.h"
+#include "gridshell/io/mesh_io.h"
+#include "gridshell/mesh/topology.h"
 #include "gridshell/optimize/dual.h"
 #include "gridshell/optimize/metrics.h"
 #include "gridshell/optimize/projector.h"
 #include "gridshell/optimize/regularize.h"
 #include "gridshell/surfaces/builtin.h"
+#include "gridshell/surfaces/load.h"
 
 using namespace gridshell;
 
@@ -201,8 +210,75 @@ void print_big_figures() {
 
 }  // namespace
 
+/// Spread of the cells' sizes: population std of log(face area).
+double log_area_spread(const PolyMesh& m) {
+  double s = 0, s2 = 0;
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const double l = std::log(std::max(polygon_area(m, f), 1e-300));
+    s += l;
+    s2 += l * l;
+  }
+  const double n = m.num_faces();
+  return std::sqrt(std::max(0.0, s2 / n - (s / n) * (s / n)));
+}
+
+int real_tessellation(int argc, char** argv) {
+  const PolySurface raw = load_poly_surface(argv[0]);
+  RegularizeOptions o;
+  SurfaceOptions so;
+  for (int i = 2; i < argc; ++i) {
+    const std::string kv = argv[i];
+    const auto eq = kv.find('=');
+    const std::string k = kv.substr(0, eq);
+    const double v = std::atof(kv.substr(eq + 1).c_str());
+    if (k == "restretch")
+      o.restretch = v;
+    else if (k == "boundary_fairing")
+      o.boundary_fairing = v;
+    else if (k == "max_iterations")
+      o.max_iterations = static_cast<int>(v);
+    else if (k == "scale")
+      so.scale = v;
+    else if (k == "size_anchor")
+      o.size_anchor = v;
+    else if (k == "energy_tolerance")
+      o.energy_tolerance = v;
+    else if (k == "damping")
+      o.damping = v;
+    else if (k == "size_evening")
+      o.size_evening = v;
+    else {
+      std::fprintf(stderr, "unknown option %s\n", k.c_str());
+      return 2;
+    }
+  }
+  const Surface surface = load_surface(argv[1], so);
+  std::vector<VertexConstraint> cons = classify_vertices(raw.mesh);
+  for (int v : raw.supports)
+    if (cons[v] == VertexConstraint::free) cons[v] = VertexConstraint::fixed;
+  RegularizeStats st;
+  const PolyMesh reg = regularize(raw.mesh, surface.mesh, cons, o, &st);
+  const MeshMetrics a = mesh_metrics(raw.mesh), b = mesh_metrics(reg);
+  std::printf(
+      "%d faces: regularity %.4f -> %.4f (%.2fx), edge cv %.3f -> %.3f (%.3fx), planarity "
+      "%.3fx, log-area spread %.3fx, length %.3fx, %d it (best %d), %.2f s, off M %.1e of the "
+      "diagonal\n",
+      raw.mesh.num_faces(), a.regularity_mean, b.regularity_mean,
+      a.regularity_mean / b.regularity_mean, a.edge_length_cv, b.edge_length_cv,
+      b.edge_length_cv / a.edge_length_cv, b.planarity_mean / a.planarity_mean,
+      log_area_spread(reg) / log_area_spread(raw.mesh), b.total_length / a.total_length,
+      st.iterations, st.best_iteration, st.seconds, st.max_surface_distance);
+  if (const char* out = std::getenv("GRIDSHELL_WRITE")) io::write_obj(out, reg);
+  if (std::getenv("GRIDSHELL_HISTORY"))
+    for (std::size_t i = 0; i < st.energy_history.size(); ++i)
+      std::printf("  %zu energy %.5f\n", i, st.energy_history[i]);
+  return 0;
+}
+
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--real") == 0 && i + 2 < argc)
+      return real_tessellation(argc - i - 1, argv + i + 1);
     if (std::strcmp(argv[i], "--planarize") == 0 && i + 2 < argc) {
       const Case c = perturbed_dual(argv[i + 1], 0.25, 42);
       const MeshMetrics raw = mesh_metrics(c.raw);

@@ -198,21 +198,15 @@ TEST(Regularize, PerturbedDualsMeetTheAcceptanceRatios) {
     EXPECT_EQ(out.faces, c.raw.faces) << spec;  // topology unchanged
     EXPECT_LE(reg.regularity_mean, raw.regularity_mean / 3) << spec;
     EXPECT_LE(reg.planarity_mean, 1.10 * raw.planarity_mean) << spec;
-    EXPECT_LE(st.max_surface_distance, 1e-6) << spec;
+    EXPECT_LE(st.max_surface_distance, 1e-9) << spec;
     if (!court) {
       EXPECT_LE(reg.edge_length_cv, 0.75 * raw.edge_length_cv) << spec;
       EXPECT_LE(st.energy, st.energy_history.front() / 3) << spec;
     } else {
       // The court's dual is a structured radial pattern around the hole: its cells are stretched
-      // by the structure, not by a field, and the partial re-stretch (β = 0.6) asks them to be
-      // rounder than the rings allow: the spread of edge lengths stays (1.05×; the paper's full
-      // re-stretch, β = 1, gives 0.90×, the authors' damped averaging 0.92×).
-      EXPECT_LE(reg.edge_length_cv, 1.10 * raw.edge_length_cv) << spec;
-      RegularizeOptions paper;
-      paper.restretch = 1.0;
-      const MeshMetrics full = mesh_metrics(regularize(c.raw, c.surface, c.constraints, paper));
-      EXPECT_LT(full.edge_length_cv, raw.edge_length_cv) << spec;
-      EXPECT_LE(full.regularity_mean, raw.regularity_mean / 3) << spec;
+      // by the structure, not by a field, and the rings keep most of the spread of edge lengths
+      // (0.94×; the authors' damped averaging 0.92×).
+      EXPECT_LT(reg.edge_length_cv, raw.edge_length_cv) << spec;
     }
     // Constraints: corners exactly still, boundary vertices on M's boundary, all on M.
     const SurfaceProjector proj(c.surface);
@@ -268,9 +262,9 @@ TEST(Planarize, FlattensPanelsClearly) {
     // 300 iterations: dome 0.36×, the shallow paraboloid (raw already 1.6e-3) 0.77×.
     const bool dome = std::string(spec).rfind("dome", 0) == 0;
     EXPECT_LT(pl.planarity_mean, (dome ? 0.5 : 0.85) * raw.planarity_mean) << spec;
-    // On the dome planarize is clearly flatter than regularize; on the shallow paraboloid the
-    // regularizer's rounder targets (restretch 0.6) flatten the faces as much (1.06e-3 against
-    // 1.17e-3; with the paper's full re-stretch 1.37e-3).
+    // On the dome planarize is clearly flatter than regularize (7.4e-4 against 2.0e-3); on the
+    // shallow paraboloid the regularizer's rounder targets flatten the faces as much (1.24e-3
+    // against 1.17e-3).
     if (dome) {
       EXPECT_LT(pl.planarity_mean, 0.5 * reg.planarity_mean) << spec;
     }

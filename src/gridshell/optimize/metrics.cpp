@@ -71,9 +71,14 @@ double polygon_stretch(const std::vector<Vec3>& p) {
 }
 
 std::vector<Vec3> regular_targets(const std::vector<Vec3>& p, double max_stretch) {
+  if (p.size() < 3) return p;
+  return regular_targets(p, face_frame(p), max_stretch);
+}
+
+std::vector<Vec3> regular_targets(const std::vector<Vec3>& p, const FaceFrame& fr,
+                                  double max_stretch) {
   const int n = static_cast<int>(p.size());
   if (n < 3) return p;
-  const FaceFrame fr = face_frame(p);
   if (!(fr.sigma1 > 0)) return p;  // all vertices coincide
   const double s1 = fr.sigma1, s2 = std::max(fr.sigma2, 1e-6 * fr.sigma1);
   const double g = std::sqrt(s1 * s2);

@@ -47,6 +47,9 @@ FaceFrame face_frame(const std::vector<Vec3>& polygon);
 /// `max_stretch` (≥ 1) caps the stretch σ1/σ2 given back to the target: a face more stretched
 /// than that gets a less stretched target (σ̄ kept). Infinity = the paper's uncapped target.
 std::vector<Vec3> regular_targets(const std::vector<Vec3>& polygon, double max_stretch = INFINITY);
+/// Same with the polygon's `face_frame` already computed.
+std::vector<Vec3> regular_targets(const std::vector<Vec3>& polygon, const FaceFrame& frame,
+                                  double max_stretch);
 
 /// The stretch σ1/σ2 of a polygon (≥ 1; large for a degenerate face, capped at 1e6).
 double polygon_stretch(const std::vector<Vec3>& polygon);

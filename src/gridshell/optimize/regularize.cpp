@@ -82,6 +82,8 @@ void check_input(const PolyMesh& mesh, const std::vector<VertexConstraint>& cons
   if (!(o.stretch_growth >= 1)) throw Error("stretch_growth", "must be ≥ 1");
   if (!(o.restretch >= 0 && o.restretch <= 1)) throw Error("restretch", "must lie in [0, 1]");
   if (!(o.size_anchor >= 0 && o.size_anchor <= 1)) throw Error("size_anchor", "must be in [0, 1]");
+  if (!(o.size_evening >= 0 && o.size_evening <= 1))
+    throw Error("size_evening", "must lie in [0, 1]");
 }
 
 /// Projects the movable vertices of X onto M or its boundary (parallel, disjoint writes).
@@ -323,11 +325,18 @@ TargetFn regular_step(const PolyMesh& mesh, const RegularizeOptions& o) {
     if (std::isfinite(o.stretch_growth))
       cap[f] = std::pow(polygon_stretch(face_points(mesh, f)), beta) * o.stretch_growth;
   }
-  const double alpha = o.size_anchor;
-  return [cap = std::move(cap), size = std::move(size), alpha](int f, const std::vector<Vec3>& p) {
-    std::vector<Vec3> t = regular_targets(p, cap[f]);
+  if (o.size_evening > 0 && mesh.num_faces() > 0) {  // sizes pulled towards their geometric mean
+    double log_mean = 0;
+    for (double g : size) log_mean += std::log(std::max(g, 1e-300)) / mesh.num_faces();
+    for (double& g : size)
+      g = std::pow(g, 1 - o.size_evening) * std::exp(o.size_evening * log_mean);
+  }
+  return [cap = std::move(cap), size = std::move(size), alpha = o.size_anchor](
+             int f, const std::vector<Vec3>& p) {
+    if (p.size() < 3) return p;
+    const FaceFrame fr = face_frame(p);
+    std::vector<Vec3> t = regular_targets(p, fr, cap[f]);
     if (alpha > 0 && size[f] > 0) {
-      const FaceFrame fr = face_frame(p);
       const double g = std::sqrt(fr.sigma1 * fr.sigma2);
       if (g > 0) {
         const double k = std::pow(size[f] / g, alpha);

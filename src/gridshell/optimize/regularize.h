@@ -82,15 +82,26 @@ struct RegularizeOptions {
   /// the target's stretch is at most (σ1/σ2 of the input face)^β × stretch_growth. 1 = the
   /// paper's re-stretch (the cells keep all the anisotropy the field asked for); 0 = isotropic
   /// regular polygons, which is what the authors' library does (VCGlib's SmoothPCA builds its
-  /// templates with force_isotropy) and why it evens out beam lengths more. Default 0.6,
-  /// measured on five shared surfaces at D = A = 3 (docs/regularization.md): regularity 3.0–4.5×
-  /// better than raw and edge CV 0.56–0.79× raw, against 2.8–4.1× and 0.75–0.90× with β = 1.
-  double restretch = 0.6;
-  /// regularize: 0 = the target has the perimeter of the current (un-stretched) face, as in the
-  /// paper; 1 = the target keeps the size (rms radius √(σ1σ2)) the face had in the input, so
-  /// cell sizes stay those the density field asked for; in between = geometric blend. The
-  /// paper's target is scale-invariant: without an anchor, faces at the boundary can shrink.
-  double size_anchor = 0.0;
+  /// templates with force_isotropy) and why it evens out beam lengths more. Default 0.7, measured
+  /// with the size anchor and evening below on the six shared surfaces at D = A = 3 and on five
+  /// built-ins (docs/regularization.md): rounder targets (smaller β) give flatter panels on domes
+  /// (a regular polygon on a sphere is planar, a stretched one is not), more stretch flatter ones
+  /// on Shell.ply; 0.7 keeps every shared surface within 1.10× raw planarity.
+  double restretch = 0.7;
+  /// regularize: how strongly each target is scaled to its face's anchored size: 0 = the target
+  /// has the perimeter of the current (un-stretched) face, as in the paper (scale-invariant: a
+  /// face's size is then free, and clipped cells at the boundary inflate); 1 = the target has
+  /// the anchored size exactly (rms radius √(σ1σ2)); in between = geometric blend. Default 0.5.
+  double size_anchor = 0.5;
+  /// regularize: γ in [0, 1]. The anchored size of face f is g_f^(1−γ) G^γ, g_f its size in the
+  /// input, G the geometric mean of all g_f: 0 keeps the sizes the density field asked for, 1
+  /// pulls every cell towards the mean size. Default 0.8, measured on the six shared surfaces at
+  /// D = A = 3 (docs/regularization.md): beam lengths are only made uniform (edge CV ≤ 0.75× raw)
+  /// by evening out cell sizes — on Botanic the spread between the cells' mean edge lengths alone
+  /// is 0.77× the raw CV — at the price of part of the density contrast (the spread of
+  /// log(cell area) falls to 0.5–0.8× raw). The authors' library evens sizes too (a Laplacian
+  /// term in VCGlib's SmoothPCA).
+  double size_evening = 0.8;
   /// global: weight of the boundary fairing term w Σ_b |x_b − (x_p + x_n)/2|² over the sliding
   /// boundary vertices b (p, n: their neighbours along the boundary). 0 = off. Without it the
   /// clipped cells along the edge pull the boundary joints into uneven spacing.
