@@ -239,8 +239,10 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
     }
     if (it >= o.max_iterations || st.converged) break;
     // Energy stall: less than energy_tolerance relative decrease over the last 3 iterations.
+    // Not while the input is still the best iterate: the first over-relaxed steps can raise the
+    // energy before it falls (the built-in funicular at 300 cells returned its input unchanged).
     const auto& eh = st.energy_history;
-    if (eh.size() >= 4 &&
+    if (eh.size() >= 4 && st.best_iteration > 0 &&
         eh[eh.size() - 4] - best_energy <= o.energy_tolerance * eh[eh.size() - 4]) {
       st.converged = true;
       break;
