@@ -77,45 +77,76 @@ std::vector<Vec3> regular_targets(const std::vector<Vec3>& p, double max_stretch
 
 std::vector<Vec3> regular_targets(const std::vector<Vec3>& p, const FaceFrame& fr,
                                   double max_stretch) {
+  std::vector<Vec3> out;
+  regular_targets(p, fr, max_stretch, out);
+  return out;
+}
+
+namespace {
+
+/// Vertices (cos 2πi/n, sin 2πi/n) of the unit regular n-gon, tabulated for the usual sizes.
+constexpr int kTabulated = 16;
+const std::vector<Eigen::Vector2d>& unit_polygon(int n) {
+  static const auto table = [] {
+    std::vector<std::vector<Eigen::Vector2d>> t(kTabulated + 1);
+    for (int m = 3; m <= kTabulated; ++m)
+      for (int i = 0; i < m; ++i) {
+        const double a = 2 * std::numbers::pi * i / m;
+        t[m].emplace_back(std::cos(a), std::sin(a));
+      }
+    return t;
+  }();
+  return table[n];
+}
+
+}  // namespace
+
+void regular_targets(const std::vector<Vec3>& p, const FaceFrame& fr, double max_stretch,
+                     std::vector<Vec3>& out) {
   const int n = static_cast<int>(p.size());
-  if (n < 3) return p;
-  if (!(fr.sigma1 > 0)) return p;  // all vertices coincide
+  out.assign(p.begin(), p.end());
+  if (n < 3 || !(fr.sigma1 > 0)) return;  // too few or coincident vertices: kept
   const double s1 = fr.sigma1, s2 = std::max(fr.sigma2, 1e-6 * fr.sigma1);
   const double g = std::sqrt(s1 * s2);
-  // Un-stretched 2-D polygon.
-  std::vector<Eigen::Vector2d> u(n);
-  for (int i = 0; i < n; ++i) {
+  std::vector<Eigen::Vector2d> computed;
+  if (n > kTabulated) {
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * std::numbers::pi * i / n;
+      computed.emplace_back(std::cos(a), std::sin(a));
+    }
+  }
+  const std::vector<Eigen::Vector2d>& e = n > kTabulated ? computed : unit_polygon(n);
+  // One pass over the un-stretched 2-D polygon u_i = (x_i g/σ1, y_i g/σ2): its perimeter and the
+  // least-squares rotation of the unit template onto it, angle = atan2(Σ e × u, Σ e · u) (the
+  // template's radius, perimeter / (2n sin(π/n)), does not change the angle). The template is
+  // counter-clockwise, like the frame.
+  auto unstretched = [&](int i) {
     const Vec3 d = p[i] - fr.centroid;
-    u[i] = Eigen::Vector2d(d.dot(fr.axis1) * g / s1, d.dot(fr.axis2) * g / s2);
-  }
-  double per = 0;
-  for (int i = 0; i < n; ++i) per += (u[(i + 1) % n] - u[i]).norm();
-  const double pi = std::numbers::pi;
-  const double r = per / (2 * n * std::sin(pi / n));
-  // Regular template, counter-clockwise (the frame is oriented like the face), then the
-  // least-squares rotation onto u: angle = atan2(Σ t × u, Σ t · u).
-  std::vector<Eigen::Vector2d> t(n);
-  double sdot = 0, scross = 0;
+    return Eigen::Vector2d(d.dot(fr.axis1) * g / s1, d.dot(fr.axis2) * g / s2);
+  };
+  const Eigen::Vector2d u0 = unstretched(0);
+  Eigen::Vector2d u = u0;
+  double per = 0, sdot = 0, scross = 0;
   for (int i = 0; i < n; ++i) {
-    const double a = 2 * pi * i / n;
-    t[i] = Eigen::Vector2d(r * std::cos(a), r * std::sin(a));
-    sdot += t[i].dot(u[i]);
-    scross += t[i].x() * u[i].y() - t[i].y() * u[i].x();
+    const Eigen::Vector2d next = i + 1 < n ? unstretched(i + 1) : u0;
+    per += (next - u).norm();
+    sdot += e[i].dot(u);
+    scross += e[i].x() * u.y() - e[i].y() * u.x();
+    u = next;
   }
+  const double r = per / (2 * n * std::sin(std::numbers::pi / n));
   const double phi = std::atan2(scross, sdot);
-  const double cs = std::cos(phi), sn = std::sin(phi);
+  const double cs = r * std::cos(phi), sn = r * std::sin(phi);
   // Re-stretch: by (σ1, σ2)/σ̄, or with the ratio capped at max_stretch (σ̄ kept).
   double r1 = s1 / g, r2 = s2 / g;
   if (s1 / s2 > max_stretch) {
     r1 = std::sqrt(std::max(max_stretch, 1.0));
     r2 = 1.0 / r1;
   }
-  std::vector<Vec3> out(n);
   for (int i = 0; i < n; ++i) {
-    const double x = cs * t[i].x() - sn * t[i].y(), y = sn * t[i].x() + cs * t[i].y();
+    const double x = cs * e[i].x() - sn * e[i].y(), y = sn * e[i].x() + cs * e[i].y();
     out[i] = fr.centroid + (x * r1) * fr.axis1 + (y * r2) * fr.axis2;
   }
-  return out;
 }
 
 std::vector<Vec3> plane_targets(const std::vector<Vec3>& p) {

@@ -50,6 +50,9 @@ std::vector<Vec3> regular_targets(const std::vector<Vec3>& polygon, double max_s
 /// Same with the polygon's `face_frame` already computed.
 std::vector<Vec3> regular_targets(const std::vector<Vec3>& polygon, const FaceFrame& frame,
                                   double max_stretch);
+/// Same, written into `out` (resized; no allocation once its capacity suffices).
+void regular_targets(const std::vector<Vec3>& polygon, const FaceFrame& frame, double max_stretch,
+                     std::vector<Vec3>& out);
 
 /// The stretch σ1/σ2 of a polygon (≥ 1; large for a degenerate face, capped at 1e6).
 double polygon_stretch(const std::vector<Vec3>& polygon);

@@ -8,6 +8,7 @@
 #include <map>
 #include <numbers>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
@@ -55,8 +56,8 @@ std::vector<VertexConstraint> constraints_from_flags(const std::vector<char>& on
 
 namespace {
 
-/// Per-face step: (face index, its current vertices) → target positions.
-using TargetFn = std::function<std::vector<Vec3>(int, const std::vector<Vec3>&)>;
+/// Per-face step: (face index, its current vertices, out: target positions).
+using TargetFn = std::function<void(int, const std::vector<Vec3>&, std::vector<Vec3>&)>;
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
@@ -211,17 +212,22 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
   double best_energy = INFINITY;
   // Per-face targets at X and the energy mean_f Σ_i |x_i − t_i|² / area_f (parallel, disjoint).
   auto compute_targets = [&] {
-    tbb::parallel_for(0, nf, [&](int f) {
-      const std::vector<Vec3> p = face_points(out, f);
-      T[f] = targets(f, p);
-      Vec3 a = Vec3::Zero();
-      double s = 0, per = 0;
-      for (std::size_t i = 0; i < p.size(); ++i) {
-        a += p[i].cross(p[(i + 1) % p.size()]);
-        per += (p[(i + 1) % p.size()] - p[i]).norm();
-        s += (p[i] - T[f][i]).squaredNorm();
+    tbb::parallel_for(tbb::blocked_range<int>(0, nf), [&](const tbb::blocked_range<int>& range) {
+      std::vector<Vec3> p;  // reused across the chunk's faces
+      for (int f = range.begin(); f != range.end(); ++f) {
+        const auto& face = mesh.faces[f];
+        p.resize(face.size());
+        for (std::size_t i = 0; i < face.size(); ++i) p[i] = X.row(face[i]).transpose();
+        targets(f, p, T[f]);  // T[f] keeps its capacity from one iteration to the next
+        Vec3 a = Vec3::Zero();
+        double s = 0, per = 0;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+          a += p[i].cross(p[(i + 1) % p.size()]);
+          per += (p[(i + 1) % p.size()] - p[i]).norm();
+          s += (p[i] - T[f][i]).squaredNorm();
+        }
+        face_energy[f] = s / std::max(0.5 * a.norm(), 1e-12 * per * per);
       }
-      face_energy[f] = s / std::max(0.5 * a.norm(), 1e-12 * per * per);
     });
     double e = 0;
     for (double x : face_energy) e += x;  // serial: deterministic
@@ -304,11 +310,12 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
   }
   X = best_X;
   st.energy = best_energy;
-  for (int v = 0; v < nv; ++v) {
-    if (!used[v] || cons[v] == VertexConstraint::fixed) continue;
-    const double d = diag > 0 ? proj.distance(X.row(v).transpose()) / diag : 0.0;
-    st.max_surface_distance = std::max(st.max_surface_distance, d);
-  }
+  std::vector<double> dist(nv, 0.0);  // one AABB query per vertex: in parallel
+  tbb::parallel_for(0, nv, [&](int v) {
+    if (used[v] && cons[v] != VertexConstraint::fixed && diag > 0)
+      dist[v] = proj.distance(X.row(v).transpose()) / diag;
+  });
+  for (double d : dist) st.max_surface_distance = std::max(st.max_surface_distance, d);
   st.seconds = seconds_since(t0);
   if (stats) *stats = std::move(st);
   return out;
@@ -334,10 +341,9 @@ TargetFn regular_step(const PolyMesh& mesh, const RegularizeOptions& o) {
       g = std::pow(g, 1 - o.size_evening) * std::exp(o.size_evening * log_mean);
   }
   return [cap = std::move(cap), size = std::move(size), alpha = o.size_anchor](
-             int f, const std::vector<Vec3>& p) {
-    if (p.size() < 3) return p;
+             int f, const std::vector<Vec3>& p, std::vector<Vec3>& t) {
     const FaceFrame fr = face_frame(p);
-    std::vector<Vec3> t = regular_targets(p, fr, cap[f]);
+    regular_targets(p, fr, cap[f], t);
     if (alpha > 0 && size[f] > 0) {
       const double g = std::sqrt(fr.sigma1 * fr.sigma2);
       if (g > 0) {
@@ -345,7 +351,6 @@ TargetFn regular_step(const PolyMesh& mesh, const RegularizeOptions& o) {
         for (Vec3& x : t) x = fr.centroid + k * (x - fr.centroid);
       }
     }
-    return t;
   };
 }
 
@@ -390,7 +395,7 @@ PolyMesh planarize(const PolyMesh& mesh, const TriMesh& surface,
   const SurfaceProjector proj(surface);
   return run(
       mesh, proj, constraints, options,
-      [](int, const std::vector<Vec3>& p) { return plane_targets(p); }, stats);
+      [](int, const std::vector<Vec3>& p, std::vector<Vec3>& t) { t = plane_targets(p); }, stats);
 }
 
 }  // namespace gridshell
