@@ -4,9 +4,9 @@
 //   ./build/optimize_bench             Google Benchmark: time per iteration at ~10 K polygons
 //   ./build/optimize_bench --real RAW.obj SURFACE [key=value ...]
 //       regularizes a raw tessellation (e.g. gridshell_raw.obj of `design`) on its surface with
-//       RegularizeOptions overrides (restretch, size_anchor, size_evening, boundary_fairing,
-//       max_iterations; scale= scales the surface as `--scale`) and prints the acceptance ratios of
-//       issue 7 against the raw mesh
+//       RegularizeOptions overrides (restretch, size_anchor, size_evening, planarity_guard,
+//       boundary_fairing, max_iterations; scale= scales the surface as `--scale`) and prints the
+//       acceptance ratios of issue 7 against the raw mesh
 //
 // Test meshes: the polygonal dual of a built-in surface (valence 3, hex-dominant), vertices
 // perturbed by ±0.25 × mean edge length (seeded) and put back on the surface.
@@ -247,6 +247,8 @@ int real_tessellation(int argc, char** argv) {
       o.damping = v;
     else if (k == "size_evening")
       o.size_evening = v;
+    else if (k == "planarity_guard")
+      o.planarity_guard = v;
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
       return 2;

@@ -106,6 +106,87 @@ void project(Points& X, const std::vector<VertexConstraint>& cons, const std::ve
   });
 }
 
+/// Centroid, unit normal (Newell), half perimeter and planarity (mean |distance to the plane| /
+/// half perimeter) of a face of X.
+struct FacePlane {
+  Vec3 centroid = Vec3::Zero(), normal = Vec3::UnitZ();
+  double half_perimeter = 0, planarity = 0;
+};
+
+FacePlane face_plane(const Points& X, const std::vector<int>& face) {
+  FacePlane fp;
+  const std::size_t n = face.size();
+  for (int v : face) fp.centroid += X.row(v).transpose();
+  fp.centroid /= static_cast<double>(n);
+  Vec3 a = Vec3::Zero();
+  double per = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 p = X.row(face[i]).transpose(), q = X.row(face[(i + 1) % n]).transpose();
+    a += (p - fp.centroid).cross(q - fp.centroid);
+    per += (q - p).norm();
+  }
+  if (a.norm() > 0) fp.normal = a.normalized();
+  fp.half_perimeter = 0.5 * per;
+  double dev = 0;
+  for (int v : face) dev += std::abs((X.row(v).transpose() - fp.centroid).dot(fp.normal));
+  fp.planarity = per > 0 ? dev / static_cast<double>(n) / fp.half_perimeter : 0.0;
+  return fp;
+}
+
+struct GuardBuffers {
+  std::vector<FacePlane> planes;
+  std::vector<double> excess;
+  Points moved;
+};
+
+/// Planarity guard: a face that has become less planar than it was in the input (planarity q
+/// above its input value q0) asks each of its free vertices to move in the surface's tangent
+/// plane so that its height h over the face's plane shrinks by the excess fraction 1 − q0/q.
+/// Moving a vertex by u in its tangent plane (normal = mean of its faces' normals) changes its
+/// height over face f by a_f · u, a_f = the tangent components of f's normal, to first order;
+/// each vertex takes half of argmin_u Σ_f (s_f h_f + a_f · u)² + |u|²/w. Faces that are as
+/// planar as they were are left alone. The moves are tangential, so the following projection
+/// onto M keeps them.
+void guard_planarity(Points& X, const PolyMesh& mesh,
+                     const std::vector<std::vector<int>>& vertex_faces,
+                     const std::vector<double>& raw_planarity,
+                     const std::vector<VertexConstraint>& cons, double weight, GuardBuffers& b) {
+  const int nf = mesh.num_faces(), nv = static_cast<int>(X.rows());
+  b.planes.resize(nf);
+  b.excess.resize(nf);
+  tbb::parallel_for(0, nf, [&](int f) {
+    b.planes[f] = face_plane(X, mesh.faces[f]);
+    const double q = b.planes[f].planarity;
+    b.excess[f] = q > 0 ? std::max(0.0, 1 - raw_planarity[f] / q) : 0.0;
+  });
+  b.moved = X;
+  tbb::parallel_for(0, nv, [&](int v) {
+    if (cons[v] != VertexConstraint::free || vertex_faces[v].empty()) return;
+    Vec3 n = Vec3::Zero();
+    bool any = false;
+    for (int f : vertex_faces[v]) {
+      n += b.planes[f].normal;
+      any = any || b.excess[f] > 0;
+    }
+    if (!any || n.norm() == 0) return;
+    n.normalize();
+    const Vec3 e1 = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
+    const Vec3 e2 = n.cross(e1);
+    Eigen::Matrix2d A = Eigen::Matrix2d::Identity() / weight;
+    Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+    const Vec3 x = X.row(v).transpose();
+    for (int f : vertex_faces[v]) {
+      const FacePlane& fp = b.planes[f];
+      const Eigen::Vector2d a(e1.dot(fp.normal), e2.dot(fp.normal));
+      A += a * a.transpose();
+      rhs += b.excess[f] * (x - fp.centroid).dot(fp.normal) * a;
+    }
+    const Eigen::Vector2d u = -A.ldlt().solve(rhs);
+    b.moved.row(v) = (x + 0.5 * (u.x() * e1 + u.y() * e2)).transpose();
+  });
+  X.swap(b.moved);
+}
+
 PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<VertexConstraint> cons,
              const RegularizeOptions& o, TargetFn targets, RegularizeStats* stats) {
   const auto t0 = Clock::now();
@@ -200,6 +281,19 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
       throw Error("regularize", "the per-vertex system could not be factorised");
   }
   RegularizeStats st;
+  // Planarity guard (hard projection): the input faces' planarity and the faces
+  // around each vertex.
+  std::vector<double> raw_planarity;
+  std::vector<std::vector<int>> vertex_faces;
+  GuardBuffers guard;
+  if (o.projection == RegularizeOptions::Projection::hard && o.planarity_guard > 0) {
+    raw_planarity.resize(nf);
+    vertex_faces.resize(nv);
+    for (int f = 0; f < nf; ++f) {
+      raw_planarity[f] = face_plane(mesh.V, mesh.faces[f]).planarity;
+      for (int v : mesh.faces[f]) vertex_faces[v].push_back(f);
+    }
+  }
   st.setup_seconds = seconds_since(t0);
 
   std::vector<std::vector<Vec3>> T(nf);
@@ -295,6 +389,8 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
         if (idx[v] >= 0)
           Xnew.row(v) = X.row(v) + o.damping * (B.row(idx[v]) / count[idx[v]] - X.row(v));
     }
+    if (hard && o.planarity_guard > 0)
+      guard_planarity(Xnew, mesh, vertex_faces, raw_planarity, cons, o.planarity_guard, guard);
     st.solve_seconds += seconds_since(tp);
     tp = Clock::now();
     if (hard) project(Xnew, cons, used, proj, &X);  // X is on M: a valid hint

@@ -65,8 +65,11 @@ struct RegularizeOptions {
   /// curved M), so `planarize` defaults to soft; `regularize` uses hard.
   enum class Projection { hard, soft };
   Projection projection = Projection::hard;
-  int max_iterations = 30;  ///< cap on local/global iterations
-  double tolerance = 1e-5;  ///< stop when the max vertex move < tolerance × bbox diagonal of M
+  int max_iterations = 30;
+  double planarity_weight = 0;
+  double planarity_eps = 0.01;
+  double planarity_keep = 0;  ///< cap on local/global iterations
+  double tolerance = 1e-5;    ///< stop when the max vertex move < tolerance × bbox diagonal of M
   /// stop when the energy (RegularizeStats) fell by less than this fraction over 3 iterations
   double energy_tolerance = 1e-3;
   double closeness = 1.0;  ///< global: weight w of the stay-close term (per vertex)
@@ -106,6 +109,14 @@ struct RegularizeOptions {
   /// boundary vertices b (p, n: their neighbours along the boundary). 0 = off. Without it the
   /// clipped cells along the edge pull the boundary joints into uneven spacing.
   double boundary_fairing = 4.0;
+  /// hard projection: weight w of the planarity guard (0 = off). After each per-vertex step, every
+  /// face that has become less planar than it was in the input pulls its free vertices along
+  /// M's tangent planes so that their heights over its plane shrink by the excess (a vertex
+  /// takes half of argmin Σ_f (s_f h_f + a_f·u)² + |u|²/w; regularize.cpp, guard_planarity).
+  /// Projecting onto M drops the normal part of every move, and with it any pull towards flat
+  /// panels; on the saddle-shaped Shell.ply the panels then came out 1.10–1.13× less planar
+  /// than raw. Default 33: Shell 1.07–1.10×, regularity gains 2% lower (docs/regularization.md).
+  double planarity_guard = 33.0;
   /// global: the stay-close term pulls towards the input positions (true) or the current ones.
   bool anchor_to_input = false;
 };
