@@ -131,8 +131,8 @@ void register_design(CLI::App& app, Action& action) {
       ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--size-evening", a->design.regularize_options.size_evening,
                   "regularization: how far cell sizes are evened out, 0 (keep the density "
-                  "field's sizes) … 1 (pull all towards their mean); evening is what makes beam "
-                  "lengths uniform")
+                  "field's sizes) … 1 (pull all towards their mean); evening makes beam lengths "
+                  "uniform but gives back stiffness: 0 for structure-first designs")
       ->default_str("0.8")
       ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--analyze", a->design.analyze, "none | linear | buckling | nonlinear")
