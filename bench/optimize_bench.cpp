@@ -163,8 +163,10 @@ void BM_RegularizeToConvergence(benchmark::State& state) {
   const Case& c = big_case();
   const SurfaceProjector& proj = big_projector();
   RegularizeStats st;
+  RegularizeOptions o;
+  if (const char* g = std::getenv("GRIDSHELL_GUARD")) o.planarity_guard = std::atof(g);
   for (auto _ : state) {
-    PolyMesh out = regularize(c.raw, proj, c.constraints, {}, &st);
+    PolyMesh out = regularize(c.raw, proj, c.constraints, o, &st);
     benchmark::DoNotOptimize(out.V.data());
   }
   state.counters["iterations"] = st.iterations;
@@ -255,6 +257,26 @@ int real_tessellation(int argc, char** argv) {
     }
   }
   const Surface surface = load_surface(argv[1], so);
+  if (std::getenv("GRIDSHELL_WALKCHECK")) {
+    SurfaceProjector proj(surface.mesh);
+    Rng rng(1);
+    const double amp = std::atof(std::getenv("GRIDSHELL_WALKCHECK")) * proj.diagonal();
+    int bad = 0;
+    double worst = 0;
+    for (int v = 0; v < raw.mesh.num_vertices(); ++v) {
+      int tri = -1;
+      const Vec3 q0 = proj.closest_point_walk(raw.mesh.vertex(v), tri);
+      const Vec3 p = q0 + amp * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+      const double da = (proj.closest_point(p) - p).norm();
+      const double dw = (proj.closest_point_walk(p, tri) - p).norm();
+      if (dw > da + 1e-12 * proj.diagonal()) {
+        ++bad;
+        worst = std::max(worst, (dw - da) / proj.diagonal());
+      }
+    }
+    std::printf("walk check: %d of %d farther than the tree, worst %.2e of the diagonal\n", bad,
+                raw.mesh.num_vertices(), worst);
+  }
   std::vector<VertexConstraint> cons = classify_vertices(raw.mesh);
   for (int v : raw.supports)
     if (cons[v] == VertexConstraint::free) cons[v] = VertexConstraint::fixed;

@@ -6,6 +6,9 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <array>
+#include <map>
+
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
 
@@ -27,10 +30,45 @@ Point to_cgal(const Vec3& p) {
 Vec3 from_cgal(const Point& p) {
   return Vec3(p.x(), p.y(), p.z());
 }
+
+/// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5) and
+/// where it lies: region 0 = inside, 1–3 = on edge ab / bc / ca, 4–6 = at vertex a / b / c.
+struct TrianglePoint {
+  Vec3 point;
+  int region;
+};
+
+TrianglePoint closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return {a, 4};
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return {b, 5};
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return {a + (d1 / (d1 - d3)) * ab, 1};
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return {c, 6};
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return {a + (d2 / (d2 - d6)) * ac, 3};
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return {b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b), 2};
+  const double denom = 1.0 / (va + vb + vc);
+  return {a + ab * (vb * denom) + ac * (vc * denom), 0};
+}
+
 }  // namespace
 
 struct SurfaceProjector::Impl {
   std::vector<Triangle> triangles;
+  // For the walk: corners of each kept triangle, its neighbour across edge k (corner k to k + 1;
+  // −1 on the boundary), and the kept triangles around each vertex of M.
+  std::vector<std::array<int, 3>> corners;
+  std::vector<std::array<int, 3>> across;
+  std::vector<std::vector<int>> around;
+  Points V;
   std::vector<Segment> segments;
   TriTree tri_tree;
   SegTree seg_tree;
@@ -43,8 +81,25 @@ SurfaceProjector::SurfaceProjector(const TriMesh& m) : impl_(std::make_unique<Im
   for (int f = 0; f < m.num_faces(); ++f) {
     const Triangle t(to_cgal(m.vertex(m.F(f, 0))), to_cgal(m.vertex(m.F(f, 1))),
                      to_cgal(m.vertex(m.F(f, 2))));
-    if (!t.is_degenerate()) I.triangles.push_back(t);
+    if (t.is_degenerate()) continue;
+    I.triangles.push_back(t);
+    I.corners.push_back({m.F(f, 0), m.F(f, 1), m.F(f, 2)});
   }
+  I.V = m.V;
+  I.around.resize(m.num_vertices());
+  std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> edge_triangles;
+  for (int t = 0; t < static_cast<int>(I.corners.size()); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = I.corners[t][k], b = I.corners[t][(k + 1) % 3];
+      I.around[a].push_back(t);
+      edge_triangles[{std::min(a, b), std::max(a, b)}].push_back({t, k});
+    }
+  I.across.assign(I.corners.size(), {-1, -1, -1});
+  for (const auto& [e, uses] : edge_triangles)
+    if (uses.size() == 2) {
+      I.across[uses[0].first][uses[0].second] = uses[1].first;
+      I.across[uses[1].first][uses[1].second] = uses[0].first;
+    }
   if (I.triangles.empty()) throw Error("surface", "no non-degenerate triangles to project onto");
   const Topology topo = build_topology(m);
   I.loops = topo.boundary_loops;
@@ -77,6 +132,64 @@ Vec3 SurfaceProjector::closest_point(const Vec3& p) const {
 
 Vec3 SurfaceProjector::closest_point(const Vec3& p, const Vec3& hint) const {
   return from_cgal(impl_->tri_tree.closest_point(to_cgal(p), to_cgal(hint)));
+}
+
+Vec3 SurfaceProjector::closest_point_walk(const Vec3& p, int& triangle) const {
+  const Impl& I = *impl_;
+  const int nt = static_cast<int>(I.corners.size());
+  if (triangle < 0 || triangle >= nt) {
+    const auto hit = I.tri_tree.closest_point_and_primitive(to_cgal(p));
+    triangle = static_cast<int>(hit.second - I.triangles.begin());
+    return from_cgal(hit.first);
+  }
+  auto on = [&](int t) {
+    const auto& c = I.corners[t];
+    return closest_on_triangle(p, I.V.row(c[0]).transpose(), I.V.row(c[1]).transpose(),
+                               I.V.row(c[2]).transpose());
+  };
+  TrianglePoint best = on(triangle);
+  double best_d = (best.point - p).squaredNorm();
+  for (int step = 0; step < 64; ++step) {
+    int next = -1;
+    TrianglePoint next_tp;
+    double next_d = best_d;
+    auto consider = [&](int t) {
+      if (t < 0 || t == triangle) return;
+      const TrianglePoint tp = on(t);
+      const double d = (tp.point - p).squaredNorm();
+      if (d < next_d) {
+        next = t;
+        next_tp = tp;
+        next_d = d;
+      }
+    };
+    if (best.region == 0) {
+      // Inside its triangle: a local minimum of the distance, but across a concave crease of
+      // the piecewise-flat M the neighbour can hold a closer one.
+      for (int t : I.across[triangle]) consider(t);
+      if (next < 0 || next_d >= best_d * (1 - 1e-12)) return best.point;
+    } else if (best.region <= 3) {
+      consider(I.across[triangle][best.region - 1]);
+    } else {
+      for (int t : I.around[I.corners[triangle][best.region - 4]]) consider(t);
+    }
+    // No neighbour closer by more than rounding: the closest point sits on an edge or vertex of
+    // M — a crease, the boundary, or next to a skipped (degenerate or non-manifold) triangle,
+    // where the walk's neighbourhood may be incomplete. The tree decides there, with the walk's
+    // point as its starting bound.
+    if (next < 0 || next_d >= best_d * (1 - 1e-12)) {
+      const auto hit = I.tri_tree.closest_point_and_primitive(
+          to_cgal(p), {to_cgal(best.point), I.triangles.begin() + triangle});
+      triangle = static_cast<int>(hit.second - I.triangles.begin());
+      return from_cgal(hit.first);
+    }
+    triangle = next;
+    best = next_tp;
+    best_d = next_d;
+  }
+  const auto hit = I.tri_tree.closest_point_and_primitive(to_cgal(p));
+  triangle = static_cast<int>(hit.second - I.triangles.begin());
+  return from_cgal(hit.first);
 }
 
 Vec3 SurfaceProjector::closest_boundary_point(const Vec3& p, const Vec3& hint) const {

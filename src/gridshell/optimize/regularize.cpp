@@ -89,14 +89,19 @@ void check_input(const PolyMesh& mesh, const std::vector<VertexConstraint>& cons
 
 /// Projects the movable vertices of X onto M or its boundary (parallel, disjoint writes).
 /// `hints` (optional): positions already on M / its boundary near the answers.
+/// `triangles` (optional): per vertex, the triangle of M its last closest point lay on; free
+/// vertices then walk from there (SurfaceProjector::closest_point_walk) and it is updated.
 void project(Points& X, const std::vector<VertexConstraint>& cons, const std::vector<char>& used,
-             const SurfaceProjector& proj, const Points* hints = nullptr) {
+             const SurfaceProjector& proj, const Points* hints = nullptr,
+             std::vector<int>* triangles = nullptr) {
   tbb::parallel_for(0, static_cast<int>(X.rows()), [&](int v) {
     if (!used[v] || cons[v] == VertexConstraint::fixed) return;
     const Vec3 p = X.row(v).transpose();
     const bool b = cons[v] == VertexConstraint::boundary;
     Vec3 q;
-    if (hints) {
+    if (triangles && !b) {
+      q = proj.closest_point_walk(p, (*triangles)[v]);
+    } else if (hints) {
       const Vec3 h = hints->row(v).transpose();
       q = b ? proj.closest_boundary_point(p, h) : proj.closest_point(p, h);
     } else {
@@ -204,7 +209,8 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
 
   PolyMesh out = mesh;
   Points& X = out.V;
-  project(X, cons, used, proj);
+  std::vector<int> triangles(nv, -1);  // where on M each vertex's closest point lies
+  project(X, cons, used, proj, nullptr, &triangles);
   const Points X0 = X;
   const double diag = proj.diagonal();
 
@@ -393,7 +399,7 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
       guard_planarity(Xnew, mesh, vertex_faces, raw_planarity, cons, o.planarity_guard, guard);
     st.solve_seconds += seconds_since(tp);
     tp = Clock::now();
-    if (hard) project(Xnew, cons, used, proj, &X);  // X is on M: a valid hint
+    if (hard) project(Xnew, cons, used, proj, &X, &triangles);  // X is on M: a valid hint
     st.projection_seconds += seconds_since(tp);
     if (!Xnew.allFinite())
       throw Error("regularize", "the iteration diverged (non-finite position)");
