@@ -6,7 +6,12 @@
 //       regularizes a raw tessellation (e.g. gridshell_raw.obj of `design`) on its surface with
 //       RegularizeOptions overrides (restretch, size_anchor, size_evening, planarity_guard,
 //       boundary_fairing, max_iterations; scale= scales the surface as `--scale`) and prints the
-//       acceptance ratios of issue 7 against the raw mesh
+//       acceptance ratios of issue 7 against the raw mesh. Environment: GRIDSHELL_WRITE=FILE.obj
+//       writes the result, GRIDSHELL_HISTORY=1 prints the energy per iteration,
+//       GRIDSHELL_WALKCHECK=A compares SurfaceProjector's walk with its tree for moves of A × the
+//       diagonal.
+//   GRIDSHELL_GUARD=W ./build/optimize_bench --benchmark_filter=ToConvergence: the 10 K case with
+//       planarity guard W (its cost shows in solve_ms_per_it).
 //
 // Test meshes: the polygonal dual of a built-in surface (valence 3, hex-dominant), vertices
 // perturbed by ±0.25 × mean edge length (seeded) and put back on the surface.
