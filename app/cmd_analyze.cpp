@@ -8,13 +8,13 @@
 #include <spdlog/spdlog.h>
 
 #include "common.h"
-#include "gridshell/pipeline/design.h"
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
 #include "gridshell/io/frame_model_json.h"
 #include "gridshell/io/mesh_io.h"
+#include "gridshell/pipeline/design.h"
 
 namespace gridshell::app {
 
@@ -34,6 +34,7 @@ struct AnalyzeArgs {
   double imperfection_amplitude = 0;
   double nonlinear_static = 0;
   int max_steps = 300;
+  double displacement_limit = 0;
 };
 
 std::string lower_ext(const std::string& path) {
@@ -58,6 +59,8 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   if (a.nonlinear_static < 0 || !std::isfinite(a.nonlinear_static))
     throw Error("--nonlinear-static", "must be > 0");
   if (a.max_steps < 1) throw Error("--max-steps", "must be >= 1");
+  if (!(a.displacement_limit >= 0) || !std::isfinite(a.displacement_limit))
+    throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
 
   fem::FrameModel model;
   std::vector<int> supports;
@@ -128,6 +131,7 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   o.nonlinear_static =
       a.nonlinear_static > 0 ? a.nonlinear_static : request.nonlinear_static.value_or(0);
   o.arc.max_steps = a.max_steps;
+  o.displacement_limit = a.displacement_limit;
   if (o.imperfection && !o.buckling) o.buckling = true;
 
   io::ensure_directory(a.run.out_dir);
@@ -233,6 +237,10 @@ void register_analyze(CLI::App& app, Action& action) {
                   "also solve the non-linear equilibrium at this load factor (nodes_nonlinear.csv)")
       ->default_str("0");
   sub->add_option("--max-steps", a->max_steps, "arc-length step limit")->default_str("300");
+  sub->add_option("--displacement-limit", a->displacement_limit,
+                  "report lambda_displacement_limit: the load factor at which the non-linear "
+                  "path's largest displacement reaches this many metres (0 = span / 100)")
+      ->default_str("0");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_analyze(*a, sub); }; });

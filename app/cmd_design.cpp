@@ -144,6 +144,10 @@ void register_design(CLI::App& app, Action& action) {
       ->default_str("2");
   sub->add_option("--diameter", a->design.frame.diameter, "analysis: solid bar diameter (m)")
       ->default_str("0.037");
+  sub->add_option("--displacement-limit", a->design.frame_analysis.displacement_limit,
+                  "analysis: lambda_displacement_limit is the load factor at which the non-linear "
+                  "path's largest displacement reaches this many metres (0 = span / 100)")
+      ->default_str("0");
   sub->footer(
       "Default size when none of --radius/--cells/--length is given: 300 cells.\n"
       "Writes gridshell_raw.obj, gridshell.obj, gridshell.ply, gridshell.vtp, field.vtp,\n"

@@ -97,7 +97,8 @@ TEST(DesignCli, WritesTheContractFiles) {
 TEST(DesignCli, RejectsBadOptions) {
   const fs::path d = temp_dir("bad");
   for (const char* args : {"-A 0.5", "-D -1", "--analyze sideways", "--symmetry z",
-                           "--radius 1 --cells 10", "--cells -5", "--field /nonexistent.blk"}) {
+                           "--radius 1 --cells 10", "--cells -5", "--field /nonexistent.blk",
+                           "--displacement-limit -0.1", "--size-evening 2"}) {
     const auto r = run_gridshell(std::string("design builtin:dome ") + args + " -o " + d.string());
     EXPECT_EQ(r.status, 2) << args << ": " << r.err;
     EXPECT_NE(r.err.find("gridshell: error"), std::string::npos) << args << ": " << r.err;

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "gridshell/analysis/frame_analysis.h"
+#include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/frame_arclength.h"
 #include "gridshell/fem/frame_element.h"
@@ -145,6 +147,32 @@ TEST(FrameNonlinear, MattiassonElastica) {
     EXPECT_NEAR(tip.y() / row.dy, 1.0, 0.005) << "P L²/EI = " << row.load;
     EXPECT_NEAR(rot / row.rot, 1.0, 0.005) << "P L²/EI = " << row.load;
   }
+}
+
+// λ_δ on the elastica: Mattiasson's tip displacement at P L²/EI = 1 is |(−0.05643, 0.30172)| L,
+// so the path reaches that displacement at λ = 1 for the reference load P = EI/L².
+TEST(FrameNonlinear, LambdaAtADisplacementLimitOnTheElastica) {
+  const double L = 1, EI = 1;
+  FrameModel m = cantilever(L, 16, EI);
+  m.loads = {{1, Vec3(0, EI / (L * L), 0), Vec3::Zero()}};
+  analysis::FrameAnalysisOptions o;
+  o.buckling = false;  // no compression: no buckling
+  o.arc.max_displacement = 0.6 * L;
+  o.displacement_limit = std::hypot(0.05643, 0.30172) * L;
+  const analysis::FrameResult r = analysis::analyze_frame(m, o);
+  ASSERT_TRUE(r.lambda_displacement_limit.has_value());
+  std::printf("elastica: lambda at |u| = %.5f L: %.5f (exact 1), %zu path points, %s\n",
+              o.displacement_limit, *r.lambda_displacement_limit, r.path.size(),
+              r.limit_type.c_str());
+  EXPECT_NEAR(*r.lambda_displacement_limit, 1.0, 0.01);
+  EXPECT_EQ(r.limit_type, "none");
+  EXPECT_DOUBLE_EQ(r.displacement_limit_m, o.displacement_limit);
+  // Default limit: span / 100 (span = L here), nearly linear: λ ≈ (L/100) / δ.
+  o.displacement_limit = 0;
+  const analysis::FrameResult d = analysis::analyze_frame(m, o);
+  ASSERT_TRUE(d.lambda_displacement_limit.has_value());
+  EXPECT_DOUBLE_EQ(d.displacement_limit_m, L / 100);
+  EXPECT_NEAR(*d.lambda_displacement_limit * d.delta_max_m / (L / 100), 1.0, 0.01);
 }
 
 // A cantilever under an end moment M = 2π EI / L rolls up into a full circle.
@@ -380,9 +408,6 @@ TEST(FrameClassic, LeesFrameLimitLoad) {
 // ---------------------------------------------------------------------------------------------
 // Grid-shell model: loads and equilibrium.
 
-#include "gridshell/analysis/frame_analysis.h"
-#include "gridshell/analysis/gridshell_frame.h"
-
 namespace {
 // A quad grid on a shallow paraboloid, 6 × 6 cells of 1 m, boundary supported.
 PolyMesh quad_shell(std::vector<int>& supports) {
@@ -437,6 +462,10 @@ TEST(GridshellFrame, LinearEquilibriumAndPath) {
   // matches δ within a few percent.
   ASSERT_GE(r.path.size(), 3u);
   EXPECT_NEAR(r.path[1].displacement / r.path[1].lambda / r.delta_max_m, 1.0, 0.05);
+  // λ_δ (displacement span / 100) never exceeds the first critical point's λ.
+  ASSERT_TRUE(r.lambda_displacement_limit.has_value());
+  EXPECT_LE(*r.lambda_displacement_limit, *r.lambda_nonlinear * (1 + 1e-12));
+  EXPECT_GT(*r.lambda_displacement_limit, 0);
   std::printf("quad grid-shell: lambda_LBA %.4f, lambda_nl %.4f (%s), %zu path points\n",
               *r.lambda_linear_buckling, *r.lambda_nonlinear, r.limit_type.c_str(), r.path.size());
 }
@@ -538,6 +567,10 @@ TEST(AnalyzeCli, BadInputsExitTwo) {
   r = test::run_gridshell(fmt::format("analyze '{}' --elements 0 -o '{}'",
                                       (dir / "bad.json").string(), (dir / "o").string()));
   EXPECT_EQ(r.status, 2);
+  r = test::run_gridshell(fmt::format("analyze '{}' --displacement-limit nan -o '{}'",
+                                      (dir / "bad.json").string(), (dir / "o").string()));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--displacement-limit"), std::string::npos) << r.err;
 }
 
 TEST(AnalyzeCli, ObjSupportsCommentIsHonoured) {

@@ -1,7 +1,9 @@
 #include "gridshell/analysis/frame_analysis.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <spdlog/spdlog.h>
 
@@ -27,6 +29,18 @@ double plan_span(const Points& X) {
   const Eigen::RowVector3d lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
   const double s = std::max(hi(0) - lo(0), hi(1) - lo(1));
   return s > 0 ? s : (hi - lo).norm();
+}
+
+/// λ where the path's displacement first reaches `limit` (linear between path points).
+std::optional<double> lambda_at_displacement(const std::vector<PathPoint>& path, double limit) {
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const PathPoint &a = path[i - 1], &b = path[i];
+    if (b.displacement < limit) continue;
+    const double span = b.displacement - a.displacement;
+    const double t = span > 0 ? (limit - a.displacement) / span : 1.0;
+    return a.lambda + std::clamp(t, 0.0, 1.0) * (b.lambda - a.lambda);
+  }
+  return std::nullopt;
 }
 }  // namespace
 
@@ -123,6 +137,10 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
     res.nonlinear_steps = al.steps;
     res.nonlinear_iterations = al.iterations;
     res.nonlinear_factorizations = al.factorizations;
+    res.displacement_limit_m = o.displacement_limit > 0 ? o.displacement_limit : span / 100;
+    res.lambda_displacement_limit = lambda_at_displacement(al.path, res.displacement_limit_m);
+    if (!res.lambda_displacement_limit && al.limit_type != "none")
+      res.lambda_displacement_limit = al.lambda_critical;
     spdlog::info("non-linear: lambda = {:.6g} ({}; {} steps, {} iterations)", al.lambda_critical,
                  al.limit_type, al.steps, al.iterations);
   }

@@ -31,6 +31,8 @@ struct FrameAnalysisOptions {
   /// Arc-length settings; initial_lambda ≤ 0 = automatic (λ_LBA / 10, or the factor giving a
   /// linear displacement of span / 2000); max_displacement ≤ 0 = span / 5.
   fem::ArcLengthOptions arc{.initial_lambda = 0};
+  /// Displacement limit [m] for λ_δ (FrameResult::lambda_displacement_limit); 0 = span / 100.
+  double displacement_limit = 0;
   std::string subject = "model";  ///< named in error messages
 };
 
@@ -43,6 +45,14 @@ struct FrameResult {
   std::optional<double> lambda_nonlinear;
   std::string limit_type = "none";
   std::string nonlinear_stop_reason;
+  /// λ_δ: the load factor at which the non-linear path's largest displacement first reaches
+  /// `displacement_limit_m` (linear interpolation between path points), or λ of the first
+  /// critical point if that comes first; empty when the path ended before either. Stiff
+  /// grid-shells whose path stiffens into membrane action reach their first critical point only
+  /// at displacements of a sizeable fraction of the span (λ many times λ_LBA); λ_δ ranks them
+  /// by what a designer would accept.
+  std::optional<double> lambda_displacement_limit;
+  double displacement_limit_m = 0;
   double mass_kg = 0, total_length_m = 0;
   // Per model node / member.
   Points nodes;                     ///< reference coordinates of the model nodes

@@ -79,6 +79,9 @@ nlohmann::json structure_block(const analysis::FrameResult& r) {
   st["lambda_linear_buckling"] = optional_number(r.lambda_linear_buckling);
   st["lambda_nonlinear"] = optional_number(r.lambda_nonlinear);
   st["limit_type"] = r.limit_type;
+  st["lambda_displacement_limit"] = optional_number(r.lambda_displacement_limit);
+  st["displacement_limit_m"] =
+      r.displacement_limit_m > 0 ? nlohmann::json(r.displacement_limit_m) : nlohmann::json();
   st["mass_kg"] = r.mass_kg;
   st["total_length_m"] = r.total_length_m;
   st["buckling_lambdas"] = r.buckling_lambdas;
@@ -107,6 +110,9 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
   if (o.D > 8 || o.A > 8)
     spdlog::warn("design: D or A above ~4 may fold the deformed surface (D = {}, A = {})", o.D,
                  o.A);
+  if (!(o.frame_analysis.displacement_limit >= 0) ||
+      !std::isfinite(o.frame_analysis.displacement_limit))
+    throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
   if (o.analyze != "none") {
     analysis::FrameAnalysisOptions check;
     set_analysis_level(check, o.analyze);
@@ -320,13 +326,17 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
     spdlog::info("[analysis] {} frame: {} joints", o.analyze, r.mesh.num_vertices());
     r.structure = analyze_gridshell(r.mesh, r.supports, o.analyze, o.frame, o.frame_analysis);
     spdlog::info(
-        "[analysis] delta = {:.4g} m, lambda_LBA = {}, lambda_nonlinear = {} ({})",
+        "[analysis] delta = {:.4g} m, lambda_LBA = {}, lambda_nonlinear = {} ({}), lambda at "
+        "{:.3g} m = {}",
         r.structure->delta_max_m,
         r.structure->lambda_linear_buckling
             ? fmt::format("{:.4g}", *r.structure->lambda_linear_buckling)
             : "-",
         r.structure->lambda_nonlinear ? fmt::format("{:.4g}", *r.structure->lambda_nonlinear) : "-",
-        r.structure->limit_type);
+        r.structure->limit_type, r.structure->displacement_limit_m,
+        r.structure->lambda_displacement_limit
+            ? fmt::format("{:.4g}", *r.structure->lambda_displacement_limit)
+            : "-");
     r.timings.emplace_back("analysis", seconds_since(t));
   }
   return r;
