@@ -3,11 +3,13 @@
 /// The paper's finishing stage (§Regularization; GUIDE stage 10) and the ShapeUp planarity
 /// projection it is compared with. Both alternate a per-face step (each face proposes target
 /// positions for its vertices) and a per-vertex step, then bring the vertices back onto the
-/// input surface M: free vertices onto M (closest point, AABB tree), boundary vertices onto
-/// M's boundary polylines, fixed vertices (corners) never move. Topology never changes.
+/// input surface M: free vertices onto M (closest point: a walk over M's triangles from the
+/// last one, the AABB tree where the walk is unsure), boundary vertices onto M's boundary
+/// polylines, fixed vertices (corners) never move. Topology never changes.
 ///
 /// Per-face step, `regularize`: `regular_targets` (metrics.h) — PCA un-stretch, regular polygon
-/// of equal perimeter, best rigid 2-D alignment, re-stretch. `planarize`: `plane_targets` —
+/// of equal perimeter, best rigid 2-D alignment, re-stretch (partly: `restretch`), then scaled
+/// towards an anchored size (`size_anchor`, `size_evening`). `planarize`: `plane_targets` —
 /// projection onto the best-fit plane (Bouaziz et al. 2012, "Shape-Up").
 ///
 /// Per-vertex step:
@@ -20,13 +22,16 @@
 /// - `Solver::local` — the authors' scheme: each vertex moves to the damped average of its
 ///   targets, x ← x + damping (mean targets − x). Slow to converge; kept for comparison
 ///   (use damping ≤ 1 with it).
+/// Then, before the projection, the planarity guard (`planarity_guard`) moves free vertices along
+/// M's tangent planes where faces have become less planar than in the input.
 /// Iterations stop when the largest vertex move is below `tolerance` × bbox diagonal, when the
 /// energy stalls (`energy_tolerance`), or at `max_iterations`. The iterate with the lowest energy
 /// is returned (the surface projection makes the alternation non-monotone; late iterations can
 /// let faces drift, as the paper's stretch- and scale-invariant target has null directions).
 ///
-/// Cost per iteration: O(Σ face sizes) for the targets (parallel, TBB), one sparse triangular
-/// solve pair, and one AABB query per vertex (parallel). Deterministic for any thread count.
+/// Cost per iteration: O(Σ face sizes) for the targets and the guard (parallel, TBB), one sparse
+/// triangular solve pair, and one short walk per vertex (parallel); 10 K polygons ≈ 14–17 ms on
+/// two cores. Deterministic for any thread count.
 
 #include <vector>
 
