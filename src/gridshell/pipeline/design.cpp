@@ -237,6 +237,7 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
     if (sectors > 1) {
       if (topt.cells > 0) topt.cells = std::max(1, topt.cells / sectors);
       if (topt.length > 0) topt.length /= sectors;
+      for (const Plane& p : planes) topt.length_excluded_planes.emplace_back(p.point, p.normal);
     }
     for (int attempt = 0; attempt < (iso ? 3 : 2) && !done; ++attempt) {
       topt.seed = o.tessellation.seed + 7919 * static_cast<std::uint64_t>(attempt);

@@ -1407,6 +1407,24 @@ TessellationQuality measure_quality(const PolyMesh& mesh) {
   return q;
 }
 
+namespace {
+/// Total length of the edges lying on one of `o.length_excluded_planes`.
+double length_on_planes(const PolyMesh& mesh, const TessellationOptions& o) {
+  if (o.length_excluded_planes.empty() || mesh.num_vertices() == 0) return 0.0;
+  const double tol = 1e-6 * bbox_diagonal(mesh.V);
+  double sum = 0;
+  for (const auto& e : build_topology(mesh).edges) {
+    const Vec3 a = mesh.vertex(e[0]), b = mesh.vertex(e[1]);
+    for (const auto& [point, normal] : o.length_excluded_planes)
+      if (std::abs((a - point).dot(normal)) <= tol && std::abs((b - point).dot(normal)) <= tol) {
+        sum += (a - b).norm();
+        break;
+      }
+  }
+  return sum;
+}
+}  // namespace
+
 Tessellation tessellate(const TriMesh& rest, const TriMesh& deformed,
                         const std::vector<int>& rest_supports, const TessellationOptions& o) {
   const int given = (o.radius > 0) + (o.cells > 0) + (o.length > 0);
@@ -1455,7 +1473,7 @@ Tessellation tessellate(const TriMesh& rest, const TriMesh& deformed,
     for (; runs < 8; ++runs) {
       Tessellation t = run_once(rest, deformed, supported, corners, input_euler, input_loops,
                                 guard_R(R, "--length"), 0, o);
-      const double len = t.quality.total_length;
+      const double len = t.quality.total_length - length_on_planes(t.mesh, o);
       const double err = std::abs(len / o.length - 1);
       spdlog::info("tessellation: R = {:.4g} m gives total length {:.5g} m (target {:.5g})", R, len,
                    o.length);

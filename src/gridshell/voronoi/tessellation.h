@@ -31,6 +31,7 @@
 
 #include <cstdint>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include "gridshell/mesh/mesh.h"
@@ -45,6 +46,11 @@ struct TessellationOptions {
   int cells = 0;      ///< cells (faces) wanted; exact unless below boundary seeds + 1
   double length = 0;  ///< total edge length on M wanted (m), held within `length_tolerance`
   double length_tolerance = 0.05;
+  /// Edges with both ends on one of these planes (a point and a unit normal; within 1e-6 of the
+  /// bounding-box diagonal) do not count towards `length`. A symmetric design tessellates a
+  /// sector cut along its mirror planes; the cells on a plane merge with their mirror images
+  /// there, so those edges are not beams of the final grid-shell.
+  std::vector<std::pair<Vec3, Vec3>> length_excluded_planes;
   int default_cells = 300;
   std::uint64_t seed = 1;    ///< seeds the Poisson sampling
   int max_iterations = 300;  ///< CVT diagrams (L-BFGS evaluations or Lloyd steps) at most
