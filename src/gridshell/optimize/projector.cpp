@@ -7,7 +7,6 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <array>
-#include <map>
 
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
@@ -78,30 +77,32 @@ struct SurfaceProjector::Impl {
 
 SurfaceProjector::SurfaceProjector(const TriMesh& m) : impl_(std::make_unique<Impl>()) {
   Impl& I = *impl_;
+  std::vector<int> kept(m.num_faces(), -1);  // index among the non-degenerate triangles
   for (int f = 0; f < m.num_faces(); ++f) {
     const Triangle t(to_cgal(m.vertex(m.F(f, 0))), to_cgal(m.vertex(m.F(f, 1))),
                      to_cgal(m.vertex(m.F(f, 2))));
     if (t.is_degenerate()) continue;
+    kept[f] = static_cast<int>(I.triangles.size());
     I.triangles.push_back(t);
     I.corners.push_back({m.F(f, 0), m.F(f, 1), m.F(f, 2)});
   }
-  I.V = m.V;
-  I.around.resize(m.num_vertices());
-  std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> edge_triangles;
-  for (int t = 0; t < static_cast<int>(I.corners.size()); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = I.corners[t][k], b = I.corners[t][(k + 1) % 3];
-      I.around[a].push_back(t);
-      edge_triangles[{std::min(a, b), std::max(a, b)}].push_back({t, k});
-    }
-  I.across.assign(I.corners.size(), {-1, -1, -1});
-  for (const auto& [e, uses] : edge_triangles)
-    if (uses.size() == 2) {
-      I.across[uses[0].first][uses[0].second] = uses[1].first;
-      I.across[uses[1].first][uses[1].second] = uses[0].first;
-    }
   if (I.triangles.empty()) throw Error("surface", "no non-degenerate triangles to project onto");
   const Topology topo = build_topology(m);
+  I.V = m.V;
+  I.around.resize(m.num_vertices());
+  for (int v = 0; v < m.num_vertices(); ++v)
+    for (int f : topo.vertex_faces[v])
+      if (kept[f] >= 0) I.around[v].push_back(kept[f]);
+  I.across.assign(I.corners.size(), {-1, -1, -1});
+  for (int f = 0; f < m.num_faces(); ++f) {
+    if (kept[f] < 0) continue;
+    for (int k = 0; k < 3; ++k) {  // edge k runs from corner k to corner k + 1
+      const auto& faces = topo.edge_faces[topo.face_edges[f][k]];
+      if (faces.size() != 2) continue;  // boundary or non-manifold
+      const int g = faces[0] == f ? faces[1] : faces[0];
+      I.across[kept[f]][k] = kept[g];  // −1 next to a degenerate triangle
+    }
+  }
   I.loops = topo.boundary_loops;
   for (const auto& loop : I.loops)
     for (std::size_t i = 0; i < loop.size(); ++i) {

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
-#include <map>
 #include <numbers>
 
 #include <tbb/blocked_range.h>
@@ -207,6 +206,7 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
   for (int v = 0; v < nv; ++v)
     if (used[v] && cons[v] != VertexConstraint::fixed) idx[v] = nfree++;
 
+  const Topology topo = build_topology(mesh);  // boundary edges, faces around each vertex
   PolyMesh out = mesh;
   Points& X = out.V;
   std::vector<int> triangles(nv, -1);  // where on M each vertex's closest point lies
@@ -250,17 +250,11 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
     // two neighbours p, n along the mesh boundary — keeps the beams along the edge even while
     // the faces behind them move.
     if (o.boundary_fairing > 0) {
-      std::map<std::pair<int, int>, int> edge_use;
-      for (const auto& f : mesh.faces)
-        for (std::size_t i = 0; i < f.size(); ++i) {
-          const int a = f[i], b = f[(i + 1) % f.size()];
-          ++edge_use[{std::min(a, b), std::max(a, b)}];
-        }
       std::vector<std::vector<int>> along(nv);
-      for (const auto& [e, c] : edge_use)
-        if (c == 1) {
-          along[e.first].push_back(e.second);
-          along[e.second].push_back(e.first);
+      for (int e = 0; e < topo.num_edges(); ++e)
+        if (topo.edge_faces[e].size() == 1) {
+          along[topo.edges[e][0]].push_back(topo.edges[e][1]);
+          along[topo.edges[e][1]].push_back(topo.edges[e][0]);
         }
       for (int b = 0; b < nv; ++b) {
         if (idx[b] < 0 || cons[b] != VertexConstraint::boundary || along[b].size() != 2) continue;
@@ -290,15 +284,11 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
   // Planarity guard (hard projection): the input faces' planarity and the faces
   // around each vertex.
   std::vector<double> raw_planarity;
-  std::vector<std::vector<int>> vertex_faces;
+  const std::vector<std::vector<int>>& vertex_faces = topo.vertex_faces;
   GuardBuffers guard;
   if (o.projection == RegularizeOptions::Projection::hard && o.planarity_guard > 0) {
     raw_planarity.resize(nf);
-    vertex_faces.resize(nv);
-    for (int f = 0; f < nf; ++f) {
-      raw_planarity[f] = face_plane(mesh.V, mesh.faces[f]).planarity;
-      for (int v : mesh.faces[f]) vertex_faces[v].push_back(f);
-    }
+    for (int f = 0; f < nf; ++f) raw_planarity[f] = face_plane(mesh.V, mesh.faces[f]).planarity;
   }
   st.setup_seconds = seconds_since(t0);
 
@@ -432,9 +422,8 @@ TargetFn regular_step(const PolyMesh& mesh, const RegularizeOptions& o) {
   for (int f = 0; f < mesh.num_faces(); ++f) {
     const FaceFrame fr = face_frame(face_points(mesh, f));
     size[f] = std::sqrt(fr.sigma1 * fr.sigma2);
-    const double beta = o.restretch;
     if (std::isfinite(o.stretch_growth))
-      cap[f] = std::pow(polygon_stretch(face_points(mesh, f)), beta) * o.stretch_growth;
+      cap[f] = std::pow(polygon_stretch(face_points(mesh, f)), o.restretch) * o.stretch_growth;
   }
   if (o.size_evening > 0 && mesh.num_faces() > 0) {  // sizes pulled towards their geometric mean
     double log_mean = 0;
