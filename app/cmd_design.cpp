@@ -2,7 +2,9 @@
 // pipeline of the paper (stress → field → metric → tessellation → symmetry → regularization →
 // analysis), each stage timed in report.json.
 
+#include <algorithm>
 #include <chrono>
+#include <optional>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -14,6 +16,7 @@
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/gridshell_output.h"
+#include "gridshell/pipeline/objective.h"
 
 namespace gridshell::app {
 
@@ -25,6 +28,9 @@ struct DesignArgs {
   RunOptions run;
   DesignOptions design;
   bool no_regularize = false;
+  std::string objective = "balanced";
+  std::string measure = "magnitude", stretch = "along", density = "rising";
+  bool search = true;  ///< no -D/-A/convention/--field given: search for the objective
 };
 
 int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
@@ -34,10 +40,21 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   DesignOptions options = a.design;
   options.tessellation.seed = a.run.seed;
   options.regularize = !a.no_regularize;
+  options.field_options.measure = parse_stress_measure(a.measure);
+  options.field_options.stretch = parse_stretch_axis(a.stretch);
+  options.field_options.density = parse_density_trend(a.density);
+  ObjectiveOptions objective;
+  objective.objective = parse_objective(a.objective);
+  if (options.analyze != "none") {
+    analysis::FrameAnalysisOptions check;
+    set_analysis_level(check, options.analyze);
+  }
   spdlog::info("[load] {}", a.surface);
   const Surface surface = load_surface(a.surface, a.surface_options);
   const double t_load = std::chrono::duration<double>(clock::now() - start).count();
-  const DesignResult r = run_design(surface, options);
+  std::optional<ObjectiveResult> searched;
+  if (a.search) searched = design_for_objective(surface, options, objective);
+  const DesignResult r = searched ? std::move(searched->design) : run_design(surface, options);
 
   auto t0 = clock::now();
   const std::filesystem::path dir(a.run.out_dir);
@@ -78,6 +95,10 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   report["design"]["restretch"] = options.regularize_options.restretch;
   report["design"]["size_evening"] = options.regularize_options.size_evening;
   report["design"]["analysis"] = options.analyze;
+  if (searched) {
+    report["objective"] = searched->report();
+    report["objective"]["objective"] = a.objective;
+  }
   if (r.structure) report["structure"] = structure_block(*r.structure);
   nlohmann::json timings = nlohmann::json::object();
   timings["load"] = t_load;
@@ -104,14 +125,37 @@ void register_design(CLI::App& app, Action& action) {
   sub->add_option("surface", a->surface,
                   "PLY/OBJ/OFF file or builtin:NAME (default builtin:funicular)")
       ->default_str(kDefaultSurface);
-  sub->add_option("--field", a->design.field,
-                  "stress (shell analysis of the surface), uniform (isotropic cells), or a field "
-                  "file (BLK, or CSV vertex,s1,s2,d1x,d1y,d1z)")
-      ->default_str("stress");
-  sub->add_option("-D", a->design.D, "density ratio: the densest cells are D× smaller across")
-      ->default_str("3");
-  sub->add_option("-A", a->design.A, "anisotropy ratio: cells up to A× longer along the stress")
-      ->default_str("3");
+  auto* field =
+      sub->add_option("--field", a->design.field,
+                      "stress (shell analysis of the surface), uniform (isotropic cells), or a "
+                      "field file (BLK, or CSV vertex,s1,s2,d1x,d1y,d1z)")
+          ->default_str("stress");
+  auto* objective =
+      sub->add_option("--objective", a->objective,
+                      "lambda | delta | balanced: search the field settings (D, A, conventions, "
+                      "frame-response fields) at equal length and keep the design with the "
+                      "highest lambda_LBA, the lowest delta, or a gain in one with the other no "
+                      "more than 2% worse; used unless -D/-A/--field/a convention is given")
+          ->default_str("balanced");
+  std::vector<CLI::Option*> exact;
+  exact.push_back(
+      sub->add_option("-D", a->design.D, "density ratio: the densest cells are D× smaller across")
+          ->default_str("3"));
+  exact.push_back(
+      sub->add_option("-A", a->design.A, "anisotropy ratio: cells up to A× longer along u")
+          ->default_str("3"));
+  exact.push_back(sub->add_option("--stress-measure", a->measure,
+                                  "magnitude (the paper) | tension (compression counts as none) | "
+                                  "compression (tension counts as none): which stress drives u, "
+                                  "d and a")
+                      ->default_str("magnitude"));
+  exact.push_back(sub->add_option("--stretch", a->stretch,
+                                  "along (the paper) | across: cells long along u or across it")
+                      ->default_str("along"));
+  exact.push_back(sub->add_option("--density", a->density,
+                                  "rising (the paper) | falling: small cells where the stress is "
+                                  "high, or where it is low")
+                      ->default_str("rising"));
   auto* radius = sub->add_option("--radius", a->design.tessellation.radius,
                                  "cell size R in metres on M' (≈ beam length where d = 1)");
   auto* cells = sub->add_option("--cells", a->design.tessellation.cells, "number of cells");
@@ -152,9 +196,14 @@ void register_design(CLI::App& app, Action& action) {
       "Default size when none of --radius/--cells/--length is given: 300 cells.\n"
       "Writes gridshell_raw.obj, gridshell.obj, gridshell.ply, gridshell.vtp, field.vtp,\n"
       "cells.csv, report.json and config.json in the output folder.");
+  exact.push_back(field);
+  for (CLI::Option* o : exact) objective->excludes(o);
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
-  sub->callback([a, sub, &action] { action = [a, sub] { return run_design_cmd(*a, sub); }; });
+  sub->callback([a, sub, exact, &action] {
+    a->search = std::none_of(exact.begin(), exact.end(), [](CLI::Option* o) { return o->count(); });
+    action = [a, sub] { return run_design_cmd(*a, sub); };
+  });
 }
 
 }  // namespace gridshell::app

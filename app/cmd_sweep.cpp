@@ -14,6 +14,7 @@
 #include "common.h"
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
+#include "gridshell/field/field_io.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/sweep.h"
 #include "mpi.h"
@@ -25,6 +26,7 @@ namespace {
 struct SweepArgs {
   std::string surface = kDefaultSurface;
   std::string D = "1:4", A = "1:4", shard, analyze = "nonlinear", field = "stress";
+  std::string measure = "magnitude", stretch = "along", density = "rising";
   int repeats = 3;
   double length = 0;
   int cells = 0;
@@ -39,7 +41,17 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   const auto start = std::chrono::steady_clock::now();
   if (!(a.length > 0) && a.cells <= 0)
     throw Error("--length", "give the common total beam length L (m) (or --cells N)");
+  FieldOptions conventions;
+  conventions.measure = parse_stress_measure(a.measure);
+  conventions.stretch = parse_stretch_axis(a.stretch);
+  conventions.density = parse_density_trend(a.density);
   const Surface surface = load_surface(a.surface, a.surface_options);
+  // The stress is the same for every case: computed (or read) once.
+  StressField stress;
+  if (a.field == "stress")
+    stress = fem::analyze_surface_stress(surface, fem::ShellDefaults{}).stress;
+  else if (a.field != "uniform")
+    stress = read_field_file(a.field, surface.mesh);
   std::vector<SweepCase> cases =
       sweep_cases(parse_range(a.D, "--D"), parse_range(a.A, "--A"), a.repeats, a.run.seed);
   const std::size_t all = cases.size();
@@ -59,12 +71,15 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   const auto mine = run_sweep(cases, [&](const SweepCase& c) {
     DesignOptions o;
     o.field = a.field;
+    o.field_options.measure = conventions.measure;
+    o.field_options.stretch = conventions.stretch;
+    o.field_options.density = conventions.density;
     o.D = c.D, o.A = c.A;
     o.analyze = a.analyze;
     o.tessellation.seed = c.seed;
     o.tessellation.length = a.length;
     o.tessellation.cells = a.length > 0 ? 0 : a.cells;
-    const DesignResult r = run_design(surface, o);
+    const DesignResult r = a.field == "uniform" ? run_design(surface, o) : run_design(surface, o, stress);
     SweepRow row;
     row.c = c;
     row.cells = r.mesh.num_faces();
@@ -132,7 +147,13 @@ void register_sweep(CLI::App& app, Action& action) {
   sub->add_option("--length", a->length, "common total beam length (m)");
   sub->add_option("--cells", a->cells, "number of cells instead of --length");
   sub->add_option("--shard", a->shard, "K/N: run only shard K of N (cases K-1, K-1+N, ...)");
-  sub->add_option("--field", a->field, "stress | FILE (as in design)")->default_str("stress");
+  sub->add_option("--field", a->field, "stress | uniform | FILE (as in design)")
+      ->default_str("stress");
+  sub->add_option("--stress-measure", a->measure, "magnitude | tension | compression (as in design)")
+      ->default_str("magnitude");
+  sub->add_option("--stretch", a->stretch, "along | across (as in design)")->default_str("along");
+  sub->add_option("--density", a->density, "rising | falling (as in design)")
+      ->default_str("rising");
   sub->add_option("--analyze", a->analyze, "linear | buckling | nonlinear")
       ->default_str("nonlinear");
   sub->footer(

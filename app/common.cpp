@@ -54,7 +54,9 @@ nlohmann::json resolved_config(const CLI::App* sub) {
     } else if (opt->count() > 0) {
       options[name] = opt->results().size() == 1 ? nlohmann::json(opt->results()[0])
                                                  : nlohmann::json(opt->results());
-    } else if (!opt->get_default_str().empty()) {
+    } else if (!opt->get_default_str().empty() && opt->get_excludes().empty()) {
+      // (Options that exclude others, e.g. --objective and -D, are written only when given:
+      // their defaults together would not parse again.)
       options[name] = opt->get_default_str();
     }
   }

@@ -209,6 +209,66 @@ TEST(Anisotropy, AnisotropyRampCellsStretchAlongU) {
   EXPECT_GE(within20, 0.9);
 }
 
+TEST(Anisotropy, ConventionsDecideWhichWayCellsStretchAndWhereTheyShrink) {
+  // Compression along y dominates everywhere (|s2| = 2 + 0.5x > s1 = 1 + 0.1x along x) and rises
+  // with x. The paper's reading (along, rising): cells long along y, small on the right.
+  // Across and falling: cells long along x, small on the left. Judged on the interior cells:
+  // the share whose long axis is within 30° of the expected direction (among clearly stretched
+  // ones, aspect > 1.3), and the ratio of median cell areas, left third over right third.
+  const TriMesh m = flat_grid(24, 24, kSide, kSide);
+  StressField st(m.num_faces());
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const double x = test::centroid(m, f).x();
+    st[f] = {1 + 0.1 * x, -(2 + 0.5 * x), Vec3::UnitX(), Vec3::UnitY()};
+  }
+  struct Cells {
+    double along_y = 0, along_x = 0;  // shares of stretched cells
+    double left_over_right = 0;       // median area ratio
+  };
+  auto run = [&](StretchAxis stretch, DensityTrend density) {
+    FieldOptions fo;
+    fo.D = 2.5;
+    fo.A = 2.5;
+    fo.stretch = stretch;
+    fo.density = density;
+    const Pipeline r = tessellate_field(m, make_field(m, st, fo), 250);
+    EXPECT_EQ(r.def.folded_edges, 0);
+    Cells c;
+    std::vector<double> left, right;
+    int stretched = 0;
+    for (int f : interior_cells(r.tess)) {
+      const Moments mo = polygon_moments(r.tess.mesh, f);
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(mo.cov);
+      if (std::sqrt(es.eigenvalues()[1] / es.eigenvalues()[0]) > 1.3) {
+        ++stretched;
+        const Eigen::Vector2d axis = es.eigenvectors().col(1);
+        const double cos30 = std::cos(std::numbers::pi / 6);
+        c.along_x += std::abs(axis.x()) > cos30;
+        c.along_y += std::abs(axis.y()) > cos30;
+      }
+      if (mo.c.x() < kSide / 3) left.push_back(mo.area);
+      if (mo.c.x() > 2 * kSide / 3) right.push_back(mo.area);
+    }
+    EXPECT_GE(stretched, 20);
+    c.along_x /= std::max(1, stretched);
+    c.along_y /= std::max(1, stretched);
+    c.left_over_right = median(left) / median(right);
+    std::printf("%s/%s: %d stretched interior cells, %.0f%% long along x, %.0f%% along y; "
+                "median area left/right %.2f\n",
+                to_string(stretch), to_string(density), stretched, 100 * c.along_x,
+                100 * c.along_y, c.left_over_right);
+    return c;
+  };
+  const Cells paper = run(StretchAxis::along, DensityTrend::rising);
+  EXPECT_GE(paper.along_y, 0.8);
+  // Expected ratios: area ∝ a/d² with both d and a rising with x in the paper's reading, about
+  // (2.25²/2.25)/(1.25²/1.25) = 1.8 between the thirds; (2.25²/1.25)/(1.25²/2.25) ≈ 5.8 falling.
+  EXPECT_GT(paper.left_over_right, 1.5);
+  const Cells other = run(StretchAxis::across, DensityTrend::falling);
+  EXPECT_GE(other.along_x, 0.8);
+  EXPECT_LT(other.left_over_right, 1 / 3.0);
+}
+
 TEST(Anisotropy, UnitDensityAndAnisotropyGiveTheIsotropicTessellation) {
   // D = A = 1 (u arbitrary): M′ is M up to round-off, and the cells are those of the isotropic
   // tessellation of M. Lloyd's iterations amplify round-off, so the two runs are compared by

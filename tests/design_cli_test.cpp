@@ -98,7 +98,10 @@ TEST(DesignCli, RejectsBadOptions) {
   const fs::path d = temp_dir("bad");
   for (const char* args : {"-A 0.5", "-D -1", "--analyze sideways", "--symmetry z",
                            "--radius 1 --cells 10", "--cells -5", "--field /nonexistent.blk",
-                           "--displacement-limit -0.1", "--size-evening 2"}) {
+                           "--displacement-limit -0.1", "--size-evening 2",
+                           "--objective strongest", "--objective lambda -D 2",
+                           "--objective delta --stretch across", "--stretch sideways",
+                           "--density up", "--stress-measure von-mises"}) {
     const auto r = run_gridshell(std::string("design builtin:dome ") + args + " -o " + d.string());
     EXPECT_EQ(r.status, 2) << args << ": " << r.err;
     EXPECT_NE(r.err.find("gridshell: error"), std::string::npos) << args << ": " << r.err;
@@ -270,4 +273,44 @@ TEST(DesignCli, RegularizationKeepsShellPanelsFlatWithThePlanarityGuard) {
   std::printf("[figures] Shell planarity / raw: guard %.3f, no guard %.3f\n", pl_on / pl_raw,
               pl_off / pl_raw);
   EXPECT_LT(pl_on, pl_off - 0.015 * pl_raw);
+}
+
+// Without -D/-A/--field/a convention, design searches the field settings for --objective
+// (default balanced) and reports the candidates; config.json repeats the search exactly.
+TEST(DesignCli, ObjectiveSearchReportsCandidatesAndRepeatsFromConfig) {
+  const fs::path d = temp_dir("objective");
+  const auto r = run_gridshell(
+      "design builtin:funicular:res=16 --cells 40 --seed 2 --objective delta --analyze buckling "
+      "--quiet -o " +
+      d.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto report = nlohmann::json::parse(slurp(d / "report.json"));
+  ASSERT_TRUE(report.contains("objective"));
+  const auto& o = report.at("objective");
+  EXPECT_EQ(o.at("objective"), "delta");
+  const auto& c = o.at("candidates");
+  ASSERT_GE(c.size(), 6u);
+  EXPECT_EQ(c.at(0).at("source"), "uniform");
+  const int chosen = o.at("chosen");
+  double best = 1e300;
+  for (const auto& x : c)
+    if (x.at("ok").get<bool>()) best = std::min(best, x.at("delta_max_m").get<double>());
+  EXPECT_EQ(c.at(chosen).at("delta_max_m").get<double>(), best);
+  EXPECT_DOUBLE_EQ(report.at("structure").at("delta_max_m").get<double>(), best);
+  const fs::path d2 = temp_dir("objective_again");
+  const auto r2 =
+      run_gridshell("design --config " + (d / "config.json").string() + " --out " + d2.string());
+  ASSERT_EQ(r2.status, 0) << r2.err;
+  EXPECT_EQ(slurp(d / "gridshell.obj"), slurp(d2 / "gridshell.obj"));
+  // Explicit -D/-A design exactly that: no search.
+  const fs::path d3 = temp_dir("exact");
+  const auto r3 = run_gridshell(
+      "design builtin:funicular:res=16 --cells 40 -D 2 --stretch across --analyze none --quiet "
+      "-o " +
+      d3.string());
+  ASSERT_EQ(r3.status, 0) << r3.err;
+  const auto exact = nlohmann::json::parse(slurp(d3 / "report.json"));
+  EXPECT_FALSE(exact.contains("objective"));
+  EXPECT_EQ(exact.at("design").at("field").at("stretch"), "across");
+  EXPECT_EQ(exact.at("design").at("field").at("D"), 2.0);
 }

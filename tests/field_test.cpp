@@ -11,6 +11,7 @@
 #include "gridshell/core/rng.h"
 #include "gridshell/field/field.h"
 #include "gridshell/field/field_io.h"
+#include "gridshell/field/frame_response.h"
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/builtin.h"
@@ -383,6 +384,84 @@ TEST(MakeField, DirectionDensityAnisotropyAndRanges) {
   EXPECT_EQ(at.at("a_raw").cols(), 1);
 }
 
+TEST(MakeField, ConventionsPickDirectionDensityAndSign) {
+  // Tension s1 = 1 + 0.1x along x, compression s2 = −(2 + 0.5x) along y: |s2| > s1 everywhere,
+  // both magnitudes rise with x; the compression's share of the magnitude grows with x.
+  const TriMesh m = grid(20, 20, 10, 10);
+  const int nf = m.num_faces();
+  StressField st(nf);
+  for (int f = 0; f < nf; ++f) {
+    const Vec3 c = test::centroid(m, f);
+    st[f].s1 = 1 + 0.1 * c.x();
+    st[f].s2 = -(2 + 0.5 * c.x());
+    st[f].d1 = Vec3::UnitX();
+    st[f].d2 = Vec3::UnitY();
+  }
+  auto field = [&](StressMeasure measure, StretchAxis stretch, DensityTrend density) {
+    FieldOptions o;
+    o.D = 3;
+    o.A = 2;
+    o.measure = measure;
+    o.stretch = stretch;
+    o.density = density;
+    return make_field(m, st, o);
+  };
+  // Mean |u·x| and mean d on the left and right halves.
+  struct Summary {
+    double ux = 0, d_left = 0, d_right = 0;
+  };
+  auto summary = [&](const Field& fd) {
+    Summary s;
+    int nl = 0, nr = 0;
+    for (int f = 0; f < nf; ++f) {
+      s.ux += std::abs(fd.u[f].x()) / nf;
+      if (test::centroid(m, f).x() < 5)
+        s.d_left += fd.d[f], ++nl;
+      else
+        s.d_right += fd.d[f], ++nr;
+    }
+    s.d_left /= nl;
+    s.d_right /= nr;
+    return s;
+  };
+  using SM = StressMeasure;
+  using SA = StretchAxis;
+  using DT = DensityTrend;
+  // The paper: u along the larger magnitude (y), small cells (large d) where it is high (right).
+  const Summary paper = summary(field(SM::magnitude, SA::along, DT::rising));
+  EXPECT_LT(paper.ux, 1e-6);
+  EXPECT_GT(paper.d_right, paper.d_left + 1);
+  // Across: u turned by 90° in the plane (x); the density is unchanged.
+  const Field across_field = field(SM::magnitude, SA::across, DT::rising);
+  const Summary across = summary(across_field);
+  EXPECT_GT(across.ux, 1 - 1e-6);
+  EXPECT_NEAR(across.d_left, paper.d_left, 1e-12);
+  // Falling: the dense side moves to the left, d still spans [1, D].
+  const Field falling_field = field(SM::magnitude, SA::along, DT::falling);
+  const Summary falling = summary(falling_field);
+  EXPECT_GT(falling.d_left, falling.d_right + 1);
+  EXPECT_EQ(*std::max_element(falling_field.d.begin(), falling_field.d.end()), 3.0);
+  EXPECT_EQ(*std::min_element(falling_field.d.begin(), falling_field.d.end()), 1.0);
+  // Tension only: s1 drives (u along x), d_raw = s1, and the other stress (compression) counts
+  // as none, so the raw anisotropy is at its cap.
+  const Field tension = field(SM::tension, SA::along, DT::rising);
+  EXPECT_GT(summary(tension).ux, 1 - 1e-6);
+  for (int f = 0; f < nf; ++f) {
+    EXPECT_NEAR(tension.d_raw[f], st[f].s1, 1e-12);
+    EXPECT_EQ(tension.a_raw[f], FieldOptions{}.anisotropy_cap);
+  }
+  // Compression only: −s2 drives (u along y), tension counts as none.
+  const Field compression = field(SM::compression, SA::along, DT::rising);
+  EXPECT_LT(summary(compression).ux, 1e-6);
+  for (int f = 0; f < nf; ++f) EXPECT_NEAR(compression.d_raw[f], -st[f].s2, 1e-12);
+  // The words of the options.
+  EXPECT_EQ(parse_stress_measure("compression"), SM::compression);
+  EXPECT_EQ(parse_stretch_axis("across"), SA::across);
+  EXPECT_EQ(parse_density_trend("falling"), DT::falling);
+  EXPECT_STREQ(to_string(DT::falling), "falling");
+  EXPECT_THROW(parse_stretch_axis("diagonal"), Error);
+}
+
 TEST(FieldImport, CsvPerVertexToPerTriangle) {
   const TriMesh m = grid(4, 3, 2, 1.5);
   const auto dir = gridshell::test::temp_dir("csv");
@@ -437,4 +516,47 @@ TEST(FieldImport, CurvedVaultBlkGivesUnitTangentDirections) {
   EXPECT_EQ(*std::max_element(fd.d.begin(), fd.d.end()), 3.0);
   EXPECT_EQ(*std::min_element(fd.a.begin(), fd.a.end()), 1.0);
   for (int f = 0; f < m.num_faces(); ++f) EXPECT_NEAR(fd.u[f].norm(), 1.0, 1e-9);
+}
+
+TEST(FrameResponse, SquareGridWithEnergyInOneDirectionGivesAUniaxialTensor) {
+  // A square grid-shell of spacing h over the plane; every beam along x carries the value w,
+  // every beam along y nothing. An interior joint has two x beams, each giving ½ w of its value
+  // to the joint, over a tributary area h²: T = (w / h²) x xᵀ, i.e. s1 = w/h² along x, s2 = 0.
+  const int n = 8;
+  const double h = 0.5, w = 3;
+  PolyMesh g;
+  g.V.resize((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) g.V.row(j * (n + 1) + i) << i * h, j * h, 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      g.faces.push_back({a, a + 1, a + n + 2, a + n + 1});
+    }
+  const Topology topo = build_topology(g);
+  std::vector<double> value(topo.num_edges());
+  for (int e = 0; e < topo.num_edges(); ++e) {
+    const Vec3 d = g.vertex(topo.edges[e][1]) - g.vertex(topo.edges[e][0]);
+    value[e] = std::abs(d.x()) > 0.5 * h ? w : 0.0;
+  }
+  // The surface: a finer triangulation of the same square.
+  const TriMesh surface = grid(2 * n, 2 * n, n * h, n * h);
+  const StressField st = frame_response_field(surface, g, value);
+  ASSERT_EQ(static_cast<int>(st.size()), surface.num_faces());
+  int interior = 0;
+  for (int f = 0; f < surface.num_faces(); ++f) {
+    const Vec3 c = test::centroid(surface, f);
+    EXPECT_GE(st[f].s2, -1e-12);
+    EXPECT_NEAR(std::abs(st[f].d1.x()), 1.0, 1e-9);
+    if (c.x() > 1.5 * h && c.x() < (n - 1.5) * h && c.y() > 1.5 * h && c.y() < (n - 1.5) * h) {
+      ++interior;
+      EXPECT_NEAR(st[f].s1, w / (h * h), 1e-9);
+      EXPECT_NEAR(st[f].s2, 0.0, 1e-9);
+    }
+  }
+  EXPECT_GT(interior, 50);
+  value.pop_back();
+  EXPECT_THROW(frame_response_field(surface, g, value), Error);
+  value.push_back(-1);
+  EXPECT_THROW(frame_response_field(surface, g, value), Error);
 }

@@ -615,3 +615,35 @@ TEST(GridshellFrame, ImperfectionFollowsTheFirstBucklingMode) {
   EXPECT_LE(*imperfect.lambda_nonlinear, *perfect.lambda_nonlinear * 1.001);
   EXPECT_GT(*imperfect.lambda_nonlinear, 0.3 * *perfect.lambda_nonlinear);
 }
+
+TEST(FrameEnergy, CantileverStrainEnergyIsHalfTheWorkOfTheLoad) {
+  // Tip load P on a cantilever: U = P² L³ / (6 EI) (bending only; the axial part vanishes), the
+  // same as ½ P δ. Per element, the energy grows towards the clamp as M² = P²(L − x)² does:
+  // element k of n holds ((n−k)³ − (n−k−1)³) / n³ of the total.
+  const double L = 2, EI = 1e4, P = 10;
+  const int n = 4;
+  FrameModel m = cantilever(L, n, EI);
+  m.loads = {{1, Vec3(0, 0, -P), Vec3::Zero()}};
+  const FrameMesh mesh = discretize(m);
+  const FrameAssembler asmb(mesh);
+  const LinearResult lin = linear_static(mesh, asmb);
+  const std::vector<double> e = element_strain_energy(mesh, asmb, lin.u);
+  ASSERT_EQ(static_cast<int>(e.size()), n);
+  double total = 0;
+  for (double x : e) total += x;
+  const double exact = P * P * L * L * L / (6 * EI);
+  EXPECT_NEAR(total / exact, 1.0, 1e-9);
+  EXPECT_NEAR(total, 0.5 * mesh.load.dot(lin.u), 1e-12 * exact);
+  for (int k = 0; k < n; ++k) {  // the element next to the clamp comes first (node 0 → 1)
+    const double share = (std::pow(n - k, 3) - std::pow(n - k - 1, 3)) / std::pow(n, 3);
+    EXPECT_NEAR(e[k] / exact, share, 1e-9) << k;
+  }
+  // Through analyze_frame: per member (one member here), and the buckling mode's energies are
+  // normalised to add up to 1.
+  m.loads = {{1, Vec3(-P, 0, 0), Vec3::Zero()}};
+  const auto res = analysis::analyze_frame(m, {.linear = true, .buckling = true, .nonlinear = false});
+  ASSERT_EQ(res.strain_energy.size(), 1u);
+  EXPECT_NEAR(res.strain_energy[0], 0.5 * P * P * L / (m.sections[0].A * 1e6), 1e-9 * res.strain_energy[0]);
+  ASSERT_EQ(res.mode_energy.size(), 1u);
+  EXPECT_NEAR(res.mode_energy[0], 1.0, 1e-12);
+}

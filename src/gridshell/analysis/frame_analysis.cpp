@@ -82,6 +82,13 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
   for (size_t m = 0; m < model.members.size(); ++m)
     res.axial_force[m] = lin.axial[mesh.member_elements[m].front()];
   res.reactions = lin.reactions.head(6 * n0);
+  auto per_member = [&](const std::vector<double>& per_element) {
+    std::vector<double> out(model.members.size(), 0.0);
+    for (size_t m = 0; m < model.members.size(); ++m)
+      for (int k : mesh.member_elements[m]) out[m] += per_element[k];
+    return out;
+  };
+  res.strain_energy = per_member(element_strain_energy(mesh, *assembler, lin.u));
   {
     Vec3 R = Vec3::Zero(), F = Vec3::Zero();
     double Fabs = 0;
@@ -104,7 +111,24 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
     lba = linear_buckling(mesh, *assembler, lin, bo);
     res.timings["buckling"] = t.seconds();
     res.buckling_lambdas = lba.lambdas;
-    if (!lba.lambdas.empty()) res.lambda_linear_buckling = lba.lambdas.front();
+    if (!lba.lambdas.empty()) {
+      res.lambda_linear_buckling = lba.lambdas.front();
+      // Modes within 10 % of the first count alike: on a symmetric structure the first mode is
+      // an arbitrary member of a degenerate pair, and its energy alone would be lopsided.
+      res.mode_energy.assign(model.members.size(), 0.0);
+      for (std::size_t k = 0; k < lba.modes.size(); ++k) {
+        if (lba.lambdas[k] > 1.1 * lba.lambdas.front()) break;
+        const std::vector<double> e = per_member(element_strain_energy(mesh, *assembler, lba.modes[k]));
+        double sum = 0;
+        for (double x : e) sum += x;
+        if (sum > 0)
+          for (std::size_t m = 0; m < e.size(); ++m) res.mode_energy[m] += e[m] / sum;
+      }
+      double total_energy = 0;
+      for (double x : res.mode_energy) total_energy += x;
+      if (total_energy > 0)
+        for (double& x : res.mode_energy) x /= total_energy;
+    }
     spdlog::info("linear buckling: lambda = {}",
                  lba.lambdas.empty() ? std::string("none") : std::to_string(lba.lambdas[0]));
   }

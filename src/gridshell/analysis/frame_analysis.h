@@ -58,6 +58,12 @@ struct FrameResult {
   Points nodes;                     ///< reference coordinates of the model nodes
   Points displacement;              ///< linear, per model node
   std::vector<double> axial_force;  ///< linear, per member (tension positive) [N]
+  /// Strain energy per member [J]: of the linear solution under the reference load, and of the
+  /// first buckling mode (with the modes within 10 % of its λ, each normalised, averaged: a
+  /// symmetric structure's degenerate pairs; scaled to add up to 1; empty without LBA).
+  /// Where they concentrate is where more steel would help δ and λ_LBA most (their
+  /// sensitivities to a member's stiffness are proportional to these energies).
+  std::vector<double> strain_energy, mode_energy;
   Eigen::VectorXd reactions;        ///< linear, 6 per model node
   double equilibrium_error = 0;     ///< |Σ reactions + Σ loads| / Σ |loads| (forces)
   std::vector<fem::PathPoint> path;

@@ -218,23 +218,21 @@ inline Vec12 truss_f12(const Vec6& f6) {
 inline Mat3 truss_block(double EA_l0, const Vec3& e, double N, double l) {
   return EA_l0 * e * e.transpose() + N / l * (Mat3::Identity() - e * e.transpose());
 }
+/// Linear stiffness of one element (beam or truss), global coordinates.
+Mat12 element_linear_stiffness(const FrameMesh::Element& e) {
+  if (!e.truss) return beam_linear_stiffness(e.beam.s, e.beam.l0, e.beam.R0);
+  const Mat3 Kb = truss_block(e.beam.s.EA / e.beam.l0, e.beam.R0.col(0), 0, e.beam.l0);
+  Mat6 k6;
+  k6 << Kb, -Kb, -Kb, Kb;
+  return truss_to12(k6);
+}
 }  // namespace
 
 SpMat FrameAssembler::linear_stiffness() const {
   const int ne = static_cast<int>(mesh_.elements.size());
   std::vector<double> vals(static_cast<size_t>(ne) * 144);
   tbb::parallel_for(0, ne, [&](int k) {
-    const auto& e = mesh_.elements[k];
-    Mat12 K;
-    if (e.truss) {
-      const Mat3 Kb = truss_block(e.beam.s.EA / e.beam.l0, e.beam.R0.col(0), 0, e.beam.l0);
-      Mat6 k6;
-      k6 << Kb, -Kb, -Kb, Kb;
-      K = truss_to12(k6);
-    } else {
-      K = beam_linear_stiffness(e.beam.s, e.beam.l0, e.beam.R0);
-    }
-    store(K, vals.data() + static_cast<size_t>(k) * 144);
+    store(element_linear_stiffness(mesh_.elements[k]), vals.data() + static_cast<size_t>(k) * 144);
   });
   SpMat K;
   scatter(vals, K);
@@ -534,16 +532,7 @@ LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assemble
     Vec12 ue;
     ue.head<6>() = full.segment<6>(6 * e.i);
     ue.tail<6>() = full.segment<6>(6 * e.j);
-    Mat12 Ke;
-    if (e.truss) {
-      const Mat3 Kb = truss_block(e.beam.s.EA / e.beam.l0, e.beam.R0.col(0), 0, e.beam.l0);
-      Mat6 k6;
-      k6 << Kb, -Kb, -Kb, Kb;
-      Ke = truss_to12(k6);
-    } else {
-      Ke = beam_linear_stiffness(e.beam.s, e.beam.l0, e.beam.R0);
-    }
-    const Vec12 fe = Ke * ue;
+    const Vec12 fe = element_linear_stiffness(e) * ue;
     fint.segment<6>(6 * e.i) += fe.head<6>();
     fint.segment<6>(6 * e.j) += fe.tail<6>();
     r.axial[k] =
@@ -554,6 +543,21 @@ LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assemble
     for (int c = 0; c < 6; ++c)
       if (mesh.dof[v][c] >= 0 || !mesh.active[v][c]) r.reactions(6 * v + c) = 0;
   return r;
+}
+
+std::vector<double> element_strain_energy(const FrameMesh& mesh, const FrameAssembler& assembler,
+                                          const Eigen::VectorXd& u) {
+  const Eigen::VectorXd full = assembler.expand(u);
+  const int ne = static_cast<int>(mesh.elements.size());
+  std::vector<double> energy(ne);
+  tbb::parallel_for(0, ne, [&](int k) {
+    const auto& e = mesh.elements[k];
+    Vec12 ue;
+    ue.head<6>() = full.segment<6>(6 * e.i);
+    ue.tail<6>() = full.segment<6>(6 * e.j);
+    energy[k] = 0.5 * ue.dot(element_linear_stiffness(e) * ue);
+  });
+  return energy;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -142,6 +142,11 @@ struct LinearResult {
 LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assembler,
                            const std::string& subject = "model");
 
+/// Strain energy ½ u_eᵀ K_e u_e of every element (linear stiffness) for a free-dof vector u:
+/// a displacement field, or a buckling mode (whose energies then say where the mode bends).
+std::vector<double> element_strain_energy(const FrameMesh& mesh, const FrameAssembler& assembler,
+                                          const Eigen::VectorXd& u);
+
 /// Linearised buckling: K φ = λ (−K_G(N_linear)) φ; the smallest positive λ first.
 struct BucklingResult {
   std::vector<double> lambdas;         ///< ascending, positive only

@@ -1,6 +1,7 @@
 #include "gridshell/field/field.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <queue>
@@ -237,6 +238,44 @@ std::vector<double> rescale_robust(const std::vector<double>& values, double top
   return out;
 }
 
+namespace {
+template <class Enum, std::size_t N>
+Enum parse_word(const std::string& word, const char* option,
+                const std::array<std::pair<const char*, Enum>, N>& words) {
+  std::string list;
+  for (const auto& [name, value] : words) {
+    if (word == name) return value;
+    list += list.empty() ? name : std::string(", ") + name;
+  }
+  throw Error(option, fmt::format("'{}' is not one of {}", word, list));
+}
+constexpr std::array<std::pair<const char*, StressMeasure>, 3> kMeasures{
+    {{"magnitude", StressMeasure::magnitude},
+     {"tension", StressMeasure::tension},
+     {"compression", StressMeasure::compression}}};
+constexpr std::array<std::pair<const char*, StretchAxis>, 2> kStretch{
+    {{"along", StretchAxis::along}, {"across", StretchAxis::across}}};
+constexpr std::array<std::pair<const char*, DensityTrend>, 2> kDensity{
+    {{"rising", DensityTrend::rising}, {"falling", DensityTrend::falling}}};
+template <class Enum, std::size_t N>
+const char* word_of(Enum value, const std::array<std::pair<const char*, Enum>, N>& words) {
+  for (const auto& [name, v] : words)
+    if (v == value) return name;
+  return "?";
+}
+}  // namespace
+
+StressMeasure parse_stress_measure(const std::string& w) {
+  return parse_word(w, "--stress-measure", kMeasures);
+}
+StretchAxis parse_stretch_axis(const std::string& w) { return parse_word(w, "--stretch", kStretch); }
+DensityTrend parse_density_trend(const std::string& w) {
+  return parse_word(w, "--density", kDensity);
+}
+const char* to_string(StressMeasure m) { return word_of(m, kMeasures); }
+const char* to_string(StretchAxis s) { return word_of(s, kStretch); }
+const char* to_string(DensityTrend d) { return word_of(d, kDensity); }
+
 Field uniform_field(const TriMesh& mesh) {
   const FaceFrames fr = face_frames(mesh);
   Field fd;
@@ -269,9 +308,24 @@ Field make_field(const TriMesh& mesh, const StressField& stress, const FieldOpti
     const PrincipalStress& p = stress[f];
     if (!std::isfinite(p.s1) || !std::isfinite(p.s2) || !p.d1.allFinite() || !p.d2.allFinite())
       throw Error("field", fmt::format("non-finite stress at face {}", f));
-    const double m1 = std::abs(p.s1), m2 = std::abs(p.s2);
-    const double mx = std::max(m1, m2), mn = std::min(m1, m2);
-    fd.u_raw[f] = tangent_unit(fr, f, m1 >= m2 ? p.d1 : p.d2);
+    // The two measured stresses and the driving direction (the first one's).
+    double m1 = 0, m2 = 0;
+    Vec3 dir = p.d1;
+    switch (o.measure) {
+      case StressMeasure::magnitude:
+        m1 = std::abs(p.s1), m2 = std::abs(p.s2);
+        if (m2 > m1) std::swap(m1, m2), dir = p.d2;
+        break;
+      case StressMeasure::tension:
+        m1 = std::max(p.s1, 0.0), m2 = std::max(p.s2, 0.0);
+        break;
+      case StressMeasure::compression:
+        m1 = std::max(-p.s2, 0.0), m2 = std::max(-p.s1, 0.0), dir = p.d2;
+        break;
+    }
+    const double mx = m1, mn = m2;
+    fd.u_raw[f] = tangent_unit(fr, f, dir);
+    if (o.stretch == StretchAxis::across) fd.u_raw[f] = fr.n[f].cross(fd.u_raw[f]);
     fd.d_raw[f] = mx;
     fd.a_raw[f] = mn > 0 ? std::min(mx / mn, o.anisotropy_cap) : (mx > 0 ? o.anisotropy_cap : 1);
   }
@@ -312,7 +366,13 @@ Field make_field(const TriMesh& mesh, const StressField& stress, const FieldOpti
   }
   fd.a = process(fd.a_raw, o.A, blend.empty() ? nullptr : &blend, nullptr);
   const SaturationStretch stretch{fd.u, fd.a};
-  fd.d = process(fd.d_raw, o.D, nullptr, &stretch);
+  if (o.density == DensityTrend::rising) {
+    fd.d = process(fd.d_raw, o.D, nullptr, &stretch);
+  } else {  // small cells where the stress is low: the same processing of −d_raw
+    std::vector<double> negated(fd.d_raw.size());
+    for (std::size_t i = 0; i < negated.size(); ++i) negated[i] = -fd.d_raw[i];
+    fd.d = process(negated, o.D, nullptr, &stretch);
+  }
   return fd;
 }
 

@@ -8,6 +8,11 @@
 ///   - d : density, the largest principal stress magnitude, rescaled to [1, D],
 ///   - a : anisotropy, max/min of the two magnitudes (≥ 1, capped), rescaled to [1, A].
 ///
+/// That is the paper's reading (FieldOptions' defaults). Its conventions are options, because
+/// which reading makes the stronger grid-shell depends on the surface (docs/field.md):
+/// `measure` (magnitude, tension only, compression only), `stretch` (cells long along u or
+/// across it) and `density` (small cells where the stress is high, or where it is low).
+///
 /// Semantics (what the tessellation makes of it, through metric/deform.h): the linear size of a
 /// cell is ∝ 1/d (with D = 4 the densest cells are 4× smaller across u than the sparsest), and
 /// cells are elongated along u with aspect ratio ≈ a.
@@ -28,6 +33,7 @@
 ///
 /// Everything is per face of the given mesh, deterministic, and free of global state.
 
+#include <string>
 #include <vector>
 
 #include "gridshell/fem/principal_stress.h"
@@ -36,8 +42,30 @@
 
 namespace gridshell {
 
+/// Which stress drives the field (the field's conventions; docs/field.md "Conventions" has the
+/// measurements behind each choice).
+enum class StressMeasure {
+  magnitude,    ///< |s1|, |s2|: u along the principal stress of largest magnitude (the paper)
+  tension,      ///< max(s, 0): compression counts as no stress, u along the algebraically larger
+                ///< principal stress s1 (the authors' later code, stressDrivenMesh)
+  compression,  ///< max(−s, 0): tension counts as no stress, u along the more compressive s2
+};
+/// Which way the cells are elongated relative to the driving direction.
+enum class StretchAxis {
+  along,   ///< cells long along u (the paper's text)
+  across,  ///< cells long across u (u turned by 90° in the tangent plane before smoothing)
+};
+/// How cell density follows the driving stress.
+enum class DensityTrend {
+  rising,   ///< small cells where the stress is high (the paper)
+  falling,  ///< small cells where the stress is low
+};
+
 /// Knobs of make_field. Lengths in metres; all other values dimensionless.
 struct FieldOptions {
+  StressMeasure measure = StressMeasure::magnitude;
+  StretchAxis stretch = StretchAxis::along;
+  DensityTrend density = DensityTrend::rising;
   double D = 3;  ///< density ratio: d is rescaled to [1, D] (≥ 1; 1 = uniform cell size)
   double A = 3;  ///< anisotropy ratio: a is rescaled to [1, A] (≥ 1; 1 = isotropic cells)
   /// Smoothing length ℓ of the line field (m): the faithfulness weight is ω_f/ℓ² per unit area
@@ -67,8 +95,8 @@ struct Field {
   std::vector<double> d;      ///< density in [1, D]
   std::vector<double> a;      ///< anisotropy in [1, A]
   std::vector<Vec3> u_raw;    ///< direction before smoothing
-  std::vector<double> d_raw;  ///< max(|s1|, |s2|) as given (stress units)
-  std::vector<double> a_raw;  ///< max/min magnitude, in [1, anisotropy_cap]
+  std::vector<double> d_raw;  ///< the larger of the two measured stresses (stress units, ≥ 0)
+  std::vector<double> a_raw;  ///< larger/smaller measured stress, in [1, anisotropy_cap]
   /// |z| of the smoothed line field in [0, 1] (see FieldOptions::coherence_exponent); may be
   /// empty (uniform or imported fields without smoothing).
   std::vector<double> coherence;
@@ -88,6 +116,15 @@ FaceFrames face_frames(const TriMesh& mesh);
 /// `stress.size()` must equal the number of faces. Cost: one complex sparse Cholesky of size F plus
 /// O(F log F). Throws Error for mismatched sizes, non-finite stresses or bad options.
 Field make_field(const TriMesh& mesh, const StressField& stress, const FieldOptions& options);
+
+/// Parses the option words of the conventions ("magnitude", "along", "rising", …); throws
+/// Error(option, ...) naming the accepted words.
+StressMeasure parse_stress_measure(const std::string& word);
+StretchAxis parse_stretch_axis(const std::string& word);
+DensityTrend parse_density_trend(const std::string& word);
+const char* to_string(StressMeasure m);
+const char* to_string(StretchAxis s);
+const char* to_string(DensityTrend d);
 
 /// The field of `--field uniform`: d = a = 1 everywhere, u = the first edge direction.
 Field uniform_field(const TriMesh& mesh);

@@ -6,18 +6,13 @@
 #include <filesystem>
 #include <string_view>
 
-#include <CGAL/Orthogonal_k_neighbor_search.h>
-#include <CGAL/Search_traits_3.h>
-#include <CGAL/Search_traits_adapter.h>
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/property_map.h>
 #include <fmt/format.h>
 #include <Eigen/Eigenvalues>
-#include <boost/iterator/counting_iterator.hpp>
 
 #include "gridshell/core/error.h"
 #include "gridshell/field/field.h"
 #include "gridshell/io/files.h"
+#include "gridshell/mesh/nearest.h"
 
 namespace gridshell {
 
@@ -81,13 +76,6 @@ Eigen::Matrix3d tensor(double s1, const Vec3& d1, double s2, const Vec3& d2) {
   return s1 * a * a.transpose() + s2 * b * b.transpose();
 }
 
-using K = CGAL::Simple_cartesian<double>;
-using Point3 = K::Point_3;
-using PointMap = CGAL::Pointer_property_map<Point3>::type;
-using Traits = CGAL::Search_traits_adapter<std::size_t, PointMap, CGAL::Search_traits_3<K>>;
-using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
-using Tree = Search::Tree;
-
 }  // namespace
 
 StressField principal_stress_from_vertex_tensors(const TriMesh& mesh,
@@ -149,18 +137,12 @@ StressField read_field_file(const std::string& path, const TriMesh& mesh) {
       throw Error(path, fmt::format("{} of {} vertices have no stress row", missing, nv));
   } else {
     const auto rows = read_rows(path, 11);
-    std::vector<Point3> pts;
-    pts.reserve(rows.size());
-    for (const auto& r : rows) pts.emplace_back(r[0], r[1], r[2]);
-    Tree tree(boost::counting_iterator<std::size_t>(0),
-              boost::counting_iterator<std::size_t>(pts.size()), Tree::Splitter(),
-              Traits(PointMap(pts.data())));
-    Search::Distance dist(PointMap(pts.data()));
+    Points pts(static_cast<Eigen::Index>(rows.size()), 3);
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      pts.row(static_cast<Eigen::Index>(i)) << rows[i][0], rows[i][1], rows[i][2];
+    const auto nearest = nearest_points(pts, mesh.V);
     for (int v = 0; v < nv; ++v) {
-      const Vec3 q = mesh.vertex(v);
-      Search search(tree, Point3(q.x(), q.y(), q.z()), 1, 0, true, dist);
-      const std::size_t i = search.begin()->first;
-      const auto& r = rows[i];
+      const auto& r = rows[nearest[v].front()];
       tensors[v] = tensor(r[3], Vec3(r[4], r[5], r[6]), r[7], Vec3(r[8], r[9], r[10]));
     }
   }

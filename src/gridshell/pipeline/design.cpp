@@ -50,9 +50,10 @@ double estimate_radius(const TessellationOptions& t, double area_rest, double ar
   constexpr double kHexArea = 2.598076211353316;  // (3√3/2) R²
   if (t.radius > 0) return t.radius;
   if (t.length > 0) {
-    // A hexagonal tiling has 1.5 R of beams per cell; lengths on M are about
-    // √(area_M / area_M′) of those on M′.
-    return 1.5 * std::sqrt(area_deformed * area_rest) / (kHexArea * t.length / sectors);
+    // A hexagonal tiling has 3 R of beams per cell (six edges of length R, each shared by two
+    // cells); lengths on M are about √(area_M / area_M′) of those on M′. (This said 1.5 R until
+    // session 5: M′ was refined to half the intended edge, 4–5× the triangles, for nothing.)
+    return 3 * std::sqrt(area_deformed * area_rest) / (kHexArea * t.length / sectors);
   }
   const int cells = t.cells > 0 ? t.cells : t.default_cells;
   return std::sqrt(area_deformed / (kHexArea * std::max(1, cells / sectors)));
@@ -105,15 +106,24 @@ analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<
 }
 
 namespace {
-DesignResult run_design_once(const Surface& surface, const DesignOptions& o, bool allow_retry);
+DesignResult run_design_once(const Surface& surface, const DesignOptions& o,
+                             const StressField* given, bool allow_retry);
 }  // namespace
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o) {
-  return run_design_once(surface, o, true);
+  return run_design_once(surface, o, nullptr, true);
+}
+
+DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress) {
+  if (static_cast<int>(stress.size()) != surface.mesh.num_faces())
+    throw Error("field", fmt::format("{} stresses for {} triangles", stress.size(),
+                                     surface.mesh.num_faces()));
+  return run_design_once(surface, o, &stress, true);
 }
 
 namespace {
-DesignResult run_design_once(const Surface& surface, const DesignOptions& o, bool allow_retry) {
+DesignResult run_design_once(const Surface& surface, const DesignOptions& o,
+                             const StressField* given, bool allow_retry) {
   if (!(o.D >= 1) || !(o.A >= 1) || !std::isfinite(o.D) || !std::isfinite(o.A))
     throw Error(!(o.D >= 1) || !std::isfinite(o.D) ? "-D" : "-A", "must be a number ≥ 1");
   if (o.D > 8 || o.A > 8)
@@ -136,7 +146,9 @@ DesignResult run_design_once(const Surface& surface, const DesignOptions& o, boo
   auto t = Clock::now();
   StressField stress;
   if (!isotropic) {
-    if (o.field == "stress") {
+    if (given) {
+      stress = *given;
+    } else if (o.field == "stress") {
       spdlog::info("[stress] shell analysis of {} triangles", M.num_faces());
       fem::ShellResult shell = fem::analyze_surface_stress(surface, o.shell);
       stress = std::move(shell.stress);
@@ -184,7 +196,12 @@ DesignResult run_design_once(const Surface& surface, const DesignOptions& o, boo
       fo.D = D, fo.A = A;
       spdlog::info("[field] direction, density (D = {}), anisotropy (A = {})", D, A);
       r.field = make_field(M, stress, fo);
-      r.details["field"] = {{"kind", o.field == "stress" ? "stress" : "file"}, {"D", D}, {"A", A}};
+      r.details["field"] = {{"kind", given ? "given" : o.field == "stress" ? "stress" : "file"},
+                            {"D", D},
+                            {"A", A},
+                            {"stress_measure", to_string(fo.measure)},
+                            {"stretch", to_string(fo.stretch)},
+                            {"density", to_string(fo.density)}};
     }
     if (strength != strengths.front()) r.details["field"]["softened_from"] = {o.D, o.A};
     r.timings.emplace_back("field", seconds_since(t));
@@ -343,7 +360,7 @@ DesignResult run_design_once(const Surface& surface, const DesignOptions& o, boo
     again.tessellation.length = L * L / r.metrics.total_length;
     double first = 0;
     for (const auto& [stage, sec] : r.timings) first += sec;
-    DesignResult second = run_design_once(surface, again, false);
+    DesignResult second = run_design_once(surface, again, given, false);
     second.timings.insert(second.timings.begin(), {"length_first_pass", first});
     second.details["length_retry"] = {{"first_length_m", r.metrics.total_length},
                                       {"tessellation_target_m", again.tessellation.length}};

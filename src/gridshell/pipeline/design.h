@@ -71,6 +71,10 @@ struct DesignResult {
 
 /// Runs the pipeline on `surface`. Throws Error for bad options or input.
 DesignResult run_design(const Surface& surface, const DesignOptions& options);
+/// The same with the stress stage replaced by a given stress per triangle of `surface.mesh`
+/// (e.g. a frame response, field/frame_response.h); `options.field` is then not read.
+DesignResult run_design(const Surface& surface, const DesignOptions& options,
+                        const StressField& stress);
 
 /// Analyses a grid-shell as the paper's steel frame at `level` (linear | buckling | nonlinear).
 analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,

@@ -1,0 +1,105 @@
+#pragma once
+/// \file objective.h
+/// `design --objective lambda|delta|balanced`: instead of one field setting, search the ways a
+/// field can drive the tessellation and keep the design the frame analysis judges best, all at
+/// the same total beam length (the same steel).
+///
+/// Why a search: which reading of the stress makes a stronger grid-shell is not settled by the
+/// paper and depends on the surface (docs/field.md, "Conventions"): stretching cells across the
+/// stress instead of along it raised λ_LBA by 70 % on one shared surface and halved it on
+/// another. So the candidates are judged, not assumed:
+///
+///   1. the isotropic Voronoi design (D = A = 1) at the requested length — the reference every
+///      other candidate must beat; with `--cells`/`--radius` its length becomes the length of
+///      all others;
+///   2. shell-stress fields in three conventions (field/field.h): the paper's (magnitude, along,
+///      rising), small cells where the stress is low (falling), cells long across the stress;
+///      at D = A = 2;
+///   3. frame-response fields (field/frame_response.h) from the reference's own analysis: the
+///      strain energy of its first buckling modes (for λ) and under the load (for δ); density
+///      only (D = 2, A = 1);
+///   4. a second round around the best so far — its D one up and half down, its A one up —
+///      and, for balanced, the best-λ and best-δ candidates at half their contrast (a gain in one
+///      figure often costs the other less than proportionally less).
+/// At most 11 designs; docs/field.md ("Conventions", "Objective search") has what each
+/// candidate gave on eleven surfaces, and what was tried and left out.
+///
+/// Every candidate is designed by run_design with analysis "buckling" (linear + LBA: δ and
+/// λ_LBA), candidates of one round in parallel. The choice:
+///   lambda   the largest λ_LBA;
+///   delta    the smallest δ;
+///   balanced the largest gain in one of the two figures among the candidates whose other figure
+///            is no more than `tolerance` (2 %) worse than the reference's; the reference itself
+///            when none improves anything.
+/// The chosen design is then analysed at the level the user asked for. Deterministic for a seed.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gridshell/field/field.h"
+#include "gridshell/pipeline/design.h"
+
+namespace gridshell {
+
+enum class Objective { lambda, delta, balanced };
+Objective parse_objective(const std::string& word);  ///< throws Error("--objective", ...)
+const char* to_string(Objective o);
+
+/// What drives a candidate's field.
+enum class FieldSource {
+  uniform,       ///< isotropic cells (the reference)
+  shell_stress,  ///< the continuous shell's membrane stresses (the paper)
+  frame_mode,    ///< strain energy of the reference frame's first buckling mode
+  frame_energy,  ///< strain energy of the reference frame under the load
+};
+const char* to_string(FieldSource s);
+
+/// One field setting tried by the search.
+struct FieldSetting {
+  FieldSource source = FieldSource::uniform;
+  double D = 1, A = 1;
+  StressMeasure measure = StressMeasure::magnitude;
+  StretchAxis stretch = StretchAxis::along;
+  DensityTrend density = DensityTrend::rising;
+  int feedback = 0;  ///< frame-response fields: 1 = from the reference, 2 = from a candidate
+  std::string label() const;
+};
+
+struct ObjectiveOptions {
+  Objective objective = Objective::balanced;
+  double tolerance = 0.02;  ///< balanced: how much worse the other figure may get (relative)
+  bool second_round = true;
+};
+
+/// A candidate as judged.
+struct Candidate {
+  FieldSetting setting;
+  int round = 1;
+  bool ok = false;
+  std::string error;  ///< why it could not be designed or analysed
+  double lambda = 0;  ///< λ_LBA (0 when none was found)
+  double delta = 0;   ///< δ (m)
+  double length = 0;  ///< total beam length (m)
+  int cells = 0;
+  double seconds = 0;
+};
+
+struct ObjectiveResult {
+  DesignResult design;  ///< the chosen design, analysed at `base.analyze`
+  std::vector<Candidate> candidates;
+  int chosen = 0;       ///< index into candidates (0 = the isotropic reference)
+  std::string reason;   ///< one sentence: why this one
+  double seconds = 0;
+  nlohmann::json report() const;  ///< report.json's "objective" block
+};
+
+/// Searches the field settings for `options.objective`. `base` gives everything else (size,
+/// seed, regularization, frame, analysis level); its D, A and field are not read. Throws Error
+/// for bad options or input, or when even the isotropic reference cannot be designed.
+ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions& base,
+                                     const ObjectiveOptions& options = {});
+
+}  // namespace gridshell

@@ -1,0 +1,89 @@
+// design --objective: the search's reference is the isotropic Voronoi baseline, and the choice
+// obeys each objective's rule over the candidates it reports.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gridshell/core/error.h"
+#include "gridshell/pipeline/design.h"
+#include "gridshell/pipeline/objective.h"
+#include "gridshell/surfaces/load.h"
+
+using namespace gridshell;
+
+namespace {
+
+DesignOptions small_design() {
+  DesignOptions o;
+  o.tessellation.cells = 90;
+  o.tessellation.seed = 5;
+  o.analyze = "buckling";
+  return o;
+}
+
+}  // namespace
+
+TEST(Objective, ReferenceIsTheIsotropicBaselineAndTheChoiceFollowsTheRule) {
+  const Surface surface = load_surface("builtin:funicular:res=24", {});
+  const DesignOptions base = small_design();
+
+  // The reference: the same as an isotropic design (baseline --kind voronoi-iso) of that size.
+  DesignOptions iso = base;
+  iso.field = "uniform";
+  iso.D = iso.A = 1;
+  const DesignResult plain = run_design(surface, iso);
+  ASSERT_TRUE(plain.structure && plain.structure->lambda_linear_buckling);
+
+  for (Objective objective : {Objective::lambda, Objective::delta, Objective::balanced}) {
+    ObjectiveOptions oo;
+    oo.objective = objective;
+    const ObjectiveResult r = design_for_objective(surface, base, oo);
+    ASSERT_GE(r.candidates.size(), 6u);
+    const Candidate& ref = r.candidates.front();
+    EXPECT_EQ(ref.setting.source, FieldSource::uniform);
+    EXPECT_DOUBLE_EQ(ref.lambda, *plain.structure->lambda_linear_buckling);
+    EXPECT_DOUBLE_EQ(ref.delta, plain.structure->delta_max_m);
+    EXPECT_DOUBLE_EQ(ref.length, plain.metrics.total_length);
+    // Every other candidate was designed at the reference's length (±5 %).
+    int ok = 0;
+    for (const Candidate& c : r.candidates) {
+      if (!c.ok) continue;
+      ++ok;
+      EXPECT_NEAR(c.length / ref.length, 1.0, 0.05) << c.setting.label();
+    }
+    EXPECT_GE(ok, 5);
+    const Candidate& chosen = r.candidates[r.chosen];
+    ASSERT_TRUE(chosen.ok);
+    for (const Candidate& c : r.candidates) {
+      if (!c.ok) continue;
+      if (objective == Objective::lambda) {
+        EXPECT_GE(chosen.lambda, c.lambda) << c.setting.label();
+      }
+      if (objective == Objective::delta) {
+        EXPECT_LE(chosen.delta, c.delta) << c.setting.label();
+      }
+    }
+    if (objective == Objective::balanced) {
+      EXPECT_GE(chosen.lambda, (1 - oo.tolerance) * ref.lambda);
+      EXPECT_LE(chosen.delta, ref.delta * (1 + oo.tolerance));
+    }
+    // The design handed back is the chosen one.
+    EXPECT_EQ(r.design.mesh.num_faces(), chosen.cells);
+    ASSERT_TRUE(r.design.structure);
+    EXPECT_DOUBLE_EQ(r.design.structure->delta_max_m, chosen.delta);
+    const auto j = r.report();
+    EXPECT_EQ(j.at("candidates").size(), r.candidates.size());
+    EXPECT_EQ(j.at("chosen").get<int>(), r.chosen);
+  }
+}
+
+TEST(Objective, WordsAndBadOptions) {
+  EXPECT_EQ(parse_objective("delta"), Objective::delta);
+  EXPECT_STREQ(to_string(Objective::balanced), "balanced");
+  EXPECT_THROW(parse_objective("strongest"), Error);
+  ObjectiveOptions bad;
+  bad.tolerance = -1;
+  const Surface surface = load_surface("builtin:funicular:res=12", {});
+  EXPECT_THROW(design_for_objective(surface, small_design(), bad), Error);
+}
