@@ -54,7 +54,10 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const double t_load = std::chrono::duration<double>(clock::now() - start).count();
   std::optional<ObjectiveResult> searched;
   if (a.search) searched = design_for_objective(surface, options, objective);
-  const DesignResult r = searched ? std::move(searched->design) : run_design(surface, options);
+  const std::optional<FieldSource> response = parse_frame_source(options.field);
+  const DesignResult r = searched   ? std::move(searched->design)
+                         : response ? design_from_frame_response(surface, options, *response)
+                                    : run_design(surface, options);
 
   auto t0 = clock::now();
   const std::filesystem::path dir(a.run.out_dir);
@@ -127,8 +130,10 @@ void register_design(CLI::App& app, Action& action) {
       ->default_str(kDefaultSurface);
   auto* field =
       sub->add_option("--field", a->design.field,
-                      "stress (shell analysis of the surface), uniform (isotropic cells), or a "
-                      "field file (BLK, or CSV vertex,s1,s2,d1x,d1y,d1z)")
+                      "stress (shell analysis of the surface), uniform (isotropic cells), "
+                      "frame-mode / frame-energy (strain energy of the isotropic design's frame "
+                      "in its buckling modes / under the load), or a field file (BLK, or CSV "
+                      "vertex,s1,s2,d1x,d1y,d1z)")
           ->default_str("stress");
   auto* objective =
       sub->add_option("--objective", a->objective,

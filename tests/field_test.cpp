@@ -333,19 +333,24 @@ TEST(Rescale, ExactRangeClampedOutliersConstantToOne) {
   EXPECT_THROW(rescale_robust(v, 0.5), Error);
 }
 
+namespace {
+/// Tension s1 = 1 + 0.1x along x and compression s2 = −(2 + 0.5x) along y: compression dominates
+/// (|s2| > s1) everywhere, and both magnitudes rise with x.
+StressField ramp_stress(const TriMesh& m) {
+  StressField st(m.num_faces());
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const double x = test::centroid(m, f).x();
+    st[f] = {1 + 0.1 * x, -(2 + 0.5 * x), Vec3::UnitX(), Vec3::UnitY()};
+  }
+  return st;
+}
+}  // namespace
+
 TEST(MakeField, DirectionDensityAnisotropyAndRanges) {
   const TriMesh m = grid(20, 20, 10, 10);
   const int nf = m.num_faces();
-  StressField st(nf);
+  const StressField st = ramp_stress(m);
   const FaceFrames fr = face_frames(m);
-  for (int f = 0; f < nf; ++f) {
-    const Vec3 c = test::centroid(m, f);
-    // Compression along y dominates (|s2| > |s1|) with magnitude rising with x.
-    st[f].s1 = 1 + 0.1 * c.x();
-    st[f].s2 = -(2 + 0.5 * c.x());
-    st[f].d1 = Vec3::UnitX();
-    st[f].d2 = Vec3::UnitY();
-  }
   FieldOptions o;
   o.D = 4;
   o.A = 3;
@@ -389,14 +394,7 @@ TEST(MakeField, ConventionsPickDirectionDensityAndSign) {
   // both magnitudes rise with x; the compression's share of the magnitude grows with x.
   const TriMesh m = grid(20, 20, 10, 10);
   const int nf = m.num_faces();
-  StressField st(nf);
-  for (int f = 0; f < nf; ++f) {
-    const Vec3 c = test::centroid(m, f);
-    st[f].s1 = 1 + 0.1 * c.x();
-    st[f].s2 = -(2 + 0.5 * c.x());
-    st[f].d1 = Vec3::UnitX();
-    st[f].d2 = Vec3::UnitY();
-  }
+  const StressField st = ramp_stress(m);
   auto field = [&](StressMeasure measure, StretchAxis stretch, DensityTrend density) {
     FieldOptions o;
     o.D = 3;

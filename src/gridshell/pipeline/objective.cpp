@@ -47,6 +47,9 @@ DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s
   return o;
 }
 
+/// D and A beyond ~4 fold the deformed surface (docs/field.md): the search stays below.
+constexpr double kMaxRatio = 4;
+
 Evaluated evaluate(const Surface& surface, const DesignOptions& base, const FieldSetting& s,
                    const StressField* stress, double length, int round) {
   const auto t = Clock::now();
@@ -215,7 +218,38 @@ nlohmann::json ObjectiveResult::report() const {
     list.push_back(e);
   }
   j["candidates"] = list;
+  nlohmann::json by = nlohmann::json::object();
+  for (Objective o : {Objective::lambda, Objective::delta, Objective::balanced})
+    by[to_string(o)] = choice[static_cast<int>(o)];
+  j["choice_by_objective"] = by;
   return j;
+}
+
+std::optional<FieldSource> parse_frame_source(const std::string& word) {
+  if (word == "frame-mode") return FieldSource::frame_mode;
+  if (word == "frame-energy") return FieldSource::frame_energy;
+  return std::nullopt;
+}
+
+DesignResult design_from_frame_response(const Surface& surface, const DesignOptions& options,
+                                        FieldSource source) {
+  if (source != FieldSource::frame_mode && source != FieldSource::frame_energy)
+    throw Error("--field", "a frame response is frame-mode or frame-energy");
+  const DesignResult iso = run_design(surface, candidate_options(options, FieldSetting{}, 0));
+  const std::vector<double>* values = response_values(iso, source);
+  if (!values) throw Error("--field", "the isotropic design has no buckling mode to follow");
+  const StressField response = frame_response_field(surface.mesh, iso.mesh, *values);
+  DesignOptions o = options;
+  o.field = "stress";
+  if (!(o.tessellation.length > 0)) {
+    o.tessellation.length = iso.metrics.total_length;
+    o.tessellation.cells = 0;
+    o.tessellation.radius = 0;
+  }
+  DesignResult r = run_design(surface, o, response);
+  r.details["field"]["kind"] = to_string(source);
+  r.details["field"]["reference_length_m"] = iso.metrics.total_length;
+  return r;
 }
 
 ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions& base,
@@ -257,14 +291,25 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   std::vector<std::pair<FieldSetting, const StressField*>> round1;
   // (Across + falling, and frame-response fields with A = 2, were tried too and never came out
   // best on the eleven surfaces of docs/field.md: left out to keep the search affordable.)
-  for (const auto& [st, dt] : {std::pair{StretchAxis::along, DensityTrend::rising},
-                               std::pair{StretchAxis::along, DensityTrend::falling},
-                               std::pair{StretchAxis::across, DensityTrend::rising}}) {
+  struct Convention {
+    StressMeasure measure;
+    StretchAxis stretch;
+    DensityTrend density;
+  };
+  for (const Convention& c : {Convention{StressMeasure::magnitude, StretchAxis::along,
+                                         DensityTrend::rising},
+                              Convention{StressMeasure::magnitude, StretchAxis::along,
+                                         DensityTrend::falling},
+                              Convention{StressMeasure::magnitude, StretchAxis::across,
+                                         DensityTrend::rising},
+                              Convention{StressMeasure::tension, StretchAxis::along,
+                                         DensityTrend::rising}}) {
     FieldSetting s;
     s.source = FieldSource::shell_stress;
     s.D = s.A = 2;
-    s.stretch = st;
-    s.density = dt;
+    s.measure = c.measure;
+    s.stretch = c.stretch;
+    s.density = c.density;
     round1.emplace_back(s, &shell);
   }
   for (FieldSource src : {FieldSource::frame_mode, FieldSource::frame_energy}) {
@@ -280,50 +325,52 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   }
   for (Evaluated& e : evaluate_all(surface, base, round1, length, 1)) all.push_back(std::move(e));
 
-  // 3. Round 2 around the best so far, and — for balanced — milder versions of the best λ and
-  // best δ candidates (half their contrast: a gain in one figure often costs the other less than
-  // proportionally less).
-  int best = best_index(all, options);
-  if (options.second_round) {
-    std::vector<std::pair<FieldSetting, const StressField*>> round2;
-    auto add = [&](const FieldSetting& s, const StressField* field) {
+  // 3. Local rounds, the same for every objective (so that each objective's choice is the best of
+  // one common pool: `lambda` never finds less λ than `delta` happened to): around the best-λ and
+  // the best-δ candidates so far — D one up and half down, A one up, and half their contrast (a
+  // gain in one figure often costs the other less than proportionally less) — until neither best
+  // changes, `rounds` is reached or `max_designs` are spent.
+  std::vector<std::string> explored;  // labels of the centres already varied
+  for (int round = 2; round <= options.rounds; ++round) {
+    std::vector<std::pair<FieldSetting, const StressField*>> next;
+    auto known = [&](const std::string& label) {
       for (const Evaluated& e : all)
-        if (e.candidate.setting.label() == s.label()) return;
-      for (const auto& [t, f] : round2)
-        if (t.label() == s.label()) return;
-      round2.emplace_back(s, field);
+        if (e.candidate.setting.label() == label) return true;
+      for (const auto& [t, f] : next)
+        if (t.label() == label) return true;
+      return false;
     };
-    if (best > 0) {
+    for (Objective one : {Objective::lambda, Objective::delta}) {
+      const int i = best_index(all, ObjectiveOptions{one, options.tolerance});
+      const FieldSetting b = all[i].candidate.setting;
+      if (i == 0 || std::find(explored.begin(), explored.end(), b.label()) != explored.end())
+        continue;
+      explored.push_back(b.label());
       // (A second feedback step — the response of the winner's own frame — was worse than the
       // first on all four surfaces where a frame-response field won: not tried.)
-      const FieldSetting b = all[best].candidate.setting;
       for (const std::array<double, 2>& DA :
            {std::array<double, 2>{b.D + 1, b.A}, std::array<double, 2>{b.D, b.A + 1},
-            std::array<double, 2>{std::max(1.0, b.D - 0.5), b.A}}) {
+            std::array<double, 2>{std::max(1.0, b.D - 0.5), b.A},
+            std::array<double, 2>{1 + 0.5 * (b.D - 1), 1 + 0.5 * (b.A - 1)}}) {
         FieldSetting s = b;
-        s.D = DA[0];
-        s.A = DA[1];
-        if (s.D != b.D || s.A != b.A) add(s, all[best].field);
+        s.D = std::min(DA[0], kMaxRatio);
+        s.A = std::min(DA[1], kMaxRatio);
+        if ((s.D != b.D || s.A != b.A) && !known(s.label()) &&
+            static_cast<int>(all.size() + next.size()) < options.max_designs)
+          next.emplace_back(s, all[i].field);
       }
     }
-    if (options.objective == Objective::balanced) {
-      for (Objective one : {Objective::lambda, Objective::delta}) {
-        const int i = best_index(all, ObjectiveOptions{one, options.tolerance, false});
-        if (i == 0 || i == best) continue;
-        FieldSetting s = all[i].candidate.setting;
-        s.D = 1 + 0.5 * (s.D - 1);
-        s.A = 1 + 0.5 * (s.A - 1);
-        add(s, all[i].field);
-      }
-    }
-    for (Evaluated& e : evaluate_all(surface, base, round2, length, 2)) all.push_back(std::move(e));
-    best = best_index(all, options);
+    if (next.empty()) break;
+    for (Evaluated& e : evaluate_all(surface, base, next, length, round)) all.push_back(std::move(e));
   }
+  const int best = best_index(all, options);
 
   // 4. The choice, analysed as asked.
   ObjectiveResult res;
   for (const Evaluated& e : all) res.candidates.push_back(e.candidate);
   res.chosen = best;
+  for (Objective o : {Objective::lambda, Objective::delta, Objective::balanced})
+    res.choice[static_cast<int>(o)] = best_index(all, ObjectiveOptions{o, options.tolerance});
   const Candidate& c = res.candidates[best];
   const Candidate& ref = res.candidates.front();
   if (best == 0) {

@@ -12,17 +12,19 @@
 ///   1. the isotropic Voronoi design (D = A = 1) at the requested length — the reference every
 ///      other candidate must beat; with `--cells`/`--radius` its length becomes the length of
 ///      all others;
-///   2. shell-stress fields in three conventions (field/field.h): the paper's (magnitude, along,
-///      rising), small cells where the stress is low (falling), cells long across the stress;
-///      at D = A = 2;
+///   2. shell-stress fields in four conventions (field/field.h): the paper's (magnitude, along,
+///      rising), small cells where the stress is low (falling), cells long across the stress,
+///      and tension only (stressDrivenMesh's reading); at D = A = 2;
 ///   3. frame-response fields (field/frame_response.h) from the reference's own analysis: the
 ///      strain energy of its first buckling modes (for λ) and under the load (for δ); density
 ///      only (D = 2, A = 1);
-///   4. a second round around the best so far — its D one up and half down, its A one up —
-///      and, for balanced, the best-λ and best-δ candidates at half their contrast (a gain in one
-///      figure often costs the other less than proportionally less).
-/// At most 11 designs; docs/field.md ("Conventions", "Objective search") has what each
-/// candidate gave on eleven surfaces, and what was tried and left out.
+///   4. local rounds around the best-λ and the best-δ candidates — D one up and half down, A one
+///      up, and half their contrast (a gain in one figure often costs the other less than
+///      proportionally less) — repeated while either best changes (3 rounds, 16 designs at
+///      most). The pool is the same for every objective: each objective's choice is the best of
+///      it by its own rule.
+/// docs/field.md ("Conventions", "Objective search") has what each
+/// candidate gave on ten surfaces, and what was tried and left out.
 ///
 /// Every candidate is designed by run_design with analysis "buckling" (linear + LBA: δ and
 /// λ_LBA), candidates of one round in parallel. The choice:
@@ -33,6 +35,7 @@
 ///            when none improves anything.
 /// The chosen design is then analysed at the level the user asked for. Deterministic for a seed.
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -71,7 +74,9 @@ struct FieldSetting {
 struct ObjectiveOptions {
   Objective objective = Objective::balanced;
   double tolerance = 0.02;  ///< balanced: how much worse the other figure may get (relative)
-  bool second_round = true;
+  int rounds = 3;        ///< 1 = the first round only; then local rounds while a best changes
+  int max_designs = 16;  ///< candidates at most, the reference included (the default design
+                         ///< stays within 10 s: docs/field.md)
 };
 
 /// A candidate as judged.
@@ -91,10 +96,21 @@ struct ObjectiveResult {
   DesignResult design;  ///< the chosen design, analysed at `base.analyze`
   std::vector<Candidate> candidates;
   int chosen = 0;       ///< index into candidates (0 = the isotropic reference)
+  /// What each objective would have chosen from the same candidates (lambda, delta, balanced).
+  std::array<int, 3> choice{};
   std::string reason;   ///< one sentence: why this one
   double seconds = 0;
   nlohmann::json report() const;  ///< report.json's "objective" block
 };
+
+/// `design --field frame-mode|frame-energy` with the given D, A and conventions: the isotropic
+/// design of the same size (analysed with LBA), its response field (field/frame_response.h), and
+/// the design driven by it at the isotropic design's length (or `options`' --length). `source`
+/// must be frame_mode or frame_energy. The result is analysed at `options.analyze`.
+DesignResult design_from_frame_response(const Surface& surface, const DesignOptions& options,
+                                        FieldSource source);
+/// Parses "frame-mode" / "frame-energy"; nullopt for any other word.
+std::optional<FieldSource> parse_frame_source(const std::string& word);
 
 /// Searches the field settings for `options.objective`. `base` gives everything else (size,
 /// seed, regularization, frame, analysis level); its D, A and field are not read. Throws Error
