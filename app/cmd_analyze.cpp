@@ -121,10 +121,10 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
       level = "nonlinear";
     }
   }
-  if (level != "linear" && level != "buckling" && level != "nonlinear")
+  const analysis::AnalysisLevel analysis_level = analysis::parse_analysis_level(level);
+  if (analysis_level == analysis::AnalysisLevel::none)
     throw Error("--analyze", "must be linear, buckling or nonlinear");
-  o.buckling = level != "linear";
-  o.nonlinear = level == "nonlinear";
+  o = analysis::at_level(o, analysis_level);
   o.buckling_modes = a.modes;
   o.imperfection = a.imperfection || a.imperfection_amplitude > 0;
   o.imperfection_amplitude = a.imperfection_amplitude;

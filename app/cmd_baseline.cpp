@@ -41,10 +41,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   auto lap = [&](const char* stage, clock::time_point since) {
     timings[stage] = std::chrono::duration<double>(clock::now() - since).count();
   };
-  if (a.analyze != "none") {
-    analysis::FrameAnalysisOptions check;
-    set_analysis_level(check, a.analyze);
-  }
+  const analysis::AnalysisLevel level = analysis::parse_analysis_level(a.analyze);
   Surface surface = load_surface(a.surface, a.surface_options);
   lap("load", t0);
   GridShellOutput out;
@@ -66,9 +63,9 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   } else if (a.kind == "voronoi-iso") {
     // The isotropic centroidal Voronoi tessellation (D = A = 1), regularized as design does.
     DesignOptions o;
-    o.field = "uniform";
+    o.field = FieldInput::uniform;
     o.D = o.A = 1;
-    o.analyze = "none";
+    o.analyze = analysis::AnalysisLevel::none;
     o.tessellation.seed = a.run.seed;
     o.tessellation.length = a.length;
     o.tessellation.radius = a.radius;
@@ -120,10 +117,10 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     out.regularity = m.regularity;
   }
   std::optional<analysis::FrameResult> structure;
-  if (a.analyze != "none") {
+  if (level != analysis::AnalysisLevel::none) {
     const auto t2 = clock::now();
     spdlog::info("[analysis] {} frame: {} joints", a.analyze, out.mesh.num_vertices());
-    structure = analyze_gridshell(out.mesh, out.supports, a.analyze);
+    structure = analyze_gridshell(out.mesh, out.supports, level);
     lap("analysis", t2);
   }
   io::ensure_directory(a.run.out_dir);

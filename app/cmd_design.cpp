@@ -30,6 +30,7 @@ struct DesignArgs {
   bool no_regularize = false;
   std::string objective = "balanced";
   std::string measure = "magnitude", stretch = "along", density = "rising";
+  std::string field = "stress", analyze = "nonlinear", symmetry = "none";
   bool search = true;  ///< no -D/-A/convention/--field given: search for the objective
 };
 
@@ -40,21 +41,22 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   DesignOptions options = a.design;
   options.tessellation.seed = a.run.seed;
   options.regularize = !a.no_regularize;
+  // Every option word is parsed here, before any work.
+  const std::optional<FieldSource> response = parse_frame_source(a.field);
+  if (!response) options.field = parse_field_input(a.field, &options.field_file);
+  options.analyze = analysis::parse_analysis_level(a.analyze);
+  options.symmetry = parse_symmetry(a.symmetry);
   options.field_options.measure = parse_stress_measure(a.measure);
   options.field_options.stretch = parse_stretch_axis(a.stretch);
   options.field_options.density = parse_density_trend(a.density);
   ObjectiveOptions objective;
   objective.objective = parse_objective(a.objective);
-  if (options.analyze != "none") {
-    analysis::FrameAnalysisOptions check;
-    set_analysis_level(check, options.analyze);
-  }
+  check_design_options(options);
   spdlog::info("[load] {}", a.surface);
   const Surface surface = load_surface(a.surface, a.surface_options);
   const double t_load = std::chrono::duration<double>(clock::now() - start).count();
   std::optional<ObjectiveResult> searched;
   if (a.search) searched = design_for_objective(surface, options, objective);
-  const std::optional<FieldSource> response = parse_frame_source(options.field);
   const DesignResult r = searched   ? std::move(searched->design)
                          : response ? design_from_frame_response(surface, options, *response)
                                     : run_design(surface, options);
@@ -97,7 +99,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   report["design"]["planarized"] = options.planarize;
   report["design"]["restretch"] = options.regularize_options.restretch;
   report["design"]["size_evening"] = options.regularize_options.size_evening;
-  report["design"]["analysis"] = options.analyze;
+  report["design"]["analysis"] = to_string(options.analyze);
   if (searched) {
     report["objective"] = searched->report();
     report["objective"]["objective"] = a.objective;
@@ -129,7 +131,7 @@ void register_design(CLI::App& app, Action& action) {
                   "PLY/OBJ/OFF file or builtin:NAME (default builtin:funicular)")
       ->default_str(kDefaultSurface);
   auto* field =
-      sub->add_option("--field", a->design.field,
+      sub->add_option("--field", a->field,
                       "stress (shell analysis of the surface), uniform (isotropic cells), "
                       "frame-mode / frame-energy (strain energy of the isotropic design's frame "
                       "in its buckling modes / under the load), or a field file (BLK, or CSV "
@@ -168,7 +170,7 @@ void register_design(CLI::App& app, Action& action) {
                                  "target total beam length in metres (held within 5%)");
   radius->excludes(cells)->excludes(length);
   cells->excludes(length);
-  sub->add_option("--symmetry", a->design.symmetry,
+  sub->add_option("--symmetry", a->symmetry,
                   "x | y | xy: exact mirror symmetry about the bounding-box mid-planes");
   sub->add_flag("--no-regularize", a->no_regularize, "keep the raw tessellation");
   sub->add_flag("--planarize", a->design.planarize,
@@ -184,7 +186,7 @@ void register_design(CLI::App& app, Action& action) {
                   "uniform but gives back stiffness: 0 for structure-first designs")
       ->default_str("0.8")
       ->check(CLI::Range(0.0, 1.0));
-  sub->add_option("--analyze", a->design.analyze, "none | linear | buckling | nonlinear")
+  sub->add_option("--analyze", a->analyze, "none | linear | buckling | nonlinear")
       ->default_str("nonlinear");
   sub->add_option("--area-load", a->design.frame.area_load_kN_m2,
                   "analysis: extra panel/snow load in kN/m² on top of the bars' weight")

@@ -41,6 +41,9 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   const auto start = std::chrono::steady_clock::now();
   if (!(a.length > 0) && a.cells <= 0)
     throw Error("--length", "give the common total beam length L (m) (or --cells N)");
+  std::string field_file;
+  const FieldInput field = parse_field_input(a.field, &field_file);
+  const analysis::AnalysisLevel level = analysis::parse_analysis_level(a.analyze);
   FieldOptions conventions;
   conventions.measure = parse_stress_measure(a.measure);
   conventions.stretch = parse_stretch_axis(a.stretch);
@@ -48,10 +51,10 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   const Surface surface = load_surface(a.surface, a.surface_options);
   // The stress is the same for every case: computed (or read) once.
   StressField stress;
-  if (a.field == "stress")
+  if (field == FieldInput::stress)
     stress = fem::analyze_surface_stress(surface, fem::ShellDefaults{}).stress;
-  else if (a.field != "uniform")
-    stress = read_field_file(a.field, surface.mesh);
+  else if (field == FieldInput::file)
+    stress = read_field_file(field_file, surface.mesh);
   std::vector<SweepCase> cases =
       sweep_cases(parse_range(a.D, "--D"), parse_range(a.A, "--A"), a.repeats, a.run.seed);
   const std::size_t all = cases.size();
@@ -70,16 +73,18 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   std::atomic<int> finished{0};
   const auto mine = run_sweep(cases, [&](const SweepCase& c) {
     DesignOptions o;
-    o.field = a.field;
+    o.field = field;
+    o.field_file = field_file;
     o.field_options.measure = conventions.measure;
     o.field_options.stretch = conventions.stretch;
     o.field_options.density = conventions.density;
     o.D = c.D, o.A = c.A;
-    o.analyze = a.analyze;
+    o.analyze = level;
     o.tessellation.seed = c.seed;
     o.tessellation.length = a.length;
     o.tessellation.cells = a.length > 0 ? 0 : a.cells;
-    const DesignResult r = a.field == "uniform" ? run_design(surface, o) : run_design(surface, o, stress);
+    const DesignResult r =
+        field == FieldInput::uniform ? run_design(surface, o) : run_design(surface, o, stress);
     SweepRow row;
     row.c = c;
     row.cells = r.mesh.num_faces();

@@ -33,7 +33,7 @@ void run_search(benchmark::State& state, const std::string& surface_spec, double
   const Surface surface = load_surface(surface_spec);
   DesignOptions base;
   base.tessellation.length = length;
-  base.analyze = "buckling";
+  base.analyze = analysis::AnalysisLevel::buckling;
   ObjectiveResult r;
   for (auto _ : state) r = design_for_objective(surface, base);
   state.counters["designs"] = static_cast<double>(r.candidates.size());

@@ -355,7 +355,7 @@ TEST(Anisotropy, DefaultFunicularDeformsWithoutFolds) {
 
   // And the whole pipeline runs at the requested contrast, first seed.
   DesignOptions d;
-  d.analyze = "none";
+  d.analyze = analysis::AnalysisLevel::none;
   d.regularize = false;
   const DesignResult r = run_design(s, d);
   EXPECT_FALSE(r.details["field"].contains("softened_from"));
@@ -400,7 +400,7 @@ TEST(Anisotropy, BarrelAtThreeExtractsWithoutSoftening) {
   DesignOptions d;
   d.D = 3;
   d.A = 3;
-  d.analyze = "none";
+  d.analyze = analysis::AnalysisLevel::none;
   d.regularize = false;
   const DesignResult r = run_design(s, d);
   const Tessellation& t = r.tessellation;

@@ -18,7 +18,7 @@ DesignOptions small_design() {
   DesignOptions o;
   o.tessellation.cells = 90;
   o.tessellation.seed = 5;
-  o.analyze = "buckling";
+  o.analyze = analysis::AnalysisLevel::buckling;
   return o;
 }
 
@@ -30,7 +30,7 @@ TEST(Objective, ReferenceIsTheIsotropicBaselineAndTheChoiceFollowsTheRule) {
 
   // The reference: the same as an isotropic design (baseline --kind voronoi-iso) of that size.
   DesignOptions iso = base;
-  iso.field = "uniform";
+  iso.field = FieldInput::uniform;
   iso.D = iso.A = 1;
   const DesignResult plain = run_design(surface, iso);
   ASSERT_TRUE(plain.structure && plain.structure->lambda_linear_buckling);

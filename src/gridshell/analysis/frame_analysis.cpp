@@ -44,6 +44,35 @@ std::optional<double> lambda_at_displacement(const std::vector<PathPoint>& path,
 }
 }  // namespace
 
+AnalysisLevel parse_analysis_level(const std::string& word) {
+  for (AnalysisLevel l : {AnalysisLevel::none, AnalysisLevel::linear, AnalysisLevel::buckling,
+                          AnalysisLevel::nonlinear})
+    if (word == to_string(l)) return l;
+  throw Error("--analyze",
+              "'" + word + "' is not one of none, linear, buckling, nonlinear");
+}
+
+const char* to_string(AnalysisLevel level) {
+  switch (level) {
+    case AnalysisLevel::none:
+      return "none";
+    case AnalysisLevel::linear:
+      return "linear";
+    case AnalysisLevel::buckling:
+      return "buckling";
+    case AnalysisLevel::nonlinear:
+      return "nonlinear";
+  }
+  return "?";
+}
+
+FrameAnalysisOptions at_level(FrameAnalysisOptions o, AnalysisLevel level) {
+  o.linear = level != AnalysisLevel::none;
+  o.buckling = level == AnalysisLevel::buckling || level == AnalysisLevel::nonlinear;
+  o.nonlinear = level == AnalysisLevel::nonlinear;
+  return o;
+}
+
 void perturb_geometry(FrameMesh& mesh, const Eigen::VectorXd& mode, double amplitude) {
   for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v)
     for (int c = 0; c < 3; ++c)

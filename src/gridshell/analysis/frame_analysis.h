@@ -20,6 +20,12 @@
 
 namespace gridshell::analysis {
 
+/// How far the analysis goes: `none`; `linear` (δ); `buckling` (+ LBA); `nonlinear` (+ the
+/// arc-length path). The option words of `--analyze`.
+enum class AnalysisLevel { none, linear, buckling, nonlinear };
+AnalysisLevel parse_analysis_level(const std::string& word);  ///< throws Error("--analyze")
+const char* to_string(AnalysisLevel level);
+
 struct FrameAnalysisOptions {
   bool linear = true;           ///< always done when anything else is asked
   bool buckling = true;         ///< linearised buckling (LBA)
@@ -75,6 +81,9 @@ struct FrameResult {
   int num_elements = 0, num_dofs = 0;
   std::map<std::string, double> timings;  ///< seconds per stage
 };
+
+/// `options` with linear / buckling / nonlinear set for `level` (none: all three off).
+FrameAnalysisOptions at_level(FrameAnalysisOptions options, AnalysisLevel level);
 
 /// Runs the analyses asked for. Throws Error(options.subject) for invalid models and mechanisms.
 FrameResult analyze_frame(const fem::FrameModel& model, const FrameAnalysisOptions& options = {});

@@ -71,9 +71,6 @@ struct RegularizeOptions {
   enum class Projection { hard, soft };
   Projection projection = Projection::hard;
   int max_iterations = 30;
-  double planarity_weight = 0;
-  double planarity_eps = 0.01;
-  double planarity_keep = 0;  ///< cap on local/global iterations
   double tolerance = 1e-5;    ///< stop when the max vertex move < tolerance × bbox diagonal of M
   /// stop when the energy (RegularizeStats) fell by less than this fraction over 3 iterations
   double energy_tolerance = 1e-3;

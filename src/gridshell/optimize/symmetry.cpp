@@ -69,26 +69,45 @@ SymmetryReport detect_symmetry(const TriMesh& surface, double tolerance) {
   return r;
 }
 
-std::vector<Plane> symmetry_planes(const SymmetryReport& r, const std::string& which) {
+Symmetry parse_symmetry(const std::string& word) {
+  if (word.empty() || word == "none") return Symmetry::none;
+  for (Symmetry s : {Symmetry::x, Symmetry::y, Symmetry::xy})
+    if (word == to_string(s)) return s;
+  throw Error("--symmetry", "expected x, y, xy or none, got '" + word + "'");
+}
+
+const char* to_string(Symmetry s) {
+  switch (s) {
+    case Symmetry::none:
+      return "none";
+    case Symmetry::x:
+      return "x";
+    case Symmetry::y:
+      return "y";
+    case Symmetry::xy:
+      return "xy";
+  }
+  return "?";
+}
+
+std::vector<Plane> symmetry_planes(const SymmetryReport& r, Symmetry which) {
   std::vector<Plane> planes;
-  if (which.empty() || which == "none") return planes;
-  if (which != "x" && which != "y" && which != "xy")
-    throw Error("--symmetry", "expected x, y, xy or none, got '" + which + "'");
-  if (which.find('x') != std::string::npos) {
-    if (!r.x_symmetric)
-      throw Error("--symmetry", fmt::format("the surface is not symmetric about the x plane "
+  auto add = [&](bool symmetric, double deviation, const Plane& plane, const char* name) {
+    if (!symmetric)
+      throw Error("--symmetry", fmt::format("the surface is not symmetric about the {} plane "
                                             "(deviation {:.3g} of the diagonal)",
-                                            r.x_deviation));
-    planes.push_back(r.x_plane);
-  }
-  if (which.find('y') != std::string::npos) {
-    if (!r.y_symmetric)
-      throw Error("--symmetry", fmt::format("the surface is not symmetric about the y plane "
-                                            "(deviation {:.3g} of the diagonal)",
-                                            r.y_deviation));
-    planes.push_back(r.y_plane);
-  }
+                                            name, deviation));
+    planes.push_back(plane);
+  };
+  if (which == Symmetry::x || which == Symmetry::xy)
+    add(r.x_symmetric, r.x_deviation, r.x_plane, "x");
+  if (which == Symmetry::y || which == Symmetry::xy)
+    add(r.y_symmetric, r.y_deviation, r.y_plane, "y");
   return planes;
+}
+
+std::vector<Plane> symmetry_planes(const SymmetryReport& r, const std::string& which) {
+  return symmetry_planes(r, parse_symmetry(which));
 }
 
 namespace {

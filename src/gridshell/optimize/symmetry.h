@@ -39,6 +39,16 @@ struct SymmetryReport {
 /// `tolerance` is relative to the bounding-box diagonal. Cost O(n log n).
 SymmetryReport detect_symmetry(const TriMesh& surface, double tolerance = 1e-6);
 
+/// Mirror symmetry asked of a design: none, about the x plane, the y plane, or both (the
+/// bounding-box mid-planes). The option words of `--symmetry` ("" also means none).
+enum class Symmetry { none, x, y, xy };
+Symmetry parse_symmetry(const std::string& word);  ///< throws Error("--symmetry")
+const char* to_string(Symmetry s);
+
+/// The planes of `which` from a report. Throws Error("--symmetry", …) when M is not symmetric
+/// about a requested plane.
+std::vector<Plane> symmetry_planes(const SymmetryReport& report, Symmetry which);
+
 /// The planes named by `which` ("x", "y", "xy" or "none"/"" for none) from a report.
 /// Throws Error("--symmetry", …) for another name, or when M is not symmetric about a requested
 /// plane within the report's tolerance (the message gives the measured deviation).

@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -12,20 +11,27 @@
 #include "gridshell/grids/plane_cut.h"
 #include "gridshell/grids/supports.h"
 #include "gridshell/mesh/topology.h"
-#include "gridshell/optimize/symmetry.h"
 
 namespace gridshell {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using Timings = std::vector<std::pair<std::string, double>>;
 
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
+/// Appends the seconds since `t` under `stage` and restarts `t`.
+void lap(Timings& timings, const char* stage, Clock::time_point& t) {
+  const auto now = Clock::now();
+  timings.emplace_back(stage, std::chrono::duration<double>(now - t).count());
+  t = now;
 }
 
 nlohmann::json optional_number(const std::optional<double>& v) {
   return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+bool is_isotropic(const DesignOptions& o) {
+  return o.field == FieldInput::uniform || (o.D == 1 && o.A == 1);
 }
 
 /// Field values of the faces of `sub`, a mesh whose faces come from `parent` faces of a mesh
@@ -44,7 +50,7 @@ Field restrict_field(const Field& field, const std::vector<int>& parent) {
 }
 
 /// A first estimate of the cell radius R on M′ from the size request, so that M′ can be refined
-/// to R/5 before tessellating (the engine refines further itself where needed).
+/// to about R before tessellating (the engine refines further itself where needed).
 double estimate_radius(const TessellationOptions& t, double area_rest, double area_deformed,
                        int sectors) {
   constexpr double kHexArea = 2.598076211353316;  // (3√3/2) R²
@@ -59,19 +65,319 @@ double estimate_radius(const TessellationOptions& t, double area_rest, double ar
   return std::sqrt(area_deformed / (kHexArea * std::max(1, cells / sectors)));
 }
 
+/// Area of M′ predicted from the field: each triangle scaled by d²/a.
+double predicted_deformed_area(const TriMesh& mesh, const Field& field) {
+  double area = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const Vec3 a = mesh.vertex(mesh.F(f, 0)), b = mesh.vertex(mesh.F(f, 1)),
+               c = mesh.vertex(mesh.F(f, 2));
+    area += 0.5 * (b - a).cross(c - a).norm() * field.d[f] * field.d[f] / field.a[f];
+  }
+  return area;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The stages. Each takes what it needs and returns its value; `r` collects report details and
+// timings.
+
+/// Stage 1: the stress that drives the field (empty for an isotropic design).
+StressField design_stress(const Surface& surface, const DesignOptions& o,
+                          const StressField* given, DesignResult& r) {
+  if (is_isotropic(o)) return {};
+  if (given) return *given;
+  if (o.field == FieldInput::file) return read_field_file(o.field_file, surface.mesh);
+  auto t = Clock::now();
+  spdlog::info("[stress] shell analysis of {} triangles", surface.mesh.num_faces());
+  fem::ShellResult shell = fem::analyze_surface_stress(surface, o.shell);
+  r.details["stress"] = {{"max_displacement_m", shell.max_displacement},
+                         {"max_displacement_vertex", shell.max_displacement_vertex},
+                         {"dofs", shell.dofs}};
+  lap(r.timings, "stress", t);
+  return std::move(shell.stress);
+}
+
+/// The mirror planes of the requested symmetry (checked against the surface).
+std::vector<Plane> mirror_planes(const TriMesh& M, Symmetry symmetry, DesignResult& r) {
+  if (symmetry == Symmetry::none) return {};
+  const SymmetryReport report = detect_symmetry(M, 1e-6);
+  r.details["symmetry"] = {{"planes", to_string(symmetry)},
+                           {"x_deviation", report.x_deviation},
+                           {"y_deviation", report.y_deviation}};
+  return symmetry_planes(report, symmetry);
+}
+
+/// Stage 2: the field on the whole surface at contrast (D, A); isotropic for D = A = 1.
+Field design_field(const TriMesh& M, const StressField& stress, const DesignOptions& o, double D,
+                   double A, bool given, DesignResult& r) {
+  if (D == 1 && A == 1) {
+    r.details["field"] = {
+        {"kind", o.field == FieldInput::uniform ? "uniform" : "uniform (D = A = 1)"}};
+    return uniform_field(M);
+  }
+  FieldOptions fo = o.field_options;
+  fo.D = D, fo.A = A;
+  spdlog::info("[field] direction, density (D = {}), anisotropy (A = {})", D, A);
+  r.details["field"] = {{"kind", given                            ? "given"
+                                 : o.field == FieldInput::stress ? "stress"
+                                                                  : "file"},
+                        {"D", D},
+                        {"A", A},
+                        {"stress_measure", to_string(fo.measure)},
+                        {"stretch", to_string(fo.stretch)},
+                        {"density", to_string(fo.density)}};
+  return make_field(M, stress, fo);
+}
+
+/// The part of the surface that is tessellated: the whole of it, or one symmetric sector cut
+/// along the mirror planes, with its field.
+struct Sector {
+  Surface surface;
+  Field field;
+};
+Sector cut_sector(const Surface& surface, const Field& field, const std::vector<Plane>& planes) {
+  if (planes.empty()) return {surface, field};
+  CutMesh cut = make_cut_mesh(surface);
+  const double snap = 1e-9 * bbox_diagonal(surface.mesh.V);
+  for (const Plane& p : planes) {
+    const CutPlane cp{p.normal, p.normal.dot(p.point)};
+    cut_along_plane(cut, cp, snap);
+    keep_side(cut, cp);
+  }
+  Sector s;
+  s.surface.mesh = cut.mesh;
+  for (int v = 0; v < cut.mesh.num_vertices(); ++v)
+    if (cut.support[v]) s.surface.supports.push_back(v);
+  s.field = restrict_field(field, cut.parent_face);
+  return s;
+}
+
+/// Stage 3: M′, the sector deformed so that the field's metric is Euclidean (M′ = M and the
+/// field unchanged for an isotropic field).
+struct Metric {
+  TriMesh rest, deformed;      ///< refined M and M′, same connectivity
+  Field rest_field;            ///< the field per triangle of `rest`
+  std::vector<int> supports;   ///< support vertices of `rest`
+};
+Metric deform_sector(const Sector& sector, const DesignOptions& o, double length, int sectors,
+                     bool isotropic, DesignResult& r) {
+  if (isotropic) return {sector.surface.mesh, sector.surface.mesh, sector.field,
+                         sector.surface.supports};
+  const TriMesh& mesh = sector.surface.mesh;
+  TessellationOptions whole = o.tessellation;  // the size asked of the whole surface
+  whole.length = length;
+  DeformOptions dopt = o.deform;
+  dopt.max_edge = o.metric_edge * estimate_radius(whole, surface_area(mesh),
+                                                  predicted_deformed_area(mesh, sector.field),
+                                                  sectors);
+  spdlog::info("[metric] deforming {} triangles (edges of M' ≤ {:.3g} m)", mesh.num_faces(),
+               dopt.max_edge);
+  Deformed def = deform_metric(mesh, sector.field, dopt);
+  Metric m;
+  m.supports = transfer_supports(def.rest.V, sector.surface, 1e-9 * bbox_diagonal(def.rest.V));
+  m.rest = std::move(def.rest);
+  m.deformed = std::move(def.deformed);
+  m.rest_field = std::move(def.field);
+  r.details["metric"] = {{"triangles", m.rest.num_faces()}, {"rounds", def.rounds},
+                         {"iterations", def.iterations},     {"residual", def.residual},
+                         {"max_edge", def.max_edge},         {"folded_edges", def.folded_edges}};
+  if (def.folded_edges > 0)
+    spdlog::warn("[metric] {} folded edges in M' (D or A large for this surface)",
+                 def.folded_edges);
+  return m;
+}
+
+/// The tessellation options of one sector: the size split between the sectors, and the mirror
+/// planes' edges left out of the length (they vanish when the sectors are welded).
+TessellationOptions sector_tessellation(const TessellationOptions& whole, double length,
+                                        const std::vector<Plane>& planes) {
+  TessellationOptions t = whole;
+  t.length = length;
+  const int sectors = 1 << static_cast<int>(planes.size());
+  if (sectors > 1) {
+    if (t.cells > 0) t.cells = std::max(1, t.cells / sectors);
+    if (t.length > 0) t.length /= sectors;
+    for (const Plane& p : planes) t.length_excluded_planes.emplace_back(p.point, p.normal);
+  }
+  return t;
+}
+
+/// Stages 2–4 with the retries, in one place. Where the metric cannot be realised without
+/// folds the engine may fail to extract valid cells (ExtractionError, nothing else): then
+/// another seed, and failing that the field's contrast halved (reported in report.json), down
+/// to the isotropic tessellation, which always exists.
+struct Tessellated {
+  Tessellation tess;
+  Field rest_field;  ///< the field per triangle of the tessellated (refined) sector
+};
+Tessellated tessellate_with_retries(const Surface& surface, const StressField& stress,
+                                    const DesignOptions& o, const std::vector<Plane>& planes,
+                                    double length, bool given, DesignResult& r) {
+  const bool isotropic = is_isotropic(o);
+  const int sectors = 1 << static_cast<int>(planes.size());
+  const TessellationOptions topt = sector_tessellation(o.tessellation, length, planes);
+  std::string last_error;
+  for (double strength : isotropic ? std::vector<double>{0.0} : std::vector<double>{1.0, 0.5, 0.0}) {
+    auto t = Clock::now();
+    r.field = design_field(surface.mesh, stress, o, 1 + strength * (o.D - 1),
+                           1 + strength * (o.A - 1), given, r);
+    if (strength != 1.0 && !isotropic) r.details["field"]["softened_from"] = {o.D, o.A};
+    lap(r.timings, "field", t);
+    const Sector sector = cut_sector(surface, r.field, planes);
+    if (!planes.empty()) lap(r.timings, "sector", t);
+    Metric m = deform_sector(sector, o, length, sectors, strength == 0.0, r);
+    if (strength != 0.0) lap(r.timings, "metric", t);
+    const int attempts = strength == 0.0 ? 3 : 2;
+    for (int attempt = 0; attempt < attempts; ++attempt) {
+      TessellationOptions seeded = topt;
+      seeded.seed = o.tessellation.seed + 7919 * static_cast<std::uint64_t>(attempt);
+      spdlog::info("[tessellation] {} triangles, {} supports", m.rest.num_faces(),
+                   m.supports.size());
+      try {
+        Tessellated out{tessellate(m.rest, m.deformed, m.supports, seeded), std::move(m.rest_field)};
+        if (attempt > 0) r.details["tessellation_seed_retries"] = attempt;
+        lap(r.timings, "tessellation", t);
+        return out;
+      } catch (const ExtractionError& e) {
+        last_error = e.message();
+        spdlog::warn("[tessellation] failed ({}); retrying", last_error);
+      }
+    }
+    lap(r.timings, "tessellation", t);
+  }
+  throw Error("tessellation", last_error);
+}
+
+/// The per-face targets d and a of the cells: the field at their joints (triangles of the
+/// tessellated sector).
+void cell_targets(const Tessellated& t, std::vector<double>& d, std::vector<double>& a) {
+  const Tessellation& tess = t.tess;
+  d.assign(tess.mesh.num_faces(), 1.0);
+  a.assign(tess.mesh.num_faces(), 1.0);
+  for (int f = 0; f < tess.mesh.num_faces(); ++f) {
+    double sd = 0, sa = 0;
+    for (int v : tess.mesh.faces[f]) {
+      sd += t.rest_field.d[tess.vertex_triangle[v]];
+      sa += t.rest_field.a[tess.vertex_triangle[v]];
+    }
+    d[f] = std::max(1.0, sd / tess.mesh.faces[f].size());
+    a[f] = std::max(1.0, sa / tess.mesh.faces[f].size());
+  }
+}
+
+/// Stage 5: the whole raw grid-shell (the sector reflected and welded when symmetric), its
+/// supports, cell targets and the vertex constraints of the finishing step. Returns the mirror
+/// map (empty without symmetry).
+std::vector<std::vector<int>> assemble_raw(const Tessellated& t, const std::vector<Plane>& planes,
+                                           DesignResult& r,
+                                           std::vector<VertexConstraint>& constraints) {
+  const Tessellation& tess = t.tess;
+  std::vector<double> d_sector, a_sector;
+  cell_targets(t, d_sector, a_sector);
+  std::vector<std::vector<int>> mirror;
+  r.supports.clear();
+  if (planes.empty()) {
+    r.raw = tess.mesh;
+    r.supports = tess.supports;
+    r.d_target = d_sector;
+    r.a_target = a_sector;
+    constraints = constraints_from_flags(tess.on_boundary, tess.corner);
+  } else {
+    ReflectedMesh rm = reflect_and_weld(tess.mesh, planes, 1e-6);
+    r.raw = std::move(rm.mesh);
+    mirror = std::move(rm.mirror);
+    std::vector<char> sector_support(tess.mesh.num_vertices(), 0);
+    for (int v : tess.supports) sector_support[v] = 1;
+    for (int v = 0; v < r.raw.num_vertices(); ++v)
+      if (sector_support[rm.source_vertex[v]]) r.supports.push_back(v);
+    r.d_target.clear();
+    r.a_target.clear();
+    for (int f = 0; f < r.raw.num_faces(); ++f) {
+      r.d_target.push_back(d_sector[rm.source_face[f]]);
+      r.a_target.push_back(a_sector[rm.source_face[f]]);
+    }
+    constraints = classify_vertices(r.raw);
+  }
+  // Supports off the boundary (columns) never move.
+  for (int v : r.supports)
+    if (constraints[v] == VertexConstraint::free) constraints[v] = VertexConstraint::fixed;
+  return mirror;
+}
+
+/// Stage 6: regularization (or planarization) of the raw grid-shell, symmetry restored.
+void finish(const TriMesh& M, const DesignOptions& o, const std::vector<Plane>& planes,
+            const std::vector<std::vector<int>>& mirror,
+            const std::vector<VertexConstraint>& constraints, DesignResult& r) {
+  r.raw_metrics = mesh_metrics(r.raw);
+  if (o.planarize || o.regularize) {
+    RegularizeStats stats;
+    spdlog::info("[{}] {} faces", o.planarize ? "planarize" : "regularize", r.raw.num_faces());
+    r.mesh = o.planarize ? planarize(r.raw, M, constraints, planarize_options(), &stats)
+                         : regularize(r.raw, M, constraints, o.regularize_options, &stats);
+    if (!planes.empty()) enforce_symmetry(r.mesh, planes, mirror);
+    r.details["regularization"] = {{"kind", o.planarize ? "planarize" : "regularize"},
+                                   {"iterations", stats.iterations},
+                                   {"converged", stats.converged},
+                                   {"max_surface_distance", stats.max_surface_distance}};
+  } else {
+    r.mesh = r.raw;
+  }
+  r.metrics = mesh_metrics(r.mesh);
+}
+
+/// Stages 2–6 for one length target (0 = the size options decide): the grid-shell before
+/// analysis. `r` keeps what the earlier stages put there.
+void build_grid(const Surface& surface, const StressField& stress, const DesignOptions& o,
+                const std::vector<Plane>& planes, double length, bool given, DesignResult& r) {
+  Tessellated t = tessellate_with_retries(surface, stress, o, planes, length, given, r);
+  spdlog::info("[tessellation] {} cells, R = {:.4g} m, {} Lloyd iterations{}, hexagons {:.1f}%",
+               t.tess.mesh.num_faces(), t.tess.radius, t.tess.iterations,
+               t.tess.converged ? "" : " (not converged)",
+               100 * t.tess.quality.hex_share_interior);
+  auto clock = Clock::now();
+  std::vector<VertexConstraint> constraints;
+  const std::vector<std::vector<int>> mirror = assemble_raw(t, planes, r, constraints);
+  if (!planes.empty()) lap(r.timings, "symmetry", clock);
+  r.tessellation = std::move(t.tess);
+  finish(surface.mesh, o, planes, mirror, constraints, r);
+  lap(r.timings, "regularization", clock);
+}
+
+double total_seconds(const Timings& timings) {
+  double s = 0;
+  for (const auto& [stage, sec] : timings) s += sec;
+  return s;
+}
+
 }  // namespace
 
-void set_analysis_level(analysis::FrameAnalysisOptions& o, const std::string& level) {
-  if (level == "linear") {
-    o.linear = true, o.buckling = false, o.nonlinear = false;
-  } else if (level == "buckling") {
-    o.linear = true, o.buckling = true, o.nonlinear = false;
-  } else if (level == "nonlinear") {
-    o.linear = true, o.buckling = true, o.nonlinear = true;
-  } else {
-    throw Error("--analyze",
-                fmt::format("'{}' is not one of none, linear, buckling, nonlinear", level));
-  }
+FieldInput parse_field_input(const std::string& word, std::string* file) {
+  if (word == "stress") return FieldInput::stress;
+  if (word == "uniform") return FieldInput::uniform;
+  if (file) *file = word;
+  return FieldInput::file;
+}
+
+void check_design_options(const DesignOptions& o) {
+  if (!(o.D >= 1) || !std::isfinite(o.D)) throw Error("-D", "must be a number ≥ 1");
+  if (!(o.A >= 1) || !std::isfinite(o.A)) throw Error("-A", "must be a number ≥ 1");
+  if (o.D > 8 || o.A > 8)
+    spdlog::warn("design: D or A above ~4 may fold the deformed surface (D = {}, A = {})", o.D,
+                 o.A);
+  if (!(o.frame_analysis.displacement_limit >= 0) ||
+      !std::isfinite(o.frame_analysis.displacement_limit))
+    throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
+  if (o.field == FieldInput::file && o.field_file.empty())
+    throw Error("--field", "no field file given");
+  check_tessellation_options(o.tessellation);
+}
+
+analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,
+                                        analysis::AnalysisLevel level,
+                                        const analysis::GridshellFrameOptions& frame,
+                                        const analysis::FrameAnalysisOptions& options) {
+  analysis::FrameAnalysisOptions o = analysis::at_level(options, level);
+  if (o.subject == "model") o.subject = "analysis";
+  return analysis::analyze_frame(analysis::gridshell_frame(mesh, supports, frame), o);
 }
 
 nlohmann::json structure_block(const analysis::FrameResult& r) {
@@ -95,298 +401,61 @@ nlohmann::json structure_block(const analysis::FrameResult& r) {
   return st;
 }
 
-analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,
-                                        const std::string& level,
-                                        const analysis::GridshellFrameOptions& frame,
-                                        analysis::FrameAnalysisOptions options) {
-  set_analysis_level(options, level);
-  if (options.subject == "model") options.subject = "analysis";
-  const fem::FrameModel model = analysis::gridshell_frame(mesh, supports, frame);
-  return analysis::analyze_frame(model, options);
-}
-
 namespace {
-DesignResult run_design_once(const Surface& surface, const DesignOptions& o,
-                             const StressField* given, bool allow_retry);
+DesignResult design(const Surface& surface, const DesignOptions& o, const StressField* given) {
+  check_design_options(o);
+  DesignResult r;
+  const StressField stress = design_stress(surface, o, given, r);
+  const std::vector<Plane> planes = mirror_planes(surface.mesh, o.symmetry, r);
+  const double L = o.tessellation.length;
+  build_grid(surface, stress, o, planes, L, given != nullptr, r);
+
+  // Length control. --length is met on the raw tessellation (within 0.4 of the tolerance);
+  // regularization shortens the beams by 0.5–3 %, planarization may lengthen them. When the
+  // finishing step has moved the total by more than 0.9 of the tolerance, tessellate once more
+  // with the target corrected by the measured change (stress and field do not depend on it).
+  const double tolerance = 0.9 * o.tessellation.length_tolerance;
+  if (L > 0 && r.metrics.total_length > 0 && std::abs(r.metrics.total_length / L - 1) > tolerance) {
+    spdlog::info("[length] {:.5g} m of beams for {:.5g} m: tessellating again",
+                 r.metrics.total_length, L);
+    const double first = r.metrics.total_length, target = L * L / first;
+    const double first_seconds = total_seconds(r.timings);
+    r.timings.clear();
+    r.timings.emplace_back("length_first_pass", first_seconds);
+    r.details.erase("tessellation_seed_retries");
+    build_grid(surface, stress, o, planes, target, given != nullptr, r);
+    r.details["length_retry"] = {{"first_length_m", first}, {"tessellation_target_m", target}};
+  }
+
+  // Stage 7: the steel frame.
+  if (o.analyze != analysis::AnalysisLevel::none) {
+    auto t = Clock::now();
+    spdlog::info("[analysis] {} frame: {} joints", to_string(o.analyze), r.mesh.num_vertices());
+    r.structure = analyze_gridshell(r.mesh, r.supports, o.analyze, o.frame, o.frame_analysis);
+    const auto& st = *r.structure;
+    auto num = [](const std::optional<double>& v) {
+      return v ? fmt::format("{:.4g}", *v) : std::string("-");
+    };
+    spdlog::info(
+        "[analysis] delta = {:.4g} m, lambda_LBA = {}, lambda_nonlinear = {} ({}), lambda at "
+        "{:.3g} m = {}",
+        st.delta_max_m, num(st.lambda_linear_buckling), num(st.lambda_nonlinear), st.limit_type,
+        st.displacement_limit_m, num(st.lambda_displacement_limit));
+    lap(r.timings, "analysis", t);
+  }
+  return r;
+}
 }  // namespace
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o) {
-  return run_design_once(surface, o, nullptr, true);
+  return design(surface, o, nullptr);
 }
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress) {
   if (static_cast<int>(stress.size()) != surface.mesh.num_faces())
     throw Error("field", fmt::format("{} stresses for {} triangles", stress.size(),
                                      surface.mesh.num_faces()));
-  return run_design_once(surface, o, &stress, true);
+  return design(surface, o, &stress);
 }
-
-namespace {
-DesignResult run_design_once(const Surface& surface, const DesignOptions& o,
-                             const StressField* given, bool allow_retry) {
-  if (!(o.D >= 1) || !(o.A >= 1) || !std::isfinite(o.D) || !std::isfinite(o.A))
-    throw Error(!(o.D >= 1) || !std::isfinite(o.D) ? "-D" : "-A", "must be a number ≥ 1");
-  if (o.D > 8 || o.A > 8)
-    spdlog::warn("design: D or A above ~4 may fold the deformed surface (D = {}, A = {})", o.D,
-                 o.A);
-  if (!(o.frame_analysis.displacement_limit >= 0) ||
-      !std::isfinite(o.frame_analysis.displacement_limit))
-    throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
-  if (o.analyze != "none") {
-    analysis::FrameAnalysisOptions check;
-    set_analysis_level(check, o.analyze);
-  }
-  if (!o.symmetry.empty() && o.symmetry != "x" && o.symmetry != "y" && o.symmetry != "xy")
-    throw Error("--symmetry", fmt::format("'{}' is not one of x, y, xy", o.symmetry));
-  DesignResult r;
-  const TriMesh& M = surface.mesh;
-  const bool isotropic = o.field == "uniform" || (o.D == 1 && o.A == 1);
-
-  // 1. Stress on the whole surface (once).
-  auto t = Clock::now();
-  StressField stress;
-  if (!isotropic) {
-    if (given) {
-      stress = *given;
-    } else if (o.field == "stress") {
-      spdlog::info("[stress] shell analysis of {} triangles", M.num_faces());
-      fem::ShellResult shell = fem::analyze_surface_stress(surface, o.shell);
-      stress = std::move(shell.stress);
-      r.details["stress"] = {{"max_displacement_m", shell.max_displacement},
-                             {"max_displacement_vertex", shell.max_displacement_vertex},
-                             {"dofs", shell.dofs}};
-      r.timings.emplace_back("stress", seconds_since(t));
-      t = Clock::now();
-    } else {
-      stress = read_field_file(o.field, M);
-    }
-  }
-
-  // The symmetry planes (checked against the surface).
-  std::vector<Plane> planes;
-  double diagonal = bbox_diagonal(M.V);
-  if (!o.symmetry.empty()) {
-    const SymmetryReport report = detect_symmetry(M, 1e-6);
-    r.details["symmetry"] = {{"planes", o.symmetry},
-                             {"x_deviation", report.x_deviation},
-                             {"y_deviation", report.y_deviation}};
-    planes = symmetry_planes(report, o.symmetry);
-  }
-  const int sectors = 1 << static_cast<int>(planes.size());
-
-  // 2–4. Field, sector, metric and tessellation. Where the metric cannot be realised without
-  // folds, the engine may fail to extract valid cells: then we retry with another seed and,
-  // failing that, with the field's contrast halved (reported in report.json), down to the
-  // isotropic tessellation, which always exists.
-  std::vector<double> strengths =
-      isotropic ? std::vector<double>{0.0} : std::vector<double>{1.0, 0.5, 0.0};
-  TriMesh rest, deformed;
-  Field rest_field;
-  std::string last_error;
-  bool done = false;
-  for (double strength : strengths) {
-    const double D = 1 + strength * (o.D - 1), A = 1 + strength * (o.A - 1);
-    const bool iso = strength == 0.0;
-    t = Clock::now();
-    if (iso) {
-      r.field = uniform_field(M);
-      r.details["field"] = {{"kind", o.field == "uniform" ? "uniform" : "uniform (D = A = 1)"}};
-    } else {
-      FieldOptions fo = o.field_options;
-      fo.D = D, fo.A = A;
-      spdlog::info("[field] direction, density (D = {}), anisotropy (A = {})", D, A);
-      r.field = make_field(M, stress, fo);
-      r.details["field"] = {{"kind", given ? "given" : o.field == "stress" ? "stress" : "file"},
-                            {"D", D},
-                            {"A", A},
-                            {"stress_measure", to_string(fo.measure)},
-                            {"stretch", to_string(fo.stretch)},
-                            {"density", to_string(fo.density)}};
-    }
-    if (strength != strengths.front()) r.details["field"]["softened_from"] = {o.D, o.A};
-    r.timings.emplace_back("field", seconds_since(t));
-
-    // The sector to tessellate (the whole surface without symmetry).
-    t = Clock::now();
-    Surface work = surface;
-    Field work_field = r.field;
-    if (!planes.empty()) {
-      CutMesh cut = make_cut_mesh(surface);
-      const double snap = 1e-9 * diagonal;
-      for (const Plane& p : planes) {
-        const CutPlane cp{p.normal, p.normal.dot(p.point)};
-        cut_along_plane(cut, cp, snap);
-        keep_side(cut, cp);
-      }
-      work.mesh = cut.mesh;
-      work.supports.clear();
-      for (int v = 0; v < cut.mesh.num_vertices(); ++v)
-        if (cut.support[v]) work.supports.push_back(v);
-      work_field = restrict_field(r.field, cut.parent_face);
-      r.timings.emplace_back("sector", seconds_since(t));
-      t = Clock::now();
-    }
-
-    // Metric deformation M → M′.
-    rest = work.mesh, deformed = work.mesh;
-    rest_field = work_field;
-    std::vector<int> rest_supports = work.supports;
-    TessellationOptions topt = o.tessellation;
-    if (!iso) {
-      double area_rest = surface_area(work.mesh), area_def = 0;
-      for (int f = 0; f < work.mesh.num_faces(); ++f) {
-        const Vec3 a = work.mesh.vertex(work.mesh.F(f, 0)), b = work.mesh.vertex(work.mesh.F(f, 1)),
-                   c = work.mesh.vertex(work.mesh.F(f, 2));
-        area_def +=
-            0.5 * (b - a).cross(c - a).norm() * work_field.d[f] * work_field.d[f] / work_field.a[f];
-      }
-      DeformOptions dopt = o.deform;
-      dopt.max_edge = o.metric_edge * estimate_radius(topt, area_rest, area_def, sectors);
-      spdlog::info("[metric] deforming {} triangles (edges of M' ≤ {:.3g} m)",
-                   work.mesh.num_faces(), dopt.max_edge);
-      Deformed def = deform_metric(work.mesh, work_field, dopt);
-      rest = std::move(def.rest);
-      deformed = std::move(def.deformed);
-      rest_field = std::move(def.field);
-      rest_supports = transfer_supports(rest.V, work, 1e-9 * bbox_diagonal(rest.V));
-      r.details["metric"] = {{"triangles", rest.num_faces()}, {"rounds", def.rounds},
-                             {"iterations", def.iterations},  {"residual", def.residual},
-                             {"max_edge", def.max_edge},      {"folded_edges", def.folded_edges}};
-      if (def.folded_edges > 0)
-        spdlog::warn("[metric] {} folded edges in M' (D or A large for this surface)",
-                     def.folded_edges);
-      r.timings.emplace_back("metric", seconds_since(t));
-      t = Clock::now();
-    }
-
-    // Tessellation (per sector).
-    if (sectors > 1) {
-      if (topt.cells > 0) topt.cells = std::max(1, topt.cells / sectors);
-      if (topt.length > 0) topt.length /= sectors;
-      for (const Plane& p : planes) topt.length_excluded_planes.emplace_back(p.point, p.normal);
-    }
-    for (int attempt = 0; attempt < (iso ? 3 : 2) && !done; ++attempt) {
-      topt.seed = o.tessellation.seed + 7919 * static_cast<std::uint64_t>(attempt);
-      spdlog::info("[tessellation] {} triangles, {} supports", rest.num_faces(),
-                   rest_supports.size());
-      try {
-        r.tessellation = tessellate(rest, deformed, rest_supports, topt);
-        done = true;
-        if (attempt > 0) r.details["tessellation_seed_retries"] = attempt;
-      } catch (const Error& e) {
-        last_error = e.message();
-        spdlog::warn("[tessellation] failed ({}); retrying", last_error);
-      }
-    }
-    r.timings.emplace_back("tessellation", seconds_since(t));
-    if (done) break;
-  }
-  if (!done) throw Error("tessellation", last_error);
-  t = Clock::now();
-  const Tessellation& tess = r.tessellation;
-  spdlog::info("[tessellation] {} cells, R = {:.4g} m, {} Lloyd iterations{}, hexagons {:.1f}%",
-               tess.mesh.num_faces(), tess.radius, tess.iterations,
-               tess.converged ? "" : " (not converged)", 100 * tess.quality.hex_share_interior);
-
-  // Per-face targets: the field at the cell's joints (their triangles of `rest`).
-  std::vector<double> d_sector(tess.mesh.num_faces(), 1.0), a_sector(tess.mesh.num_faces(), 1.0);
-  for (int f = 0; f < tess.mesh.num_faces(); ++f) {
-    double d = 0, a = 0;
-    for (int v : tess.mesh.faces[f]) {
-      d += rest_field.d[tess.vertex_triangle[v]];
-      a += rest_field.a[tess.vertex_triangle[v]];
-    }
-    d_sector[f] = std::max(1.0, d / tess.mesh.faces[f].size());
-    a_sector[f] = std::max(1.0, a / tess.mesh.faces[f].size());
-  }
-
-  // 5. Symmetry: reflect and weld.
-  std::vector<VertexConstraint> constraints;
-  std::vector<std::vector<int>> mirror;
-  if (sectors > 1) {
-    ReflectedMesh rm = reflect_and_weld(tess.mesh, planes, 1e-6);
-    r.raw = std::move(rm.mesh);
-    mirror = std::move(rm.mirror);
-    std::vector<char> sector_support(tess.mesh.num_vertices(), 0);
-    for (int v : tess.supports) sector_support[v] = 1;
-    for (int v = 0; v < r.raw.num_vertices(); ++v)
-      if (sector_support[rm.source_vertex[v]]) r.supports.push_back(v);
-    for (int f = 0; f < r.raw.num_faces(); ++f) {
-      r.d_target.push_back(d_sector[rm.source_face[f]]);
-      r.a_target.push_back(a_sector[rm.source_face[f]]);
-    }
-    constraints = classify_vertices(r.raw);
-    r.timings.emplace_back("symmetry", seconds_since(t));
-    t = Clock::now();
-  } else {
-    r.raw = tess.mesh;
-    r.supports = tess.supports;
-    r.d_target = d_sector;
-    r.a_target = a_sector;
-    constraints = constraints_from_flags(tess.on_boundary, tess.corner);
-  }
-  // Supports off the boundary (columns) never move.
-  for (int v : r.supports)
-    if (constraints[v] == VertexConstraint::free) constraints[v] = VertexConstraint::fixed;
-
-  // 6. Regularization (or planarization).
-  r.raw_metrics = mesh_metrics(r.raw);
-  if (o.planarize || o.regularize) {
-    RegularizeStats stats;
-    spdlog::info("[{}] {} faces", o.planarize ? "planarize" : "regularize", r.raw.num_faces());
-    r.mesh = o.planarize ? planarize(r.raw, M, constraints, planarize_options(), &stats)
-                         : regularize(r.raw, M, constraints, o.regularize_options, &stats);
-    if (sectors > 1) enforce_symmetry(r.mesh, planes, mirror);
-    r.details["regularization"] = {{"kind", o.planarize ? "planarize" : "regularize"},
-                                   {"iterations", stats.iterations},
-                                   {"converged", stats.converged},
-                                   {"max_surface_distance", stats.max_surface_distance}};
-  } else {
-    r.mesh = r.raw;
-  }
-  r.metrics = mesh_metrics(r.mesh);
-  r.timings.emplace_back("regularization", seconds_since(t));
-  t = Clock::now();
-
-  // --length is matched on the raw tessellation (within 2 %); regularization shortens the beams
-  // by 0.5–3 %, planarization may lengthen them. Near the 5 % bound, run once more with the
-  // tessellation's target corrected by the measured change.
-  const double L = o.tessellation.length;
-  if (allow_retry && L > 0 && r.metrics.total_length > 0 &&
-      std::abs(r.metrics.total_length / L - 1) > 0.045) {
-    spdlog::info("[length] {:.5g} m of beams for {:.5g} m: tessellating again",
-                 r.metrics.total_length, L);
-    DesignOptions again = o;
-    again.tessellation.length = L * L / r.metrics.total_length;
-    double first = 0;
-    for (const auto& [stage, sec] : r.timings) first += sec;
-    DesignResult second = run_design_once(surface, again, given, false);
-    second.timings.insert(second.timings.begin(), {"length_first_pass", first});
-    second.details["length_retry"] = {{"first_length_m", r.metrics.total_length},
-                                      {"tessellation_target_m", again.tessellation.length}};
-    return second;
-  }
-
-  // 7. Structural analysis of the steel frame.
-  if (o.analyze != "none") {
-    spdlog::info("[analysis] {} frame: {} joints", o.analyze, r.mesh.num_vertices());
-    r.structure = analyze_gridshell(r.mesh, r.supports, o.analyze, o.frame, o.frame_analysis);
-    spdlog::info(
-        "[analysis] delta = {:.4g} m, lambda_LBA = {}, lambda_nonlinear = {} ({}), lambda at "
-        "{:.3g} m = {}",
-        r.structure->delta_max_m,
-        r.structure->lambda_linear_buckling
-            ? fmt::format("{:.4g}", *r.structure->lambda_linear_buckling)
-            : "-",
-        r.structure->lambda_nonlinear ? fmt::format("{:.4g}", *r.structure->lambda_nonlinear) : "-",
-        r.structure->limit_type, r.structure->displacement_limit_m,
-        r.structure->lambda_displacement_limit
-            ? fmt::format("{:.4g}", *r.structure->lambda_displacement_limit)
-            : "-");
-    r.timings.emplace_back("analysis", seconds_since(t));
-  }
-  return r;
-}
-}  // namespace
 
 }  // namespace gridshell

@@ -27,21 +27,29 @@
 #include "gridshell/metric/deform.h"
 #include "gridshell/optimize/metrics.h"
 #include "gridshell/optimize/regularize.h"
+#include "gridshell/optimize/symmetry.h"
 #include "gridshell/voronoi/tessellation.h"
 
 namespace gridshell {
 
+/// Where the stress that drives the field comes from.
+enum class FieldInput {
+  stress,   ///< a shell analysis of the surface (the paper)
+  uniform,  ///< none: isotropic cells of one size
+  file,     ///< a BLK or CSV file (field/field_io.h), DesignOptions::field_file
+};
+/// "stress", "uniform", or anything else = a file (with `file` set to the word).
+FieldInput parse_field_input(const std::string& word, std::string* file);
+
 struct DesignOptions {
-  /// "stress" (shell analysis of the surface), "uniform" (isotropic cells), or a field file
-  /// (BLK or CSV, see field/field_io.h).
-  std::string field = "stress";
+  FieldInput field = FieldInput::stress;
+  std::string field_file;  ///< with FieldInput::file
   double D = 3;  ///< density ratio: densest cells D× smaller across than the sparsest
   double A = 3;  ///< anisotropy ratio: cells up to A× longer along u than across
-  /// "none", "linear", "buckling" (linear + LBA) or "nonlinear" (+ the arc-length path).
-  std::string analyze = "nonlinear";
+  analysis::AnalysisLevel analyze = analysis::AnalysisLevel::nonlinear;
   bool regularize = true;
   bool planarize = false;  ///< ShapeUp planarity projection instead of regularization
-  std::string symmetry;    ///< "", "x", "y" or "xy"
+  Symmetry symmetry = Symmetry::none;
   TessellationOptions tessellation;
   FieldOptions field_options;  ///< D and A are taken from above
   fem::ShellDefaults shell;
@@ -69,23 +77,25 @@ struct DesignResult {
   std::vector<std::pair<std::string, double>> timings;  ///< stage → seconds, in order
 };
 
+/// Throws Error for options that can never work (D < 1, a negative size, …), before any work.
+void check_design_options(const DesignOptions& options);
+
 /// Runs the pipeline on `surface`. Throws Error for bad options or input.
 DesignResult run_design(const Surface& surface, const DesignOptions& options);
 /// The same with the stress stage replaced by a given stress per triangle of `surface.mesh`
-/// (e.g. a frame response, field/frame_response.h); `options.field` is then not read.
+/// (e.g. a frame response, field/frame_response.h); `options.field` is then not read (except
+/// `uniform`, which still means isotropic cells).
 DesignResult run_design(const Surface& surface, const DesignOptions& options,
                         const StressField& stress);
 
 /// Analyses a grid-shell as the paper's steel frame at `level` (linear | buckling | nonlinear).
 analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,
-                                        const std::string& level,
+                                        analysis::AnalysisLevel level,
                                         const analysis::GridshellFrameOptions& frame = {},
-                                        analysis::FrameAnalysisOptions options = {});
+                                        const analysis::FrameAnalysisOptions& options = {});
 
 /// The report.json `structure` block of a frame analysis (CONTRACT keys plus details).
 nlohmann::json structure_block(const analysis::FrameResult& r);
 
-/// Sets linear/buckling/nonlinear of `options` from a level name; throws Error("--analyze").
-void set_analysis_level(analysis::FrameAnalysisOptions& options, const std::string& level);
 
 }  // namespace gridshell

@@ -34,11 +34,11 @@ DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s
   DesignOptions o = base;
   o.D = s.D;
   o.A = s.A;
-  o.field = s.source == FieldSource::uniform ? "uniform" : "stress";
+  o.field = s.source == FieldSource::uniform ? FieldInput::uniform : FieldInput::stress;
   o.field_options.measure = s.measure;
   o.field_options.stretch = s.stretch;
   o.field_options.density = s.density;
-  o.analyze = "buckling";
+  o.analyze = analysis::AnalysisLevel::buckling;
   if (length > 0) {
     o.tessellation.length = length;
     o.tessellation.cells = 0;
@@ -240,7 +240,7 @@ DesignResult design_from_frame_response(const Surface& surface, const DesignOpti
   if (!values) throw Error("--field", "the isotropic design has no buckling mode to follow");
   const StressField response = frame_response_field(surface.mesh, iso.mesh, *values);
   DesignOptions o = options;
-  o.field = "stress";
+  o.field = FieldInput::stress;
   if (!(o.tessellation.length > 0)) {
     o.tessellation.length = iso.metrics.total_length;
     o.tessellation.cells = 0;
@@ -389,8 +389,8 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
         res.candidates.size());
   }
   res.design = std::move(*all[best].design);
-  if (base.analyze == "nonlinear" || base.analyze == "linear" || base.analyze == "none") {
-    if (base.analyze == "none") {
+  if (base.analyze != analysis::AnalysisLevel::buckling) {
+    if (base.analyze == analysis::AnalysisLevel::none) {
       res.design.structure.reset();
     } else {
       res.design.structure = analyze_gridshell(res.design.mesh, res.design.supports, base.analyze,

@@ -1333,7 +1333,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
       }
     }
     if (attempt >= 4)
-      throw Error("tessellation", "could not extract a valid polygon mesh (" + X.problem +
+      throw ExtractionError("tessellation", "could not extract a valid polygon mesh (" + X.problem +
                                       "); try another --seed or size");
     spdlog::info("tessellation: repairing ({}), refining the support mesh", X.problem);
     hr *= 0.5;
@@ -1425,8 +1425,7 @@ double length_on_planes(const PolyMesh& mesh, const TessellationOptions& o) {
 }
 }  // namespace
 
-Tessellation tessellate(const TriMesh& rest, const TriMesh& deformed,
-                        const std::vector<int>& rest_supports, const TessellationOptions& o) {
+void check_tessellation_options(const TessellationOptions& o) {
   const int given = (o.radius > 0) + (o.cells > 0) + (o.length > 0);
   if (given > 1) throw Error("--radius/--cells/--length", "give at most one of them");
   if (o.radius < 0 || !std::isfinite(o.radius)) throw Error("--radius", "must be positive");
@@ -1435,6 +1434,13 @@ Tessellation tessellate(const TriMesh& rest, const TriMesh& deformed,
   if (o.max_iterations < 0) throw Error("tessellation", "max_iterations must be ≥ 0");
   if (!(o.support_edge > 0) || !(o.extraction_edge > 0) || !(o.tolerance > 0))
     throw Error("tessellation", "support_edge, extraction_edge and tolerance must be positive");
+  if (!(o.length_tolerance > 0 && o.length_tolerance < 1))
+    throw Error("tessellation", "length_tolerance must be in (0, 1)");
+}
+
+Tessellation tessellate(const TriMesh& rest, const TriMesh& deformed,
+                        const std::vector<int>& rest_supports, const TessellationOptions& o) {
+  check_tessellation_options(o);
   (void)make_support_mesh(rest, deformed);  // validates
   const Adjacency adj = build_adjacency(rest.F, rest.num_vertices());
   std::vector<char> supported(rest.num_vertices(), 0);

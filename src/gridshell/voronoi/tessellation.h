@@ -34,6 +34,7 @@
 #include <utility>
 #include <vector>
 
+#include "gridshell/core/error.h"
 #include "gridshell/mesh/mesh.h"
 
 namespace gridshell {
@@ -45,6 +46,9 @@ struct TessellationOptions {
   double radius = 0;
   int cells = 0;      ///< cells (faces) wanted; exact unless below boundary seeds + 1
   double length = 0;  ///< total edge length on M wanted (m), held within `length_tolerance`
+  /// The one tolerance of `--length` (a share of the target): the tessellation aims at 0.4 of
+  /// it and warns beyond it; `design` tessellates once more when its finishing step moves the
+  /// total by more than 0.9 of it (pipeline/design.cpp, length control).
   double length_tolerance = 0.05;
   /// Edges with both ends on one of these planes (a point and a unit normal; within 1e-6 of the
   /// bounding-box diagonal) do not count towards `length`. A symmetric design tessellates a
@@ -136,6 +140,18 @@ struct Tessellation {
 /// stays supported; every supported input vertex off the boundary makes its nearest output
 /// vertex a support. Deterministic for `options.seed`. Throws Error for bad input (non-manifold
 /// surface, mismatched meshes, bad options) or when no valid mesh can be extracted.
+/// The one tessellation failure that another seed or a softer field may cure: no valid polygon
+/// mesh could be extracted (a cell not a disk after the repairs). Everything else is an Error
+/// of the input or the options.
+class ExtractionError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// Throws Error for size options that can never work (several of radius/cells/length, negative
+/// values, non-positive tolerances): called by tessellate, and by callers before other work.
+void check_tessellation_options(const TessellationOptions& options);
+
 Tessellation tessellate(const TriMesh& rest, const TriMesh& deformed,
                         const std::vector<int>& rest_supports, const TessellationOptions& options);
 
