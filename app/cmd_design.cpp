@@ -15,7 +15,7 @@
 #include "gridshell/io/files.h"
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/pipeline/design.h"
-#include "gridshell/pipeline/gridshell_output.h"
+#include "gridshell/pipeline/design_report.h"
 #include "gridshell/pipeline/objective.h"
 
 namespace gridshell::app {
@@ -64,53 +64,16 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   auto t0 = clock::now();
   const std::filesystem::path dir(a.run.out_dir);
   io::ensure_directory(dir);
-  GridShellOutput out;
-  out.mesh = r.mesh;
-  out.raw = r.raw;
-  out.supports = r.supports;
-  out.d_target = r.d_target;
-  out.a_target = r.a_target;
-  out.planarity = r.metrics.planarity;
-  out.regularity = r.metrics.regularity;
-  write_gridshell_files(dir, out);
+  write_gridshell_files(dir, design_output(r));
   io::write_vtp(dir / "field.vtp", to_poly(surface.mesh), {}, field_attributes(r.field));
-
-  nlohmann::json report;
+  nlohmann::json report = design_report(r, options);
   report["surface"] = a.surface;
-  nlohmann::json mesh = mesh_block(out);
-  mesh["planarity_mean_raw"] = r.raw_metrics.planarity_mean;
-  mesh["regularity_mean_raw"] = r.raw_metrics.regularity_mean;
-  mesh["edge_length_cv_raw"] = r.raw_metrics.edge_length_cv;
-  mesh["total_length_raw_m"] = r.raw_metrics.total_length;
-  const Tessellation& t = r.tessellation;
-  mesh["hex_share_interior_raw"] = t.quality.hex_share_interior;
-  mesh["radius_m"] = t.radius;
-  mesh["lloyd_iterations"] = t.iterations;
-  mesh["lloyd_converged"] = t.converged;
-  mesh["support_mesh_vertices"] = t.support_vertices;
-  mesh["length_runs"] = t.length_runs;
-  if (options.tessellation.length > 0) {
-    mesh["target_length_m"] = options.tessellation.length;
-    mesh["length_error"] = r.metrics.total_length / options.tessellation.length - 1;
-  }
-  report["mesh"] = mesh;
-  report["design"] = r.details;
-  report["design"]["regularized"] = options.regularize && !options.planarize;
-  report["design"]["planarized"] = options.planarize;
-  report["design"]["restretch"] = options.regularize_options.restretch;
-  report["design"]["size_evening"] = options.regularize_options.size_evening;
-  report["design"]["analysis"] = to_string(options.analyze);
-  if (searched) {
-    report["objective"] = searched->report();
-    report["objective"]["objective"] = a.objective;
-  }
-  if (r.structure) report["structure"] = structure_block(*r.structure);
-  nlohmann::json timings = nlohmann::json::object();
-  timings["load"] = t_load;
-  for (const auto& [stage, s] : r.timings) timings[stage] = timings.value(stage, 0.0) + s;
-  timings["write"] = std::chrono::duration<double>(clock::now() - t0).count();
-  timings["total"] = std::chrono::duration<double>(clock::now() - start).count();
-  report["timings_s"] = timings;
+  if (searched) report["objective"] = searched->report();
+  const double write_s = std::chrono::duration<double>(clock::now() - t0).count();
+  report["timings_s"] =
+      timings_block(r.timings, {{"load", t_load}, {"write", write_s}},
+                    std::chrono::duration<double>(clock::now() - start).count());
+  const nlohmann::json& timings = report["timings_s"];
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
   spdlog::info("[done] {} joints, {} panels, {:.1f} m of beams in {:.1f} s -> {}",

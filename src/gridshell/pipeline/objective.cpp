@@ -50,8 +50,10 @@ DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s
 /// D and A beyond ~4 fold the deformed surface (docs/field.md): the search stays below.
 constexpr double kMaxRatio = 4;
 
+/// Designs and judges one candidate. A failure marks the candidate failed, unless `rethrow`
+/// (the reference: its failure is the user's — a bad size or surface).
 Evaluated evaluate(const Surface& surface, const DesignOptions& base, const FieldSetting& s,
-                   const StressField* stress, double length, int round) {
+                   const StressField* stress, double length, int round, bool rethrow = false) {
   const auto t = Clock::now();
   Evaluated ev;
   ev.field = stress;
@@ -70,7 +72,8 @@ Evaluated evaluate(const Surface& surface, const DesignOptions& base, const Fiel
     if (!ev.candidate.ok) ev.candidate.error = "no frame result";
     ev.design = std::move(r);
   } catch (const Error& e) {
-    ev.candidate.error = e.what();
+    if (rethrow) throw;
+    ev.candidate.error = e.message();
   }
   ev.candidate.seconds = seconds_since(t);
   spdlog::info("[objective] {}: {}", s.label(),
@@ -184,6 +187,7 @@ std::string FieldSetting::label() const {
 nlohmann::json ObjectiveResult::report() const {
   nlohmann::json j;
   const Candidate& ref = candidates.front();
+  j["objective"] = to_string(objective);
   j["chosen"] = chosen;
   j["chosen_label"] = candidates[chosen].setting.label();
   j["reason"] = reason;
@@ -252,45 +256,17 @@ DesignResult design_from_frame_response(const Surface& surface, const DesignOpti
   return r;
 }
 
-ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions& base,
-                                     const ObjectiveOptions& options) {
-  const auto t0 = Clock::now();
-  if (!(options.tolerance >= 0 && options.tolerance < 1))
-    throw Error("objective", "tolerance must be in [0, 1)");
-  // 1. The isotropic reference (an error here is the user's: bad size, bad surface).
-  std::vector<Evaluated> all;
-  {
-    DesignOptions o = candidate_options(base, FieldSetting{}, 0);
-    const auto t = Clock::now();
-    Evaluated ref;
-    ref.candidate.setting = FieldSetting{};
-    DesignResult r = run_design(surface, o);
-    ref.candidate.length = r.metrics.total_length;
-    ref.candidate.cells = r.mesh.num_faces();
-    if (r.structure) {
-      ref.candidate.delta = r.structure->delta_max_m;
-      ref.candidate.lambda = r.structure->lambda_linear_buckling.value_or(0.0);
-    }
-    ref.candidate.ok = ref.candidate.delta > 0;
-    ref.candidate.seconds = seconds_since(t);
-    ref.design = std::move(r);
-    all.push_back(std::move(ref));
-    spdlog::info("[objective] isotropic reference: lambda_LBA = {:.4g}, delta = {:.4g} m, {:.1f} m",
-                 all[0].candidate.lambda, all[0].candidate.delta, all[0].candidate.length);
-  }
-  const double length =
-      base.tessellation.length > 0 ? base.tessellation.length : all[0].candidate.length;
+namespace {
 
-  // 2. Round 1: shell-stress conventions and frame-response fields.
-  StressField shell;
-  {
-    fem::ShellResult s = fem::analyze_surface_stress(surface, base.shell);
-    shell = std::move(s.stress);
-  }
-  std::deque<StressField> responses;  // stable addresses for the candidates' pointers
-  std::vector<std::pair<FieldSetting, const StressField*>> round1;
+using Pending = std::vector<std::pair<FieldSetting, const StressField*>>;
+
+/// Round 1: the shell stress in four conventions, and the reference's two frame responses (kept
+/// in `responses`, whose addresses the settings point to).
+Pending first_round(const Surface& surface, const DesignResult& reference,
+                    const StressField& shell, std::deque<StressField>& responses) {
+  Pending round;
   // (Across + falling, and frame-response fields with A = 2, were tried too and never came out
-  // best on the eleven surfaces of docs/field.md: left out to keep the search affordable.)
+  // best on the surfaces of docs/field.md: left out to keep the search affordable.)
   struct Convention {
     StressMeasure measure;
     StretchAxis stretch;
@@ -310,63 +286,66 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
     s.measure = c.measure;
     s.stretch = c.stretch;
     s.density = c.density;
-    round1.emplace_back(s, &shell);
+    round.emplace_back(s, &shell);
   }
   for (FieldSource src : {FieldSource::frame_mode, FieldSource::frame_energy}) {
-    const std::vector<double>* values = response_values(*all[0].design, src);
+    const std::vector<double>* values = response_values(reference, src);
     if (!values) continue;
-    responses.push_back(frame_response_field(surface.mesh, all[0].design->mesh, *values));
+    responses.push_back(frame_response_field(surface.mesh, reference.mesh, *values));
     FieldSetting s;
     s.source = src;
     s.D = 2;
     s.A = 1;
     s.feedback = 1;
-    round1.emplace_back(s, &responses.back());
+    round.emplace_back(s, &responses.back());
   }
-  for (Evaluated& e : evaluate_all(surface, base, round1, length, 1)) all.push_back(std::move(e));
+  return round;
+}
 
-  // 3. Local rounds, the same for every objective (so that each objective's choice is the best of
-  // one common pool: `lambda` never finds less λ than `delta` happened to): around the best-λ and
-  // the best-δ candidates so far — D one up and half down, A one up, and half their contrast (a
-  // gain in one figure often costs the other less than proportionally less) — until neither best
-  // changes, `rounds` is reached or `max_designs` are spent.
-  std::vector<std::string> explored;  // labels of the centres already varied
-  for (int round = 2; round <= options.rounds; ++round) {
-    std::vector<std::pair<FieldSetting, const StressField*>> next;
-    auto known = [&](const std::string& label) {
-      for (const Evaluated& e : all)
-        if (e.candidate.setting.label() == label) return true;
-      for (const auto& [t, f] : next)
-        if (t.label() == label) return true;
-      return false;
-    };
-    for (Objective one : {Objective::lambda, Objective::delta}) {
-      const int i = best_index(all, ObjectiveOptions{one, options.tolerance});
-      const FieldSetting b = all[i].candidate.setting;
-      if (i == 0 || std::find(explored.begin(), explored.end(), b.label()) != explored.end())
-        continue;
-      explored.push_back(b.label());
-      // (A second feedback step — the response of the winner's own frame — was worse than the
-      // first on all four surfaces where a frame-response field won: not tried.)
-      for (const std::array<double, 2>& DA :
-           {std::array<double, 2>{b.D + 1, b.A}, std::array<double, 2>{b.D, b.A + 1},
-            std::array<double, 2>{std::max(1.0, b.D - 0.5), b.A},
-            std::array<double, 2>{1 + 0.5 * (b.D - 1), 1 + 0.5 * (b.A - 1)}}) {
-        FieldSetting s = b;
-        s.D = std::min(DA[0], kMaxRatio);
-        s.A = std::min(DA[1], kMaxRatio);
-        if ((s.D != b.D || s.A != b.A) && !known(s.label()) &&
-            static_cast<int>(all.size() + next.size()) < options.max_designs)
-          next.emplace_back(s, all[i].field);
-      }
+/// A local round, the same for every objective (so that each objective's choice is the best of
+/// one common pool: `lambda` never finds less λ than `delta` happened to): the neighbours of the
+/// best-λ and the best-δ candidates not varied yet (`explored`) — D one up and half down, A one
+/// up, and half their contrast (a gain in one figure often costs the other less than
+/// proportionally less) — that were not tried, within `max_designs`.
+Pending local_round(const std::vector<Evaluated>& all, const ObjectiveOptions& options,
+                    std::vector<std::string>& explored) {
+  Pending round;
+  auto known = [&](const std::string& label) {
+    for (const Evaluated& e : all)
+      if (e.candidate.setting.label() == label) return true;
+    for (const auto& [t, f] : round)
+      if (t.label() == label) return true;
+    return false;
+  };
+  for (Objective one : {Objective::lambda, Objective::delta}) {
+    const int i = best_index(all, ObjectiveOptions{one, options.tolerance});
+    const FieldSetting b = all[i].candidate.setting;
+    if (i == 0 || std::find(explored.begin(), explored.end(), b.label()) != explored.end())
+      continue;
+    explored.push_back(b.label());
+    // (A second feedback step — the response of the winner's own frame — was worse than the
+    // first on all four surfaces where a frame-response field won: not tried.)
+    for (const std::array<double, 2>& DA :
+         {std::array<double, 2>{b.D + 1, b.A}, std::array<double, 2>{b.D, b.A + 1},
+          std::array<double, 2>{std::max(1.0, b.D - 0.5), b.A},
+          std::array<double, 2>{1 + 0.5 * (b.D - 1), 1 + 0.5 * (b.A - 1)}}) {
+      FieldSetting s = b;
+      s.D = std::min(DA[0], kMaxRatio);
+      s.A = std::min(DA[1], kMaxRatio);
+      if ((s.D != b.D || s.A != b.A) && !known(s.label()) &&
+          static_cast<int>(all.size() + round.size()) < options.max_designs)
+        round.emplace_back(s, all[i].field);
     }
-    if (next.empty()) break;
-    for (Evaluated& e : evaluate_all(surface, base, next, length, round)) all.push_back(std::move(e));
   }
-  const int best = best_index(all, options);
+  return round;
+}
 
-  // 4. The choice, analysed as asked.
+/// The choice among all candidates, why, and the chosen design analysed as `base` asks.
+ObjectiveResult choose(std::vector<Evaluated>& all, const DesignOptions& base,
+                       const ObjectiveOptions& options) {
+  const int best = best_index(all, options);
   ObjectiveResult res;
+  res.objective = options.objective;
   for (const Evaluated& e : all) res.candidates.push_back(e.candidate);
   res.chosen = best;
   for (Objective o : {Objective::lambda, Objective::delta, Objective::balanced})
@@ -389,16 +368,41 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
         res.candidates.size());
   }
   res.design = std::move(*all[best].design);
-  if (base.analyze != analysis::AnalysisLevel::buckling) {
-    if (base.analyze == analysis::AnalysisLevel::none) {
-      res.design.structure.reset();
-    } else {
-      res.design.structure = analyze_gridshell(res.design.mesh, res.design.supports, base.analyze,
-                                               base.frame, base.frame_analysis);
-    }
-  }
-  res.seconds = seconds_since(t0);
+  if (base.analyze == analysis::AnalysisLevel::none)
+    res.design.structure.reset();
+  else if (base.analyze != analysis::AnalysisLevel::buckling)
+    res.design.structure = analyze_gridshell(res.design.mesh, res.design.supports, base.analyze,
+                                             base.frame, base.frame_analysis);
   spdlog::info("[objective] chose {} ({})", c.setting.label(), res.reason);
+  return res;
+}
+
+}  // namespace
+
+ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions& base,
+                                     const ObjectiveOptions& options) {
+  const auto t0 = Clock::now();
+  if (!(options.tolerance >= 0 && options.tolerance < 1))
+    throw Error("objective", "tolerance must be in [0, 1)");
+  check_design_options(base);
+  std::vector<Evaluated> all;
+  all.push_back(evaluate(surface, base, FieldSetting{}, nullptr, 0, 1, true));
+  const double length =
+      base.tessellation.length > 0 ? base.tessellation.length : all[0].candidate.length;
+  const StressField shell = fem::analyze_surface_stress(surface, base.shell).stress;
+  std::deque<StressField> responses;
+  for (Evaluated& e : evaluate_all(surface, base,
+                                   first_round(surface, *all[0].design, shell, responses),
+                                   length, 1))
+    all.push_back(std::move(e));
+  std::vector<std::string> explored;
+  for (int round = 2; round <= options.rounds; ++round) {
+    const Pending next = local_round(all, options, explored);
+    if (next.empty()) break;
+    for (Evaluated& e : evaluate_all(surface, base, next, length, round)) all.push_back(std::move(e));
+  }
+  ObjectiveResult res = choose(all, base, options);
+  res.seconds = seconds_since(t0);
   return res;
 }
 

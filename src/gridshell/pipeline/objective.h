@@ -93,6 +93,7 @@ struct Candidate {
 };
 
 struct ObjectiveResult {
+  Objective objective = Objective::balanced;  ///< what was searched for
   DesignResult design;  ///< the chosen design, analysed at `base.analyze`
   std::vector<Candidate> candidates;
   int chosen = 0;       ///< index into candidates (0 = the isotropic reference)

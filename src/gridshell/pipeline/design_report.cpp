@@ -1,0 +1,56 @@
+#include "gridshell/pipeline/design_report.h"
+
+namespace gridshell {
+
+GridShellOutput design_output(const DesignResult& r) {
+  GridShellOutput out;
+  out.mesh = r.mesh;
+  out.raw = r.raw;
+  out.supports = r.supports;
+  out.d_target = r.d_target;
+  out.a_target = r.a_target;
+  out.planarity = r.metrics.planarity;
+  out.regularity = r.metrics.regularity;
+  return out;
+}
+
+nlohmann::json design_report(const DesignResult& r, const DesignOptions& options) {
+  nlohmann::json report;
+  nlohmann::json mesh = mesh_block(design_output(r));
+  mesh["planarity_mean_raw"] = r.raw_metrics.planarity_mean;
+  mesh["regularity_mean_raw"] = r.raw_metrics.regularity_mean;
+  mesh["edge_length_cv_raw"] = r.raw_metrics.edge_length_cv;
+  mesh["total_length_raw_m"] = r.raw_metrics.total_length;
+  const Tessellation& t = r.tessellation;
+  mesh["hex_share_interior_raw"] = t.quality.hex_share_interior;
+  mesh["radius_m"] = t.radius;
+  mesh["lloyd_iterations"] = t.iterations;
+  mesh["lloyd_converged"] = t.converged;
+  mesh["support_mesh_vertices"] = t.support_vertices;
+  mesh["length_runs"] = t.length_runs;
+  if (options.tessellation.length > 0) {
+    mesh["target_length_m"] = options.tessellation.length;
+    mesh["length_error"] = r.metrics.total_length / options.tessellation.length - 1;
+  }
+  report["mesh"] = mesh;
+  report["design"] = r.details;
+  report["design"]["regularized"] = options.regularize && !options.planarize;
+  report["design"]["planarized"] = options.planarize;
+  report["design"]["restretch"] = options.regularize_options.restretch;
+  report["design"]["size_evening"] = options.regularize_options.size_evening;
+  report["design"]["analysis"] = to_string(options.analyze);
+  if (r.structure) report["structure"] = structure_block(*r.structure);
+  return report;
+}
+
+nlohmann::json timings_block(const std::vector<std::pair<std::string, double>>& timings,
+                             const std::vector<std::pair<std::string, double>>& extra,
+                             double total) {
+  nlohmann::json block = nlohmann::json::object();
+  for (const auto* list : {&extra, &timings})
+    for (const auto& [stage, s] : *list) block[stage] = block.value(stage, 0.0) + s;
+  block["total"] = total;
+  return block;
+}
+
+}  // namespace gridshell
