@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <Eigen/Eigenvalues>
 #include <numbers>
 
 #include "gridshell/analysis/frame_analysis.h"
@@ -602,9 +603,21 @@ TEST(GridshellFrame, ImperfectionFollowsTheFirstBucklingMode) {
   const LinearResult lin = linear_static(fm, asmb);
   const BucklingResult b = linear_buckling(fm, asmb, lin);
   ASSERT_FALSE(b.modes.empty());
+  // The mode solves the buckling problem K φ = λ (−K_G) φ for its λ (matrices of the perfect
+  // geometry: the assembler reads the mesh, so they are formed before it is perturbed).
+  const Eigen::VectorXd& phi = b.modes[0];
+  const SpMat K = asmb.linear_stiffness(), KG = asmb.geometric_stiffness(lin.axial);
+  const Eigen::VectorXd Kphi = K * phi;
+  EXPECT_LT((Kphi + b.lambdas[0] * (KG * phi)).norm(), 1e-6 * Kphi.norm());
   const Points X0 = fm.X;
   analysis::perturb_geometry(fm, b.modes[0], 0.02);
   EXPECT_NEAR((fm.X - X0).rowwise().norm().maxCoeff(), 0.02, 1e-12);  // modes: max |u| = 1
+  // The perturbation is the mode itself, dof by dof.
+  for (int v = 0; v < static_cast<int>(X0.rows()); ++v)
+    for (int c = 0; c < 3; ++c) {
+      const int eq = fm.dof[v][c];
+      EXPECT_NEAR(fm.X(v, c) - X0(v, c), eq >= 0 ? 0.02 * phi(eq) : 0.0, 1e-14);
+    }
   // The imperfect shell reaches its critical point no later than the perfect one (within the
   // bracket tolerance), and both are finite.
   analysis::FrameAnalysisOptions o;

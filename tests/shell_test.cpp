@@ -16,9 +16,11 @@
 #include "gridshell/core/error.h"
 #include "gridshell/fem/shell_element.h"
 #include "gridshell/fem/shell_solver.h"
+#include "gridshell/field/field.h"
 #include "gridshell/io/files.h"
 #include "gridshell/io/shell_model_json.h"
 #include "gridshell/surfaces/grid.h"
+#include "gridshell/surfaces/load.h"
 #include "test_support.h"
 
 using namespace gridshell;
@@ -498,6 +500,16 @@ TEST(ShellCli, SurfaceWithDefaults) {
   const double reacted = rep["shell"]["reaction_force_N"][2].get<double>();
   EXPECT_LT(applied, 0);
   EXPECT_NEAR(reacted, -applied, 1e-8 * std::abs(applied));
+  // The load's size: 2 kN/m² times the plan area of the surface (its triangles projected on
+  // the xy plane), computed here independently.
+  const Surface dome = load_surface("builtin:dome:res=10");
+  double plan = 0;
+  for (int f = 0; f < dome.mesh.num_faces(); ++f) {
+    const Vec3 a = dome.mesh.vertex(dome.mesh.F(f, 0)), b = dome.mesh.vertex(dome.mesh.F(f, 1)),
+               c = dome.mesh.vertex(dome.mesh.F(f, 2));
+    plan += 0.5 * std::abs((b - a).cross(c - a).z());
+  }
+  EXPECT_NEAR(applied, -2e3 * plan, 1e-9 * 2e3 * plan);
   const auto cfg = nlohmann::json::parse(io::read_file(dir / "config.json"));
   EXPECT_EQ(cfg["command"], "stress");
   // The run repeats from its config.json.
@@ -618,4 +630,65 @@ TEST(ShellSolver, SplitFactorisationOfTwoSeparatePieces) {
   const double scale = r1.displacement.cwiseAbs().maxCoeff();
   ASSERT_GT(scale, 0);
   EXPECT_LT((r1.displacement - r2.displacement).cwiseAbs().maxCoeff(), 1e-9 * scale) << r2.ordering;
+}
+
+// A closed-ended cylinder under internal pressure p (radius R, wall t): away from its ends the
+// membrane state is hoop σθ = pR/t and axial σz = pR/(2t) — the classic anisotropic closed form
+// (hoop = 2 × axial). The ends: z = 0 held axially (three tangential fixities stop the rigid
+// motions, radial growth stays free), the end cap's resultant p·πR² pulls the ring at z = L.
+// The field stage reads it as u along the hoop and a raw anisotropy of 2.
+TEST(ShellSolver, PressurisedCylinderHoopIsTwiceAxial) {
+  const int nt = 64, nz = 32;
+  const double R = 1.0, L = 4.0, t = 0.01, p = 1e5;
+  ShellModel model;
+  model.thickness = t;
+  model.mesh.V.resize(nt * (nz + 1), 3);
+  for (int j = 0; j <= nz; ++j)
+    for (int i = 0; i < nt; ++i) {
+      const double th = 2 * std::numbers::pi * i / nt;
+      model.mesh.V.row(j * nt + i) << R * std::cos(th), R * std::sin(th), L * j / nz;
+    }
+  model.mesh.F.resize(2 * nt * nz, 3);
+  for (int j = 0, f = 0; j < nz; ++j)
+    for (int i = 0; i < nt; ++i) {
+      const int a = j * nt + i, b = j * nt + (i + 1) % nt, c = a + nt, d = b + nt;
+      model.mesh.F.row(f++) << a, b, d;  // outward normals (counter-clockwise seen from outside)
+      model.mesh.F.row(f++) << a, d, c;
+    }
+  model.fixed.assign(model.mesh.num_vertices(), {false, false, false, false, false, false});
+  for (int i = 0; i < nt; ++i) model.fixed[i][kUz] = true;
+  model.fixed[0][kUy] = true;           // θ = 0
+  model.fixed[nt / 4][kUx] = true;      // θ = 90°
+  model.fixed[nt / 2][kUy] = true;      // θ = 180°
+  ShellLoad pressure;
+  pressure.kind = ShellLoad::Kind::kPressure;
+  pressure.p = -p;  // force −p·n·area with outward n: outward for p < 0
+  model.loads.push_back(pressure);
+  for (int i = 0; i < nt; ++i) {
+    ShellLoad cap;
+    cap.node = nz * nt + i;
+    cap.force = Vec3(0, 0, p * std::numbers::pi * R * R / nt);
+    model.loads.push_back(cap);
+  }
+  const ShellResult r = solve_shell(model);
+  int checked = 0;
+  for (int f = 0; f < model.mesh.num_faces(); ++f) {
+    const Vec3 c = test::centroid(model.mesh, f);
+    if (c.z() < 1 || c.z() > L - 1) continue;
+    ++checked;
+    const PrincipalStress& s = r.stress[f];
+    EXPECT_NEAR(s.s1 / (p * R / t), 1.0, 0.01) << f;
+    EXPECT_NEAR(s.s2 / (p * R / (2 * t)), 1.0, 0.02) << f;
+    EXPECT_LT(std::abs(s.d1.z()), 0.02) << f;  // the hoop direction
+  }
+  EXPECT_GT(checked, nt * nz / 3);
+  FieldOptions fo;
+  fo.coherence_exponent = 0;
+  const Field fd = make_field(model.mesh, r.stress, fo);
+  for (int f = 0; f < model.mesh.num_faces(); ++f) {
+    const Vec3 c = test::centroid(model.mesh, f);
+    if (c.z() < 1 || c.z() > L - 1) continue;
+    EXPECT_NEAR(fd.a_raw[f], 2.0, 0.05) << f;
+    EXPECT_LT(std::abs(fd.u_raw[f].z()), 0.02) << f;
+  }
 }

@@ -17,10 +17,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Small cells and a linear analysis keep 3 × 48 designs within a minute; what is tested is the
-// schedule, not the structure.
+// Small cells and a linear + buckling analysis keep 3 × 48 designs within a minute; what is
+// tested is the schedule (and that each row is the design its case names), not the structure.
 const std::string kSweep =
-    "sweep builtin:dome --D 1:4 --A 1:4 --repeats 3 --cells 30 --analyze linear --quiet ";
+    "sweep builtin:dome --D 1:4 --A 1:4 --repeats 3 --cells 30 --analyze buckling --quiet ";
 
 std::vector<std::string> rows(const fs::path& dir) {
   std::ifstream in(dir / "sweep.csv");
@@ -74,8 +74,31 @@ TEST_F(SweepCli, FullGridGivesFortyEightRowsWithDistinctSeeds) {
     seeds.push_back(seed);
     EXPECT_GT(std::stod(length), 0) << l;
     EXPECT_GT(std::stod(delta), 0) << l;
+    EXPECT_GT(std::stod(lambda), 0) << l;
     EXPECT_GE(std::stoi(cells), 20) << l;
   }
+  // A row is the design its case names: `design` with that (D, A) and seed gives the same
+  // cells, length, λ_LBA and δ (an independent run of the same pipeline).
+  std::istringstream s(all[22]);  // D = 2, A = 4, repeat 1
+  std::vector<std::string> col(8);
+  for (auto& c : col) std::getline(s, c, ',');
+  ASSERT_EQ(col[0] + "," + col[1] + "," + col[2], "2,4,1");
+  const fs::path one = dir_ / "one";
+  const auto r = run_gridshell("design builtin:dome -D 2 -A 4 --cells 30 --seed " + col[3] +
+                               " --analyze buckling --quiet -o " + one.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream rep(one / "report.json");
+  std::stringstream ss;
+  ss << rep.rdbuf();
+  const std::string json = ss.str();
+  auto value = [&](const std::string& key) {
+    const auto at = json.find("\"" + key + "\": ");
+    EXPECT_NE(at, std::string::npos) << key;
+    return std::stod(json.substr(at + key.size() + 4));
+  };
+  EXPECT_EQ(value("faces"), std::stod(col[4]));
+  EXPECT_NEAR(value("lambda_linear_buckling") / std::stod(col[6]), 1.0, 1e-5);
+  EXPECT_NEAR(value("delta_max_m") / std::stod(col[7]), 1.0, 1e-5);
   std::sort(seeds.begin(), seeds.end());
   EXPECT_EQ(std::unique(seeds.begin(), seeds.end()), seeds.end());
   EXPECT_TRUE(fs::exists(dir_ / "all" / "lambda.svg"));
@@ -101,14 +124,14 @@ TEST_F(SweepCli, ShardsTogetherReproduceTheRows) {
 
 TEST_F(SweepCli, TwoMpiRanksReproduceTheRowsInOrder) {
   const std::string mpiexec = GRIDSHELL_MPIEXEC;
-  if (mpiexec.empty()) GTEST_SKIP() << "built without MPI";
+  if (mpiexec.empty()) SKIP_OR_FAIL_IN_CI("built without MPI");
   // Open MPI refuses root unless told; CI runs as root.
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
   // A machine whose MPI runtime cannot start two ranks at all (no usable transport in a
   // container) says nothing about gridshell: skip, naming the cause.
   const std::string probe = mpiexec + " --oversubscribe -n 2 true >/dev/null 2>&1 </dev/null";
-  if (std::system(probe.c_str()) != 0) GTEST_SKIP() << "the MPI runtime cannot start 2 ranks here";
+  if (std::system(probe.c_str()) != 0) SKIP_OR_FAIL_IN_CI("the MPI runtime cannot start 2 ranks here");
   const fs::path out = dir_ / "mpi";
   const std::string cmd = mpiexec + " --oversubscribe -n 2 " + std::string(GRIDSHELL_EXE) + " " +
                           kSweep + "-o " + out.string() + " >" + (dir_ / "mpi.log").string() +

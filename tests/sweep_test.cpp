@@ -39,12 +39,22 @@ TEST(Sweep, ParallelRunFillsRowsInCaseOrder) {
   auto run = [](const SweepCase& c) {
     SweepRow r;
     r.c = c;
-    r.lambda = c.D * 10 + c.A;
+    r.lambda = c.D * 10 + c.A + c.repeat;  // mean over the two repeats: 10 D + A + 0.5
     return r;
   };
   auto par = run_sweep(cases, run, true), seq = run_sweep(cases, run, false);
   EXPECT_EQ(sweep_csv(par), sweep_csv(seq));
-  EXPECT_EQ(par[5].lambda, 13);
+  EXPECT_EQ(par[5].lambda, 14);  // D = 1, A = 3, repeat 1
   std::string svg = sweep_heatmap_svg(par, "lambda", [](const SweepRow& r) { return r.lambda; });
-  EXPECT_NE(svg.find("23"), std::string::npos);  // mean of (D=2, A=3) shown
+  // One cell per (D, A), each labelled with its mean at its place: D = 2 is the second column
+  // (x = 60 + 70 + 35), A = 3 the top row of three (y = 50 + 35 + 4).
+  std::size_t rects = 0;
+  for (auto at = svg.find("<rect"); at != std::string::npos; at = svg.find("<rect", at + 1)) ++rects;
+  EXPECT_EQ(rects, 6u);
+  EXPECT_NE(svg.find("<text x=\"165\" y=\"89\" text-anchor=\"middle\">23.5</text>"),
+            std::string::npos)
+      << svg;
+  EXPECT_NE(svg.find("<text x=\"95\" y=\"229\" text-anchor=\"middle\">11.5</text>"),
+            std::string::npos)
+      << svg;
 }
