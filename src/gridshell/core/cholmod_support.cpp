@@ -46,8 +46,7 @@ SerialOpenMpScope::~SerialOpenMpScope() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// dpotrf_ for small blocks (see the header). CHOLMOD calls LAPACK's dpotrf_ on the diagonal block
-// of every supernode; this definition in the executable takes precedence over liblapack's.
+// small_potrf: what src/interpose/dpotrf.cpp's dpotrf_ uses for small blocks (see the header).
 
 namespace {
 
@@ -101,18 +100,3 @@ int small_potrf(char uplo, int n, double* a, int lda) {
 
 }  // namespace gridshell
 
-extern "C" void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info) {
-  const bool valid_uplo = *uplo == 'L' || *uplo == 'l' || *uplo == 'U' || *uplo == 'u';
-  if (valid_uplo && *n >= 0 && *n <= gridshell::kSmallPotrfMax && *lda >= std::max(1, *n)) {
-    *info = gridshell::small_potrf(*uplo, *n, a, *lda);
-    return;
-  }
-  using PotrfFn = void (*)(const char*, const int*, double*, const int*, int*);
-  static const auto next = std::bit_cast<PotrfFn>(dlsym(RTLD_NEXT, "dpotrf_"));
-  if (next != nullptr)
-    next(uplo, n, a, lda, info);
-  else if (valid_uplo && *n >= 0 && *lda >= std::max(1, *n))
-    *info = gridshell::small_potrf(*uplo, *n, a, *lda);
-  else
-    *info = -1;
-}

@@ -17,7 +17,10 @@
 ///   block; most blocks are small (50 K-triangle shell: 10 000 calls, n ≈ 40 on average), where
 ///   the LAPACKs Debian offers spend ~40 µs per call in per-call overhead (ATLAS recursing into
 ///   BLAS: 0.5 GFlop/s, 0.4 s of a 1.5 s factorisation; libflame and reference LAPACK are no
-///   better). This library therefore defines `dpotrf_` itself: blocks up to `kSmallPotrfMax` are
+///   better). The project therefore has its own `dpotrf_` (src/interpose/dpotrf.cpp, CMake
+///   target `gridshell_dpotrf`, linked into the gridshell executable, the tests and the
+///   benchmarks; the library alone does not replace a routine of the process that links it):
+///   blocks up to `kSmallPotrfMax` are
 ///   factorised in place by `small_potrf` (a plain column Cholesky, same result to rounding and
 ///   the same `info` for a matrix that is not positive definite), larger ones are passed on to
 ///   the system LAPACK (`dlsym(RTLD_NEXT)`), which is fast there. Not Eigen's in-place LLT:
