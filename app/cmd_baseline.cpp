@@ -35,17 +35,17 @@ struct BaselineArgs {
 
 int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   auto guard = apply_run_options(a.run);
-  using clock = std::chrono::steady_clock;
-  const auto t0 = clock::now();
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
   nlohmann::json timings;
-  auto lap = [&](const char* stage, clock::time_point since) {
-    timings[stage] = std::chrono::duration<double>(clock::now() - since).count();
+  auto lap = [&](const char* stage, Clock::time_point since) {
+    timings[stage] = std::chrono::duration<double>(Clock::now() - since).count();
   };
   const analysis::AnalysisLevel level = analysis::parse_analysis_level(a.analyze);
   Surface surface = load_surface(a.surface, a.surface_options);
   lap("load", t0);
   GridShellOutput out;
-  const auto t1 = clock::now();
+  const auto t1 = Clock::now();
   if (a.kind == "quad") {
     QuadGridOptions qo;
     qo.angle = a.angle_deg * 3.14159265358979323846 / 180;
@@ -118,7 +118,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   }
   std::optional<analysis::FrameResult> structure;
   if (level != analysis::AnalysisLevel::none) {
-    const auto t2 = clock::now();
+    const auto t2 = Clock::now();
     spdlog::info("[analysis] {} frame: {} joints", a.analyze, out.mesh.num_vertices());
     structure = analyze_gridshell(out.mesh, out.supports, level);
     lap("analysis", t2);
@@ -134,7 +134,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     report["mesh"]["length_error"] = report["mesh"]["total_length_m"].get<double>() / a.length - 1;
   }
   if (structure) report["structure"] = structure_block(*structure);
-  timings["total"] = std::chrono::duration<double>(clock::now() - t0).count();
+  timings["total"] = std::chrono::duration<double>(Clock::now() - t0).count();
   report["timings_s"] = timings;
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);

@@ -36,8 +36,8 @@ struct DesignArgs {
 
 int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const auto guard = apply_run_options(a.run);
-  using clock = std::chrono::steady_clock;
-  const auto start = clock::now();
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
   DesignOptions options = a.design;
   options.tessellation.seed = a.run.seed;
   options.regularize = !a.no_regularize;
@@ -54,14 +54,14 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   check_design_options(options);
   spdlog::info("[load] {}", a.surface);
   const Surface surface = load_surface(a.surface, a.surface_options);
-  const double t_load = std::chrono::duration<double>(clock::now() - start).count();
+  const double t_load = std::chrono::duration<double>(Clock::now() - start).count();
   std::optional<ObjectiveResult> searched;
   if (a.search) searched = design_for_objective(surface, options, objective);
   const DesignResult r = searched   ? std::move(searched->design)
                          : response ? design_from_frame_response(surface, options, *response)
                                     : run_design(surface, options);
 
-  auto t0 = clock::now();
+  auto t0 = Clock::now();
   const std::filesystem::path dir(a.run.out_dir);
   io::ensure_directory(dir);
   write_gridshell_files(dir, design_output(r));
@@ -69,10 +69,10 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   nlohmann::json report = design_report(r, options);
   report["surface"] = a.surface;
   if (searched) report["objective"] = searched->report();
-  const double write_s = std::chrono::duration<double>(clock::now() - t0).count();
+  const double write_s = std::chrono::duration<double>(Clock::now() - t0).count();
   report["timings_s"] =
       timings_block(r.timings, {{"load", t_load}, {"write", write_s}},
-                    std::chrono::duration<double>(clock::now() - start).count());
+                    std::chrono::duration<double>(Clock::now() - start).count());
   const nlohmann::json& timings = report["timings_s"];
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
