@@ -15,6 +15,7 @@
 #include "gridshell/io/frame_model_json.h"
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/pipeline/design.h"
+#include "gridshell/pipeline/frame_output.h"
 
 namespace gridshell::app {
 
@@ -43,12 +44,8 @@ std::string lower_ext(const std::string& path) {
   return e;
 }
 
-std::string fmt_num(double x) {
-  return io::format_number(x);
-}
-
-int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
-  const auto guard = apply_run_options(a.run);
+/// Every option checked before any work.
+void check_analyze_args(const AnalyzeArgs& a) {
   if (a.elements < 1 || a.elements > 1000) throw Error("--elements", "must be in 1..1000");
   if (!(a.area_load >= 0) || !std::isfinite(a.area_load))
     throw Error("--area-load", "must be a number >= 0 (kN/m²)");
@@ -61,70 +58,81 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   if (a.max_steps < 1) throw Error("--max-steps", "must be >= 1");
   if (!(a.displacement_limit >= 0) || !std::isfinite(a.displacement_limit))
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
+  if (a.analyze != "auto") {
+    if (analysis::parse_analysis_level(a.analyze) == analysis::AnalysisLevel::none)
+      throw Error("--analyze", "must be linear, buckling or nonlinear");
+  }
+}
 
+/// The frame to analyse: a MODEL.json as it is (plus --area-load on its faces), or a grid-shell
+/// mesh as the paper's steel frame; its supported nodes; what a MODEL.json asks to analyse.
+struct LoadedFrame {
   fem::FrameModel model;
   std::vector<int> supports;
   io::ModelAnalysisRequest request;
-  const bool is_json = lower_ext(a.input) == ".json";
-  if (is_json) {
-    io::FrameModelFile f = io::read_frame_model(a.input, 1);
-    model = std::move(f.model);
-    request = f.analysis;
-    if (a.area_load > 0) {
-      if (model.faces.empty()) throw Error("--area-load", "the model has no faces to carry it");
-      PolyMesh pm;
-      pm.V = model.nodes;
-      pm.faces = model.faces;
-      const std::vector<double> trib = analysis::tributary_areas(pm);
-      for (int v = 0; v < model.num_nodes(); ++v)
-        if (trib[v] > 0)
-          model.loads.push_back({v, Vec3(0, 0, -a.area_load * 1e3 * trib[v]), Vec3::Zero()});
-    }
-  } else {
-    SurfaceOptions so = a.surface_options;
-    std::vector<int> comment;
-    if (so.supports == "auto" && lower_ext(a.input) == ".obj")
-      comment = io::read_obj_supports_comment(a.input);
-    PolySurface s = load_poly_surface(a.input, so);
-    if (!comment.empty()) {
-      for (int v : comment)
-        if (v >= s.mesh.num_vertices())
-          throw Error(a.input,
-                      fmt::format("'# supports' lists vertex {} of {}", v, s.mesh.num_vertices()));
-      s.supports = comment;
-    }
-    if (s.supports.empty())
-      throw Error(a.input, "no support vertices: the grid-shell is a mechanism");
-    analysis::GridshellFrameOptions go;
-    go.diameter = a.diameter;
-    go.elements = a.elements;
-    go.self_weight_at_bars = a.self_weight == "at-bars";
-    go.area_load_kN_m2 = a.area_load;
-    model = analysis::gridshell_frame(s.mesh, s.supports, go);
-    supports = s.supports;
-  }
-  if (is_json)
-    for (const auto& s : model.supports) supports.push_back(s.node);
+};
 
+LoadedFrame load_frame(const AnalyzeArgs& a) {
+  LoadedFrame f;
+  if (lower_ext(a.input) == ".json") {
+    io::FrameModelFile file = io::read_frame_model(a.input, 1);
+    f.model = std::move(file.model);
+    f.request = file.analysis;
+    if (a.area_load > 0) {
+      if (f.model.faces.empty()) throw Error("--area-load", "the model has no faces to carry it");
+      PolyMesh pm;
+      pm.V = f.model.nodes;
+      pm.faces = f.model.faces;
+      const std::vector<double> trib = analysis::tributary_areas(pm);
+      for (int v = 0; v < f.model.num_nodes(); ++v)
+        if (trib[v] > 0)
+          f.model.loads.push_back({v, Vec3(0, 0, -a.area_load * 1e3 * trib[v]), Vec3::Zero()});
+    }
+    for (const auto& s : f.model.supports) f.supports.push_back(s.node);
+    return f;
+  }
+  SurfaceOptions so = a.surface_options;
+  std::vector<int> comment;
+  if (so.supports == "auto" && lower_ext(a.input) == ".obj")
+    comment = io::read_obj_supports_comment(a.input);
+  PolySurface s = load_poly_surface(a.input, so);
+  if (!comment.empty()) {
+    for (int v : comment)
+      if (v >= s.mesh.num_vertices())
+        throw Error(a.input,
+                    fmt::format("'# supports' lists vertex {} of {}", v, s.mesh.num_vertices()));
+    s.supports = comment;
+  }
+  if (s.supports.empty())
+    throw Error(a.input, "no support vertices: the grid-shell is a mechanism");
+  analysis::GridshellFrameOptions go;
+  go.diameter = a.diameter;
+  go.elements = a.elements;
+  go.self_weight_at_bars = a.self_weight == "at-bars";
+  go.area_load_kN_m2 = a.area_load;
+  f.model = analysis::gridshell_frame(s.mesh, s.supports, go);
+  f.supports = s.supports;
+  return f;
+}
+
+/// `--analyze auto`: what a MODEL.json's `analysis` asks, else the whole (non-linear) analysis.
+analysis::AnalysisLevel analysis_level(const std::string& word,
+                                       const io::ModelAnalysisRequest& request) {
+  if (word != "auto") return analysis::parse_analysis_level(word);
+  if (request.nonlinear.value_or(false)) return analysis::AnalysisLevel::nonlinear;
+  if (request.buckling.value_or(false)) return analysis::AnalysisLevel::buckling;
+  if (request.linear.has_value() || request.buckling.has_value() ||
+      request.nonlinear.has_value() || request.nonlinear_static.has_value())
+    return analysis::AnalysisLevel::linear;
+  return analysis::AnalysisLevel::nonlinear;
+}
+
+analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a,
+                                                analysis::AnalysisLevel level,
+                                                const io::ModelAnalysisRequest& request) {
   analysis::FrameAnalysisOptions o;
   o.subject = a.input;
-  std::string level = a.analyze;
-  if (level == "auto") {
-    if (request.nonlinear.value_or(false)) {
-      level = "nonlinear";
-    } else if (request.buckling.value_or(false)) {
-      level = "buckling";
-    } else if (request.linear.has_value() || request.buckling.has_value() ||
-               request.nonlinear.has_value() || request.nonlinear_static.has_value()) {
-      level = "linear";
-    } else {
-      level = "nonlinear";
-    }
-  }
-  const analysis::AnalysisLevel analysis_level = analysis::parse_analysis_level(level);
-  if (analysis_level == analysis::AnalysisLevel::none)
-    throw Error("--analyze", "must be linear, buckling or nonlinear");
-  o = analysis::at_level(o, analysis_level);
+  o = analysis::at_level(o, level);
   o.buckling_modes = a.modes;
   o.imperfection = a.imperfection || a.imperfection_amplitude > 0;
   o.imperfection_amplitude = a.imperfection_amplitude;
@@ -133,69 +141,26 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   o.arc.max_steps = a.max_steps;
   o.displacement_limit = a.displacement_limit;
   if (o.imperfection && !o.buckling) o.buckling = true;
+  return o;
+}
 
+int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
+  const auto guard = apply_run_options(a.run);
+  check_analyze_args(a);
+  const LoadedFrame f = load_frame(a);
+  const analysis::AnalysisLevel level = analysis_level(a.analyze, f.request);
   io::ensure_directory(a.run.out_dir);
-  const analysis::FrameResult r = analysis::analyze_frame(model, o);
-
-  const std::filesystem::path dir(a.run.out_dir);
-  std::vector<char> is_support(model.num_nodes(), 0);
-  for (int v : supports)
-    if (v >= 0 && v < model.num_nodes()) is_support[v] = 1;
-  {
-    std::string s = "node,x,y,z,ux,uy,uz,support\n";
-    for (int v = 0; v < model.num_nodes(); ++v)
-      s += fmt::format("{},{},{},{},{},{},{},{}\n", v, fmt_num(model.nodes(v, 0)),
-                       fmt_num(model.nodes(v, 1)), fmt_num(model.nodes(v, 2)),
-                       fmt_num(r.displacement(v, 0)), fmt_num(r.displacement(v, 1)),
-                       fmt_num(r.displacement(v, 2)), int(is_support[v]));
-    io::write_file_atomic(dir / "nodes.csv", s);
-  }
-  {
-    std::string s = "beam,node_i,node_j,length,axial_force\n";
-    for (size_t m = 0; m < model.members.size(); ++m)
-      s += fmt::format("{},{},{},{},{}\n", m, model.members[m].i, model.members[m].j,
-                       fmt_num(fem::member_length(model, static_cast<int>(m))),
-                       fmt_num(r.axial_force[m]));
-    io::write_file_atomic(dir / "beams.csv", s);
-  }
-  {
-    std::string s = "lambda,displacement\n";
-    for (const auto& p : r.path)
-      s += fmt::format("{},{}\n", fmt_num(p.lambda), fmt_num(p.displacement));
-    io::write_file_atomic(dir / "path.csv", s);
-  }
-  if (r.nonlinear_displacement) {
-    const Points& U = *r.nonlinear_displacement;
-    const Points& R = *r.nonlinear_rotation;
-    std::string s = "node,x,y,z,ux,uy,uz,support,rx,ry,rz\n";
-    for (int v = 0; v < model.num_nodes(); ++v)
-      s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", v, fmt_num(model.nodes(v, 0)),
-                       fmt_num(model.nodes(v, 1)), fmt_num(model.nodes(v, 2)), fmt_num(U(v, 0)),
-                       fmt_num(U(v, 1)), fmt_num(U(v, 2)), int(is_support[v]), fmt_num(R(v, 0)),
-                       fmt_num(R(v, 1)), fmt_num(R(v, 2)));
-    io::write_file_atomic(dir / "nodes_nonlinear.csv", s);
-  }
-  {
-    std::vector<std::array<int, 2>> lines;
-    Eigen::MatrixXd axial(model.members.size(), 1);
-    for (size_t m = 0; m < model.members.size(); ++m) {
-      lines.push_back({model.members[m].i, model.members[m].j});
-      axial(m, 0) = r.axial_force[m];
-    }
-    Eigen::MatrixXd disp = r.displacement;
-    Eigen::MatrixXd sup(model.num_nodes(), 1);
-    for (int v = 0; v < model.num_nodes(); ++v) sup(v, 0) = is_support[v];
-    io::write_vtp_lines(dir / "frame.vtp", model.nodes, lines,
-                        {{"displacement", disp}, {"support", sup}}, {{"axial_force", axial}});
-  }
+  const analysis::FrameResult r =
+      analysis::analyze_frame(f.model, analysis_options(a, level, f.request));
+  write_frame_outputs(a.run.out_dir, f.model, f.supports, r);
   nlohmann::json report;
   nlohmann::json st = structure_block(r);
   st.erase("timings_s");  // report.json has them at the top level
-  st["nodes"] = model.num_nodes();
-  st["members"] = model.members.size();
-  st["supports"] = supports.size();
-  st["analysis"] = level;
-  Vec3 total = fem::total_load(model);
+  st["nodes"] = f.model.num_nodes();
+  st["members"] = f.model.members.size();
+  st["supports"] = f.supports.size();
+  st["analysis"] = to_string(level);
+  const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
   report["structure"] = st;
   report["timings_s"] = r.timings;

@@ -1,0 +1,73 @@
+#include "gridshell/pipeline/frame_output.h"
+
+#include <array>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "gridshell/io/files.h"
+#include "gridshell/io/mesh_io.h"
+
+namespace gridshell {
+
+namespace {
+std::string fmt_num(double x) {
+  return io::format_number(x);
+}
+}  // namespace
+
+void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel& model,
+                         const std::vector<int>& supports, const analysis::FrameResult& r) {
+  std::vector<char> is_support(model.num_nodes(), 0);
+  for (int v : supports)
+    if (v >= 0 && v < model.num_nodes()) is_support[v] = 1;
+  {
+    std::string s = "node,x,y,z,ux,uy,uz,support\n";
+    for (int v = 0; v < model.num_nodes(); ++v)
+      s += fmt::format("{},{},{},{},{},{},{},{}\n", v, fmt_num(model.nodes(v, 0)),
+                       fmt_num(model.nodes(v, 1)), fmt_num(model.nodes(v, 2)),
+                       fmt_num(r.displacement(v, 0)), fmt_num(r.displacement(v, 1)),
+                       fmt_num(r.displacement(v, 2)), int(is_support[v]));
+    io::write_file_atomic(dir / "nodes.csv", s);
+  }
+  {
+    std::string s = "beam,node_i,node_j,length,axial_force\n";
+    for (size_t m = 0; m < model.members.size(); ++m)
+      s += fmt::format("{},{},{},{},{}\n", m, model.members[m].i, model.members[m].j,
+                       fmt_num(fem::member_length(model, static_cast<int>(m))),
+                       fmt_num(r.axial_force[m]));
+    io::write_file_atomic(dir / "beams.csv", s);
+  }
+  {
+    std::string s = "lambda,displacement\n";
+    for (const auto& p : r.path)
+      s += fmt::format("{},{}\n", fmt_num(p.lambda), fmt_num(p.displacement));
+    io::write_file_atomic(dir / "path.csv", s);
+  }
+  if (r.nonlinear_displacement) {
+    const Points& U = *r.nonlinear_displacement;
+    const Points& R = *r.nonlinear_rotation;
+    std::string s = "node,x,y,z,ux,uy,uz,support,rx,ry,rz\n";
+    for (int v = 0; v < model.num_nodes(); ++v)
+      s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", v, fmt_num(model.nodes(v, 0)),
+                       fmt_num(model.nodes(v, 1)), fmt_num(model.nodes(v, 2)), fmt_num(U(v, 0)),
+                       fmt_num(U(v, 1)), fmt_num(U(v, 2)), int(is_support[v]), fmt_num(R(v, 0)),
+                       fmt_num(R(v, 1)), fmt_num(R(v, 2)));
+    io::write_file_atomic(dir / "nodes_nonlinear.csv", s);
+  }
+  {
+    std::vector<std::array<int, 2>> lines;
+    Eigen::MatrixXd axial(model.members.size(), 1);
+    for (size_t m = 0; m < model.members.size(); ++m) {
+      lines.push_back({model.members[m].i, model.members[m].j});
+      axial(m, 0) = r.axial_force[m];
+    }
+    Eigen::MatrixXd disp = r.displacement;
+    Eigen::MatrixXd sup(model.num_nodes(), 1);
+    for (int v = 0; v < model.num_nodes(); ++v) sup(v, 0) = is_support[v];
+    io::write_vtp_lines(dir / "frame.vtp", model.nodes, lines,
+                        {{"displacement", disp}, {"support", sup}}, {{"axial_force", axial}});
+  }
+}
+
+}  // namespace gridshell

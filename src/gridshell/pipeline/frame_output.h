@@ -1,0 +1,21 @@
+#pragma once
+/// \file frame_output.h
+/// The files of a frame analysis (`gridshell analyze`), per the CONTRACT: nodes.csv
+/// (`node,x,y,z,ux,uy,uz,support`), beams.csv (`beam,node_i,node_j,length,axial_force`),
+/// path.csv (`lambda,displacement` of the non-linear path), nodes_nonlinear.csv (with `rx,ry,rz`,
+/// when a non-linear equilibrium was asked for) and frame.vtp (ParaView lines with displacement,
+/// support flags and axial forces). All written atomically.
+
+#include <filesystem>
+#include <vector>
+
+#include "gridshell/analysis/frame_analysis.h"
+#include "gridshell/fem/frame_model.h"
+
+namespace gridshell {
+
+/// Writes the files above into `dir` (which must exist). `supports`: supported model nodes.
+void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel& model,
+                         const std::vector<int>& supports, const analysis::FrameResult& r);
+
+}  // namespace gridshell
