@@ -77,35 +77,14 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     out.planarity = r.metrics.planarity;
     out.regularity = r.metrics.regularity;
   } else if (a.kind == "tri") {
-    // The dual of the isotropic tessellation: seeds joined across every valence-3 joint. Its
-    // beams are about √3 × longer than the Voronoi ones, so the tessellation's length target is
-    // corrected until the triangulation meets --length.
-    TessellationOptions t;
-    t.seed = a.run.seed;
-    t.radius = a.radius;
-    t.cells = a.cells;
-    double target = a.length > 0 ? a.length / std::sqrt(3.0) : 0;
-    const double tol = 1e-6 * bbox_diagonal(surface.mesh.V);
-    for (int it = 0; it < 6; ++it) {
-      t.length = target;
-      Tessellation tess;
-      for (int attempt = 0;; ++attempt) {  // as in design: another seed if extraction fails
-        t.seed = a.run.seed + 7919 * static_cast<std::uint64_t>(attempt);
-        try {
-          tess = tessellate(surface.mesh, surface.mesh, surface.supports, t);
-          break;
-        } catch (const Error&) {
-          if (attempt == 2) throw;
-        }
-      }
-      out.mesh = dual_triangulation(tess.mesh, tess.seeds);
-      if (a.length <= 0) break;
-      const double l = total_edge_length(out.mesh);
-      spdlog::info("[baseline] tri: {:.1f} m of beams for {:.1f} m asked", l, a.length);
-      if (std::abs(l - a.length) <= 0.02 * a.length) break;
-      target *= a.length / l;
-    }
-    out.supports = transfer_supports(out.mesh.V, surface, std::max(tol, 1e-9));
+    TriBaselineOptions to;
+    to.tessellation.seed = a.run.seed;
+    to.tessellation.radius = a.radius;
+    to.tessellation.cells = a.cells;
+    to.length = a.length;
+    GridShell g = tri_baseline(surface, to);
+    out.mesh = std::move(g.mesh);
+    out.supports = std::move(g.supports);
   } else {
     throw Error("--kind", fmt::format("'{}' is not one of quad, tri, voronoi-iso", a.kind));
   }

@@ -1,5 +1,10 @@
 #include "gridshell/grids/dual.h"
 
+#include <cmath>
+
+#include <spdlog/spdlog.h>
+
+#include "gridshell/grids/supports.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
@@ -33,6 +38,34 @@ PolyMesh dual_triangulation(const PolyMesh& cells, const std::vector<Vec3>& seed
       out.faces.push_back({ring[0], ring[k], ring[k + 1]});
   }
   return out;
+}
+
+GridShell tri_baseline(const Surface& surface, const TriBaselineOptions& o) {
+  TessellationOptions t = o.tessellation;
+  double target = o.length > 0 ? o.length / std::sqrt(3.0) : 0;
+  const double tol = 1e-6 * bbox_diagonal(surface.mesh.V);
+  GridShell g;
+  for (int it = 0; it < o.max_fits; ++it) {
+    t.length = target;
+    Tessellation tess;
+    for (int attempt = 0;; ++attempt) {  // as in design: another seed if extraction fails
+      t.seed = o.tessellation.seed + 7919 * static_cast<std::uint64_t>(attempt);
+      try {
+        tess = tessellate(surface.mesh, surface.mesh, surface.supports, t);
+        break;
+      } catch (const ExtractionError&) {
+        if (attempt == 2) throw;
+      }
+    }
+    g.mesh = dual_triangulation(tess.mesh, tess.seeds);
+    if (o.length <= 0) break;
+    const double l = total_edge_length(g.mesh);
+    spdlog::info("[baseline] tri: {:.1f} m of beams for {:.1f} m asked", l, o.length);
+    if (std::abs(l - o.length) <= o.fit_tolerance * o.length) break;
+    target *= o.length / l;
+  }
+  g.supports = transfer_supports(g.mesh.V, surface, std::max(tol, 1e-9));
+  return g;
 }
 
 }  // namespace gridshell
