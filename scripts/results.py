@@ -409,7 +409,7 @@ def main():
                      ("quad (isotropic)", rows.get(f"{s}_quad")),
                      ("tri", rows.get(f"{s}_tri"))]
             if name == "British Quad":
-                group.insert(2, ("Tang's quads", tang))
+                group.insert(5, ("Tang's quads", tang))
             target = length_for.get(name)
             for label, r in group:
                 table_rows.append((name, label, r))

@@ -70,6 +70,14 @@ Evaluated evaluate(const Surface& surface, const DesignOptions& base, const Fiel
       ev.candidate.ok = ev.candidate.delta > 0 && std::isfinite(ev.candidate.delta);
     }
     if (!ev.candidate.ok) ev.candidate.error = "no frame result";
+    // Judged only at the same steel: a candidate whose total length missed the target by more
+    // than --length's tolerance is not comparable.
+    const double off = length > 0 ? ev.candidate.length / length - 1 : 0.0;
+    if (ev.candidate.ok && std::abs(off) > base.tessellation.length_tolerance) {
+      ev.candidate.ok = false;
+      ev.candidate.error = fmt::format("total length {:.1f} m is {:+.1f} % off the target",
+                                       ev.candidate.length, 100 * off);
+    }
     ev.design = std::move(r);
   } catch (const Error& e) {
     if (rethrow) throw;

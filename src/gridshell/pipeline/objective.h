@@ -27,7 +27,9 @@
 /// candidate gave on ten surfaces, and what was tried and left out.
 ///
 /// Every candidate is designed by run_design with analysis "buckling" (linear + LBA: δ and
-/// λ_LBA), candidates of one round in parallel. The choice:
+/// λ_LBA), candidates of one round in parallel; one whose total length missed the target (the
+/// requested --length, or the reference's) by more than its tolerance (5 %) is set aside as
+/// failed: only designs of the same steel are compared. The choice:
 ///   lambda   the largest λ_LBA;
 ///   delta    the smallest δ;
 ///   balanced the largest gain in one of the two figures among the candidates whose other figure
