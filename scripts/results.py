@@ -146,11 +146,6 @@ def design_jobs(size_for):
     for name, file, (D, A), _, _ in SURFACES:
         size, s, base = size_for[name], slug(name), surface_args(file)
         jobs.append((f"{s}_voronoi", ["design"] + base + ["-D", str(D), "-A", str(A)] + size))
-        # The default design: the objective search (docs/field.md "Objective search").
-        jobs.append((f"{s}_balanced", ["design"] + base + ["--objective", "balanced"] + size))
-        for objective in ("lambda", "delta"):
-            jobs.append((f"{s}_{objective}", ["design"] + base + ["--objective", objective,
-                                                                   "--analyze", "buckling"] + size))
         jobs.append((f"{s}_voronoi_noreg", ["design"] + base +
                      ["-D", str(D), "-A", str(A), "--no-regularize"] + size))
         # Geometry of the finishing stage at D = A = 3 (issue 7's acceptance), no analysis.
@@ -169,6 +164,14 @@ def baseline_jobs(length_for):
         for kind in ("voronoi-iso", "quad", "tri"):
             jobs.append((f"{slug(name)}_{kind}", ["baseline"] + surface_args(file) +
                          ["--kind", kind, "--length", f"{length_for[name]:.1f}"]))
+        # The default design: the objective search (docs/field.md "Objective search"), at the
+        # same length as the other rows.
+        size = ["--length", f"{length_for[name]:.1f}"]
+        jobs.append((f"{slug(name)}_balanced", ["design"] + surface_args(file) +
+                     ["--objective", "balanced"] + size))
+        for objective in ("lambda", "delta"):
+            jobs.append((f"{slug(name)}_{objective}", ["design"] + surface_args(file) +
+                         ["--objective", objective, "--analyze", "buckling"] + size))
     return jobs
 
 
