@@ -84,11 +84,123 @@ void perturb_geometry(FrameMesh& mesh, const Eigen::VectorXd& mode, double ampli
   }
 }
 
+namespace {
+
+/// Per-member sums of per-element values.
+std::vector<double> per_member(const FrameMesh& mesh, const std::vector<double>& per_element) {
+  std::vector<double> out(mesh.member_elements.size(), 0.0);
+  for (size_t m = 0; m < mesh.member_elements.size(); ++m)
+    for (int k : mesh.member_elements[m]) out[m] += per_element[k];
+  return out;
+}
+
+/// The linear solution's figures: δ, displacements, axial forces, reactions, strain energies,
+/// equilibrium check.
+void record_linear(const FrameMesh& mesh, const FrameAssembler& assembler,
+                   const LinearResult& lin, FrameResult& res) {
+  const int n0 = mesh.num_model_nodes;
+  res.displacement = lin.displacement.topRows(n0);
+  res.delta_max_m = lin.displacement.rowwise().norm().maxCoeff();
+  if (n0 > 0) res.displacement.rowwise().norm().maxCoeff(&res.delta_node);
+  res.axial_force.resize(mesh.member_elements.size());
+  for (size_t m = 0; m < mesh.member_elements.size(); ++m)
+    res.axial_force[m] = lin.axial[mesh.member_elements[m].front()];
+  res.reactions = lin.reactions.head(6 * n0);
+  res.strain_energy = per_member(mesh, element_strain_energy(mesh, assembler, lin.u));
+  Vec3 R = Vec3::Zero(), F = Vec3::Zero();
+  double Fabs = 0;
+  for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v) {
+    R += lin.reactions.segment<3>(6 * v);
+    F += mesh.load_full.segment<3>(6 * v);
+    Fabs += mesh.load_full.segment<3>(6 * v).norm();
+  }
+  res.equilibrium_error = Fabs > 0 ? (R + F).norm() / Fabs : 0;
+  spdlog::info("linear: delta = {:.6g} m ({} elements, {} dofs)", res.delta_max_m, res.num_elements,
+               res.num_dofs);
+}
+
+/// The buckling modes' figures: λ_LBA, the factors, and the members' mode energy (modes within
+/// 10 % of the first count alike: on a symmetric structure the first mode is an arbitrary member
+/// of a degenerate pair, and its energy alone would be lopsided).
+void record_buckling(const FrameMesh& mesh, const FrameAssembler& assembler,
+                     const BucklingResult& lba, FrameResult& res) {
+  res.buckling_lambdas = lba.lambdas;
+  if (!lba.lambdas.empty()) {
+    res.lambda_linear_buckling = lba.lambdas.front();
+    res.mode_energy.assign(mesh.member_elements.size(), 0.0);
+    for (std::size_t k = 0; k < lba.modes.size(); ++k) {
+      if (lba.lambdas[k] > 1.1 * lba.lambdas.front()) break;
+      const std::vector<double> e =
+          per_member(mesh, element_strain_energy(mesh, assembler, lba.modes[k]));
+      double sum = 0;
+      for (double x : e) sum += x;
+      if (sum > 0)
+        for (std::size_t m = 0; m < e.size(); ++m) res.mode_energy[m] += e[m] / sum;
+    }
+    double total_energy = 0;
+    for (double x : res.mode_energy) total_energy += x;
+    if (total_energy > 0)
+      for (double& x : res.mode_energy) x /= total_energy;
+  }
+  spdlog::info("linear buckling: lambda = {}",
+               lba.lambdas.empty() ? std::string("none") : std::to_string(lba.lambdas[0]));
+}
+
+/// The non-linear path (of the geometry perturbed by the first mode when asked) to its first
+/// critical point, and λ at the displacement limit.
+void run_path(const FrameMesh& mesh, const FrameAnalysisOptions& o, const BucklingResult& lba,
+              FrameResult& res) {
+  const double span = plan_span(mesh.X);
+  FrameMesh nl_mesh = mesh;
+  if (o.imperfection && !lba.modes.empty()) {
+    const double amp = o.imperfection_amplitude > 0 ? o.imperfection_amplitude : span / 300;
+    perturb_geometry(nl_mesh, lba.modes.front(), amp);
+  }
+  const FrameAssembler nl_asm(nl_mesh);
+  ArcLengthOptions ao = o.arc;
+  if (!(ao.initial_lambda > 0)) {
+    ao.initial_lambda = res.lambda_linear_buckling
+                            ? *res.lambda_linear_buckling / 10
+                            : span / 2000 / std::max(res.delta_max_m, 1e-300);
+  }
+  if (!(ao.max_displacement > 0)) ao.max_displacement = span / 5;
+  if (res.lambda_linear_buckling && ao.max_lambda >= 1e9)
+    ao.max_lambda = 20 * *res.lambda_linear_buckling;
+  const ArcLengthResult al = arc_length(nl_mesh, nl_asm, ao, reference_state(nl_mesh));
+  res.path = al.path;
+  res.lambda_nonlinear = al.lambda_critical;
+  res.limit_type = al.limit_type;
+  res.nonlinear_stop_reason = al.stop_reason;
+  res.nonlinear_steps = al.steps;
+  res.nonlinear_iterations = al.iterations;
+  res.nonlinear_factorizations = al.factorizations;
+  res.displacement_limit_m = o.displacement_limit > 0 ? o.displacement_limit : span / 100;
+  res.lambda_displacement_limit = lambda_at_displacement(al.path, res.displacement_limit_m);
+  if (!res.lambda_displacement_limit && al.limit_type != "none")
+    res.lambda_displacement_limit = al.lambda_critical;
+  spdlog::info("non-linear: lambda = {:.6g} ({}; {} steps, {} iterations)", al.lambda_critical,
+               al.limit_type, al.steps, al.iterations);
+}
+
+/// The non-linear equilibrium at one load factor.
+void record_nonlinear_static(const FrameMesh& mesh, const FrameAssembler& assembler,
+                             const FrameAnalysisOptions& o, FrameResult& res) {
+  const int n0 = mesh.num_model_nodes;
+  const NonlinearStaticResult ns =
+      nonlinear_static(mesh, assembler, o.nonlinear_static, {}, o.subject);
+  res.nonlinear_displacement = Points(displacements(mesh, ns.state).topRows(n0));
+  res.nonlinear_rotation = Points(rotations(ns.state).topRows(n0));
+  res.nonlinear_axial_force.resize(mesh.member_elements.size());
+  for (size_t m = 0; m < mesh.member_elements.size(); ++m)
+    res.nonlinear_axial_force[m] = ns.axial[mesh.member_elements[m].front()];
+}
+
+}  // namespace
+
 FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o) {
-  Timer total;
+  Timer total, t;
   FrameResult res;
-  Timer t;
-  FrameMesh mesh = discretize(model, o.subject);
+  const FrameMesh mesh = discretize(model, o.subject);
   if (mesh.load.norm() == 0 && mesh.load_full.norm() == 0)
     throw Error(o.subject, "no loads: nothing to analyse");
   res.num_elements = static_cast<int>(mesh.elements.size());
@@ -96,118 +208,32 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
   res.mass_kg = total_mass(model);
   res.total_length_m = total_length(model);
   res.nodes = model.nodes;
-  const int n0 = mesh.num_model_nodes;
-  auto assembler = std::make_unique<FrameAssembler>(mesh);
+  const FrameAssembler assembler(mesh);
   res.timings["setup"] = t.seconds();
 
-  // Linear static.
   t = Timer();
-  const LinearResult lin = linear_static(mesh, *assembler, o.subject);
+  const LinearResult lin = linear_static(mesh, assembler, o.subject);
   res.timings["linear"] = t.seconds();
-  res.displacement = lin.displacement.topRows(n0);
-  res.delta_max_m = lin.displacement.rowwise().norm().maxCoeff();
-  if (n0 > 0) res.displacement.rowwise().norm().maxCoeff(&res.delta_node);
-  res.axial_force.resize(model.members.size());
-  for (size_t m = 0; m < model.members.size(); ++m)
-    res.axial_force[m] = lin.axial[mesh.member_elements[m].front()];
-  res.reactions = lin.reactions.head(6 * n0);
-  auto per_member = [&](const std::vector<double>& per_element) {
-    std::vector<double> out(model.members.size(), 0.0);
-    for (size_t m = 0; m < model.members.size(); ++m)
-      for (int k : mesh.member_elements[m]) out[m] += per_element[k];
-    return out;
-  };
-  res.strain_energy = per_member(element_strain_energy(mesh, *assembler, lin.u));
-  {
-    Vec3 R = Vec3::Zero(), F = Vec3::Zero();
-    double Fabs = 0;
-    for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v) {
-      R += lin.reactions.segment<3>(6 * v);
-      F += mesh.load_full.segment<3>(6 * v);
-      Fabs += mesh.load_full.segment<3>(6 * v).norm();
-    }
-    res.equilibrium_error = Fabs > 0 ? (R + F).norm() / Fabs : 0;
-  }
-  spdlog::info("linear: delta = {:.6g} m ({} elements, {} dofs)", res.delta_max_m, res.num_elements,
-               res.num_dofs);
+  record_linear(mesh, assembler, lin, res);
 
-  // Linearised buckling.
   BucklingResult lba;
   if (o.buckling || (o.nonlinear && o.imperfection)) {
     t = Timer();
     BucklingOptions bo;
     bo.modes = std::max(1, o.buckling_modes);
-    lba = linear_buckling(mesh, *assembler, lin, bo);
+    lba = linear_buckling(mesh, assembler, lin, bo);
     res.timings["buckling"] = t.seconds();
-    res.buckling_lambdas = lba.lambdas;
-    if (!lba.lambdas.empty()) {
-      res.lambda_linear_buckling = lba.lambdas.front();
-      // Modes within 10 % of the first count alike: on a symmetric structure the first mode is
-      // an arbitrary member of a degenerate pair, and its energy alone would be lopsided.
-      res.mode_energy.assign(model.members.size(), 0.0);
-      for (std::size_t k = 0; k < lba.modes.size(); ++k) {
-        if (lba.lambdas[k] > 1.1 * lba.lambdas.front()) break;
-        const std::vector<double> e = per_member(element_strain_energy(mesh, *assembler, lba.modes[k]));
-        double sum = 0;
-        for (double x : e) sum += x;
-        if (sum > 0)
-          for (std::size_t m = 0; m < e.size(); ++m) res.mode_energy[m] += e[m] / sum;
-      }
-      double total_energy = 0;
-      for (double x : res.mode_energy) total_energy += x;
-      if (total_energy > 0)
-        for (double& x : res.mode_energy) x /= total_energy;
-    }
-    spdlog::info("linear buckling: lambda = {}",
-                 lba.lambdas.empty() ? std::string("none") : std::to_string(lba.lambdas[0]));
+    record_buckling(mesh, assembler, lba, res);
   }
-
-  const double span = plan_span(mesh.X);
-  // Non-linear path.
   if (o.nonlinear) {
     t = Timer();
-    FrameMesh nl_mesh = mesh;
-    if (o.imperfection && !lba.modes.empty()) {
-      const double amp = o.imperfection_amplitude > 0 ? o.imperfection_amplitude : span / 300;
-      perturb_geometry(nl_mesh, lba.modes.front(), amp);
-    }
-    const FrameAssembler nl_asm(nl_mesh);
-    ArcLengthOptions ao = o.arc;
-    if (!(ao.initial_lambda > 0)) {
-      ao.initial_lambda = res.lambda_linear_buckling
-                              ? *res.lambda_linear_buckling / 10
-                              : span / 2000 / std::max(res.delta_max_m, 1e-300);
-    }
-    if (!(ao.max_displacement > 0)) ao.max_displacement = span / 5;
-    if (res.lambda_linear_buckling && ao.max_lambda >= 1e9)
-      ao.max_lambda = 20 * *res.lambda_linear_buckling;
-    const ArcLengthResult al = arc_length(nl_mesh, nl_asm, ao, reference_state(nl_mesh));
+    run_path(mesh, o, lba, res);
     res.timings["nonlinear"] = t.seconds();
-    res.path = al.path;
-    res.lambda_nonlinear = al.lambda_critical;
-    res.limit_type = al.limit_type;
-    res.nonlinear_stop_reason = al.stop_reason;
-    res.nonlinear_steps = al.steps;
-    res.nonlinear_iterations = al.iterations;
-    res.nonlinear_factorizations = al.factorizations;
-    res.displacement_limit_m = o.displacement_limit > 0 ? o.displacement_limit : span / 100;
-    res.lambda_displacement_limit = lambda_at_displacement(al.path, res.displacement_limit_m);
-    if (!res.lambda_displacement_limit && al.limit_type != "none")
-      res.lambda_displacement_limit = al.lambda_critical;
-    spdlog::info("non-linear: lambda = {:.6g} ({}; {} steps, {} iterations)", al.lambda_critical,
-                 al.limit_type, al.steps, al.iterations);
   }
-
   if (o.nonlinear_static > 0) {
     t = Timer();
-    const NonlinearStaticResult ns =
-        nonlinear_static(mesh, *assembler, o.nonlinear_static, {}, o.subject);
+    record_nonlinear_static(mesh, assembler, o, res);
     res.timings["nonlinear_static"] = t.seconds();
-    res.nonlinear_displacement = Points(displacements(mesh, ns.state).topRows(n0));
-    res.nonlinear_rotation = Points(rotations(ns.state).topRows(n0));
-    res.nonlinear_axial_force.resize(model.members.size());
-    for (size_t m = 0; m < model.members.size(); ++m)
-      res.nonlinear_axial_force[m] = ns.axial[mesh.member_elements[m].front()];
   }
   res.timings["total"] = total.seconds();
   return res;
