@@ -249,8 +249,9 @@ PrincipalStress principal_membrane_stress(const Eigen::Vector3d& s, const Eigen:
   return p;
 }
 
-ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
-  const auto t0 = Clock::now();
+namespace {
+
+void check_shell_model(const ShellModel& model) {
   const TriMesh& m = model.mesh;
   const int n = m.num_vertices(), nf = m.num_faces();
   if (n == 0 || nf == 0) throw Error("model", "the shell has no triangles");
@@ -267,7 +268,160 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
     for (int k = 0; k < 3; ++k)
       if (m.F(f, k) < 0 || m.F(f, k) >= n)
         throw Error("model", fmt::format("triangle {} refers to missing node {}", f, m.F(f, k)));
+}
 
+/// Facet frames; refuses degenerate facets.
+std::vector<FacetFrame> checked_facet_frames(const TriMesh& m) {
+  const double diag = (m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).norm();
+  std::vector<FacetFrame> frames(m.num_faces());
+  for (int f = 0; f < m.num_faces(); ++f) {
+    frames[f] = facet_frame(m.vertex(m.F(f, 0)), m.vertex(m.F(f, 1)), m.vertex(m.F(f, 2)));
+    if (!(frames[f].area > 1e-14 * diag * diag))
+      throw Error("model", fmt::format("triangle {} is degenerate (zero area)", f));
+  }
+  return frames;
+}
+
+/// The sparsity pattern of K's upper triangle in node blocks: column 6v+k holds the rows of the
+/// nodes u ≤ v adjacent to v (all 6 dofs for u < v, dofs 0..k for u = v).
+struct NodePattern {
+  std::vector<std::vector<int>> nbr;  ///< per node v: the adjacent nodes u ≤ v, sorted (v too)
+  std::vector<int> colptr, rowidx;
+};
+
+NodePattern node_block_pattern(const TriMesh& m) {
+  const int n = m.num_vertices(), nf = m.num_faces(), ndof = 6 * n;
+  NodePattern p;
+  std::vector<std::vector<int>> vfaces(n);
+  p.nbr.resize(n);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) vfaces[m.F(f, k)].push_back(f);
+  for (int v = 0; v < n; ++v) {
+    auto& nb = p.nbr[v];
+    nb.push_back(v);
+    for (int f : vfaces[v])
+      for (int k = 0; k < 3; ++k)
+        if (m.F(f, k) < v) nb.push_back(m.F(f, k));
+    std::sort(nb.begin(), nb.end());
+    nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
+  }
+  p.colptr.assign(ndof + 1, 0);
+  for (int v = 0; v < n; ++v) {
+    const int below = static_cast<int>(p.nbr[v].size()) - 1;
+    for (int k = 0; k < 6; ++k) p.colptr[6 * v + k + 1] = 6 * below + k + 1;
+  }
+  for (int j = 0; j < ndof; ++j) p.colptr[j + 1] += p.colptr[j];
+  p.rowidx.resize(p.colptr[ndof]);
+  tbb::parallel_for(0, n, [&](int v) {
+    for (int k = 0; k < 6; ++k) {
+      int q = p.colptr[6 * v + k];
+      for (int u : p.nbr[v])
+        for (int i = 0; i < (u < v ? 6 : k + 1); ++i) p.rowidx[q++] = 6 * u + i;
+    }
+  });
+  return p;
+}
+
+/// Element matrices, computed in parallel by chunks (bounded memory) and added into `vals` in
+/// face order (results independent of the thread count).
+void assemble_stiffness(const TriMesh& m, const ShellSection& sec, const NodePattern& p,
+                        std::vector<double>& vals) {
+  const int nf = m.num_faces();
+  constexpr int kChunk = 8192;
+  std::vector<Mat18> Ke(std::min(nf, kChunk));
+  for (int f0 = 0; f0 < nf; f0 += kChunk) {
+    const int f1 = std::min(nf, f0 + kChunk);
+    tbb::parallel_for(f0, f1, [&](int f) {
+      Ke[f - f0] = shell_element_stiffness(m.vertex(m.F(f, 0)), m.vertex(m.F(f, 1)),
+                                           m.vertex(m.F(f, 2)), sec);
+    });
+    for (int f = f0; f < f1; ++f) {
+      const Mat18& Kf = Ke[f - f0];
+      for (int b = 0; b < 3; ++b) {
+        const int v = m.F(f, b);
+        const auto& nb = p.nbr[v];
+        for (int a = 0; a < 3; ++a) {
+          const int u = m.F(f, a);
+          if (u > v) continue;
+          const int pos =
+              static_cast<int>(std::lower_bound(nb.begin(), nb.end(), u) - nb.begin()) * 6;
+          for (int kj = 0; kj < 6; ++kj) {
+            const int base = p.colptr[6 * v + kj] + pos;
+            const int imax = u < v ? 6 : kj + 1;
+            for (int ki = 0; ki < imax; ++ki) vals[base + ki] += Kf(6 * a + ki, 6 * b + kj);
+          }
+        }
+      }
+    }
+  }
+}
+
+/// Supports: zero rows/columns of fixed dofs, keep their diagonal (u = 0 there).
+void hold_fixed_dofs(const NodePattern& p, const std::vector<char>& fixed,
+                     std::vector<double>& vals, Eigen::VectorXd& rhs) {
+  const int ndof = static_cast<int>(fixed.size());
+  for (int j = 0; j < ndof; ++j)
+    for (int q = p.colptr[j]; q < p.colptr[j + 1]; ++q) {
+      const int i = p.rowidx[q];
+      if ((fixed[i] || fixed[j]) && i != j) vals[q] = 0;
+      if (i == j && fixed[j] && !(vals[q] > 0)) vals[q] = 1;
+    }
+  for (int j = 0; j < ndof; ++j)
+    if (fixed[j]) rhs(j) = 0;
+}
+
+/// Displacements, the largest one, reactions r = K_full u − f at the fixed dofs, and the
+/// membrane stresses per facet.
+void record_shell_results(const ShellModel& model, const ShellSection& sec,
+                          const std::vector<FacetFrame>& frames, const std::vector<char>& fixed,
+                          const std::vector<char>& used, const Eigen::VectorXd& u,
+                          ShellResult& res) {
+  const TriMesh& m = model.mesh;
+  const int n = m.num_vertices(), nf = m.num_faces(), ndof = 6 * n;
+  res.displacement =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>(u.data(), n, 6);
+  for (int v = 0; v < n; ++v) {
+    const double d = res.displacement.row(v).head<3>().norm();
+    if (d > res.max_displacement || res.max_displacement_vertex < 0) {
+      res.max_displacement = d;
+      res.max_displacement_vertex = v;
+    }
+  }
+  std::vector<Eigen::Matrix<double, 18, 1>> fe(nf);
+  tbb::parallel_for(0, nf, [&](int f) {
+    Eigen::Matrix<double, 18, 1> ue;
+    for (int a = 0; a < 3; ++a) ue.segment<6>(6 * a) = u.segment<6>(6 * m.F(f, a));
+    fe[f] = shell_element_stiffness(m.vertex(m.F(f, 0)), m.vertex(m.F(f, 1)),
+                                    m.vertex(m.F(f, 2)), sec) *
+            ue;
+  });
+  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(ndof);
+  for (int f = 0; f < nf; ++f)
+    for (int a = 0; a < 3; ++a) Ku.segment<6>(6 * m.F(f, a)) += fe[f].segment<6>(6 * a);
+  res.reaction = Eigen::MatrixXd::Zero(n, 6);
+  const Eigen::VectorXd fl = load_vector(model, frames);
+  for (int v = 0; v < n; ++v)
+    for (int k = 0; k < 6; ++k)
+      if (fixed[6 * v + k] && used[v]) res.reaction(v, k) = Ku(6 * v + k) - fl(6 * v + k);
+  for (int v = 0; v < n; ++v) res.reaction_force += res.reaction.row(v).head<3>().transpose();
+  res.membrane.resize(nf, 3);
+  res.stress.resize(nf);
+  tbb::parallel_for(0, nf, [&](int f) {
+    Eigen::Matrix<double, 18, 1> ue;
+    for (int a = 0; a < 3; ++a) ue.segment<6>(6 * a) = u.segment<6>(6 * m.F(f, a));
+    const Eigen::Vector3d s = shell_membrane_stress(frames[f], sec, ue);
+    res.membrane.row(f) = s.transpose();
+    res.stress[f] = principal_membrane_stress(s, frames[f].R);
+  });
+}
+
+}  // namespace
+
+ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
+  const auto t0 = Clock::now();
+  check_shell_model(model);
+  const TriMesh& m = model.mesh;
+  const int n = m.num_vertices(), nf = m.num_faces();
   const ShellSection sec{model.material.E, model.material.nu, model.thickness};
   const int ndof = 6 * n;
 
@@ -278,72 +432,29 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   for (int v = 0; v < n; ++v)
     for (int k = 0; k < 6; ++k)
       fixed[6 * v + k] = !used[v] || (!model.fixed.empty() && model.fixed[v][k]);
-
-  // Facet frames; refuse degenerate facets.
-  const double diag = (m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).norm();
-  std::vector<FacetFrame> frames(nf);
-  for (int f = 0; f < nf; ++f) {
-    frames[f] = facet_frame(m.vertex(m.F(f, 0)), m.vertex(m.F(f, 1)), m.vertex(m.F(f, 2)));
-    if (!(frames[f].area > 1e-14 * diag * diag))
-      throw Error("model", fmt::format("triangle {} is degenerate (zero area)", f));
-  }
+  const std::vector<FacetFrame> frames = checked_facet_frames(m);
   if (options.check_mechanism) check_rigid_body_modes(model, fixed);
 
-  // Load vector.
   ShellResult res;
   Eigen::VectorXd rhs = load_vector(model, frames);
   if (!rhs.allFinite()) throw Error("model", "non-finite load");
   for (int v = 0; v < n; ++v) res.applied_force += rhs.segment<3>(6 * v);
 
-  auto element_matrix = [&](int f) {
-    return shell_element_stiffness(m.vertex(m.F(f, 0)), m.vertex(m.F(f, 1)), m.vertex(m.F(f, 2)),
-                                   sec);
-  };
-
-  // Pattern of the upper triangle in node blocks: column 6v+k holds rows of nodes u ≤ v
-  // adjacent to v (all 6 dofs for u < v, dofs 0..k for u = v).
-  std::vector<std::vector<int>> vfaces(n), nbr(n);
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) vfaces[m.F(f, k)].push_back(f);
-  for (int v = 0; v < n; ++v) {
-    auto& nb = nbr[v];
-    nb.push_back(v);
-    for (int f : vfaces[v])
-      for (int k = 0; k < 3; ++k)
-        if (m.F(f, k) < v) nb.push_back(m.F(f, k));
-    std::sort(nb.begin(), nb.end());
-    nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
-  }
-  std::vector<int> colptr(ndof + 1, 0);
-  for (int v = 0; v < n; ++v) {
-    const int below = static_cast<int>(nbr[v].size()) - 1;
-    for (int k = 0; k < 6; ++k) colptr[6 * v + k + 1] = 6 * below + k + 1;
-  }
-  for (int j = 0; j < ndof; ++j) colptr[j + 1] += colptr[j];
-  const int nnz = colptr[ndof];
-  std::vector<int> rowidx(nnz);
-  std::vector<double> vals(nnz, 0.0);
-  tbb::parallel_for(0, n, [&](int v) {
-    for (int k = 0; k < 6; ++k) {
-      int p = colptr[6 * v + k];
-      for (int u : nbr[v])
-        for (int i = 0; i < (u < v ? 6 : k + 1); ++i) rowidx[p++] = 6 * u + i;
-    }
-  });
+  NodePattern pattern = node_block_pattern(m);
+  std::vector<double> vals(pattern.rowidx.size(), 0.0);
   // Fill-reducing ordering and symbolic analysis need only the pattern: they run on their own
   // thread while the element matrices are computed and added (a pattern-only view of K, so the
   // analysis never reads the values being written).
-  // The assembled stiffness once the values are in (upper triangle stored).
-  cholmod_sparse K = upper_csc_view(ndof, colptr.data(), rowidx.data());
+  cholmod_sparse K = upper_csc_view(ndof, pattern.colptr.data(), pattern.rowidx.data());
   CholmodLlt llt;
   SplitCholesky split;
   bool use_split = false;
   std::future<double> analysis = std::async(std::launch::async, [&, Kp = K]() mutable {
     const auto ta = Clock::now();
     std::vector<int> gp(n + 1, 0), gi;
-    for (int v = 0; v < n; ++v) gp[v + 1] = gp[v] + static_cast<int>(nbr[v].size());
+    for (int v = 0; v < n; ++v) gp[v + 1] = gp[v] + static_cast<int>(pattern.nbr[v].size());
     gi.reserve(gp[n]);
-    for (int v = 0; v < n; ++v) gi.insert(gi.end(), nbr[v].begin(), nbr[v].end());
+    for (int v = 0; v < n; ++v) gi.insert(gi.end(), pattern.nbr[v].begin(), pattern.nbr[v].end());
     use_split = ndof >= options.split_min_dofs && split.analyze(Kp, 6, gp, gi);
     if (use_split)
       res.ordering = "split-metis-nodes";
@@ -351,43 +462,8 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
       res.ordering = llt.analyze_by_nodes(&Kp, gp, gi) ? "metis-nodes" : "cholmod-default";
     return seconds_since(ta);
   });
-
-  // Element matrices, computed in parallel by chunks (bounded memory) and added in face order
-  // (results independent of the thread count).
-  constexpr int kChunk = 8192;
-  std::vector<Mat18> Ke(std::min(nf, kChunk));
-  for (int f0 = 0; f0 < nf; f0 += kChunk) {
-    const int f1 = std::min(nf, f0 + kChunk);
-    tbb::parallel_for(f0, f1, [&](int f) { Ke[f - f0] = element_matrix(f); });
-    for (int f = f0; f < f1; ++f) {
-      const Mat18& Kf = Ke[f - f0];
-      for (int b = 0; b < 3; ++b) {
-        const int v = m.F(f, b);
-        const auto& nb = nbr[v];
-        for (int a = 0; a < 3; ++a) {
-          const int u = m.F(f, a);
-          if (u > v) continue;
-          const int pos =
-              static_cast<int>(std::lower_bound(nb.begin(), nb.end(), u) - nb.begin()) * 6;
-          for (int kj = 0; kj < 6; ++kj) {
-            const int base = colptr[6 * v + kj] + pos;
-            const int imax = u < v ? 6 : kj + 1;
-            for (int ki = 0; ki < imax; ++ki) vals[base + ki] += Kf(6 * a + ki, 6 * b + kj);
-          }
-        }
-      }
-    }
-  }
-  Ke = std::vector<Mat18>();
-  // Supports: zero rows/columns of fixed dofs, keep their diagonal (u = 0 there).
-  for (int j = 0; j < ndof; ++j)
-    for (int p = colptr[j]; p < colptr[j + 1]; ++p) {
-      const int i = rowidx[p];
-      if ((fixed[i] || fixed[j]) && i != j) vals[p] = 0;
-      if (i == j && fixed[j] && !(vals[p] > 0)) vals[p] = 1;
-    }
-  for (int j = 0; j < ndof; ++j)
-    if (fixed[j]) rhs(j) = 0;
+  assemble_stiffness(m, sec, pattern, vals);
+  hold_fixed_dofs(pattern, fixed, vals, rhs);
   K.x = vals.data();
   K.xtype = CHOLMOD_REAL;
   res.dofs = ndof;
@@ -429,45 +505,8 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   if (!u.allFinite())
     throw Error("model", "the solution is not finite (the structure is a mechanism)");
 
-  // Results.
   t1 = Clock::now();
-  res.displacement =
-      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>(u.data(), n, 6);
-  for (int v = 0; v < n; ++v) {
-    const double d = res.displacement.row(v).head<3>().norm();
-    if (d > res.max_displacement || res.max_displacement_vertex < 0) {
-      res.max_displacement = d;
-      res.max_displacement_vertex = v;
-    }
-  }
-  // Reactions r = K_full u − f at the fixed dofs.
-  std::vector<Eigen::Matrix<double, 18, 1>> fe(nf);
-  tbb::parallel_for(0, nf, [&](int f) {
-    Eigen::Matrix<double, 18, 1> ue;
-    for (int a = 0; a < 3; ++a) ue.segment<6>(6 * a) = u.segment<6>(6 * m.F(f, a));
-    fe[f] = element_matrix(f) * ue;
-  });
-  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(ndof);
-  for (int f = 0; f < nf; ++f)
-    for (int a = 0; a < 3; ++a) Ku.segment<6>(6 * m.F(f, a)) += fe[f].segment<6>(6 * a);
-  res.reaction = Eigen::MatrixXd::Zero(n, 6);
-  {
-    const Eigen::VectorXd fl = load_vector(model, frames);
-    for (int v = 0; v < n; ++v)
-      for (int k = 0; k < 6; ++k)
-        if (fixed[6 * v + k] && used[v]) res.reaction(v, k) = Ku(6 * v + k) - fl(6 * v + k);
-  }
-  for (int v = 0; v < n; ++v) res.reaction_force += res.reaction.row(v).head<3>().transpose();
-
-  res.membrane.resize(nf, 3);
-  res.stress.resize(nf);
-  tbb::parallel_for(0, nf, [&](int f) {
-    Eigen::Matrix<double, 18, 1> ue;
-    for (int a = 0; a < 3; ++a) ue.segment<6>(6 * a) = u.segment<6>(6 * m.F(f, a));
-    const Eigen::Vector3d s = shell_membrane_stress(frames[f], sec, ue);
-    res.membrane.row(f) = s.transpose();
-    res.stress[f] = principal_membrane_stress(s, frames[f].R);
-  });
+  record_shell_results(model, sec, frames, fixed, used, u, res);
   res.t_stress = seconds_since(t1);
   spdlog::info(
       "shell: {} vertices, {} triangles, {} free dofs; assembly {:.3f} s, ordering "
