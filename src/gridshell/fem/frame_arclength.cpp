@@ -162,6 +162,28 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
 
 }  // namespace
 
+namespace {
+/// |φ·v| / |v| for the tangent's softest mode φ (inverse iteration from a seeded random start)
+/// and the load tangent v = K⁻¹f at the last stable point. Near a limit point v is dominated by
+/// φ (φᵀf ≠ 0); at a bifurcation φ ⟂ f and v has no large component along φ.
+double critical_mode_alignment(const TangentSolver& stable, const Eigen::VectorXd& v, int dofs) {
+  Eigen::VectorXd phi(dofs);
+  Rng rng(12345);
+  for (int i = 0; i < phi.size(); ++i) phi(i) = rng.uniform(-1, 1);
+  phi.normalize();
+  for (int k = 0; k < 40; ++k) {
+    Eigen::VectorXd y = stable.solve(phi);
+    const double nrm = y.norm();
+    if (!(nrm > 0) || !std::isfinite(nrm)) break;
+    y /= nrm;
+    const double change = (y - phi).norm();
+    phi = std::move(y);
+    if (change < 1e-10) break;
+  }
+  return std::abs(phi.dot(v)) / std::max(v.norm(), 1e-300);
+}
+}  // namespace
+
 ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
                            const ArcLengthOptions& opt, const FrameState& start) {
   ArcLengthResult res;
@@ -250,22 +272,7 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
       // φ ⟂ f and v has no large component along φ.
       critical = true;
       stable_state = cur.state;
-      const TangentSolver& sc = *solver_cur;  // the tangent at the last stable point
-      const Eigen::VectorXd& v = ut_cur;
-      Eigen::VectorXd phi(mesh.num_dofs);
-      Rng rng(12345);
-      for (int i = 0; i < phi.size(); ++i) phi(i) = rng.uniform(-1, 1);
-      phi.normalize();
-      for (int k = 0; k < 40; ++k) {
-        Eigen::VectorXd y = sc.solve(phi);
-        const double nrm = y.norm();
-        if (!(nrm > 0) || !std::isfinite(nrm)) break;
-        y /= nrm;
-        const double change = (y - phi).norm();
-        phi = std::move(y);
-        if (change < 1e-10) break;
-      }
-      const double along = std::abs(phi.dot(v)) / std::max(v.norm(), 1e-300);
+      const double along = critical_mode_alignment(*solver_cur, ut_cur, mesh.num_dofs);
       res.critical_mode_alignment = along;
       const bool bifurcation = along < 0.5 && next.negative > base_negative;
       res.limit_type = bifurcation ? "bifurcation" : "limit point";
