@@ -23,7 +23,10 @@ std::string num(double x) {
 template <class T, class F>
 std::string joined(const std::vector<T>& v, F f) {
   std::string s;
-  for (std::size_t k = 0; k < v.size(); ++k) s += (k ? " " : "") + f(v[k]);
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    if (k) s += ' ';
+    s += f(v[k]);
+  }
   return s;
 }
 
@@ -80,8 +83,12 @@ std::string panels_csv(const FabricationData& d) {
   for (const Panel& p : d.parts.panels) {
     const Placement& pl = d.nesting.placements[p.id];
     std::string outline;
-    for (std::size_t k = 0; k < p.flat.outline.size(); ++k)
-      outline += (k ? " " : "") + num(p.flat.outline[k].x()) + " " + num(p.flat.outline[k].y());
+    for (std::size_t k = 0; k < p.flat.outline.size(); ++k) {
+      if (k) outline += ' ';
+      outline += num(p.flat.outline[k].x());
+      outline += ' ';
+      outline += num(p.flat.outline[k].y());
+    }
     s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", p.id, p.joints.size(), ints(p.joints),
                      num(p.area), num(p.flat.planarity), num(p.flat.edge_length_error), pl.sheet,
                      num(pl.rotation * 180 / kPi), num(pl.offset.x()), num(pl.offset.y()),
