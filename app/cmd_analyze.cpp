@@ -15,6 +15,7 @@
 #include "gridshell/io/frame_model_json.h"
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/pipeline/design.h"
+#include "gridshell/pipeline/design_report.h"
 #include "gridshell/pipeline/frame_output.h"
 
 namespace gridshell::app {
@@ -36,6 +37,7 @@ struct AnalyzeArgs {
   double nonlinear_static = 0;
   int max_steps = 300;
   double displacement_limit = 0;
+  std::string sheet = "2.5x1.25";
 };
 
 std::string lower_ext(const std::string& path) {
@@ -58,6 +60,7 @@ void check_analyze_args(const AnalyzeArgs& a) {
   if (a.max_steps < 1) throw Error("--max-steps", "must be >= 1");
   if (!(a.displacement_limit >= 0) || !std::isfinite(a.displacement_limit))
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
+  fabrication::parse_sheet(a.sheet);
   if (a.analyze != "auto") {
     if (analysis::parse_analysis_level(a.analyze) == analysis::AnalysisLevel::none)
       throw Error("--analyze", "must be linear, buckling or nonlinear");
@@ -163,6 +166,13 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
   report["structure"] = st;
+  if (lower_ext(a.input) != ".json") {  // a grid-shell mesh: members are its topology edges
+    analysis::GridshellFrameOptions bars;
+    bars.diameter = a.diameter;
+    report["fabrication"] =
+        fabrication_report(a.run.out_dir, PolyMesh{f.model.nodes, f.model.faces}, f.supports, &r,
+                           bars, fabrication::parse_sheet(a.sheet));
+  }
   report["timings_s"] = r.timings;
   write_report(a.run.out_dir, report);
   write_config(a.run.out_dir, sub);
@@ -206,6 +216,10 @@ void register_analyze(CLI::App& app, Action& action) {
                   "report lambda_displacement_limit: the load factor at which the non-linear "
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
+  sub->add_option("--sheet", a->sheet,
+                  "fabrication (grid-shell meshes): sheet size WxH in metres on which the panels "
+                  "are nested")
+      ->default_str("2.5x1.25");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_analyze(*a, sub); }; });

@@ -17,6 +17,7 @@
 #include "gridshell/io/files.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/pipeline/design.h"
+#include "gridshell/pipeline/design_report.h"
 #include "gridshell/pipeline/gridshell_output.h"
 
 namespace gridshell::app {
@@ -29,6 +30,7 @@ struct BaselineArgs {
   double length = 0, spacing = 0, angle_deg = 0, radius = 0;
   int cells = 0;
   std::string analyze = "nonlinear";
+  std::string sheet = "2.5x1.25";
   SurfaceOptions surface_options;
   RunOptions run;
 };
@@ -42,6 +44,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     timings[stage] = std::chrono::duration<double>(Clock::now() - since).count();
   };
   const analysis::AnalysisLevel level = analysis::parse_analysis_level(a.analyze);
+  const fabrication::SheetOptions sheet = fabrication::parse_sheet(a.sheet);
   Surface surface = load_surface(a.surface, a.surface_options);
   lap("load", t0);
   GridShellOutput out;
@@ -108,6 +111,8 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   report["kind"] = a.kind;
   report["surface"] = a.surface;
   report["mesh"] = mesh_block(out);
+  report["fabrication"] = fabrication_report(a.run.out_dir, out.mesh, out.supports,
+                                             structure ? &*structure : nullptr, {}, sheet);
   if (a.length > 0) {
     report["mesh"]["target_length_m"] = a.length;
     report["mesh"]["length_error"] = report["mesh"]["total_length_m"].get<double>() / a.length - 1;
@@ -139,6 +144,9 @@ void register_baseline(CLI::App& app, Action& action) {
   sub->add_option("--cells", a->cells, "voronoi-iso/tri: number of cells instead of --length");
   sub->add_option("--analyze", a->analyze, "none | linear | buckling | nonlinear")
       ->default_str("nonlinear");
+  sub->add_option("--sheet", a->sheet,
+                  "fabrication: sheet size WxH in metres on which the panels are nested")
+      ->default_str("2.5x1.25");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_baseline(*a, sub); }; });

@@ -31,6 +31,7 @@ struct DesignArgs {
   std::string objective = "balanced";
   std::string measure = "magnitude", stretch = "along", density = "rising";
   std::string field = "stress", analyze = "nonlinear", symmetry = "none";
+  std::string sheet = "2.5x1.25";  ///< fabrication: panels nested on sheets of W x H m
   bool search = true;  ///< no -D/-A/convention/--field given: search for the objective
 };
 
@@ -52,6 +53,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   ObjectiveOptions objective;
   objective.objective = parse_objective(a.objective);
   check_design_options(options);
+  const fabrication::SheetOptions sheet = fabrication::parse_sheet(a.sheet);
   spdlog::info("[load] {}", a.surface);
   const Surface surface = load_surface(a.surface, a.surface_options);
   const double t_load = std::chrono::duration<double>(Clock::now() - start).count();
@@ -65,14 +67,21 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const std::filesystem::path dir(a.run.out_dir);
   io::ensure_directory(dir);
   write_gridshell_files(dir, design_output(r));
+  const auto t_fab = Clock::now();
+  const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports,
+                                                r.structure ? &*r.structure : nullptr,
+                                                options.frame, sheet);
+  const double fabrication_s = std::chrono::duration<double>(Clock::now() - t_fab).count();
   io::write_vtp(dir / "field.vtp", to_poly(surface.mesh), {}, field_attributes(r.field));
   nlohmann::json report = design_report(r, options);
   report["surface"] = a.surface;
+  report["fabrication"] = bom;
   if (searched) report["objective"] = searched->report();
-  const double write_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  report["timings_s"] =
-      timings_block(r.timings, {{"load", t_load}, {"write", write_s}},
-                    std::chrono::duration<double>(Clock::now() - start).count());
+  const double write_s =
+      std::chrono::duration<double>(Clock::now() - t0).count() - fabrication_s;
+  report["timings_s"] = timings_block(
+      r.timings, {{"load", t_load}, {"write", write_s}, {"fabrication", fabrication_s}},
+      std::chrono::duration<double>(Clock::now() - start).count());
   const nlohmann::json& timings = report["timings_s"];
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
@@ -162,10 +171,15 @@ void register_design(CLI::App& app, Action& action) {
                   "analysis: lambda_displacement_limit is the load factor at which the non-linear "
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
+  sub->add_option("--sheet", a->sheet,
+                  "fabrication: sheet size WxH in metres on which the flattened panels are "
+                  "nested (panels.svg)")
+      ->default_str("2.5x1.25");
   sub->footer(
       "Default size when none of --radius/--cells/--length is given: 300 cells.\n"
       "Writes gridshell_raw.obj, gridshell.obj, gridshell.ply, gridshell.vtp, field.vtp,\n"
-      "cells.csv, report.json and config.json in the output folder.");
+      "cells.csv, joints.csv, beams.csv, panels.csv, panels.svg, report.json and config.json\n"
+      "in the output folder.");
   exact.push_back(field);
   for (CLI::Option* o : exact) objective->excludes(o);
   add_surface_options(sub, a->surface_options);

@@ -1,5 +1,7 @@
 #include "gridshell/pipeline/design_report.h"
 
+#include "gridshell/fabrication/fabrication_files.h"
+
 namespace gridshell {
 
 GridShellOutput design_output(const DesignResult& r) {
@@ -51,6 +53,20 @@ nlohmann::json timings_block(const std::vector<std::pair<std::string, double>>& 
     for (const auto& [stage, s] : *list) block[stage] = block.value(stage, 0.0) + s;
   block["total"] = total;
   return block;
+}
+
+nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMesh& mesh,
+                                  const std::vector<int>& supports,
+                                  const analysis::FrameResult* structure,
+                                  const analysis::GridshellFrameOptions& frame,
+                                  const fabrication::SheetOptions& sheet) {
+  fabrication::FabricationFileOptions o;
+  o.sheet = sheet;
+  o.bar_diameter = frame.diameter;
+  o.bar_density = frame.density;
+  static const std::vector<double> kNone;
+  return fabrication::write_fabrication_files(dir, mesh, supports,
+                                              structure ? structure->axial_force : kNone, o);
 }
 
 }  // namespace gridshell

@@ -3,14 +3,17 @@
 /// What `gridshell design` writes, assembled in one place: the grid-shell files' content
 /// (GridShellOutput) and report.json's blocks `mesh` (CONTRACT keys, statistics, the raw
 /// tessellation's figures, the length target), `design` (every stage's details and the options
-/// that shaped the result), `structure` (when analysed) and `timings_s`.
+/// that shaped the result), `structure` (when analysed) and `timings_s`; and the fabrication
+/// files with report.json's `fabrication` block, which baseline and analyze write the same way.
 
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "gridshell/fabrication/nesting.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/gridshell_output.h"
 
@@ -27,5 +30,17 @@ nlohmann::json design_report(const DesignResult& r, const DesignOptions& options
 nlohmann::json timings_block(const std::vector<std::pair<std::string, double>>& timings,
                              const std::vector<std::pair<std::string, double>>& extra,
                              double total);
+
+/// Writes the fabrication files (joints.csv, beams.csv, panels.csv, panels.svg; see
+/// fabrication/fabrication_files.h) of `mesh` into `dir` and returns report.json's `fabrication`
+/// block (bill of materials). `structure`: a frame analysis of `mesh` whose members are its
+/// topology edges (its axial forces go into beams.csv), or null; `frame`: the bars' diameter and
+/// density for the mass; `sheet`: the sheet size the panels are nested on. Design, baseline and
+/// analyze all call this.
+nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMesh& mesh,
+                                  const std::vector<int>& supports,
+                                  const analysis::FrameResult* structure,
+                                  const analysis::GridshellFrameOptions& frame,
+                                  const fabrication::SheetOptions& sheet);
 
 }  // namespace gridshell

@@ -1,0 +1,71 @@
+#pragma once
+/// \file fabrication_files.h
+/// The fabrication files of a grid-shell and report.json's `fabrication` block (bill of
+/// materials). Written into every design / baseline / analyze folder that has a polygon mesh:
+///
+/// - joints.csv  `joint,x,y,z,valence,support,beams,angles_deg` — beams: incident beam ids
+///   counter-clockwise about the joint's normal, space-separated; angles_deg: the angle from
+///   each of them to the next in the joint's tangent plane (same order, cyclic, Σ = 360).
+/// - beams.csv   `beam,node_i,node_j,length,axial_force,length_class,panels` — the CONTRACT's
+///   analyze columns first (length = cut length = centre-line length [m]; axial_force [N],
+///   tension positive, empty when not analysed), then the beam's length class (distinct lengths
+///   at `length_resolution`, 0 = shortest) and the panels on either side (space-separated).
+/// - panels.csv  `panel,sides,joints,area,planarity,edge_length_error,sheet,rotation_deg,
+///   offset_x,offset_y,outline` — joints in face order; outline: the flattened corners as
+///   space-separated x y pairs in the panel's own plane [m]; on the sheet a corner p lands at
+///   R(rotation_deg) p + offset (sheet −1: larger than a sheet, not nested).
+/// - panels.svg  every panel flattened, labelled with its id, nested on its sheet (millimetres).
+///
+/// All numbers SI; files written atomically. Cost: linear in the mesh (nesting O(panels ·
+/// shelves)).
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gridshell/fabrication/fabrication.h"
+#include "gridshell/fabrication/nesting.h"
+#include "gridshell/mesh/mesh.h"
+
+namespace gridshell::fabrication {
+
+struct FabricationFileOptions {
+  SheetOptions sheet;
+  FabricationOptions parts;
+  double bar_diameter = 0.037;  ///< solid circular bars [m], for the mass
+  double bar_density = 7850;    ///< [kg/m³]
+};
+
+/// Everything the files show, computed once.
+struct FabricationData {
+  Fabrication parts;
+  Nesting nesting;
+  std::vector<double> axial_force;  ///< per beam [N], empty when not analysed
+};
+
+/// Parts and nesting of `mesh`. `axial_force`: per topology edge (the frame's member order), or
+/// empty; throws Error when its size is neither.
+FabricationData fabrication_data(const PolyMesh& mesh, const std::vector<int>& supports,
+                                 const std::vector<double>& axial_force,
+                                 const FabricationFileOptions& options = {});
+
+/// The file contents (exposed for tests).
+std::string joints_csv(const FabricationData& d);
+std::string beams_csv(const FabricationData& d);
+std::string panels_csv(const FabricationData& d);
+std::string panels_svg(const FabricationData& d, const SheetOptions& sheet);
+
+/// report.json's `fabrication` block: counts of joints, beams and panels, total length, mass at
+/// the bars' density and diameter, distinct beam lengths, sheets used, oversize panels, …
+nlohmann::json bill_of_materials(const FabricationData& d, const FabricationFileOptions& options);
+
+/// Writes joints.csv, beams.csv, panels.csv and panels.svg into `dir` (which must exist) and
+/// returns bill_of_materials.
+nlohmann::json write_fabrication_files(const std::filesystem::path& dir, const PolyMesh& mesh,
+                                       const std::vector<int>& supports,
+                                       const std::vector<double>& axial_force,
+                                       const FabricationFileOptions& options = {});
+
+}  // namespace gridshell::fabrication
