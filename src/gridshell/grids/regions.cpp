@@ -7,6 +7,7 @@
 #include <set>
 
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
@@ -62,9 +63,8 @@ RegionMesh extract_regions(const TriMesh& mesh, std::vector<int> label, const Re
   const std::vector<char> corner = boundary_corners(mesh, o.corner_angle);
   std::vector<double> face_area(nf);
   for (int f = 0; f < nf; ++f) {
-    const Vec3 a = mesh.vertex(mesh.F(f, 0)), b = mesh.vertex(mesh.F(f, 1)),
-               c = mesh.vertex(mesh.F(f, 2));
-    face_area[f] = 0.5 * (b - a).cross(c - a).norm();
+    const auto& F = mesh.F;
+    face_area[f] = triangle_area(mesh.vertex(F(f, 0)), mesh.vertex(F(f, 1)), mesh.vertex(F(f, 2)));
   }
 
   for (int round = 0; round < 1000; ++round) {

@@ -92,29 +92,6 @@ int euler_characteristic(const PolyMesh& mesh, const Topology& topo) {
   return referenced - topo.num_edges() + mesh.num_faces();
 }
 
-double polygon_area(const PolyMesh& mesh, int face) {
-  const auto& f = mesh.faces[face];
-  Vec3 a = Vec3::Zero();
-  for (std::size_t k = 0; k < f.size(); ++k)
-    a += mesh.vertex(f[k]).cross(mesh.vertex(f[(k + 1) % f.size()]));
-  return 0.5 * a.norm();
-}
-
-double surface_area(const TriMesh& mesh) {
-  double area = 0;
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    Vec3 a = mesh.vertex(mesh.F(f, 0)), b = mesh.vertex(mesh.F(f, 1)),
-         c = mesh.vertex(mesh.F(f, 2));
-    area += 0.5 * (b - a).cross(c - a).norm();
-  }
-  return area;
-}
-
-double bbox_diagonal(const Points& V) {
-  if (V.rows() == 0) return 0;
-  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
-}
-
 std::vector<std::string> MeshProblems::describe() const {
   std::vector<std::string> out;
   auto add = [&](int n, const char* what) {

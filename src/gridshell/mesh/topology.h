@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "gridshell/mesh/geometry.h"  // areas and sizes (polygon_area, surface_area, …)
 #include "gridshell/mesh/mesh.h"
 
 namespace gridshell {
@@ -60,13 +61,6 @@ struct MeshProblems {
 /// Checks a mesh for everything above. Never throws on bad indices: they are counted.
 /// `degenerate_tolerance` is relative to the squared bounding-box diagonal.
 MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance = 1e-14);
-
-/// Area of a (possibly non-planar) polygon: the norm of its vector area.
-double polygon_area(const PolyMesh& mesh, int face);
-/// Total area of a triangle mesh.
-double surface_area(const TriMesh& mesh);
-/// Length of the bounding-box diagonal.
-double bbox_diagonal(const Points& V);
 
 /// Collapses stub edges at a boundary: every edge shorter than `min_length` with an end of rank
 /// ≥ 1 is collapsed into its end of higher rank (rank per vertex: 0 interior, 1 boundary,

@@ -32,12 +32,12 @@ Vec3 from_cgal(const Point& p) {
 
 /// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5) and
 /// where it lies: region 0 = inside, 1–3 = on edge ab / bc / ca, 4–6 = at vertex a / b / c.
-struct TrianglePoint {
+struct OldTrianglePoint {
   Vec3 point;
   int region;
 };
 
-TrianglePoint closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+OldTrianglePoint closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0 && d2 <= 0) return {a, 4};
@@ -148,15 +148,15 @@ Vec3 SurfaceProjector::closest_point_walk(const Vec3& p, int& triangle) const {
     return closest_on_triangle(p, I.V.row(c[0]).transpose(), I.V.row(c[1]).transpose(),
                                I.V.row(c[2]).transpose());
   };
-  TrianglePoint best = on(triangle);
+  OldTrianglePoint best = on(triangle);
   double best_d = (best.point - p).squaredNorm();
   for (int step = 0; step < 64; ++step) {
     int next = -1;
-    TrianglePoint next_tp;
+    OldTrianglePoint next_tp;
     double next_d = best_d;
     auto consider = [&](int t) {
       if (t < 0 || t == triangle) return;
-      const TrianglePoint tp = on(t);
+      const OldTrianglePoint tp = on(t);
       const double d = (tp.point - p).squaredNorm();
       if (d < next_d) {
         next = t;

@@ -17,6 +17,7 @@
 
 #include "gridshell/core/error.h"
 #include "gridshell/core/rng.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/voronoi/support_mesh.h"
 
@@ -237,38 +238,6 @@ void clip(Poly& P, const Vec3& si, const Vec3& sj) {
   std::copy(q, q + m, P.p);
 }
 
-/// Closest point to p on triangle (a, b, c); returns barycentrics (Ericson, RTCD 5.1.5).
-Vec3 closest_bary(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double v = d1 / (d1 - d3);
-    return {1 - v, v, 0};
-  }
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double w = d2 / (d2 - d6);
-    return {1 - w, 0, w};
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {0, 1 - w, w};
-  }
-  const double denom = 1.0 / (va + vb + vc);
-  if (!std::isfinite(denom)) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
-  const double v = vb * denom, w = vc * denom;
-  return {1 - v - w, v, w};
-}
-
 // ---------------------------------------------------------------------------------------------
 // The engine state.
 
@@ -295,13 +264,12 @@ struct Engine {
   double boundary_split = 0;  ///< see TessellationOptions
 
   Vec3 point(int t, const Vec3& b) const {
-    return b(0) * S.deformed.vertex(S.deformed.F(t, 0)) +
-           b(1) * S.deformed.vertex(S.deformed.F(t, 1)) +
-           b(2) * S.deformed.vertex(S.deformed.F(t, 2));
+    const auto& M = S.deformed;
+    return barycentric_point(b, M.vertex(M.F(t, 0)), M.vertex(M.F(t, 1)), M.vertex(M.F(t, 2)));
   }
   Vec3 rest_point(int t, const Vec3& b) const {
-    return b(0) * S.rest.vertex(S.rest.F(t, 0)) + b(1) * S.rest.vertex(S.rest.F(t, 1)) +
-           b(2) * S.rest.vertex(S.rest.F(t, 2));
+    const auto& M = S.rest;
+    return barycentric_point(b, M.vertex(M.F(t, 0)), M.vertex(M.F(t, 1)), M.vertex(M.F(t, 2)));
   }
 
   std::vector<Vec3> seed_positions() const {
@@ -346,8 +314,10 @@ struct Engine {
       Vec3 bb;
       for (int q = start[sd.tri]; q < start[sd.tri + 1]; ++q) {
         const int t = kids[q];
-        const Vec3 w = closest_bary(sd.pos, S.deformed.vertex(F(t, 0)), S.deformed.vertex(F(t, 1)),
-                                    S.deformed.vertex(F(t, 2)));
+        const Vec3 w = closest_point_on_triangle(sd.pos, S.deformed.vertex(F(t, 0)),
+                                                 S.deformed.vertex(F(t, 1)),
+                                                 S.deformed.vertex(F(t, 2)))
+                           .bary;
         const double d = (point(t, w) - sd.pos).squaredNorm();
         if (d < best) {
           best = d;
@@ -404,7 +374,7 @@ struct Engine {
           const Vec3 pa = S.deformed.vertex(a), pb = S.deformed.vertex(b),
                      pc = S.deformed.vertex(c);
           if (la == lb && lb == lc) {
-            const double ar = 0.5 * (pb - pa).cross(pc - pa).norm();
+            const double ar = triangle_area(pa, pb, pc);
             const Vec3& s = seeds[la].pos;
             out.push_back(
                 {la, t, ar, tri_energy(pa - s, pb - s, pc - s, ar), ar * (pa + pb + pc) / 3.0});
@@ -438,7 +408,7 @@ struct Engine {
             double ar = 0, en = 0;
             Vec3 mo = Vec3::Zero();
             for (int k = 1; k + 1 < P.n; ++k) {
-              const double x = 0.5 * (P.p[k] - P.p[0]).cross(P.p[k + 1] - P.p[0]).norm();
+              const double x = triangle_area(P.p[0], P.p[k], P.p[k + 1]);
               ar += x;
               mo += x * (P.p[0] + P.p[k] + P.p[k + 1]) / 3.0;
               en += tri_energy(P.p[0] - s, P.p[k] - s, P.p[k + 1] - s, x);
@@ -476,8 +446,9 @@ struct Engine {
     Vec3 bb = seeds[i].bary;
     for (int s = cell_start[i]; s < cell_start[i + 1]; ++s) {
       const int t = cell_tris[s];
-      const Vec3 w = closest_bary(c, S.deformed.vertex(F(t, 0)), S.deformed.vertex(F(t, 1)),
-                                  S.deformed.vertex(F(t, 2)));
+      const Vec3 w = closest_point_on_triangle(c, S.deformed.vertex(F(t, 0)),
+                                               S.deformed.vertex(F(t, 1)), S.deformed.vertex(F(t, 2)))
+                         .bary;
       const double d = (point(t, w) - c).squaredNorm();
       if (d < best) {
         best = d;
@@ -665,10 +636,9 @@ void seed_interior(Engine& E, int count, double radius, Rng& rng) {
   const auto& M = E.S.deformed;
   const int nt = M.num_faces();
   std::vector<double> cum(nt + 1, 0.0);
-  for (int t = 0; t < nt; ++t) {
-    const Vec3 a = M.vertex(M.F(t, 0)), b = M.vertex(M.F(t, 1)), c = M.vertex(M.F(t, 2));
-    cum[t + 1] = cum[t] + 0.5 * (b - a).cross(c - a).norm();
-  }
+  for (int t = 0; t < nt; ++t)
+    cum[t + 1] =
+        cum[t] + triangle_area(M.vertex(M.F(t, 0)), M.vertex(M.F(t, 1)), M.vertex(M.F(t, 2)));
   const std::size_t fixed = E.seeds.size();
   double r = radius;
   int placed = 0;
@@ -1023,9 +993,9 @@ int merge_orphan_pieces(Engine& E) {
     // triangles): the piece nearest to a fixed boundary seed can be a sliver.
     std::fill(area.begin(), area.end(), 0.0);
     for (int t = 0; t < nt; ++t) {
-      const Vec3 a = E.S.deformed.vertex(F(t, 0));
-      const double third =
-          (E.S.deformed.vertex(F(t, 1)) - a).cross(E.S.deformed.vertex(F(t, 2)) - a).norm() / 6;
+      const double third = triangle_area(E.S.deformed.vertex(F(t, 0)), E.S.deformed.vertex(F(t, 1)),
+                                         E.S.deformed.vertex(F(t, 2))) /
+                           3;
       for (int k = 0; k < 3; ++k) area[find(F(t, k))] += third;
     }
     std::vector<int> keep(ns, -1);
@@ -1116,12 +1086,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   const double spacing = o.boundary_spacing * kSqrt3 * R;
   seed_boundary(E, spacing, rng);
   const int nb = static_cast<int>(E.seeds.size());
-  double area = 0;
-  for (int t = 0; t < deformed.num_faces(); ++t) {
-    const Vec3 a = deformed.vertex(deformed.F(t, 0)), b = deformed.vertex(deformed.F(t, 1)),
-               c = deformed.vertex(deformed.F(t, 2));
-    area += 0.5 * (b - a).cross(c - a).norm();
-  }
+  const double area = surface_area(deformed);
   int n_int = cells > 0 ? cells - nb
                         : static_cast<int>(std::lround((area - nb * 0.5 * kHexArea * R * R) /
                                                        (kHexArea * R * R)));
@@ -1451,12 +1416,8 @@ Tessellation tessellate(const TriMesh& rest, const TriMesh& deformed,
   const std::vector<char> corners = find_corners(rest, o.corner_angle_deg);
   const int input_euler = euler_of(rest);
   const int input_loops = static_cast<int>(adj.loops.size());
-  double area = 0, perimeter = 0;
-  for (int t = 0; t < deformed.num_faces(); ++t) {
-    const Vec3 a = deformed.vertex(deformed.F(t, 0)), b = deformed.vertex(deformed.F(t, 1)),
-               c = deformed.vertex(deformed.F(t, 2));
-    area += 0.5 * (b - a).cross(c - a).norm();
-  }
+  const double area = surface_area(deformed);
+  double perimeter = 0;
   for (const auto& loop : adj.loops)
     for (std::size_t k = 0; k < loop.size(); ++k)
       perimeter += (deformed.vertex(loop[k]) - deformed.vertex(loop[(k + 1) % loop.size()])).norm();
