@@ -108,3 +108,21 @@ TEST(Geometry, SurfaceAreaAndBoundingBox) {
   square.faces = {{0, 1, 2, 3}};
   EXPECT_DOUBLE_EQ(polygon_area(square, 0), 4.0);
 }
+
+TEST(Geometry, PlaneSignedDistanceReflectionAndProjection) {
+  const Plane x{Vec3(1.5, 0, 0), Vec3::UnitX()};
+  EXPECT_EQ(x.axis(), 0);
+  EXPECT_EQ(x.signed_distance(Vec3(4, 7, -2)), 2.5);
+  EXPECT_EQ(x.reflect(Vec3(4, 7, -2)), Vec3(-1, 7, -2));  // coordinate-wise: exact
+  EXPECT_EQ(x.project(Vec3(4, 7, -2)), Vec3(1.5, 7, -2));
+  const Vec3 p(0.1, 0.7, 0.3);
+  EXPECT_NEAR((x.reflect(x.reflect(p)) - p).norm(), 0.0, 1e-15);  // up to one rounding
+  EXPECT_EQ(Plane({Vec3::Zero(), -Vec3::UnitY()}).axis(), 1);
+
+  const Plane tilted{Vec3(1, 2, 3), Vec3(1, 1, 0).normalized()};
+  EXPECT_EQ(tilted.axis(), -1);
+  EXPECT_NEAR(tilted.signed_distance(Vec3(2, 3, 3)), std::sqrt(2.0), 1e-15);
+  EXPECT_TRUE(tilted.reflect(Vec3(2, 3, 3)).isApprox(Vec3(0, 1, 3)));
+  EXPECT_NEAR(tilted.signed_distance(tilted.project(Vec3(5, -1, 2))), 0.0, 1e-15);
+  EXPECT_NEAR((tilted.reflect(tilted.reflect(p)) - p).norm(), 0.0, 1e-14);
+}

@@ -2,6 +2,33 @@
 
 namespace gridshell {
 
+int Plane::axis() const {
+  const Vec3& n = normal;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(n[k]) == 1.0 && n[(k + 1) % 3] == 0.0 && n[(k + 2) % 3] == 0.0) return k;
+  return -1;
+}
+
+Vec3 Plane::reflect(const Vec3& p) const {
+  const int k = axis();
+  if (k >= 0) {
+    Vec3 q = p;
+    q[k] = 2 * point[k] - p[k];
+    return q;
+  }
+  return p - 2 * signed_distance(p) * normal;
+}
+
+Vec3 Plane::project(const Vec3& p) const {
+  const int k = axis();
+  if (k >= 0) {
+    Vec3 q = p;
+    q[k] = point[k];
+    return q;
+  }
+  return p - signed_distance(p) * normal;
+}
+
 double polygon_area(const PolyMesh& mesh, int face) {
   const auto& f = mesh.faces[face];
   Vec3 a = Vec3::Zero();

@@ -1,8 +1,8 @@
 #pragma once
 /// \file geometry.h
 /// The small geometric helpers every stage shares: triangle area and barycentric points, the
-/// closest point on a triangle, and whole-mesh measures (areas, bounding box). One copy of
-/// each, so that two stages measuring the same thing get the same bits.
+/// closest point on a triangle, planes, and whole-mesh measures (areas, bounding box). One copy
+/// of each, so that two stages measuring the same thing get the same bits.
 ///
 /// The one-line helpers are inline: they run in the inner loops of the tessellation and of the
 /// regularizer's reprojection. Connectivity (edges, boundary loops) is in topology.h.
@@ -73,6 +73,27 @@ inline TrianglePoint closest_point_on_triangle(const Vec3& p, const Vec3& a, con
   const double v = vb * denom, w = vc * denom;
   return {a + ab * v + ac * w, Vec3(1 - v - w, v, w), 0};
 }
+
+// ---------------------------------------------------------------------------------------------
+// Planes
+
+/// The plane {p : (p − point)·normal = 0}, `normal` of unit length: mirror planes of a symmetric
+/// design, the cuts of plane_cut.h, a face's fitted plane. Reflections and projections across
+/// axis-aligned planes are computed coordinate-wise (2c − x, c), so they are exact involutions
+/// up to one rounding and put points exactly on the plane.
+struct Plane {
+  Vec3 point = Vec3::Zero();
+  Vec3 normal = Vec3::UnitX();
+
+  /// (p − point)·normal: positive on the side the normal points to.
+  double signed_distance(const Vec3& p) const { return (p - point).dot(normal); }
+  /// The mirror image of p.
+  Vec3 reflect(const Vec3& p) const;
+  /// The orthogonal projection of p onto the plane.
+  Vec3 project(const Vec3& p) const;
+  /// k when the normal is exactly ±(unit vector of axis k), else −1.
+  int axis() const;
+};
 
 // ---------------------------------------------------------------------------------------------
 // Whole meshes

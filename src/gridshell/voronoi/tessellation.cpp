@@ -1380,8 +1380,8 @@ double length_on_planes(const PolyMesh& mesh, const TessellationOptions& o) {
   double sum = 0;
   for (const auto& e : build_topology(mesh).edges) {
     const Vec3 a = mesh.vertex(e[0]), b = mesh.vertex(e[1]);
-    for (const auto& [point, normal] : o.length_excluded_planes)
-      if (std::abs((a - point).dot(normal)) <= tol && std::abs((b - point).dot(normal)) <= tol) {
+    for (const Plane& plane : o.length_excluded_planes)
+      if (std::abs(plane.signed_distance(a)) <= tol && std::abs(plane.signed_distance(b)) <= tol) {
         sum += (a - b).norm();
         break;
       }
