@@ -75,7 +75,7 @@ GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
          k <= static_cast<int>(std::ceil(hi / h)); ++k) {
       const double offset = (k + 0.5) * h;
       if (offset <= lo || offset >= hi) continue;
-      cut_along_plane(cut, CutPlane{dir, dir.dot(centre) + offset}, snap);
+      cut_along_plane(cut, Plane{centre + offset * dir, dir}, snap);
     }
   }
   std::vector<int> label(cut.mesh.num_faces());
