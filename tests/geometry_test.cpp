@@ -126,3 +126,23 @@ TEST(Geometry, PlaneSignedDistanceReflectionAndProjection) {
   EXPECT_NEAR(tilted.signed_distance(tilted.project(Vec3(5, -1, 2))), 0.0, 1e-15);
   EXPECT_NEAR((tilted.reflect(tilted.reflect(p)) - p).norm(), 0.0, 1e-14);
 }
+
+TEST(Geometry, BoundaryCornersTurnByMoreThanTheAngle) {
+  // An L-shaped loop with a straight run (0°), a right turn (90°), a 45° turn and a doubled
+  // vertex (zero-length edge: no direction, never a corner).
+  Points V(7, 3);
+  V << 0, 0, 0,  // 0: start of the loop, 90° turn
+      1, 0, 0,   // 1: straight
+      2, 0, 0,   // 2: 45° turn
+      3, 1, 0,   // 3: 45° turn (from (1,1) to (0,1))
+      3, 2, 0,   // 4: 90° turn
+      3, 2, 0,   // 5: same point as 4
+      0, 2, 0;   // 6: 90° turn
+  const std::vector<std::vector<int>> loops = {{0, 1, 2, 3, 4, 5, 6}};
+  const std::vector<char> at30 = boundary_corners(V, loops, 30);
+  EXPECT_EQ(at30, std::vector<char>({1, 0, 1, 1, 0, 0, 1}));
+  const std::vector<char> at60 = boundary_corners(V, loops, 60);
+  EXPECT_EQ(at60, std::vector<char>({1, 0, 0, 0, 0, 0, 1}));
+  // Vertices off every loop are never corners.
+  EXPECT_EQ(boundary_corners(V, {{0, 2, 6}}, 30), std::vector<char>({1, 0, 1, 0, 0, 0, 1}));
+}

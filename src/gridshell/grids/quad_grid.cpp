@@ -91,7 +91,8 @@ GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
   RegionMesh rm = extract_regions(cut.mesh, label, ro);
   Topology ct = build_topology(cut.mesh);
   {
-    const std::vector<char> corner = boundary_corners(cut.mesh, ro.corner_angle);
+    const std::vector<char> corner =
+        boundary_corners(cut.mesh.V, ct.boundary_loops, ro.corner_angle_deg);
     std::vector<int> rank(rm.mesh.num_vertices(), 0);
     for (int v = 0; v < rm.mesh.num_vertices(); ++v) {
       const int s = rm.source_vertex[v];

@@ -1,5 +1,7 @@
 #include "gridshell/mesh/geometry.h"
 
+#include <numbers>
+
 namespace gridshell {
 
 int Plane::axis() const {
@@ -27,6 +29,23 @@ Vec3 Plane::project(const Vec3& p) const {
     return q;
   }
   return p - signed_distance(p) * normal;
+}
+
+std::vector<char> boundary_corners(const Points& V, const std::vector<std::vector<int>>& loops,
+                                   double angle_deg) {
+  std::vector<char> corner(V.rows(), 0);
+  const double cos_limit = std::cos(angle_deg * std::numbers::pi / 180.0);
+  for (const auto& loop : loops) {
+    const std::size_t n = loop.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      const Vec3 p = V.row(loop[(k + n - 1) % n]).transpose(), v = V.row(loop[k]).transpose(),
+                 q = V.row(loop[(k + 1) % n]).transpose();
+      const Vec3 d1 = (v - p).normalized(), d2 = (q - v).normalized();  // zero stays zero
+      if (d1.squaredNorm() > 0 && d2.squaredNorm() > 0 && d1.dot(d2) < cos_limit)
+        corner[loop[k]] = 1;
+    }
+  }
+  return corner;
 }
 
 double polygon_area(const PolyMesh& mesh, int face) {

@@ -1,13 +1,15 @@
 #pragma once
 /// \file geometry.h
 /// The small geometric helpers every stage shares: triangle area and barycentric points, the
-/// closest point on a triangle, planes, and whole-mesh measures (areas, bounding box). One copy
-/// of each, so that two stages measuring the same thing get the same bits.
+/// closest point on a triangle, planes, sharp corners of boundary loops, and whole-mesh measures
+/// (areas, bounding box). One copy of each, so that two stages measuring the same thing get the
+/// same bits.
 ///
 /// The one-line helpers are inline: they run in the inner loops of the tessellation and of the
 /// regularizer's reprojection. Connectivity (edges, boundary loops) is in topology.h.
 
 #include <cmath>
+#include <vector>
 
 #include "gridshell/mesh/mesh.h"
 
@@ -94,6 +96,19 @@ struct Plane {
   /// k when the normal is exactly ±(unit vector of axis k), else −1.
   int axis() const;
 };
+
+// ---------------------------------------------------------------------------------------------
+// Boundary corners
+
+/// The sharp corners of boundary loops (vertex cycles, e.g. Topology::boundary_loops): the
+/// vertices where the loop turns by more than `angle_deg` — the angle between the directions of
+/// the edge coming in and the edge going out is above it, i.e. their unit vectors' dot product
+/// is below cos(angle_deg). A vertex next to an edge of zero length has no turning angle and is
+/// not a corner. Returns one flag per row of V (0 off the loops).
+/// Defaults of the callers: 30° (tessellation, regularizer, dual mesh), 28.6° = 0.5 rad (regions
+/// of the quad baseline).
+std::vector<char> boundary_corners(const Points& V, const std::vector<std::vector<int>>& loops,
+                                   double angle_deg);
 
 // ---------------------------------------------------------------------------------------------
 // Whole meshes

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
-#include <numbers>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -23,20 +22,12 @@ namespace gridshell {
 
 std::vector<VertexConstraint> classify_vertices(const PolyMesh& mesh, double corner_angle_deg) {
   const Topology topo = build_topology(mesh);
+  const std::vector<char> corner = boundary_corners(mesh.V, topo.boundary_loops, corner_angle_deg);
   std::vector<VertexConstraint> c(mesh.num_vertices(), VertexConstraint::free);
-  const double cos_limit = std::cos(corner_angle_deg * std::numbers::pi / 180.0);
-  for (const auto& loop : topo.boundary_loops) {
-    const std::size_t n = loop.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const int v = loop[i];
-      c[v] = VertexConstraint::boundary;
-      const Vec3 a = mesh.vertex(v) - mesh.vertex(loop[(i + n - 1) % n]);
-      const Vec3 b = mesh.vertex(loop[(i + 1) % n]) - mesh.vertex(v);
-      const double la = a.norm(), lb = b.norm();
-      const bool turns = la > 0 && lb > 0 && a.dot(b) / (la * lb) < cos_limit;
-      if (turns || topo.vertex_faces[v].size() <= 1) c[v] = VertexConstraint::fixed;
-    }
-  }
+  for (const auto& loop : topo.boundary_loops)
+    for (int v : loop)
+      c[v] = corner[v] || topo.vertex_faces[v].size() <= 1 ? VertexConstraint::fixed
+                                                           : VertexConstraint::boundary;
   return c;
 }
 

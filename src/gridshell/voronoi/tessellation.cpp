@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numbers>
 #include <numeric>
 #include <tuple>
 #include <unordered_map>
@@ -562,24 +561,6 @@ struct Engine {
 
 // ---------------------------------------------------------------------------------------------
 // Seeding.
-
-/// Corners of the original rest mesh: boundary vertices turning by more than `angle_deg`.
-std::vector<char> find_corners(const TriMesh& rest, double angle_deg) {
-  std::vector<char> corner(rest.num_vertices(), 0);
-  const Adjacency adj = build_adjacency(rest.F, rest.num_vertices());
-  const double cos_max = std::cos(angle_deg * std::numbers::pi / 180.0);
-  for (const auto& loop : adj.loops) {
-    const int n = static_cast<int>(loop.size());
-    if (n < 3) continue;
-    for (int k = 0; k < n; ++k) {
-      const Vec3 p = rest.vertex(loop[(k + n - 1) % n]), v = rest.vertex(loop[k]),
-                 q = rest.vertex(loop[(k + 1) % n]);
-      const Vec3 d1 = (v - p).normalized(), d2 = (q - v).normalized();
-      if (d1.allFinite() && d2.allFinite() && d1.dot(d2) < cos_max) corner[loop[k]] = 1;
-    }
-  }
-  return corner;
-}
 
 /// Boundary seeds: corners (fixed) and evenly spaced seeds between them along each loop (the
 /// converged 1-D Lloyd sampling in M' arc length). Loops without corners get ≥ 3 seeds with a
@@ -1413,7 +1394,7 @@ Tessellation tessellate(const TriMesh& rest, const TriMesh& deformed,
     if (v < 0 || v >= rest.num_vertices()) throw Error("supports", "vertex id out of range");
     supported[v] = 1;
   }
-  const std::vector<char> corners = find_corners(rest, o.corner_angle_deg);
+  const std::vector<char> corners = boundary_corners(rest.V, adj.loops, o.corner_angle_deg);
   const int input_euler = euler_of(rest);
   const int input_loops = static_cast<int>(adj.loops.size());
   const double area = surface_area(deformed);
@@ -1488,7 +1469,7 @@ LloydBenchmark benchmark_lloyd(const TriMesh& surface, int cells, double support
   E.S = make_support_mesh(surface, surface);
   refine_to_length(E.S, support_edge * E.R);
   E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
-  const std::vector<char> corners = find_corners(surface, 30);
+  const std::vector<char> corners = boundary_corners(surface.V, adj0.loops, 30);
   E.corner_vertex.assign(E.S.deformed.num_vertices(), 0);
   for (std::size_t v = 0; v < corners.size(); ++v) E.corner_vertex[v] = corners[v];
   E.lo = E.S.deformed.V.colwise().minCoeff().transpose();
