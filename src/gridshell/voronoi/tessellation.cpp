@@ -28,80 +28,6 @@ constexpr double kHexArea = 2.598076211353316;  // area of a regular hexagon of 
 const double kSqrt3 = std::sqrt(3.0);
 
 // ---------------------------------------------------------------------------------------------
-// Triangle adjacency and boundary loops of the support mesh.
-
-struct Adjacency {
-  std::vector<std::array<int, 3>> nbr;       ///< triangle across local edge k (k → k+1), or -1
-  std::vector<std::array<int, 3>> nbr_edge;  ///< local index of that edge in the neighbour
-  std::vector<std::vector<int>> loops;       ///< boundary loops, vertices in face orientation
-  /// per loop, per position k: (triangle, local edge) of the edge loops[l][k] → loops[l][k+1]
-  std::vector<std::vector<std::array<int, 2>>> loop_edges;
-};
-
-Adjacency build_adjacency(const Triangles& F, int nv) {
-  const int nt = static_cast<int>(F.rows());
-  // Half-edges 3t+k (F(t,k) → F(t,k+1)) grouped by their origin vertex (counting sort: linear).
-  std::vector<int> start(nv + 1, 0);
-  for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) ++start[F(t, k) + 1];
-  for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<int> from(static_cast<std::size_t>(nt) * 3), to(from.size());
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int t = 0; t < nt; ++t)
-      for (int k = 0; k < 3; ++k) {
-        const int q = fill[F(t, k)]++;
-        from[q] = 3 * t + k;
-        to[q] = F(t, (k + 1) % 3);
-      }
-  }
-  Adjacency adj;
-  adj.nbr.assign(nt, {-1, -1, -1});
-  adj.nbr_edge.assign(nt, {-1, -1, -1});
-  std::vector<int> out(nv, -1);  // boundary half-edge leaving each vertex
-  for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(t, k), b = F(t, (k + 1) % 3);
-      int same = 0, twin = -1, twins = 0;
-      for (int q = start[a]; q < start[a + 1]; ++q) same += to[q] == b;
-      for (int q = start[b]; q < start[b + 1]; ++q)
-        if (to[q] == a) {
-          twin = from[q];
-          ++twins;
-        }
-      if (same + twins > 2) throw Error("surface", "non-manifold edge (more than two triangles)");
-      if (same > 1) throw Error("surface", "inconsistently oriented triangles (flip some faces)");
-      if (twin >= 0) {
-        adj.nbr[t][k] = twin / 3;
-        adj.nbr_edge[t][k] = twin % 3;
-      } else {
-        if (out[a] >= 0)
-          throw Error("surface", "non-manifold boundary vertex (two boundaries touch)");
-        out[a] = 3 * t + k;
-      }
-    }
-  std::vector<char> used(nv, 0);
-  for (int v = 0; v < nv; ++v) {
-    if (out[v] < 0 || used[v]) continue;
-    std::vector<int> loop;
-    std::vector<std::array<int, 2>> edges;
-    int u = v;
-    while (!used[u]) {
-      used[u] = 1;
-      const int h = out[u];
-      if (h < 0) throw Error("surface", "open boundary chain (non-manifold boundary)");
-      loop.push_back(u);
-      edges.push_back({h / 3, h % 3});
-      u = F(h / 3, (h % 3 + 1) % 3);
-    }
-    if (u != v) throw Error("surface", "non-manifold boundary");
-    adj.loops.push_back(std::move(loop));
-    adj.loop_edges.push_back(std::move(edges));
-  }
-  return adj;
-}
-
-// ---------------------------------------------------------------------------------------------
 // A uniform grid over the seeds for exact nearest-seed queries.
 
 class SeedGrid {
@@ -254,7 +180,7 @@ int merge_orphan_pieces(Engine& E);
 
 struct Engine {
   SupportMesh S;
-  Adjacency adj;
+  TriangleAdjacency adj;
   std::vector<char> corner_vertex;  ///< per support vertex (original corners keep their ids)
   std::vector<Seed> seeds;
   std::vector<int> label;
@@ -389,9 +315,9 @@ struct Engine {
           add(lb);
           add(lc);
           for (int k = 0; k < 3; ++k) {
-            const int u = adj.nbr[t][k];
+            const int u = adj.neighbor[t][k];
             if (u < 0) continue;
-            add(label[F(u, (adj.nbr_edge[t][k] + 2) % 3)]);
+            add(label[F(u, (adj.neighbor_edge[t][k] + 2) % 3)]);
           }
           for (int q = 0; q < nc; ++q) {
             const int i = cand[q];
@@ -567,9 +493,9 @@ struct Engine {
 /// random phase.
 void seed_boundary(Engine& E, double spacing, Rng& rng) {
   const auto& V = E.S.deformed;
-  for (std::size_t l = 0; l < E.adj.loops.size(); ++l) {
-    const auto& loop = E.adj.loops[l];
-    const auto& edges = E.adj.loop_edges[l];
+  for (std::size_t l = 0; l < E.adj.boundary_loops.size(); ++l) {
+    const auto& loop = E.adj.boundary_loops[l];
+    const auto& edges = E.adj.boundary_loop_edges[l];
     const int n = static_cast<int>(loop.size());
     std::vector<double> s(n + 1, 0.0);
     for (int k = 0; k < n; ++k)
@@ -741,9 +667,9 @@ Extraction extract(const Engine& E) {
     int from, to, cell;
   };
   std::vector<DirEdge> dedges;
-  for (std::size_t l = 0; l < E.adj.loops.size(); ++l) {
-    const auto& loop = E.adj.loops[l];
-    const auto& edges = E.adj.loop_edges[l];
+  for (std::size_t l = 0; l < E.adj.boundary_loops.size(); ++l) {
+    const auto& loop = E.adj.boundary_loops[l];
+    const auto& edges = E.adj.boundary_loop_edges[l];
     std::vector<std::pair<int, int>> seq;  // (node, label after it)
     std::vector<double> seq_arc;           // arc length on M of each node along the loop
     const int nl = static_cast<int>(loop.size());
@@ -840,8 +766,8 @@ Extraction extract(const Engine& E) {
   std::vector<char> visited(static_cast<std::size_t>(nt) * 3, 0);
   auto mark = [&](int t, int k) {
     visited[3 * t + k] = 1;
-    const int u = E.adj.nbr[t][k];
-    if (u >= 0) visited[3 * u + E.adj.nbr_edge[t][k]] = 1;
+    const int u = E.adj.neighbor[t][k];
+    if (u >= 0) visited[3 * u + E.adj.neighbor_edge[t][k]] = 1;
   };
   auto fail = [&](const std::string& what, std::initializer_list<int> labels) {
     X.problem = what;
@@ -856,9 +782,9 @@ Extraction extract(const Engine& E) {
         if (q != k && mixed(t, q)) k2 = q;
       if (k2 < 0) return -1;
       mark(t, k2);
-      const int u = E.adj.nbr[t][k2];
+      const int u = E.adj.neighbor[t][k2];
       if (u < 0) return edge_node.at(3 * t + k2);
-      k = E.adj.nbr_edge[t][k2];
+      k = E.adj.neighbor_edge[t][k2];
       t = u;
     }
     return -1;
@@ -882,8 +808,8 @@ Extraction extract(const Engine& E) {
       if (visited[3 * t + k]) continue;
       const int u = F(t, k), w = F(t, (k + 1) % 3);
       mark(t, k);
-      const int nb = E.adj.nbr[t][k];
-      const int n1 = nb < 0 ? edge_node.at(3 * t + k) : walk(nb, E.adj.nbr_edge[t][k]);
+      const int nb = E.adj.neighbor[t][k];
+      const int n1 = nb < 0 ? edge_node.at(3 * t + k) : walk(nb, E.adj.neighbor_edge[t][k]);
       add_chain(n0, n1, L[w], L[u]);
     }
   }
@@ -1058,7 +984,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   E.S = make_support_mesh(rest, deformed);
   const bool two_level = o.coarse_edge > o.support_edge;
   refine_to_length(E.S, (two_level ? o.coarse_edge : o.support_edge) * R);
-  E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
+  E.adj = build_triangle_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
   E.corner_vertex.assign(E.S.deformed.num_vertices(), 0);
   for (std::size_t v = 0; v < corners.size(); ++v) E.corner_vertex[v] = corners[v];
   E.lo = E.S.deformed.V.colwise().minCoeff().transpose();
@@ -1108,7 +1034,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
     std::vector<int> source;
     const int old_faces = E.S.deformed.num_faces();
     refine_to_length(E.S, o.support_edge * R, &source);
-    E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
+    E.adj = build_triangle_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
     E.corner_vertex.resize(E.S.deformed.num_vertices(), 0);
     E.relocate_seeds(source, old_faces);
     T.converged =
@@ -1162,7 +1088,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   Extraction X;
   double hr = he;
   for (int attempt = 0;; ++attempt) {
-    E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
+    E.adj = build_triangle_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
     // Detached pieces of a cell's region (M′ bending back within a cell size) would make it
     // a non-disk that no refinement repairs: they join a neighbouring cell first.
     const int orphans = merge_orphan_pieces(E);
@@ -1245,9 +1171,9 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
         }
         // Supported input vertices that the rule above cannot see: interior ones, and isolated
         // supported boundary vertices; their nearest output (boundary) vertex becomes a support.
-        const Adjacency oadj = build_adjacency(rest.F, rest.num_vertices());
+        const TriangleAdjacency oadj = build_triangle_adjacency(rest.F, rest.num_vertices());
         std::vector<int> prev(rest.num_vertices(), -1), nextv(rest.num_vertices(), -1);
-        for (const auto& loop : oadj.loops)
+        for (const auto& loop : oadj.boundary_loops)
           for (std::size_t k = 0; k < loop.size(); ++k) {
             nextv[loop[k]] = loop[(k + 1) % loop.size()];
             prev[loop[(k + 1) % loop.size()]] = loop[k];
@@ -1388,18 +1314,18 @@ Tessellation tessellate(const TriMesh& rest, const TriMesh& deformed,
                         const std::vector<int>& rest_supports, const TessellationOptions& o) {
   check_tessellation_options(o);
   (void)make_support_mesh(rest, deformed);  // validates
-  const Adjacency adj = build_adjacency(rest.F, rest.num_vertices());
+  const TriangleAdjacency adj = build_triangle_adjacency(rest.F, rest.num_vertices());
   std::vector<char> supported(rest.num_vertices(), 0);
   for (int v : rest_supports) {
     if (v < 0 || v >= rest.num_vertices()) throw Error("supports", "vertex id out of range");
     supported[v] = 1;
   }
-  const std::vector<char> corners = boundary_corners(rest.V, adj.loops, o.corner_angle_deg);
+  const std::vector<char> corners = boundary_corners(rest.V, adj.boundary_loops, o.corner_angle_deg);
   const int input_euler = euler_of(rest);
-  const int input_loops = static_cast<int>(adj.loops.size());
+  const int input_loops = static_cast<int>(adj.boundary_loops.size());
   const double area = surface_area(deformed);
   double perimeter = 0;
-  for (const auto& loop : adj.loops)
+  for (const auto& loop : adj.boundary_loops)
     for (std::size_t k = 0; k < loop.size(); ++k)
       perimeter += (deformed.vertex(loop[k]) - deformed.vertex(loop[(k + 1) % loop.size()])).norm();
   if (!(area > 0)) throw Error("surface", "zero area");
@@ -1460,16 +1386,16 @@ LloydBenchmark benchmark_lloyd(const TriMesh& surface, int cells, double support
                                std::uint64_t seed) {
   Engine E;
   double area = surface_area(surface);
-  const Adjacency adj0 = build_adjacency(surface.F, surface.num_vertices());
+  const TriangleAdjacency adj0 = build_triangle_adjacency(surface.F, surface.num_vertices());
   double perimeter = 0;
-  for (const auto& loop : adj0.loops)
+  for (const auto& loop : adj0.boundary_loops)
     for (std::size_t k = 0; k < loop.size(); ++k)
       perimeter += (surface.vertex(loop[k]) - surface.vertex(loop[(k + 1) % loop.size()])).norm();
   E.R = radius_for_cells(area, perimeter, cells, 1.0);
   E.S = make_support_mesh(surface, surface);
   refine_to_length(E.S, support_edge * E.R);
-  E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
-  const std::vector<char> corners = boundary_corners(surface.V, adj0.loops, 30);
+  E.adj = build_triangle_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
+  const std::vector<char> corners = boundary_corners(surface.V, adj0.boundary_loops, 30);
   E.corner_vertex.assign(E.S.deformed.num_vertices(), 0);
   for (std::size_t v = 0; v < corners.size(); ++v) E.corner_vertex[v] = corners[v];
   E.lo = E.S.deformed.V.colwise().minCoeff().transpose();
