@@ -20,7 +20,7 @@ TEST(PlaneCut, SplitsAlongThePlaneAndKeepsTheSurface) {
   Surface s = make_builtin("dome:res=12");
   const double area = surface_area(s.mesh);
   CutMesh c = make_cut_mesh(s);
-  cut_along_plane(c, CutPlane{Vec3(1, 0, 0), 0.37}, 1e-12);
+  cut_along_plane(c, Plane{Vec3(0.37, 0, 0), Vec3(1, 0, 0)}, 1e-12);
   EXPECT_NEAR(surface_area(c.mesh), area, 1e-9 * area);  // same surface, only split
   EXPECT_TRUE(check_mesh(to_poly(c.mesh)).ok());
   // No triangle straddles the plane any more.
@@ -32,7 +32,7 @@ TEST(PlaneCut, SplitsAlongThePlaneAndKeepsTheSurface) {
     }
     EXPECT_FALSE(lo < -1e-12 && hi > 1e-12);
   }
-  keep_side(c, CutPlane{Vec3(1, 0, 0), 0.37});
+  keep_side(c, Plane{Vec3(0.37, 0, 0), Vec3(1, 0, 0)});
   for (int v = 0; v < c.mesh.num_vertices(); ++v) EXPECT_GE(c.mesh.V(v, 0), 0.37 - 1e-12);
   Topology t = build_topology(c.mesh);
   EXPECT_EQ(t.boundary_loops.size(), 1u);

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/builtin.h"
 
@@ -70,4 +71,54 @@ TEST(Topology, CollapseBoundaryStubs) {
   EXPECT_EQ(collapse_boundary_stubs(tri, q, {1, 1, 0, 0}, 0.05), 0);
   EXPECT_EQ(collapse_boundary_stubs(quad, q, {2, 2, 0, 0}, 0.05), 0);
   EXPECT_EQ(quad[0], (std::vector<int>{0, 1, 3, 2}));
+}
+
+TEST(TriangleAdjacency, AgreesWithTopologyOnTheBuiltins) {
+  for (const char* spec : {"paraboloid:res=10", "dome:res=12", "barrel:res=10", "court:res=14",
+                           "funicular:res=10"}) {
+    const TriMesh m = make_builtin(spec).mesh;
+    const Topology topo = build_topology(m);
+    const TriangleAdjacency adj = build_triangle_adjacency(m.F, m.num_vertices());
+    // The same boundary loops, starting vertices and order (the tessellation's seeds depend on
+    // them).
+    EXPECT_EQ(adj.boundary_loops, topo.boundary_loops) << spec;
+    ASSERT_EQ(adj.boundary_loop_edges.size(), adj.boundary_loops.size());
+    for (std::size_t l = 0; l < adj.boundary_loops.size(); ++l) {
+      const auto& loop = adj.boundary_loops[l];
+      for (std::size_t k = 0; k < loop.size(); ++k) {
+        const auto [t, e] = adj.boundary_loop_edges[l][k];
+        EXPECT_EQ(m.F(t, e), loop[k]);
+        EXPECT_EQ(m.F(t, (e + 1) % 3), loop[(k + 1) % loop.size()]);
+        EXPECT_EQ(adj.neighbor[t][e], -1);
+      }
+    }
+    // Neighbours are mutual and are the other face of the edge in Topology.
+    for (int t = 0; t < m.num_faces(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int u = adj.neighbor[t][k];
+        const auto& faces = topo.edge_faces[topo.face_edges[t][k]];
+        if (u < 0) {
+          EXPECT_EQ(faces.size(), 1u);
+          continue;
+        }
+        const int j = adj.neighbor_edge[t][k];
+        EXPECT_EQ(adj.neighbor[u][j], t);
+        EXPECT_EQ(adj.neighbor_edge[u][j], k);
+        EXPECT_EQ(m.F(u, j), m.F(t, (k + 1) % 3));  // the twin runs the other way
+        EXPECT_EQ(faces.size(), 2u);
+        EXPECT_EQ(faces[0] == t ? faces[1] : faces[0], u);
+      }
+  }
+}
+
+TEST(TriangleAdjacency, RefusesNonManifoldInput) {
+  Triangles F(3, 3);
+  F << 0, 1, 2, 0, 2, 3, 0, 2, 4;  // edge 0–2 in three triangles
+  EXPECT_THROW(build_triangle_adjacency(F, 5), Error);
+  Triangles G(2, 3);
+  G << 0, 1, 2, 0, 3, 2;  // both walk 0 → … 2 → 0: inconsistent orientation
+  EXPECT_THROW(build_triangle_adjacency(G, 4), Error);
+  Triangles H(2, 3);
+  H << 0, 1, 2, 0, 3, 4;  // two fans touching at vertex 0
+  EXPECT_THROW(build_triangle_adjacency(H, 5), Error);
 }

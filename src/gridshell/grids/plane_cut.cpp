@@ -14,13 +14,13 @@ CutMesh make_cut_mesh(const Surface& surface) {
   return m;
 }
 
-void cut_along_plane(CutMesh& m, const CutPlane& plane, double snap) {
+void cut_along_plane(CutMesh& m, const Plane& plane, double snap) {
   const int nv = m.mesh.num_vertices();
   std::vector<double> s(nv);
   for (int v = 0; v < nv; ++v) {
     s[v] = plane.signed_distance(m.mesh.vertex(v));
     if (std::abs(s[v]) <= snap) {
-      m.mesh.V.row(v) -= s[v] * plane.n.transpose();
+      m.mesh.V.row(v) -= s[v] * plane.normal.transpose();
       s[v] = 0;
     }
   }
@@ -33,7 +33,7 @@ void cut_along_plane(CutMesh& m, const CutPlane& plane, double snap) {
     if (it != edge_vertex.end()) return it->second;
     const double t = s[a] / (s[a] - s[b]);
     Vec3 p = (1 - t) * m.mesh.vertex(a) + t * m.mesh.vertex(b);
-    p -= plane.signed_distance(p) * plane.n;  // exactly on the plane
+    p -= plane.signed_distance(p) * plane.normal;  // exactly on the plane
     const int id = nv + static_cast<int>(new_points.size());
     new_points.push_back(p);
     new_support.push_back(m.support[a] && m.support[b]);
@@ -88,7 +88,7 @@ void cut_along_plane(CutMesh& m, const CutPlane& plane, double snap) {
   m.parent_face = std::move(parents);
 }
 
-std::vector<int> keep_side(CutMesh& m, const CutPlane& plane) {
+std::vector<int> keep_side(CutMesh& m, const Plane& plane) {
   const int nv = m.mesh.num_vertices();
   std::vector<int> new_id(nv, -1), old_id;
   std::vector<std::array<int, 3>> faces;

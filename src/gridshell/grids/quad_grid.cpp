@@ -75,7 +75,7 @@ GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
          k <= static_cast<int>(std::ceil(hi / h)); ++k) {
       const double offset = (k + 0.5) * h;
       if (offset <= lo || offset >= hi) continue;
-      cut_along_plane(cut, CutPlane{dir, dir.dot(centre) + offset}, snap);
+      cut_along_plane(cut, Plane{centre + offset * dir, dir}, snap);
     }
   }
   std::vector<int> label(cut.mesh.num_faces());
@@ -91,7 +91,8 @@ GridShell quad_grid(const Surface& surface, const QuadGridOptions& o) {
   RegionMesh rm = extract_regions(cut.mesh, label, ro);
   Topology ct = build_topology(cut.mesh);
   {
-    const std::vector<char> corner = boundary_corners(cut.mesh, ro.corner_angle);
+    const std::vector<char> corner =
+        boundary_corners(cut.mesh.V, ct.boundary_loops, ro.corner_angle_deg);
     std::vector<int> rank(rm.mesh.num_vertices(), 0);
     for (int v = 0; v < rm.mesh.num_vertices(); ++v) {
       const int s = rm.source_vertex[v];

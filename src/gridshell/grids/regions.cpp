@@ -7,24 +7,10 @@
 #include <set>
 
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
-
-std::vector<char> boundary_corners(const TriMesh& mesh, double angle) {
-  Topology t = build_topology(mesh);
-  std::vector<char> corner(mesh.num_vertices(), 0);
-  for (const auto& loop : t.boundary_loops) {
-    const std::size_t n = loop.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 p = mesh.vertex(loop[(i + n - 1) % n]), v = mesh.vertex(loop[i]),
-                 q = mesh.vertex(loop[(i + 1) % n]);
-      const Vec3 a = (v - p).normalized(), b = (q - v).normalized();
-      if (std::acos(std::clamp(a.dot(b), -1.0, 1.0)) > angle) corner[loop[i]] = 1;
-    }
-  }
-  return corner;
-}
 
 namespace {
 
@@ -59,12 +45,11 @@ Labelling components(const Topology& t, const std::vector<int>& label, int nf) {
 RegionMesh extract_regions(const TriMesh& mesh, std::vector<int> label, const RegionOptions& o) {
   const int nf = mesh.num_faces(), nv = mesh.num_vertices();
   const Topology t = build_topology(mesh);
-  const std::vector<char> corner = boundary_corners(mesh, o.corner_angle);
+  const std::vector<char> corner = boundary_corners(mesh.V, t.boundary_loops, o.corner_angle_deg);
   std::vector<double> face_area(nf);
   for (int f = 0; f < nf; ++f) {
-    const Vec3 a = mesh.vertex(mesh.F(f, 0)), b = mesh.vertex(mesh.F(f, 1)),
-               c = mesh.vertex(mesh.F(f, 2));
-    face_area[f] = 0.5 * (b - a).cross(c - a).norm();
+    const auto& F = mesh.F;
+    face_area[f] = triangle_area(mesh.vertex(F(f, 0)), mesh.vertex(F(f, 1)), mesh.vertex(F(f, 2)));
   }
 
   for (int round = 0; round < 1000; ++round) {

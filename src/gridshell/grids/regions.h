@@ -7,6 +7,7 @@
 /// straight edges (beams). Used by the quad baseline; the same extraction rule as a discrete
 /// Voronoi diagram.
 
+#include <numbers>
 #include <vector>
 
 #include "gridshell/mesh/mesh.h"
@@ -16,8 +17,9 @@ namespace gridshell {
 struct RegionOptions {
   /// Regions smaller than this area are merged into the neighbour they share most border with.
   double min_area = 0;
-  /// A boundary vertex is a sharp corner when its boundary turns by more than this (radians).
-  double corner_angle = 0.5;
+  /// A boundary vertex is a sharp corner when its boundary turns by more than this (degrees;
+  /// 0.5 rad. mesh/geometry.h boundary_corners).
+  double corner_angle_deg = 90 / std::numbers::pi;
 };
 
 struct RegionMesh {
@@ -30,8 +32,5 @@ struct RegionMesh {
 /// three junctions are merged into a neighbour; throws Error if that cannot make them valid.
 RegionMesh extract_regions(const TriMesh& mesh, std::vector<int> face_label,
                            const RegionOptions& options = {});
-
-/// Sharp boundary corners of a triangle mesh (turning angle above `angle` radians).
-std::vector<char> boundary_corners(const TriMesh& mesh, double angle);
 
 }  // namespace gridshell

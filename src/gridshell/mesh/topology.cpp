@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "gridshell/core/error.h"
+
 namespace gridshell {
 
 int Topology::find_edge(int a, int b) const {
@@ -86,33 +88,74 @@ Topology build_topology(const TriMesh& mesh) {
   return build_topology(to_poly(mesh));
 }
 
+TriangleAdjacency build_triangle_adjacency(const Triangles& F, int nv) {
+  const int nt = static_cast<int>(F.rows());
+  // Half-edges 3t+k (F(t,k) → F(t,k+1)) grouped by their origin vertex (counting sort: linear).
+  std::vector<int> start(nv + 1, 0);
+  for (int t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) ++start[F(t, k) + 1];
+  for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<int> from(static_cast<std::size_t>(nt) * 3), to(from.size());
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int t = 0; t < nt; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int q = fill[F(t, k)]++;
+        from[q] = 3 * t + k;
+        to[q] = F(t, (k + 1) % 3);
+      }
+  }
+  TriangleAdjacency adj;
+  adj.neighbor.assign(nt, {-1, -1, -1});
+  adj.neighbor_edge.assign(nt, {-1, -1, -1});
+  std::vector<int> out(nv, -1);  // boundary half-edge leaving each vertex
+  for (int t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(t, k), b = F(t, (k + 1) % 3);
+      int same = 0, twin = -1, twins = 0;
+      for (int q = start[a]; q < start[a + 1]; ++q) same += to[q] == b;
+      for (int q = start[b]; q < start[b + 1]; ++q)
+        if (to[q] == a) {
+          twin = from[q];
+          ++twins;
+        }
+      if (same + twins > 2) throw Error("surface", "non-manifold edge (more than two triangles)");
+      if (same > 1) throw Error("surface", "inconsistently oriented triangles (flip some faces)");
+      if (twin >= 0) {
+        adj.neighbor[t][k] = twin / 3;
+        adj.neighbor_edge[t][k] = twin % 3;
+      } else {
+        if (out[a] >= 0)
+          throw Error("surface", "non-manifold boundary vertex (two boundaries touch)");
+        out[a] = 3 * t + k;
+      }
+    }
+  // Boundary loops from the smallest unused vertex with a boundary half-edge leaving it.
+  std::vector<char> used(nv, 0);
+  for (int v = 0; v < nv; ++v) {
+    if (out[v] < 0 || used[v]) continue;
+    std::vector<int> loop;
+    std::vector<std::array<int, 2>> edges;
+    int u = v;
+    while (!used[u]) {
+      used[u] = 1;
+      const int h = out[u];
+      if (h < 0) throw Error("surface", "open boundary chain (non-manifold boundary)");
+      loop.push_back(u);
+      edges.push_back({h / 3, h % 3});
+      u = F(h / 3, (h % 3 + 1) % 3);
+    }
+    if (u != v) throw Error("surface", "non-manifold boundary");
+    adj.boundary_loops.push_back(std::move(loop));
+    adj.boundary_loop_edges.push_back(std::move(edges));
+  }
+  return adj;
+}
+
 int euler_characteristic(const PolyMesh& mesh, const Topology& topo) {
   int referenced = 0;
   for (const auto& vf : topo.vertex_faces) referenced += vf.empty() ? 0 : 1;
   return referenced - topo.num_edges() + mesh.num_faces();
-}
-
-double polygon_area(const PolyMesh& mesh, int face) {
-  const auto& f = mesh.faces[face];
-  Vec3 a = Vec3::Zero();
-  for (std::size_t k = 0; k < f.size(); ++k)
-    a += mesh.vertex(f[k]).cross(mesh.vertex(f[(k + 1) % f.size()]));
-  return 0.5 * a.norm();
-}
-
-double surface_area(const TriMesh& mesh) {
-  double area = 0;
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    Vec3 a = mesh.vertex(mesh.F(f, 0)), b = mesh.vertex(mesh.F(f, 1)),
-         c = mesh.vertex(mesh.F(f, 2));
-    area += 0.5 * (b - a).cross(c - a).norm();
-  }
-  return area;
-}
-
-double bbox_diagonal(const Points& V) {
-  if (V.rows() == 0) return 0;
-  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
 }
 
 std::vector<std::string> MeshProblems::describe() const {

@@ -3,11 +3,17 @@
 /// Connectivity of a polygon (or triangle) mesh: unique edges, edge–face incidence, boundary
 /// loops, vertex neighbourhoods, Euler characteristic, and the validity checks of `info`.
 /// Cost: O(sum of face sizes · log) time and memory.
+///
+/// TriangleAdjacency is the lean companion for manifold triangle meshes that are refined and
+/// walked many times (the tessellation's support mesh, 10⁵–10⁶ triangles): the neighbour across
+/// each triangle edge and the boundary loops with their triangle edges, in linear time, no
+/// per-vertex lists. It refuses non-manifold input; its boundary loops are Topology's.
 
 #include <array>
 #include <string>
 #include <vector>
 
+#include "gridshell/mesh/geometry.h"  // areas and sizes (polygon_area, surface_area, …)
 #include "gridshell/mesh/mesh.h"
 
 namespace gridshell {
@@ -36,6 +42,27 @@ struct Topology {
 Topology build_topology(const PolyMesh& mesh);
 Topology build_topology(const TriMesh& mesh);
 
+/// Triangle-to-triangle adjacency of a manifold, consistently oriented triangle mesh. Local
+/// edge k of triangle t runs from corner k to corner k + 1 (mod 3).
+struct TriangleAdjacency {
+  /// Per triangle, per local edge: the triangle across it, or −1 on the boundary.
+  std::vector<std::array<int, 3>> neighbor;
+  /// Per triangle, per local edge: the local index of the same edge in that neighbour (−1).
+  std::vector<std::array<int, 3>> neighbor_edge;
+  /// Boundary loops as vertex cycles, oriented like the triangles next to them: the same loops,
+  /// starting vertices and order as Topology::boundary_loops (each loop starts at its smallest
+  /// vertex id, loops by that id).
+  std::vector<std::vector<int>> boundary_loops;
+  /// Per loop, per position k: (triangle, local edge) of the edge loop[k] → loop[k + 1].
+  std::vector<std::vector<std::array<int, 2>>> boundary_loop_edges;
+};
+
+/// Builds the adjacency of `F` over `num_vertices` vertices: half-edges grouped by origin vertex
+/// (counting sort), twins looked up there; O(F + V). Throws Error("surface", …) for an edge of
+/// more than two triangles, triangles walking an edge the same way (inconsistent orientation),
+/// and boundaries that touch at a vertex or do not close.
+TriangleAdjacency build_triangle_adjacency(const Triangles& F, int num_vertices);
+
 /// V − E + F counted over referenced vertices.
 int euler_characteristic(const PolyMesh& mesh, const Topology& topo);
 
@@ -60,13 +87,6 @@ struct MeshProblems {
 /// Checks a mesh for everything above. Never throws on bad indices: they are counted.
 /// `degenerate_tolerance` is relative to the squared bounding-box diagonal.
 MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance = 1e-14);
-
-/// Area of a (possibly non-planar) polygon: the norm of its vector area.
-double polygon_area(const PolyMesh& mesh, int face);
-/// Total area of a triangle mesh.
-double surface_area(const TriMesh& mesh);
-/// Length of the bounding-box diagonal.
-double bbox_diagonal(const Points& V);
 
 /// Collapses stub edges at a boundary: every edge shorter than `min_length` with an end of rank
 /// ≥ 1 is collapsed into its end of higher rank (rank per vertex: 0 interior, 1 boundary,

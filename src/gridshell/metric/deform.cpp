@@ -14,6 +14,7 @@
 
 #include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
@@ -64,7 +65,7 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
   for (int f = 0; f < nf; ++f) {
     const Vec3 p0 = rest.vertex(rest.F(f, 0)), p1 = rest.vertex(rest.F(f, 1)),
                p2 = rest.vertex(rest.F(f, 2));
-    const double area = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    const double area = triangle_area(p0, p1, p2);
     if (!(area > 1e-14 * diag * diag))
       throw Error("mesh", fmt::format("degenerate triangle {} (zero area)", f));
     const double d = field.d[f], a = field.a[f];

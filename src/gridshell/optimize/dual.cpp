@@ -1,11 +1,10 @@
 #include "gridshell/optimize/dual.h"
 
-#include <cmath>
 #include <map>
-#include <numbers>
 #include <utility>
 
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
@@ -34,16 +33,7 @@ DualMesh dual_polygon_mesh(const TriMesh& m, double corner_angle_deg) {
     for (int k = 0; k < 3; ++k) vf[m.F(f, k)].push_back(f);
 
   const Topology topo = build_topology(m);
-  const double cos_limit = std::cos(corner_angle_deg * std::numbers::pi / 180.0);
-  std::vector<char> is_corner(nv, 0);
-  for (const auto& loop : topo.boundary_loops) {
-    const std::size_t n = loop.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 a = m.vertex(loop[i]) - m.vertex(loop[(i + n - 1) % n]);
-      const Vec3 b = m.vertex(loop[(i + 1) % n]) - m.vertex(loop[i]);
-      if (a.dot(b) < cos_limit * a.norm() * b.norm()) is_corner[loop[i]] = 1;
-    }
-  }
+  const std::vector<char> is_corner = boundary_corners(m.V, topo.boundary_loops, corner_angle_deg);
 
   DualMesh d;
   std::vector<Vec3> pts;

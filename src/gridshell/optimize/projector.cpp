@@ -9,6 +9,7 @@
 #include <array>
 
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
@@ -28,34 +29,6 @@ Point to_cgal(const Vec3& p) {
 }
 Vec3 from_cgal(const Point& p) {
   return Vec3(p.x(), p.y(), p.z());
-}
-
-/// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5) and
-/// where it lies: region 0 = inside, 1–3 = on edge ab / bc / ca, 4–6 = at vertex a / b / c.
-struct TrianglePoint {
-  Vec3 point;
-  int region;
-};
-
-TrianglePoint closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return {a, 4};
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return {b, 5};
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return {a + (d1 / (d1 - d3)) * ab, 1};
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return {c, 6};
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return {a + (d2 / (d2 - d6)) * ac, 3};
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return {b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b), 2};
-  const double denom = 1.0 / (va + vb + vc);
-  return {a + ab * (vb * denom) + ac * (vc * denom), 0};
 }
 
 }  // namespace
@@ -145,8 +118,8 @@ Vec3 SurfaceProjector::closest_point_walk(const Vec3& p, int& triangle) const {
   }
   auto on = [&](int t) {
     const auto& c = I.corners[t];
-    return closest_on_triangle(p, I.V.row(c[0]).transpose(), I.V.row(c[1]).transpose(),
-                               I.V.row(c[2]).transpose());
+    return closest_point_on_triangle(p, I.V.row(c[0]).transpose(), I.V.row(c[1]).transpose(),
+                                     I.V.row(c[2]).transpose());
   };
   TrianglePoint best = on(triangle);
   double best_d = (best.point - p).squaredNorm();

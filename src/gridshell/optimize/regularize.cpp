@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
-#include <numbers>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -14,6 +13,7 @@
 
 #include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/optimize/metrics.h"
 #include "gridshell/optimize/projector.h"
@@ -22,20 +22,12 @@ namespace gridshell {
 
 std::vector<VertexConstraint> classify_vertices(const PolyMesh& mesh, double corner_angle_deg) {
   const Topology topo = build_topology(mesh);
+  const std::vector<char> corner = boundary_corners(mesh.V, topo.boundary_loops, corner_angle_deg);
   std::vector<VertexConstraint> c(mesh.num_vertices(), VertexConstraint::free);
-  const double cos_limit = std::cos(corner_angle_deg * std::numbers::pi / 180.0);
-  for (const auto& loop : topo.boundary_loops) {
-    const std::size_t n = loop.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const int v = loop[i];
-      c[v] = VertexConstraint::boundary;
-      const Vec3 a = mesh.vertex(v) - mesh.vertex(loop[(i + n - 1) % n]);
-      const Vec3 b = mesh.vertex(loop[(i + 1) % n]) - mesh.vertex(v);
-      const double la = a.norm(), lb = b.norm();
-      const bool turns = la > 0 && lb > 0 && a.dot(b) / (la * lb) < cos_limit;
-      if (turns || topo.vertex_faces[v].size() <= 1) c[v] = VertexConstraint::fixed;
-    }
-  }
+  for (const auto& loop : topo.boundary_loops)
+    for (int v : loop)
+      c[v] = corner[v] || topo.vertex_faces[v].size() <= 1 ? VertexConstraint::fixed
+                                                           : VertexConstraint::boundary;
   return c;
 }
 
@@ -110,29 +102,30 @@ void project(Points& X, const std::vector<VertexConstraint>& cons, const std::ve
   });
 }
 
-/// Centroid, unit normal (Newell), half perimeter and planarity (mean |distance to the plane| /
-/// half perimeter) of a face of X.
+/// A face of X: its plane (through the centroid, unit Newell normal; +z for a face of zero
+/// vector area), half perimeter and planarity (mean |distance to the plane| / half perimeter).
 struct FacePlane {
-  Vec3 centroid = Vec3::Zero(), normal = Vec3::UnitZ();
+  Plane plane{Vec3::Zero(), Vec3::UnitZ()};
   double half_perimeter = 0, planarity = 0;
 };
 
 FacePlane face_plane(const Points& X, const std::vector<int>& face) {
   FacePlane fp;
   const std::size_t n = face.size();
-  for (int v : face) fp.centroid += X.row(v).transpose();
-  fp.centroid /= static_cast<double>(n);
+  Vec3& centroid = fp.plane.point;
+  for (int v : face) centroid += X.row(v).transpose();
+  centroid /= static_cast<double>(n);
   Vec3 a = Vec3::Zero();
   double per = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 p = X.row(face[i]).transpose(), q = X.row(face[(i + 1) % n]).transpose();
-    a += (p - fp.centroid).cross(q - fp.centroid);
+    a += (p - centroid).cross(q - centroid);
     per += (q - p).norm();
   }
-  if (a.norm() > 0) fp.normal = a.normalized();
+  if (a.norm() > 0) fp.plane.normal = a.normalized();
   fp.half_perimeter = 0.5 * per;
   double dev = 0;
-  for (int v : face) dev += std::abs((X.row(v).transpose() - fp.centroid).dot(fp.normal));
+  for (int v : face) dev += std::abs(fp.plane.signed_distance(X.row(v).transpose()));
   fp.planarity = per > 0 ? dev / static_cast<double>(n) / fp.half_perimeter : 0.0;
   return fp;
 }
@@ -169,7 +162,7 @@ void guard_planarity(Points& X, const PolyMesh& mesh,
     Vec3 n = Vec3::Zero();
     bool any = false;
     for (int f : vertex_faces[v]) {
-      n += b.planes[f].normal;
+      n += b.planes[f].plane.normal;
       any = any || b.excess[f] > 0;
     }
     if (!any || n.norm() == 0) return;
@@ -180,10 +173,10 @@ void guard_planarity(Points& X, const PolyMesh& mesh,
     Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
     const Vec3 x = X.row(v).transpose();
     for (int f : vertex_faces[v]) {
-      const FacePlane& fp = b.planes[f];
-      const Eigen::Vector2d a(e1.dot(fp.normal), e2.dot(fp.normal));
+      const Plane& plane = b.planes[f].plane;
+      const Eigen::Vector2d a(e1.dot(plane.normal), e2.dot(plane.normal));
       A += a * a.transpose();
-      rhs += b.excess[f] * (x - fp.centroid).dot(fp.normal) * a;
+      rhs += b.excess[f] * plane.signed_distance(x) * a;
     }
     const Eigen::Vector2d u = -A.ldlt().solve(rhs);
     b.moved.row(v) = (x + 0.5 * (u.x() * e1 + u.y() * e2)).transpose();

@@ -13,37 +13,6 @@
 
 namespace gridshell {
 
-namespace {
-
-/// Index of the axis when the normal is ±(unit axis), else -1.
-int axis_of(const Vec3& n) {
-  for (int k = 0; k < 3; ++k)
-    if (std::abs(n[k]) == 1.0 && n[(k + 1) % 3] == 0.0 && n[(k + 2) % 3] == 0.0) return k;
-  return -1;
-}
-
-}  // namespace
-
-Vec3 Plane::reflect(const Vec3& p) const {
-  const int k = axis_of(normal);
-  if (k >= 0) {
-    Vec3 q = p;
-    q[k] = 2 * point[k] - p[k];
-    return q;
-  }
-  return p - 2 * signed_distance(p) * normal;
-}
-
-Vec3 Plane::project(const Vec3& p) const {
-  const int k = axis_of(normal);
-  if (k >= 0) {
-    Vec3 q = p;
-    q[k] = point[k];
-    return q;
-  }
-  return p - signed_distance(p) * normal;
-}
-
 SymmetryReport detect_symmetry(const TriMesh& surface, double tolerance) {
   if (surface.num_vertices() == 0) throw Error("surface", "empty mesh");
   if (!(tolerance >= 0)) throw Error("symmetry tolerance", "must be ≥ 0");
@@ -337,7 +306,7 @@ ReflectedMesh reflect_and_weld(const PolyMesh& sector, const std::vector<Plane>&
     if (!(n > 0) || !std::isfinite(n)) throw Error("symmetry", "plane with a zero normal");
     Plane q = p;
     q.normal = p.normal / n;
-    if (axis_of(q.normal) < 0) {
+    if (q.axis() < 0) {
       for (int k = 0; k < 3; ++k)  // snap near-axis normals to the axis: exact reflections
         if (std::abs(std::abs(q.normal[k]) - 1.0) < 1e-15)
           q.normal = Vec3::Unit(k) * (q.normal[k] > 0 ? 1 : -1);

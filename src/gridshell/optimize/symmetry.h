@@ -8,21 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "gridshell/mesh/geometry.h"  // Plane
 #include "gridshell/mesh/mesh.h"
 
 namespace gridshell {
-
-/// A plane {p : (p − point)·normal = 0}, normal of unit length. Reflections across axis-aligned
-/// planes are computed coordinate-wise (2c − x), so they are exact involutions up to one rounding.
-struct Plane {
-  Vec3 point = Vec3::Zero();
-  Vec3 normal = Vec3::UnitX();
-
-  double signed_distance(const Vec3& p) const { return (p - point).dot(normal); }
-  Vec3 reflect(const Vec3& p) const;
-  /// Orthogonal projection; exact (coordinate set to the plane's) for axis-aligned planes.
-  Vec3 project(const Vec3& p) const;
-};
 
 struct SymmetryReport {
   Vec3 center = Vec3::Zero();  ///< bounding-box centre of M

@@ -139,9 +139,8 @@ Sector cut_sector(const Surface& surface, const Field& field, const std::vector<
   CutMesh cut = make_cut_mesh(surface);
   const double snap = 1e-9 * bbox_diagonal(surface.mesh.V);
   for (const Plane& p : planes) {
-    const CutPlane cp{p.normal, p.normal.dot(p.point)};
-    cut_along_plane(cut, cp, snap);
-    keep_side(cut, cp);
+    cut_along_plane(cut, p, snap);
+    keep_side(cut, p);
   }
   Sector s;
   s.surface.mesh = cut.mesh;

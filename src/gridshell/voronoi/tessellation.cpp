@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numbers>
 #include <numeric>
 #include <tuple>
 #include <unordered_map>
@@ -17,6 +16,7 @@
 
 #include "gridshell/core/error.h"
 #include "gridshell/core/rng.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/voronoi/support_mesh.h"
 
@@ -26,80 +26,6 @@ namespace {
 
 constexpr double kHexArea = 2.598076211353316;  // area of a regular hexagon of circumradius 1
 const double kSqrt3 = std::sqrt(3.0);
-
-// ---------------------------------------------------------------------------------------------
-// Triangle adjacency and boundary loops of the support mesh.
-
-struct Adjacency {
-  std::vector<std::array<int, 3>> nbr;       ///< triangle across local edge k (k → k+1), or -1
-  std::vector<std::array<int, 3>> nbr_edge;  ///< local index of that edge in the neighbour
-  std::vector<std::vector<int>> loops;       ///< boundary loops, vertices in face orientation
-  /// per loop, per position k: (triangle, local edge) of the edge loops[l][k] → loops[l][k+1]
-  std::vector<std::vector<std::array<int, 2>>> loop_edges;
-};
-
-Adjacency build_adjacency(const Triangles& F, int nv) {
-  const int nt = static_cast<int>(F.rows());
-  // Half-edges 3t+k (F(t,k) → F(t,k+1)) grouped by their origin vertex (counting sort: linear).
-  std::vector<int> start(nv + 1, 0);
-  for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) ++start[F(t, k) + 1];
-  for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<int> from(static_cast<std::size_t>(nt) * 3), to(from.size());
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int t = 0; t < nt; ++t)
-      for (int k = 0; k < 3; ++k) {
-        const int q = fill[F(t, k)]++;
-        from[q] = 3 * t + k;
-        to[q] = F(t, (k + 1) % 3);
-      }
-  }
-  Adjacency adj;
-  adj.nbr.assign(nt, {-1, -1, -1});
-  adj.nbr_edge.assign(nt, {-1, -1, -1});
-  std::vector<int> out(nv, -1);  // boundary half-edge leaving each vertex
-  for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(t, k), b = F(t, (k + 1) % 3);
-      int same = 0, twin = -1, twins = 0;
-      for (int q = start[a]; q < start[a + 1]; ++q) same += to[q] == b;
-      for (int q = start[b]; q < start[b + 1]; ++q)
-        if (to[q] == a) {
-          twin = from[q];
-          ++twins;
-        }
-      if (same + twins > 2) throw Error("surface", "non-manifold edge (more than two triangles)");
-      if (same > 1) throw Error("surface", "inconsistently oriented triangles (flip some faces)");
-      if (twin >= 0) {
-        adj.nbr[t][k] = twin / 3;
-        adj.nbr_edge[t][k] = twin % 3;
-      } else {
-        if (out[a] >= 0)
-          throw Error("surface", "non-manifold boundary vertex (two boundaries touch)");
-        out[a] = 3 * t + k;
-      }
-    }
-  std::vector<char> used(nv, 0);
-  for (int v = 0; v < nv; ++v) {
-    if (out[v] < 0 || used[v]) continue;
-    std::vector<int> loop;
-    std::vector<std::array<int, 2>> edges;
-    int u = v;
-    while (!used[u]) {
-      used[u] = 1;
-      const int h = out[u];
-      if (h < 0) throw Error("surface", "open boundary chain (non-manifold boundary)");
-      loop.push_back(u);
-      edges.push_back({h / 3, h % 3});
-      u = F(h / 3, (h % 3 + 1) % 3);
-    }
-    if (u != v) throw Error("surface", "non-manifold boundary");
-    adj.loops.push_back(std::move(loop));
-    adj.loop_edges.push_back(std::move(edges));
-  }
-  return adj;
-}
 
 // ---------------------------------------------------------------------------------------------
 // A uniform grid over the seeds for exact nearest-seed queries.
@@ -237,38 +163,6 @@ void clip(Poly& P, const Vec3& si, const Vec3& sj) {
   std::copy(q, q + m, P.p);
 }
 
-/// Closest point to p on triangle (a, b, c); returns barycentrics (Ericson, RTCD 5.1.5).
-Vec3 closest_bary(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double v = d1 / (d1 - d3);
-    return {1 - v, v, 0};
-  }
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double w = d2 / (d2 - d6);
-    return {1 - w, 0, w};
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {0, 1 - w, w};
-  }
-  const double denom = 1.0 / (va + vb + vc);
-  if (!std::isfinite(denom)) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
-  const double v = vb * denom, w = vc * denom;
-  return {1 - v - w, v, w};
-}
-
 // ---------------------------------------------------------------------------------------------
 // The engine state.
 
@@ -286,7 +180,7 @@ int merge_orphan_pieces(Engine& E);
 
 struct Engine {
   SupportMesh S;
-  Adjacency adj;
+  TriangleAdjacency adj;
   std::vector<char> corner_vertex;  ///< per support vertex (original corners keep their ids)
   std::vector<Seed> seeds;
   std::vector<int> label;
@@ -295,13 +189,12 @@ struct Engine {
   double boundary_split = 0;  ///< see TessellationOptions
 
   Vec3 point(int t, const Vec3& b) const {
-    return b(0) * S.deformed.vertex(S.deformed.F(t, 0)) +
-           b(1) * S.deformed.vertex(S.deformed.F(t, 1)) +
-           b(2) * S.deformed.vertex(S.deformed.F(t, 2));
+    const auto& M = S.deformed;
+    return barycentric_point(b, M.vertex(M.F(t, 0)), M.vertex(M.F(t, 1)), M.vertex(M.F(t, 2)));
   }
   Vec3 rest_point(int t, const Vec3& b) const {
-    return b(0) * S.rest.vertex(S.rest.F(t, 0)) + b(1) * S.rest.vertex(S.rest.F(t, 1)) +
-           b(2) * S.rest.vertex(S.rest.F(t, 2));
+    const auto& M = S.rest;
+    return barycentric_point(b, M.vertex(M.F(t, 0)), M.vertex(M.F(t, 1)), M.vertex(M.F(t, 2)));
   }
 
   std::vector<Vec3> seed_positions() const {
@@ -346,8 +239,10 @@ struct Engine {
       Vec3 bb;
       for (int q = start[sd.tri]; q < start[sd.tri + 1]; ++q) {
         const int t = kids[q];
-        const Vec3 w = closest_bary(sd.pos, S.deformed.vertex(F(t, 0)), S.deformed.vertex(F(t, 1)),
-                                    S.deformed.vertex(F(t, 2)));
+        const Vec3 w = closest_point_on_triangle(sd.pos, S.deformed.vertex(F(t, 0)),
+                                                 S.deformed.vertex(F(t, 1)),
+                                                 S.deformed.vertex(F(t, 2)))
+                           .bary;
         const double d = (point(t, w) - sd.pos).squaredNorm();
         if (d < best) {
           best = d;
@@ -404,7 +299,7 @@ struct Engine {
           const Vec3 pa = S.deformed.vertex(a), pb = S.deformed.vertex(b),
                      pc = S.deformed.vertex(c);
           if (la == lb && lb == lc) {
-            const double ar = 0.5 * (pb - pa).cross(pc - pa).norm();
+            const double ar = triangle_area(pa, pb, pc);
             const Vec3& s = seeds[la].pos;
             out.push_back(
                 {la, t, ar, tri_energy(pa - s, pb - s, pc - s, ar), ar * (pa + pb + pc) / 3.0});
@@ -420,9 +315,9 @@ struct Engine {
           add(lb);
           add(lc);
           for (int k = 0; k < 3; ++k) {
-            const int u = adj.nbr[t][k];
+            const int u = adj.neighbor[t][k];
             if (u < 0) continue;
-            add(label[F(u, (adj.nbr_edge[t][k] + 2) % 3)]);
+            add(label[F(u, (adj.neighbor_edge[t][k] + 2) % 3)]);
           }
           for (int q = 0; q < nc; ++q) {
             const int i = cand[q];
@@ -438,7 +333,7 @@ struct Engine {
             double ar = 0, en = 0;
             Vec3 mo = Vec3::Zero();
             for (int k = 1; k + 1 < P.n; ++k) {
-              const double x = 0.5 * (P.p[k] - P.p[0]).cross(P.p[k + 1] - P.p[0]).norm();
+              const double x = triangle_area(P.p[0], P.p[k], P.p[k + 1]);
               ar += x;
               mo += x * (P.p[0] + P.p[k] + P.p[k + 1]) / 3.0;
               en += tri_energy(P.p[0] - s, P.p[k] - s, P.p[k + 1] - s, x);
@@ -476,8 +371,9 @@ struct Engine {
     Vec3 bb = seeds[i].bary;
     for (int s = cell_start[i]; s < cell_start[i + 1]; ++s) {
       const int t = cell_tris[s];
-      const Vec3 w = closest_bary(c, S.deformed.vertex(F(t, 0)), S.deformed.vertex(F(t, 1)),
-                                  S.deformed.vertex(F(t, 2)));
+      const Vec3 w = closest_point_on_triangle(c, S.deformed.vertex(F(t, 0)),
+                                               S.deformed.vertex(F(t, 1)), S.deformed.vertex(F(t, 2)))
+                         .bary;
       const double d = (point(t, w) - c).squaredNorm();
       if (d < best) {
         best = d;
@@ -592,32 +488,14 @@ struct Engine {
 // ---------------------------------------------------------------------------------------------
 // Seeding.
 
-/// Corners of the original rest mesh: boundary vertices turning by more than `angle_deg`.
-std::vector<char> find_corners(const TriMesh& rest, double angle_deg) {
-  std::vector<char> corner(rest.num_vertices(), 0);
-  const Adjacency adj = build_adjacency(rest.F, rest.num_vertices());
-  const double cos_max = std::cos(angle_deg * std::numbers::pi / 180.0);
-  for (const auto& loop : adj.loops) {
-    const int n = static_cast<int>(loop.size());
-    if (n < 3) continue;
-    for (int k = 0; k < n; ++k) {
-      const Vec3 p = rest.vertex(loop[(k + n - 1) % n]), v = rest.vertex(loop[k]),
-                 q = rest.vertex(loop[(k + 1) % n]);
-      const Vec3 d1 = (v - p).normalized(), d2 = (q - v).normalized();
-      if (d1.allFinite() && d2.allFinite() && d1.dot(d2) < cos_max) corner[loop[k]] = 1;
-    }
-  }
-  return corner;
-}
-
 /// Boundary seeds: corners (fixed) and evenly spaced seeds between them along each loop (the
 /// converged 1-D Lloyd sampling in M' arc length). Loops without corners get ≥ 3 seeds with a
 /// random phase.
 void seed_boundary(Engine& E, double spacing, Rng& rng) {
   const auto& V = E.S.deformed;
-  for (std::size_t l = 0; l < E.adj.loops.size(); ++l) {
-    const auto& loop = E.adj.loops[l];
-    const auto& edges = E.adj.loop_edges[l];
+  for (std::size_t l = 0; l < E.adj.boundary_loops.size(); ++l) {
+    const auto& loop = E.adj.boundary_loops[l];
+    const auto& edges = E.adj.boundary_loop_edges[l];
     const int n = static_cast<int>(loop.size());
     std::vector<double> s(n + 1, 0.0);
     for (int k = 0; k < n; ++k)
@@ -665,10 +543,9 @@ void seed_interior(Engine& E, int count, double radius, Rng& rng) {
   const auto& M = E.S.deformed;
   const int nt = M.num_faces();
   std::vector<double> cum(nt + 1, 0.0);
-  for (int t = 0; t < nt; ++t) {
-    const Vec3 a = M.vertex(M.F(t, 0)), b = M.vertex(M.F(t, 1)), c = M.vertex(M.F(t, 2));
-    cum[t + 1] = cum[t] + 0.5 * (b - a).cross(c - a).norm();
-  }
+  for (int t = 0; t < nt; ++t)
+    cum[t + 1] =
+        cum[t] + triangle_area(M.vertex(M.F(t, 0)), M.vertex(M.F(t, 1)), M.vertex(M.F(t, 2)));
   const std::size_t fixed = E.seeds.size();
   double r = radius;
   int placed = 0;
@@ -790,9 +667,9 @@ Extraction extract(const Engine& E) {
     int from, to, cell;
   };
   std::vector<DirEdge> dedges;
-  for (std::size_t l = 0; l < E.adj.loops.size(); ++l) {
-    const auto& loop = E.adj.loops[l];
-    const auto& edges = E.adj.loop_edges[l];
+  for (std::size_t l = 0; l < E.adj.boundary_loops.size(); ++l) {
+    const auto& loop = E.adj.boundary_loops[l];
+    const auto& edges = E.adj.boundary_loop_edges[l];
     std::vector<std::pair<int, int>> seq;  // (node, label after it)
     std::vector<double> seq_arc;           // arc length on M of each node along the loop
     const int nl = static_cast<int>(loop.size());
@@ -889,8 +766,8 @@ Extraction extract(const Engine& E) {
   std::vector<char> visited(static_cast<std::size_t>(nt) * 3, 0);
   auto mark = [&](int t, int k) {
     visited[3 * t + k] = 1;
-    const int u = E.adj.nbr[t][k];
-    if (u >= 0) visited[3 * u + E.adj.nbr_edge[t][k]] = 1;
+    const int u = E.adj.neighbor[t][k];
+    if (u >= 0) visited[3 * u + E.adj.neighbor_edge[t][k]] = 1;
   };
   auto fail = [&](const std::string& what, std::initializer_list<int> labels) {
     X.problem = what;
@@ -905,9 +782,9 @@ Extraction extract(const Engine& E) {
         if (q != k && mixed(t, q)) k2 = q;
       if (k2 < 0) return -1;
       mark(t, k2);
-      const int u = E.adj.nbr[t][k2];
+      const int u = E.adj.neighbor[t][k2];
       if (u < 0) return edge_node.at(3 * t + k2);
-      k = E.adj.nbr_edge[t][k2];
+      k = E.adj.neighbor_edge[t][k2];
       t = u;
     }
     return -1;
@@ -931,8 +808,8 @@ Extraction extract(const Engine& E) {
       if (visited[3 * t + k]) continue;
       const int u = F(t, k), w = F(t, (k + 1) % 3);
       mark(t, k);
-      const int nb = E.adj.nbr[t][k];
-      const int n1 = nb < 0 ? edge_node.at(3 * t + k) : walk(nb, E.adj.nbr_edge[t][k]);
+      const int nb = E.adj.neighbor[t][k];
+      const int n1 = nb < 0 ? edge_node.at(3 * t + k) : walk(nb, E.adj.neighbor_edge[t][k]);
       add_chain(n0, n1, L[w], L[u]);
     }
   }
@@ -1023,9 +900,9 @@ int merge_orphan_pieces(Engine& E) {
     // triangles): the piece nearest to a fixed boundary seed can be a sliver.
     std::fill(area.begin(), area.end(), 0.0);
     for (int t = 0; t < nt; ++t) {
-      const Vec3 a = E.S.deformed.vertex(F(t, 0));
-      const double third =
-          (E.S.deformed.vertex(F(t, 1)) - a).cross(E.S.deformed.vertex(F(t, 2)) - a).norm() / 6;
+      const double third = triangle_area(E.S.deformed.vertex(F(t, 0)), E.S.deformed.vertex(F(t, 1)),
+                                         E.S.deformed.vertex(F(t, 2))) /
+                           3;
       for (int k = 0; k < 3; ++k) area[find(F(t, k))] += third;
     }
     std::vector<int> keep(ns, -1);
@@ -1107,7 +984,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   E.S = make_support_mesh(rest, deformed);
   const bool two_level = o.coarse_edge > o.support_edge;
   refine_to_length(E.S, (two_level ? o.coarse_edge : o.support_edge) * R);
-  E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
+  E.adj = build_triangle_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
   E.corner_vertex.assign(E.S.deformed.num_vertices(), 0);
   for (std::size_t v = 0; v < corners.size(); ++v) E.corner_vertex[v] = corners[v];
   E.lo = E.S.deformed.V.colwise().minCoeff().transpose();
@@ -1116,12 +993,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   const double spacing = o.boundary_spacing * kSqrt3 * R;
   seed_boundary(E, spacing, rng);
   const int nb = static_cast<int>(E.seeds.size());
-  double area = 0;
-  for (int t = 0; t < deformed.num_faces(); ++t) {
-    const Vec3 a = deformed.vertex(deformed.F(t, 0)), b = deformed.vertex(deformed.F(t, 1)),
-               c = deformed.vertex(deformed.F(t, 2));
-    area += 0.5 * (b - a).cross(c - a).norm();
-  }
+  const double area = surface_area(deformed);
   int n_int = cells > 0 ? cells - nb
                         : static_cast<int>(std::lround((area - nb * 0.5 * kHexArea * R * R) /
                                                        (kHexArea * R * R)));
@@ -1162,7 +1034,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
     std::vector<int> source;
     const int old_faces = E.S.deformed.num_faces();
     refine_to_length(E.S, o.support_edge * R, &source);
-    E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
+    E.adj = build_triangle_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
     E.corner_vertex.resize(E.S.deformed.num_vertices(), 0);
     E.relocate_seeds(source, old_faces);
     T.converged =
@@ -1216,7 +1088,7 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
   Extraction X;
   double hr = he;
   for (int attempt = 0;; ++attempt) {
-    E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
+    E.adj = build_triangle_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
     // Detached pieces of a cell's region (M′ bending back within a cell size) would make it
     // a non-disk that no refinement repairs: they join a neighbouring cell first.
     const int orphans = merge_orphan_pieces(E);
@@ -1299,9 +1171,9 @@ Tessellation run_once(const TriMesh& rest, const TriMesh& deformed,
         }
         // Supported input vertices that the rule above cannot see: interior ones, and isolated
         // supported boundary vertices; their nearest output (boundary) vertex becomes a support.
-        const Adjacency oadj = build_adjacency(rest.F, rest.num_vertices());
+        const TriangleAdjacency oadj = build_triangle_adjacency(rest.F, rest.num_vertices());
         std::vector<int> prev(rest.num_vertices(), -1), nextv(rest.num_vertices(), -1);
-        for (const auto& loop : oadj.loops)
+        for (const auto& loop : oadj.boundary_loops)
           for (std::size_t k = 0; k < loop.size(); ++k) {
             nextv[loop[k]] = loop[(k + 1) % loop.size()];
             prev[loop[(k + 1) % loop.size()]] = loop[k];
@@ -1415,8 +1287,8 @@ double length_on_planes(const PolyMesh& mesh, const TessellationOptions& o) {
   double sum = 0;
   for (const auto& e : build_topology(mesh).edges) {
     const Vec3 a = mesh.vertex(e[0]), b = mesh.vertex(e[1]);
-    for (const auto& [point, normal] : o.length_excluded_planes)
-      if (std::abs((a - point).dot(normal)) <= tol && std::abs((b - point).dot(normal)) <= tol) {
+    for (const Plane& plane : o.length_excluded_planes)
+      if (std::abs(plane.signed_distance(a)) <= tol && std::abs(plane.signed_distance(b)) <= tol) {
         sum += (a - b).norm();
         break;
       }
@@ -1442,22 +1314,18 @@ Tessellation tessellate(const TriMesh& rest, const TriMesh& deformed,
                         const std::vector<int>& rest_supports, const TessellationOptions& o) {
   check_tessellation_options(o);
   (void)make_support_mesh(rest, deformed);  // validates
-  const Adjacency adj = build_adjacency(rest.F, rest.num_vertices());
+  const TriangleAdjacency adj = build_triangle_adjacency(rest.F, rest.num_vertices());
   std::vector<char> supported(rest.num_vertices(), 0);
   for (int v : rest_supports) {
     if (v < 0 || v >= rest.num_vertices()) throw Error("supports", "vertex id out of range");
     supported[v] = 1;
   }
-  const std::vector<char> corners = find_corners(rest, o.corner_angle_deg);
+  const std::vector<char> corners = boundary_corners(rest.V, adj.boundary_loops, o.corner_angle_deg);
   const int input_euler = euler_of(rest);
-  const int input_loops = static_cast<int>(adj.loops.size());
-  double area = 0, perimeter = 0;
-  for (int t = 0; t < deformed.num_faces(); ++t) {
-    const Vec3 a = deformed.vertex(deformed.F(t, 0)), b = deformed.vertex(deformed.F(t, 1)),
-               c = deformed.vertex(deformed.F(t, 2));
-    area += 0.5 * (b - a).cross(c - a).norm();
-  }
-  for (const auto& loop : adj.loops)
+  const int input_loops = static_cast<int>(adj.boundary_loops.size());
+  const double area = surface_area(deformed);
+  double perimeter = 0;
+  for (const auto& loop : adj.boundary_loops)
     for (std::size_t k = 0; k < loop.size(); ++k)
       perimeter += (deformed.vertex(loop[k]) - deformed.vertex(loop[(k + 1) % loop.size()])).norm();
   if (!(area > 0)) throw Error("surface", "zero area");
@@ -1518,16 +1386,16 @@ LloydBenchmark benchmark_lloyd(const TriMesh& surface, int cells, double support
                                std::uint64_t seed) {
   Engine E;
   double area = surface_area(surface);
-  const Adjacency adj0 = build_adjacency(surface.F, surface.num_vertices());
+  const TriangleAdjacency adj0 = build_triangle_adjacency(surface.F, surface.num_vertices());
   double perimeter = 0;
-  for (const auto& loop : adj0.loops)
+  for (const auto& loop : adj0.boundary_loops)
     for (std::size_t k = 0; k < loop.size(); ++k)
       perimeter += (surface.vertex(loop[k]) - surface.vertex(loop[(k + 1) % loop.size()])).norm();
   E.R = radius_for_cells(area, perimeter, cells, 1.0);
   E.S = make_support_mesh(surface, surface);
   refine_to_length(E.S, support_edge * E.R);
-  E.adj = build_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
-  const std::vector<char> corners = find_corners(surface, 30);
+  E.adj = build_triangle_adjacency(E.S.deformed.F, E.S.deformed.num_vertices());
+  const std::vector<char> corners = boundary_corners(surface.V, adj0.boundary_loops, 30);
   E.corner_vertex.assign(E.S.deformed.num_vertices(), 0);
   for (std::size_t v = 0; v < corners.size(); ++v) E.corner_vertex[v] = corners[v];
   E.lo = E.S.deformed.V.colwise().minCoeff().transpose();

@@ -31,10 +31,10 @@
 
 #include <cstdint>
 #include <map>
-#include <utility>
 #include <vector>
 
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/mesh.h"
 
 namespace gridshell {
@@ -50,11 +50,11 @@ struct TessellationOptions {
   /// it and warns beyond it; `design` tessellates once more when its finishing step moves the
   /// total by more than 0.9 of it (pipeline/design.cpp, length control).
   double length_tolerance = 0.05;
-  /// Edges with both ends on one of these planes (a point and a unit normal; within 1e-6 of the
-  /// bounding-box diagonal) do not count towards `length`. A symmetric design tessellates a
-  /// sector cut along its mirror planes; the cells on a plane merge with their mirror images
-  /// there, so those edges are not beams of the final grid-shell.
-  std::vector<std::pair<Vec3, Vec3>> length_excluded_planes;
+  /// Edges with both ends on one of these planes (within 1e-6 of the bounding-box diagonal) do
+  /// not count towards `length`. A symmetric design tessellates a sector cut along its mirror
+  /// planes; the cells on a plane merge with their mirror images there, so those edges are not
+  /// beams of the final grid-shell.
+  std::vector<Plane> length_excluded_planes;
   int default_cells = 300;
   std::uint64_t seed = 1;    ///< seeds the Poisson sampling
   int max_iterations = 300;  ///< CVT diagrams (L-BFGS evaluations or Lloyd steps) at most

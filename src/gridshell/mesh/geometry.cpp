@@ -1,0 +1,72 @@
+#include "gridshell/mesh/geometry.h"
+
+#include <numbers>
+
+namespace gridshell {
+
+int Plane::axis() const {
+  const Vec3& n = normal;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(n[k]) == 1.0 && n[(k + 1) % 3] == 0.0 && n[(k + 2) % 3] == 0.0) return k;
+  return -1;
+}
+
+Vec3 Plane::reflect(const Vec3& p) const {
+  const int k = axis();
+  if (k >= 0) {
+    Vec3 q = p;
+    q[k] = 2 * point[k] - p[k];
+    return q;
+  }
+  return p - 2 * signed_distance(p) * normal;
+}
+
+Vec3 Plane::project(const Vec3& p) const {
+  const int k = axis();
+  if (k >= 0) {
+    Vec3 q = p;
+    q[k] = point[k];
+    return q;
+  }
+  return p - signed_distance(p) * normal;
+}
+
+std::vector<char> boundary_corners(const Points& V, const std::vector<std::vector<int>>& loops,
+                                   double angle_deg) {
+  std::vector<char> corner(V.rows(), 0);
+  const double cos_limit = std::cos(angle_deg * std::numbers::pi / 180.0);
+  for (const auto& loop : loops) {
+    const std::size_t n = loop.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      const Vec3 p = V.row(loop[(k + n - 1) % n]).transpose(), v = V.row(loop[k]).transpose(),
+                 q = V.row(loop[(k + 1) % n]).transpose();
+      const Vec3 d1 = (v - p).normalized(), d2 = (q - v).normalized();  // zero stays zero
+      if (d1.squaredNorm() > 0 && d2.squaredNorm() > 0 && d1.dot(d2) < cos_limit)
+        corner[loop[k]] = 1;
+    }
+  }
+  return corner;
+}
+
+double polygon_area(const PolyMesh& mesh, int face) {
+  const auto& f = mesh.faces[face];
+  Vec3 a = Vec3::Zero();
+  for (std::size_t k = 0; k < f.size(); ++k)
+    a += mesh.vertex(f[k]).cross(mesh.vertex(f[(k + 1) % f.size()]));
+  return 0.5 * a.norm();
+}
+
+double surface_area(const TriMesh& mesh) {
+  double area = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    area += triangle_area(mesh.vertex(mesh.F(f, 0)), mesh.vertex(mesh.F(f, 1)),
+                          mesh.vertex(mesh.F(f, 2)));
+  return area;
+}
+
+double bbox_diagonal(const Points& V) {
+  if (V.rows() == 0) return 0;
+  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+}
+
+}  // namespace gridshell
