@@ -128,6 +128,26 @@ TEST(MeshIO, OffFile) {
   EXPECT_EQ(r.mesh.faces[1], (std::vector<int>{0, 2, 3}));
 }
 
+TEST(MeshIO, OffVariants) {
+  fs::path d = test::temp_dir("off");
+  // Counts on the header line, CRLF line ends, comments, colours after the coordinates and after
+  // the face's corners (COFF), normals (NOFF).
+  write_text(d / "c.off",
+             "COFF 4 2 0\r\n0 0 0 255 0 0 255\r\n1 0 0 0.5 0.5 0.5 1\r\n1 1 0 1 1 1 1 # c\r\n"
+             "0 1 0 1 1 1 1\r\n3 0 1 2 255 0 0\r\n3 0 2 3\r\n");
+  write_text(d / "n.off",
+             "NOFF\n4 1 4\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n4 0 1 2 3\n");
+  io::MeshFile c = io::read_mesh(d / "c.off");
+  EXPECT_EQ(c.mesh.num_vertices(), 4);
+  EXPECT_EQ(c.mesh.faces, (std::vector<std::vector<int>>{{0, 1, 2}, {0, 2, 3}}));
+  EXPECT_DOUBLE_EQ(c.mesh.V(2, 1), 1.0);
+  io::MeshFile n = io::read_mesh(d / "n.off");
+  EXPECT_EQ(n.mesh.faces, (std::vector<std::vector<int>>{{0, 1, 2, 3}}));
+  // 4D OFF has a fourth coordinate: refused rather than misread.
+  write_text(d / "4.off", "4OFF\n3 1 0\n0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 2\n");
+  EXPECT_THROW(io::read_mesh(d / "4.off"), Error);
+}
+
 TEST(MeshIO, UpAxisAndScale) {
   fs::path p = test::temp_dir("up") / "t.off";
   write_text(p, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 2 0\n3 0 1 2\n");

@@ -82,7 +82,19 @@ std::vector<Case> cases() {
       {"obj inf coordinate", "inf.obj", "v 0 0 0\nv 1e999 0 0\nv 0 1 0\nf 1 2 3\n", "error"},
       {"off absurd counts", "a.off", "OFF\n900000000000 1 0\n" + kTri + "3 0 1 2\n", "too short"},
       {"off garbage", "g.off", "OFF\nhello world\n", "counts"},
-      {"off index out of range", "i.off", "OFF\n3 1 0\n" + kTri + "3 0 1 5\n", "error"},
+      {"off index out of range", "i.off", "OFF\n3 1 0\n" + kTri + "3 0 1 5\n", "vertex '5'"},
+      // Found by fuzz/fuzz_mesh: CGAL's OFF scanner cast such indices from double (UB).
+      {"off huge index", "h.off", "OFF\n3 1 0\n" + kTri + "3 0 1 88888888888888888888880\n",
+       "refers to vertex '88888888888888888888880'"},
+      {"off negative index", "n.off", "OFF\n3 1 0\n" + kTri + "3 0 -1 2\n", "vertex '-1'"},
+      {"off huge corner count", "c.off", "OFF\n3 1 0\n" + kTri + "999999999 0 1 2\n",
+       "number of corners"},
+      {"off nan coordinate", "nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n",
+       "NaN"},
+      {"off missing coordinate", "m.off", "OFF\n3 1 0\n0 0 0\n1.5 0.5\n0 1 0\n3 0 1 2\n",
+       "three coordinates"},
+      {"off truncated", "t.off", "OFF\n3 2 0\n" + kTri + "3 0 1 2\n", "truncated"},
+      {"off binary", "b.off", "OFF BINARY\n" + std::string(12, '\0'), "binary OFF"},
   };
 }
 

@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 
 #include <CGAL/IO/OBJ.h>
-#include <CGAL/IO/OFF.h>
 #include <CGAL/IO/PLY.h>
 #include <CGAL/Simple_cartesian.h>
 #include <fmt/format.h>
@@ -119,34 +120,107 @@ void check_ply_header(const std::string& data, const std::string& name) {
   if (needed > remaining) throw Error(name, "binary PLY is truncated");
 }
 
-/// Checks an OFF header's counts against the file size.
-void check_off_header(const std::string& data, const std::string& name) {
-  std::istringstream in(data);
-  std::vector<std::string> tokens;
-  std::string line;
-  while (tokens.size() < 4 && std::getline(in, line)) {
-    auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    std::istringstream ls(line);
-    std::string t;
-    while (tokens.size() < 4 && ls >> t) tokens.push_back(t);
+/// The whitespace-separated tokens of one line, without its `#` comment.
+std::vector<std::string_view> off_tokens(std::string_view line) {
+  if (auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    std::size_t j = i;
+    while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+    if (j > i) out.push_back(line.substr(i, j - i));
+    i = j;
   }
-  if (tokens.empty() || tokens[0].find("OFF") == std::string::npos)
-    throw Error(name, "not an OFF file");
-  auto count = [&](std::size_t i) -> long long {
-    if (i >= tokens.size() || tokens[i].empty() || tokens[i].size() > 15 ||
-        tokens[i].find_first_not_of("0123456789") != std::string::npos)
-      throw Error(name, "OFF header has no valid vertex/face counts");
-    return std::stoll(tokens[i]);
+  return out;
+}
+
+/// A whole token as a number; false when it is not one.
+template <class T>
+bool parse_token(std::string_view token, T& value) {
+  if (!token.empty() && token[0] == '+') token.remove_prefix(1);
+  auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  return ec == std::errc() && end == token.data() + token.size();
+}
+
+/// Reads an ascii OFF file (Geomview's format: a header word `[ST][C][N]OFF`, the counts
+/// `vertices faces [edges]`, one vertex per line, then one face per line `n i1 … in`; extra
+/// values on a line — normals, colours, texture coordinates — are skipped; `#` starts a comment).
+/// Our own reader rather than CGAL's, whose scanner converts indices and colours from doubles
+/// without range checks (undefined behaviour on hostile files, found by fuzz/fuzz_mesh).
+/// 4D, nD and binary OFF are refused with an Error.
+void read_off(const std::string& data, const std::string& name, std::vector<CgalPoint>& points,
+              std::vector<std::vector<std::size_t>>& polygons) {
+  std::size_t pos = 0;
+  int line_no = 0;
+  // The next line with something on it (tokens empty at the end of the file).
+  auto next_line = [&](std::vector<std::string_view>& tokens) {
+    tokens.clear();
+    while (tokens.empty() && pos < data.size()) {
+      std::size_t end = data.find('\n', pos);
+      if (end == std::string::npos) end = data.size();
+      tokens = off_tokens(std::string_view(data).substr(pos, end - pos));
+      pos = end + 1;
+      ++line_no;
+    }
+    return !tokens.empty();
   };
-  const long long nv = count(1), nf = count(2);
+  std::vector<std::string_view> tokens;
+  if (!next_line(tokens)) throw Error(name, "not an OFF file");
+  const std::string_view keyword = tokens[0];
+  if (keyword.size() < 3 || keyword.substr(keyword.size() - 3) != "OFF" ||
+      keyword.find_first_not_of("STCN4nOF") != std::string_view::npos)
+    throw Error(name, "not an OFF file (no OFF header word)");
+  if (keyword.find_first_of("4n") != std::string_view::npos)
+    throw Error(name, fmt::format("{} (4D or nD) files are not supported", keyword));
+  if (tokens.size() > 1 && tokens[1] == "BINARY")
+    throw Error(name, "binary OFF is not supported (save it as ascii OFF or PLY)");
+  // The counts may follow the header word on its line.
+  tokens.erase(tokens.begin());
+  if (tokens.empty() && !next_line(tokens))
+    throw Error(name, "OFF header has no valid vertex/face counts");
+  long long nv = -1, nf = -1;
+  if (tokens.size() < 2 || tokens.size() > 3 || !parse_token(tokens[0], nv) ||
+      !parse_token(tokens[1], nf) || nv < 0 || nf < 0)
+    throw Error(name, "OFF header has no valid vertex/face counts");
   // Each vertex needs at least "0 0 0\n" (6 bytes), each face "3 0 0 0\n" (8 bytes).
-  if (static_cast<double>(nv) * 6 + static_cast<double>(nf) * 8 >
-      static_cast<double>(data.size()) + 16)
+  const std::size_t rest = pos < data.size() ? data.size() - pos : 0;
+  if (static_cast<double>(nv) * 6 + static_cast<double>(nf) * 8 > static_cast<double>(rest) + 1)
     throw Error(name, fmt::format("OFF declares {} vertices and {} faces but the file is too "
                                   "short for them (truncated or corrupt)",
                                   nv, nf));
   if (nf == 0) throw Error(name, "OFF has no faces");
+
+  points.reserve(static_cast<std::size_t>(nv));
+  for (long long v = 0; v < nv; ++v) {
+    if (!next_line(tokens))
+      throw Error(name, fmt::format("truncated OFF file: {} of {} vertices", v, nv));
+    double xyz[3];
+    for (int c = 0; c < 3; ++c)
+      if (c >= static_cast<int>(tokens.size()) || !parse_token(tokens[c], xyz[c]))
+        throw Error(name, fmt::format("line {}: vertex {} needs three coordinates", line_no, v));
+    points.emplace_back(xyz[0], xyz[1], xyz[2]);
+  }
+  polygons.reserve(static_cast<std::size_t>(nf));
+  for (long long f = 0; f < nf; ++f) {
+    if (!next_line(tokens))
+      throw Error(name, fmt::format("truncated OFF file: {} of {} faces", f, nf));
+    long long n = -1;
+    if (!parse_token(tokens[0], n) || n < 0 || n > static_cast<long long>(tokens.size()) - 1)
+      throw Error(name, fmt::format("line {}: face {} does not start with its number of "
+                                    "corners followed by that many vertex ids",
+                                    line_no, f));
+    std::vector<std::size_t> poly(static_cast<std::size_t>(n));
+    for (long long k = 0; k < n; ++k) {
+      long long id = -1;
+      if (!parse_token(tokens[static_cast<std::size_t>(k) + 1], id) || id < 0 || id >= nv)
+        throw Error(name, fmt::format("line {}: face {} refers to vertex '{}' but there are {} "
+                                      "vertices",
+                                      line_no, f, tokens[static_cast<std::size_t>(k) + 1], nv));
+      poly[static_cast<std::size_t>(k)] = static_cast<std::size_t>(id);
+    }
+    polygons.push_back(std::move(poly));
+  }
 }
 
 std::string detect_format(const fs::path& path, const std::string& data) {
@@ -175,8 +249,8 @@ MeshFile read_mesh(const fs::path& path) {
       check_ply_header(data, name);
       ok = CGAL::IO::read_PLY(in, points, polygons, fcolors, vcolors, false);
     } else if (format == "off") {
-      check_off_header(data, name);
-      ok = CGAL::IO::read_OFF(in, points, polygons);
+      read_off(data, name, points, polygons);
+      ok = true;
     } else {
       ok = CGAL::IO::read_OBJ(in, points, polygons);
     }
