@@ -136,3 +136,29 @@ TEST(MalformedInput, BadSupportFiles) {
   expect_clean_error("info builtin:dome --supports " + (d / "notjson.json").string(), "JSON");
   expect_clean_error("info builtin:dome --supports " + (d / "kind.json").string(), "integers");
 }
+
+TEST(MalformedInput, BadModelFiles) {
+  fs::path d = test::temp_dir("badmodel");
+  const std::string nodes = R"("nodes": [[0, 0, 0], [1, 0, 0], [0, 1, 0]])";
+  // A nodal load without its node: the shell reader read a missing key (undefined behaviour).
+  std::ofstream(d / "load.json") << "{" << nodes
+                                 << R"(, "triangles": [[0, 1, 2]], "loads": [{"type": "node"}]})";
+  expect_clean_error("stress " + (d / "load.json").string() + " -o " + (d / "o1").string(),
+                     "loads[0]: a nodal load needs 'node'");
+  // Ids beyond int or int64 are refused, not wrapped round into a valid-looking node 0.
+  const std::string frame = "{" + nodes +
+                            R"(, "sections": {"s": {"shape": "circle", "diameter": 0.05}},
+                                "materials": {"m": {"E": 2e11}}, "members": [{"nodes": [0, )";
+  std::ofstream(d / "wrap.json") << frame << "4294967296]}]}";
+  expect_clean_error("analyze " + (d / "wrap.json").string() + " -o " + (d / "o2").string(),
+                     "members[0].nodes 4294967296 is out of range");
+  std::ofstream(d / "wrap_shell.json") << "{" << nodes
+                                       << R"(, "triangles": [[0, 1, 18446744073709551616]]})";
+  expect_clean_error("stress " + (d / "wrap_shell.json").string() + " -o " + (d / "o3").string(),
+                     "error");
+  std::ofstream(d / "wrap_shell2.json") << "{" << nodes
+                                        << R"(, "triangles": [[0, 1, 18446744073709551615]]})";
+  expect_clean_error("stress " + (d / "wrap_shell2.json").string() + " -o " + (d / "o4").string(),
+                     "refers to node 18446744073709551615, but there are 3 nodes");
+  EXPECT_FALSE(fs::exists(d / "o1" / "report.json"));
+}
