@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <vector>
 
 #include "fuzz_support.h"
 #include "gridshell/core/error.h"
 #include "gridshell/io/mesh_io.h"
+#include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/load.h"
 
 using namespace gridshell;
@@ -39,6 +41,18 @@ void check_surface(const Surface& s) {
                 "load_surface: supports sorted and unique");
   for (int v : s.supports)
     fuzz::require(v >= 0 && v < m.num_vertices(), "load_surface: supports in range");
+  // The repair's promises (mesh/repair.h): every vertex used, no two at the same position, no
+  // triangle that uses a vertex twice.
+  std::vector<char> used(m.num_vertices(), 0);
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const auto t = m.F.row(f);
+    fuzz::require(t(0) != t(1) && t(1) != t(2) && t(0) != t(2), "load_surface: distinct corners");
+    for (int k = 0; k < 3; ++k) used[t(k)] = 1;
+  }
+  fuzz::require(std::count(used.begin(), used.end(), 0) == 0, "load_surface: no unused vertex");
+  PolyMesh p;
+  p.V = m.V;
+  fuzz::require(check_mesh(p).duplicate_vertices == 0, "load_surface: no duplicate vertices");
 }
 
 }  // namespace
