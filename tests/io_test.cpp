@@ -106,6 +106,32 @@ TEST(MeshIO, BigEndianPlyWithExtraPropertiesAndElements) {
   EXPECT_EQ(r.mesh.faces[1], (std::vector<int>{0, 2, 3}));
 }
 
+TEST(MeshIO, PlyIntegerCoordinatesAndOtherColourTypes) {
+  // Coordinates may be any numeric type (CGAL's reader crashed on a `short` one, found by
+  // fuzz/fuzz_mesh); float colours are 0–1, and some exporters write diffuse_red ….
+  fs::path d = test::temp_dir("plytypes");
+  write_text(d / "short.ply",
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty short x\nproperty int y\n"
+             "property uchar z\nproperty float red\nproperty float green\nproperty float blue\n"
+             "element face 1\nproperty list uchar uint vertex_index\nend_header\n"
+             "-2 0 0 1 0 0\n5 0 0 0.5 0.5 0.5\n0 7 3 2 -1 0\n3 0 1 2\n");
+  io::MeshFile r = io::read_mesh(d / "short.ply");
+  ASSERT_EQ(r.mesh.num_vertices(), 3);
+  EXPECT_EQ(r.mesh.V.row(2), Eigen::RowVector3d(0, 7, 3));
+  EXPECT_EQ(r.mesh.V(0, 0), -2.0);
+  EXPECT_EQ(r.mesh.faces, (std::vector<std::vector<int>>{{0, 1, 2}}));
+  ASSERT_EQ(r.vertex_colors.size(), 3u);
+  EXPECT_EQ(r.vertex_colors[0], (std::array<std::uint8_t, 3>{255, 0, 0}));
+  EXPECT_EQ(r.vertex_colors[1], (std::array<std::uint8_t, 3>{128, 128, 128}));
+  EXPECT_EQ(r.vertex_colors[2], (std::array<std::uint8_t, 3>{255, 0, 0}));  // clamped
+  write_text(d / "diffuse.ply",
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+             "property float z\nproperty uchar diffuse_red\nproperty uchar diffuse_green\n"
+             "property uchar diffuse_blue\nelement face 1\nproperty list uchar int "
+             "vertex_indices\nend_header\n0 0 0 255 0 0\n1 0 0 9 9 9\n0 1 0 9 9 9\n3 0 1 2\n");
+  EXPECT_EQ(load_surface((d / "diffuse.ply").string()).supports, (std::vector<int>{0}));
+}
+
 TEST(MeshIO, ObjPolygonsAndNegativeIndices) {
   fs::path p = test::temp_dir("obj") / "neg.obj";
   write_text(p,

@@ -34,6 +34,11 @@ std::vector<Case> cases() {
       "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
       "y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
   binary_truncated += std::string(20, '\0');
+  // One face whose int32 corner count is 2^31 - 1.
+  std::string binary_huge_list =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
+      "y\nproperty float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
+  binary_huge_list += std::string(36, '\0') + "\xff\xff\xff\x7f" + std::string(12, '\0');
   return {
       {"empty", "e.ply", "", "empty"},
       {"whitespace only", "w.obj", "  \n\n", "empty"},
@@ -77,6 +82,34 @@ std::vector<Case> cases() {
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nelement face "
        "1\nproperty list uchar int vertex_indices\nend_header\n0 0\n1 0\n0 1\n3 0 1 2\n",
        "'z'"},
+      // Found by fuzz/fuzz_mesh in CGAL's PLY reader (now ours): list lengths were cast to
+      // size_t unchecked; the PLY reader now checks every value as it reads it.
+      {"ply negative list length", "l.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n" +
+           kTri + "-1 0 1 2\n",
+       "list 'vertex_indices' has length -1"},
+      {"ply huge binary list length", "hl.ply", binary_huge_list, "which the file cannot hold"},
+      {"ply fractional index", "fi.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+           kTri + "3 0 1 1.5\n",
+       "refers to vertex 1.5"},
+      {"ply float indices", "fl.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar float vertex_indices\nend_header\n" +
+           kTri + "3 0 1 2\n",
+       "integers expected"},
+      {"ply no index list", "ni.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar int corners\nend_header\n" +
+           kTri + "3 0 1 2\n",
+       "no 'vertex_indices' list"},
+      {"ply malformed value", "mv.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 "
+       "0 abc\n0 1 0\n3 0 1 2\n",
+       "malformed PLY value 'abc'"},
       {"obj out of range", "o.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "error"},
       {"obj no faces", "nf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "faces"},
       {"obj inf coordinate", "inf.obj", "v 0 0 0\nv 1e999 0 0\nv 0 1 0\nf 1 2 3\n", "error"},
