@@ -2,6 +2,7 @@
 // and the paper's shared surfaces with their supports.
 
 #include <cstring>
+#include <limits>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -217,6 +218,32 @@ TEST(MeshIO, RefusesToWriteNaN) {
   fs::path d = test::temp_dir("nan");
   EXPECT_THROW(io::write_obj(d / "m.obj", m), Error);
   EXPECT_FALSE(fs::exists(d / "m.obj"));  // nothing half-written
+}
+
+TEST(MeshIO, AFailedWriteKeepsThePreviousFile) {
+  // Every writer builds the whole text first and hands it to write_file_atomic (temp file +
+  // rename): a writer that fails part-way leaves the previous file as it was, and no temp file.
+  fs::path d = test::temp_dir("atomic");
+  PolyMesh m = mixed_mesh();
+  io::write_obj(d / "m.obj", m);
+  io::write_ply(d / "m.ply", m);
+  const std::string obj = io::read_file(d / "m.obj"), ply = io::read_file(d / "m.ply");
+  PolyMesh bad = m;
+  bad.V(5, 2) = std::numeric_limits<double>::infinity();  // the last vertex: found late
+  EXPECT_THROW(io::write_obj(d / "m.obj", bad), Error);
+  EXPECT_THROW(io::write_ply(d / "m.ply", bad, {}, false), Error);
+  EXPECT_THROW(io::write_ply(d / "m.ply", m, {0, 6}), Error);  // a support beyond the mesh
+  EXPECT_THROW(io::write_vtp(d / "m.vtp", bad), Error);
+  EXPECT_EQ(io::read_file(d / "m.obj"), obj);
+  EXPECT_EQ(io::read_file(d / "m.ply"), ply);
+  EXPECT_FALSE(fs::exists(d / "m.vtp"));
+  // A target that cannot be replaced (a folder): Error, the folder untouched, no temp file.
+  fs::create_directory(d / "dir.obj");
+  EXPECT_THROW(io::write_file_atomic(d / "dir.obj", "v 0 0 0\n"), Error);
+  EXPECT_TRUE(fs::is_directory(d / "dir.obj"));
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(d)) files += e.is_regular_file();
+  EXPECT_EQ(files, 2);  // m.obj and m.ply only
 }
 
 struct SharedSurface {

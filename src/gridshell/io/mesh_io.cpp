@@ -495,7 +495,12 @@ void write_obj(const fs::path& path, const PolyMesh& mesh, const std::vector<int
 void write_ply(const fs::path& path, const PolyMesh& mesh, const std::vector<int>& supports,
                bool binary) {
   std::vector<char> is_support(mesh.num_vertices(), 0);
-  for (int v : supports) is_support.at(v) = 1;
+  for (int v : supports) {
+    if (v < 0 || v >= mesh.num_vertices())
+      throw Error(path.string(), fmt::format("internal: support vertex {} of {} vertices", v,
+                                             mesh.num_vertices()));
+    is_support[v] = 1;
+  }
   std::string s;
   s += fmt::format(
       "ply\nformat {} 1.0\ncomment gridshell\nelement vertex {}\nproperty double x\n"
