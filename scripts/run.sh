@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One entry point for a fresh Debian 12 machine: installs what is missing, builds, then runs
 #   demo  - gridshell design on the built-in default surface, results in ./demo/
-#   test  - the whole test suite (Release build, then again under AddressSanitizer + UBSan)
+#   test  - the whole test suite (Release build, then again under AddressSanitizer + UBSan), then
+#           a short run of the input readers' fuzzers (scripts/fuzz.sh)
 #   build - only set up and build
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,6 +24,9 @@ PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libsuitespa
 
 # Open MPI: the optional distributed sweep (`mpirun -n K gridshell sweep ...`) and its test.
 PACKAGES+=(libopenmpi-dev openmpi-bin)
+
+# Clang with libFuzzer and the sanitizer runtimes: the fuzz smoke run of `test` (scripts/fuzz.sh).
+PACKAGES+=(clang libclang-rt-14-dev)
 
 install_packages() {
   local missing=()
@@ -74,6 +78,9 @@ case "$cmd" in
       -DGRIDSHELL_HEAVY_TESTS=OFF -DGRIDSHELL_MPI=OFF "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
       ctest --test-dir build-sanitize --output-on-failure -j "$(nproc)" -LE heavy
+    # The fuzz smoke run: the input readers' libFuzzer harnesses (Clang, build-fuzz/), 25 s each
+    # over their seed corpus fuzz/corpus/; a crash, sanitizer report or hang fails the run.
+    JOBS=$(nproc) bash scripts/fuzz.sh 25
     ;;
   *) echo "usage: scripts/run.sh demo|test|build" >&2; exit 2 ;;
 esac

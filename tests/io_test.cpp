@@ -2,6 +2,7 @@
 // and the paper's shared surfaces with their supports.
 
 #include <cstring>
+#include <limits>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -106,6 +107,32 @@ TEST(MeshIO, BigEndianPlyWithExtraPropertiesAndElements) {
   EXPECT_EQ(r.mesh.faces[1], (std::vector<int>{0, 2, 3}));
 }
 
+TEST(MeshIO, PlyIntegerCoordinatesAndOtherColourTypes) {
+  // Coordinates may be any numeric type (CGAL's reader crashed on a `short` one, found by
+  // fuzz/fuzz_mesh); float colours are 0–1, and some exporters write diffuse_red ….
+  fs::path d = test::temp_dir("plytypes");
+  write_text(d / "short.ply",
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty short x\nproperty int y\n"
+             "property uchar z\nproperty float red\nproperty float green\nproperty float blue\n"
+             "element face 1\nproperty list uchar uint vertex_index\nend_header\n"
+             "-2 0 0 1 0 0\n5 0 0 0.5 0.5 0.5\n0 7 3 2 -1 0\n3 0 1 2\n");
+  io::MeshFile r = io::read_mesh(d / "short.ply");
+  ASSERT_EQ(r.mesh.num_vertices(), 3);
+  EXPECT_EQ(r.mesh.V.row(2), Eigen::RowVector3d(0, 7, 3));
+  EXPECT_EQ(r.mesh.V(0, 0), -2.0);
+  EXPECT_EQ(r.mesh.faces, (std::vector<std::vector<int>>{{0, 1, 2}}));
+  ASSERT_EQ(r.vertex_colors.size(), 3u);
+  EXPECT_EQ(r.vertex_colors[0], (std::array<std::uint8_t, 3>{255, 0, 0}));
+  EXPECT_EQ(r.vertex_colors[1], (std::array<std::uint8_t, 3>{128, 128, 128}));
+  EXPECT_EQ(r.vertex_colors[2], (std::array<std::uint8_t, 3>{255, 0, 0}));  // clamped
+  write_text(d / "diffuse.ply",
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+             "property float z\nproperty uchar diffuse_red\nproperty uchar diffuse_green\n"
+             "property uchar diffuse_blue\nelement face 1\nproperty list uchar int "
+             "vertex_indices\nend_header\n0 0 0 255 0 0\n1 0 0 9 9 9\n0 1 0 9 9 9\n3 0 1 2\n");
+  EXPECT_EQ(load_surface((d / "diffuse.ply").string()).supports, (std::vector<int>{0}));
+}
+
 TEST(MeshIO, ObjPolygonsAndNegativeIndices) {
   fs::path p = test::temp_dir("obj") / "neg.obj";
   write_text(p,
@@ -126,6 +153,26 @@ TEST(MeshIO, OffFile) {
   io::MeshFile r = io::read_mesh(p);
   EXPECT_EQ(r.mesh.num_vertices(), 4);
   EXPECT_EQ(r.mesh.faces[1], (std::vector<int>{0, 2, 3}));
+}
+
+TEST(MeshIO, OffVariants) {
+  fs::path d = test::temp_dir("off");
+  // Counts on the header line, CRLF line ends, comments, colours after the coordinates and after
+  // the face's corners (COFF), normals (NOFF).
+  write_text(d / "c.off",
+             "COFF 4 2 0\r\n0 0 0 255 0 0 255\r\n1 0 0 0.5 0.5 0.5 1\r\n1 1 0 1 1 1 1 # c\r\n"
+             "0 1 0 1 1 1 1\r\n3 0 1 2 255 0 0\r\n3 0 2 3\r\n");
+  write_text(d / "n.off",
+             "NOFF\n4 1 4\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n4 0 1 2 3\n");
+  io::MeshFile c = io::read_mesh(d / "c.off");
+  EXPECT_EQ(c.mesh.num_vertices(), 4);
+  EXPECT_EQ(c.mesh.faces, (std::vector<std::vector<int>>{{0, 1, 2}, {0, 2, 3}}));
+  EXPECT_DOUBLE_EQ(c.mesh.V(2, 1), 1.0);
+  io::MeshFile n = io::read_mesh(d / "n.off");
+  EXPECT_EQ(n.mesh.faces, (std::vector<std::vector<int>>{{0, 1, 2, 3}}));
+  // 4D OFF has a fourth coordinate: refused rather than misread.
+  write_text(d / "4.off", "4OFF\n3 1 0\n0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 2\n");
+  EXPECT_THROW(io::read_mesh(d / "4.off"), Error);
 }
 
 TEST(MeshIO, UpAxisAndScale) {
@@ -171,6 +218,32 @@ TEST(MeshIO, RefusesToWriteNaN) {
   fs::path d = test::temp_dir("nan");
   EXPECT_THROW(io::write_obj(d / "m.obj", m), Error);
   EXPECT_FALSE(fs::exists(d / "m.obj"));  // nothing half-written
+}
+
+TEST(MeshIO, AFailedWriteKeepsThePreviousFile) {
+  // Every writer builds the whole text first and hands it to write_file_atomic (temp file +
+  // rename): a writer that fails part-way leaves the previous file as it was, and no temp file.
+  fs::path d = test::temp_dir("atomic");
+  PolyMesh m = mixed_mesh();
+  io::write_obj(d / "m.obj", m);
+  io::write_ply(d / "m.ply", m);
+  const std::string obj = io::read_file(d / "m.obj"), ply = io::read_file(d / "m.ply");
+  PolyMesh bad = m;
+  bad.V(5, 2) = std::numeric_limits<double>::infinity();  // the last vertex: found late
+  EXPECT_THROW(io::write_obj(d / "m.obj", bad), Error);
+  EXPECT_THROW(io::write_ply(d / "m.ply", bad, {}, false), Error);
+  EXPECT_THROW(io::write_ply(d / "m.ply", m, {0, 6}), Error);  // a support beyond the mesh
+  EXPECT_THROW(io::write_vtp(d / "m.vtp", bad), Error);
+  EXPECT_EQ(io::read_file(d / "m.obj"), obj);
+  EXPECT_EQ(io::read_file(d / "m.ply"), ply);
+  EXPECT_FALSE(fs::exists(d / "m.vtp"));
+  // A target that cannot be replaced (a folder): Error, the folder untouched, no temp file.
+  fs::create_directory(d / "dir.obj");
+  EXPECT_THROW(io::write_file_atomic(d / "dir.obj", "v 0 0 0\n"), Error);
+  EXPECT_TRUE(fs::is_directory(d / "dir.obj"));
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(d)) files += e.is_regular_file();
+  EXPECT_EQ(files, 2);  // m.obj and m.ply only
 }
 
 struct SharedSurface {

@@ -34,6 +34,11 @@ std::vector<Case> cases() {
       "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
       "y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
   binary_truncated += std::string(20, '\0');
+  // One face whose int32 corner count is 2^31 - 1.
+  std::string binary_huge_list =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
+      "y\nproperty float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
+  binary_huge_list += std::string(36, '\0') + "\xff\xff\xff\x7f" + std::string(12, '\0');
   return {
       {"empty", "e.ply", "", "empty"},
       {"whitespace only", "w.obj", "  \n\n", "empty"},
@@ -77,12 +82,52 @@ std::vector<Case> cases() {
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nelement face "
        "1\nproperty list uchar int vertex_indices\nend_header\n0 0\n1 0\n0 1\n3 0 1 2\n",
        "'z'"},
+      // Found by fuzz/fuzz_mesh in CGAL's PLY reader (now ours): list lengths were cast to
+      // size_t unchecked; the PLY reader now checks every value as it reads it.
+      {"ply negative list length", "l.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n" +
+           kTri + "-1 0 1 2\n",
+       "list 'vertex_indices' has length -1"},
+      {"ply huge binary list length", "hl.ply", binary_huge_list, "which the file cannot hold"},
+      {"ply fractional index", "fi.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+           kTri + "3 0 1 1.5\n",
+       "refers to vertex 1.5"},
+      {"ply float indices", "fl.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar float vertex_indices\nend_header\n" +
+           kTri + "3 0 1 2\n",
+       "integers expected"},
+      {"ply no index list", "ni.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar int corners\nend_header\n" +
+           kTri + "3 0 1 2\n",
+       "no 'vertex_indices' list"},
+      {"ply malformed value", "mv.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 "
+       "0 abc\n0 1 0\n3 0 1 2\n",
+       "malformed PLY value 'abc'"},
       {"obj out of range", "o.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "error"},
       {"obj no faces", "nf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "faces"},
       {"obj inf coordinate", "inf.obj", "v 0 0 0\nv 1e999 0 0\nv 0 1 0\nf 1 2 3\n", "error"},
       {"off absurd counts", "a.off", "OFF\n900000000000 1 0\n" + kTri + "3 0 1 2\n", "too short"},
       {"off garbage", "g.off", "OFF\nhello world\n", "counts"},
-      {"off index out of range", "i.off", "OFF\n3 1 0\n" + kTri + "3 0 1 5\n", "error"},
+      {"off index out of range", "i.off", "OFF\n3 1 0\n" + kTri + "3 0 1 5\n", "vertex '5'"},
+      // Found by fuzz/fuzz_mesh: CGAL's OFF scanner cast such indices from double (UB).
+      {"off huge index", "h.off", "OFF\n3 1 0\n" + kTri + "3 0 1 88888888888888888888880\n",
+       "refers to vertex '88888888888888888888880'"},
+      {"off negative index", "n.off", "OFF\n3 1 0\n" + kTri + "3 0 -1 2\n", "vertex '-1'"},
+      {"off huge corner count", "c.off", "OFF\n3 1 0\n" + kTri + "999999999 0 1 2\n",
+       "number of corners"},
+      {"off nan coordinate", "nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n",
+       "NaN"},
+      {"off missing coordinate", "m.off", "OFF\n3 1 0\n0 0 0\n1.5 0.5\n0 1 0\n3 0 1 2\n",
+       "three coordinates"},
+      {"off truncated", "t.off", "OFF\n3 2 0\n" + kTri + "3 0 1 2\n", "truncated"},
+      {"off binary", "b.off", "OFF BINARY\n" + std::string(12, '\0'), "binary OFF"},
   };
 }
 
@@ -123,4 +168,30 @@ TEST(MalformedInput, BadSupportFiles) {
   expect_clean_error("info builtin:dome --supports " + (d / "range.json").string(), "out of range");
   expect_clean_error("info builtin:dome --supports " + (d / "notjson.json").string(), "JSON");
   expect_clean_error("info builtin:dome --supports " + (d / "kind.json").string(), "integers");
+}
+
+TEST(MalformedInput, BadModelFiles) {
+  fs::path d = test::temp_dir("badmodel");
+  const std::string nodes = R"("nodes": [[0, 0, 0], [1, 0, 0], [0, 1, 0]])";
+  // A nodal load without its node: the shell reader read a missing key (undefined behaviour).
+  std::ofstream(d / "load.json") << "{" << nodes
+                                 << R"(, "triangles": [[0, 1, 2]], "loads": [{"type": "node"}]})";
+  expect_clean_error("stress " + (d / "load.json").string() + " -o " + (d / "o1").string(),
+                     "loads[0]: a nodal load needs 'node'");
+  // Ids beyond int or int64 are refused, not wrapped round into a valid-looking node 0.
+  const std::string frame = "{" + nodes +
+                            R"(, "sections": {"s": {"shape": "circle", "diameter": 0.05}},
+                                "materials": {"m": {"E": 2e11}}, "members": [{"nodes": [0, )";
+  std::ofstream(d / "wrap.json") << frame << "4294967296]}]}";
+  expect_clean_error("analyze " + (d / "wrap.json").string() + " -o " + (d / "o2").string(),
+                     "members[0].nodes 4294967296 is out of range");
+  std::ofstream(d / "wrap_shell.json") << "{" << nodes
+                                       << R"(, "triangles": [[0, 1, 18446744073709551616]]})";
+  expect_clean_error("stress " + (d / "wrap_shell.json").string() + " -o " + (d / "o3").string(),
+                     "error");
+  std::ofstream(d / "wrap_shell2.json") << "{" << nodes
+                                        << R"(, "triangles": [[0, 1, 18446744073709551615]]})";
+  expect_clean_error("stress " + (d / "wrap_shell2.json").string() + " -o " + (d / "o4").string(),
+                     "refers to node 18446744073709551615, but there are 3 nodes");
+  EXPECT_FALSE(fs::exists(d / "o1" / "report.json"));
 }

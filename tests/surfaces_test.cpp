@@ -1,8 +1,17 @@
 // Built-in surfaces: valid meshes with the expected topology and supports; the funicular shell is
-// a true force-density equilibrium.
+// a true force-density equilibrium. Messy surface files: what the loader repairs, the one warning
+// line it writes, and the support-colour rule.
 
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
 
+#include "gridshell/core/error.h"
+#include "gridshell/mesh/repair.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/builtin.h"
 #include "gridshell/surfaces/force_density.h"
@@ -161,4 +170,174 @@ TEST(Info, JsonHasTheContractKeys) {
   EXPECT_NE(r.out.find("\"faces\": 7742"), std::string::npos);
   EXPECT_NE(r.out.find("\"boundary_loops\": 3"), std::string::npos);
   EXPECT_NE(r.out.find("\"supports\": 252"), std::string::npos);
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Captures what spdlog writes while it lives (the default logger is restored after).
+class LogCapture {
+ public:
+  LogCapture() : previous_(spdlog::default_logger()) {
+    auto sink = std::make_shared<spdlog::sinks::ostream_sink_st>(out_);
+    auto logger = std::make_shared<spdlog::logger>("capture", sink);
+    logger->set_pattern("%v");
+    logger->set_level(spdlog::level::warn);
+    spdlog::set_default_logger(logger);
+  }
+  ~LogCapture() { spdlog::set_default_logger(previous_); }
+  std::string text() const { return out_.str(); }
+  long lines() const {
+    const std::string t = text();
+    return std::count(t.begin(), t.end(), '\n');
+  }
+
+ private:
+  std::ostringstream out_;
+  std::shared_ptr<spdlog::logger> previous_;
+};
+
+/// An ascii PLY with per-vertex colours; `faces` as vertex id lists.
+std::string colour_ply(const std::vector<std::array<double, 3>>& V,
+                       const std::vector<std::array<int, 3>>& rgb,
+                       const std::vector<std::vector<int>>& faces) {
+  std::string s = fmt::format(
+      "ply\nformat ascii 1.0\nelement vertex {}\nproperty double x\nproperty double y\n"
+      "property double z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+      "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+      V.size(), faces.size());
+  for (std::size_t v = 0; v < V.size(); ++v)
+    s += fmt::format("{} {} {} {} {} {}\n", V[v][0], V[v][1], V[v][2], rgb[v][0], rgb[v][1],
+                     rgb[v][2]);
+  for (const auto& f : faces) {
+    s += fmt::format("{}", f.size());
+    for (int v : f) s += fmt::format(" {}", v);
+    s += "\n";
+  }
+  return s;
+}
+
+fs::path write(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+  return p;
+}
+
+const std::array<int, 3> kRed{255, 0, 0}, kGrey{192, 192, 192};
+
+}  // namespace
+
+TEST(MessySurface, UnreferencedVerticesAreDroppedAndSupportsFollow) {
+  // A unit square as two triangles (vertices 1..4), with an unreferenced red construction point
+  // first and an unreferenced grey one last; supports red at 2 and 4.
+  const fs::path p =
+      write(test::temp_dir("messy") / "unref.ply",
+            colour_ply({{9, 9, 9}, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {5, 5, 5}},
+                       {kRed, kGrey, kRed, kGrey, kRed, kGrey}, {{1, 2, 3}, {1, 3, 4}}));
+  LogCapture log;
+  const Surface s = load_surface(p.string());
+  EXPECT_EQ(s.mesh.num_vertices(), 4);
+  EXPECT_DOUBLE_EQ(s.mesh.V(0, 0), 0.0);  // old vertex 1 is now 0
+  EXPECT_EQ(s.mesh.F.row(1), Eigen::RowVector3i(0, 2, 3));
+  EXPECT_EQ(s.supports, (std::vector<int>{1, 3}));  // old 2 and 4; the red point is gone
+  EXPECT_EQ(log.lines(), 1) << log.text();
+  EXPECT_NE(log.text().find("dropped 2 unreferenced vertices"), std::string::npos) << log.text();
+  EXPECT_NE(log.text().find("1 of the dropped vertices was red"), std::string::npos);
+
+  // A supports file names the file's ids: 0 (dropped, with a warning) and 3 (now 2).
+  SurfaceOptions o;
+  o.supports = write(p.parent_path() / "s.json", "[0, 3]").string();
+  EXPECT_EQ(load_surface(p.string(), o).supports, (std::vector<int>{2}));
+}
+
+TEST(MessySurface, ExactDuplicateVerticesAreMerged) {
+  // Two triangles that share the diagonal 0–2 only by position (vertices 3 and 4 repeat 0 and 2);
+  // the red colour sits on the copy. Merged, the square is one piece with one boundary loop.
+  const fs::path p =
+      write(test::temp_dir("messy") / "dup.ply",
+            colour_ply({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}},
+                       {kGrey, kGrey, kGrey, kRed, kGrey, kGrey}, {{0, 1, 2}, {3, 4, 5}}));
+  LogCapture log;
+  const Surface s = load_surface(p.string());
+  EXPECT_EQ(s.mesh.num_vertices(), 4);
+  EXPECT_EQ(s.mesh.F.row(1), Eigen::RowVector3i(0, 2, 3));
+  EXPECT_EQ(build_topology(s.mesh).boundary_loops.size(), 1u);
+  EXPECT_EQ(s.supports, (std::vector<int>{0}));
+  EXPECT_EQ(log.lines(), 1);
+  EXPECT_NE(log.text().find("merged 2 duplicate vertices"), std::string::npos) << log.text();
+}
+
+TEST(MessySurface, FacesWithoutAreaAreDroppedOrShortened) {
+  // A quad with a repeated corner (a triangle really) and a triangle that uses a vertex twice.
+  const fs::path p = write(test::temp_dir("messy") / "rep.obj",
+                           "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 2 3\nf 1 3 4\nf 4 4 1\n");
+  LogCapture log;
+  const Surface s = load_surface(p.string());
+  EXPECT_EQ(s.mesh.num_faces(), 2);
+  EXPECT_EQ(s.mesh.F.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(log.lines(), 1);
+  EXPECT_NE(log.text().find("removed a repeated corner from 1 face, dropped 1 face without area"),
+            std::string::npos)
+      << log.text();
+  // Nothing with an area left: an Error, not an empty surface.
+  const fs::path bad = write(p.parent_path() / "bad.obj", "v 0 0 0\nv 1 0 0\nf 1 1 2\n");
+  EXPECT_THROW(load_surface(bad.string()), Error);
+}
+
+TEST(MessySurface, SliversAreKeptWithAWarning) {
+  // A square fanned around a vertex (0.5, 0.5001): no sliver, no warning.
+  const fs::path p = write(test::temp_dir("messy") / "sliver.off",
+                           "OFF\n5 4 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5001 0\n"
+                           "3 0 1 4\n3 1 2 4\n3 2 3 4\n3 3 0 4\n");
+  {
+    LogCapture log;
+    const Surface s = load_surface(p.string());
+    EXPECT_EQ(count_slivers(s.mesh), 0);
+    EXPECT_EQ(log.lines(), 0) << log.text();
+  }
+  // The same vertex, but the triangle 0 4 2 between it and the diagonal: angles of 0.01°.
+  write(p,
+        "OFF\n5 4 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5001 0\n"
+        "3 0 1 4\n3 1 2 4\n3 0 4 2\n3 0 2 3\n");
+  LogCapture log;
+  const Surface s = load_surface(p.string());
+  EXPECT_EQ(s.mesh.num_faces(), 4);  // kept
+  EXPECT_EQ(count_slivers(s.mesh), 1);
+  EXPECT_EQ(log.lines(), 1);
+  EXPECT_NE(log.text().find("kept 1 sliver triangle (an angle below 1 degree)"), std::string::npos)
+      << log.text();
+}
+
+TEST(MessySurface, SupportColourRule) {
+  EXPECT_TRUE(is_support_colour({255, 0, 0}));
+  EXPECT_TRUE(is_support_colour({254, 0, 0}));
+  EXPECT_TRUE(is_support_colour({255, 10, 10}));
+  EXPECT_TRUE(is_support_colour({160, 20, 40}));     // dark red
+  EXPECT_FALSE(is_support_colour({255, 128, 0}));    // orange
+  EXPECT_FALSE(is_support_colour({255, 192, 203}));  // pink
+  EXPECT_FALSE(is_support_colour({192, 192, 192}));  // our writer's grey
+  EXPECT_FALSE(is_support_colour({100, 0, 0}));      // too dark to tell from black
+  EXPECT_FALSE(is_support_colour({0, 0, 255}));
+
+  const std::vector<std::array<double, 3>> V{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const std::vector<std::vector<int>> F{{0, 1, 2}, {0, 2, 3}};
+  const fs::path d = test::temp_dir("colour");
+  // Another exporter's red: (254,0,0) and (255,10,10) are supports, with a warning.
+  const fs::path near =
+      write(d / "near.ply", colour_ply(V, {{254, 0, 0}, kGrey, {255, 10, 10}, kGrey}, F));
+  LogCapture log;
+  EXPECT_EQ(load_surface(near.string()).supports, (std::vector<int>{0, 2}));
+  EXPECT_NE(log.text().find("2 of the 2 red support vertices are not pure"), std::string::npos)
+      << log.text();
+  // Supports in another colour (blue): the boundary, and the warning names the colours.
+  const fs::path blue = write(d / "blue.ply", colour_ply(V, {{0, 0, 255}, kGrey, kGrey, kGrey}, F));
+  LogCapture log2;
+  EXPECT_EQ(load_surface(blue.string()).supports, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(log2.lines(), 1);
+  EXPECT_NE(log2.text().find("no red vertices among the colours (0,0,255) x1, (192,192,192) x3"),
+            std::string::npos)
+      << log2.text();
+  SurfaceOptions red;
+  red.supports = "red";
+  EXPECT_THROW(load_surface(blue.string(), red), Error);
 }

@@ -8,7 +8,8 @@
 ///     the format of ../shared/data/stress-fields). Points need not coincide with mesh vertices:
 ///     each mesh vertex takes the nearest point (Euclidean, kd-tree), which tolerates the 0.2 m
 ///     normal offset of the published files.
-///   - CSV: `vertex,s1,s2,d1x,d1y,d1z` per mesh vertex (0-based id; an optional header line);
+///   - CSV: `vertex,s1,s2,d1x,d1y,d1z` per mesh vertex (0-based id of the surface as loaded, after
+///     the repair of surfaces/load.h; an optional header line);
 ///     the second direction is n × d1 in each triangle. Every vertex must appear.
 ///
 /// Per triangle, the three vertex tensors σ = s1 d1 d1ᵀ + s2 d2 d2ᵀ are averaged (sign-free),

@@ -1,6 +1,8 @@
 #include "gridshell/io/frame_model_json.h"
 
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -28,9 +30,16 @@ Vec3 vec3(const json& j, const std::string& what, const std::string& subject) {
   return Vec3(num(j[0], what, subject), num(j[1], what, subject), num(j[2], what, subject));
 }
 
+/// An integer that fits an int (node ids, element counts); larger ones are refused rather than
+/// wrapped around into a valid-looking id.
 int index(const json& j, const std::string& what, const std::string& subject) {
   if (!j.is_number_integer()) throw Error(subject, what + " must be an integer");
-  return j.get<int>();
+  const bool fits = j.is_number_unsigned()
+                        ? j.get<std::uint64_t>() <= std::numeric_limits<int>::max()
+                        : j.get<std::int64_t>() >= std::numeric_limits<int>::min() &&
+                              j.get<std::int64_t>() <= std::numeric_limits<int>::max();
+  if (!fits) throw Error(subject, what + fmt::format(" {} is out of range", j.dump()));
+  return static_cast<int>(j.get<std::int64_t>());
 }
 
 std::vector<std::vector<int>> polygons(const json& j, const std::string& what,

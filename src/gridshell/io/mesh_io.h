@@ -2,11 +2,12 @@
 /// \file mesh_io.h
 /// Reading and writing polygon meshes.
 ///
-/// Reading uses CGAL's stream readers (PLY ascii / binary little and big endian with any extra
-/// vertex or face properties and extra elements; OBJ with polygons and negative indices; OFF).
-/// Before CGAL sees a file its header is sanity-checked (declared counts must fit in the file),
-/// and after reading every index and coordinate is validated, so bad input ends in one
-/// `gridshell::Error`, never a crash, a hang or a huge allocation.
+/// Reading: PLY (ascii / binary little and big endian, any numeric property types, extra vertex
+/// or face properties and extra elements; vertex colours) and ascii OFF with our own readers,
+/// which check every value as they read it (CGAL's had undefined behaviour on hostile files,
+/// found by fuzz/fuzz_mesh); OBJ (polygons, negative indices) with CGAL's. Declared counts must
+/// fit in the file, and after reading every index and coordinate is validated, so bad input ends
+/// in one `gridshell::Error`, never a crash, a hang or a huge allocation.
 ///
 /// Writing: OBJ, PLY (ascii or binary little endian; doubles; per-vertex `support` flag and red
 /// colour for supported vertices, grey otherwise, so `--supports red` reads them back), and
@@ -29,7 +30,8 @@ namespace gridshell::io {
 /// What a mesh file holds.
 struct MeshFile {
   PolyMesh mesh;
-  /// Per-vertex RGB colour when the file has one (PLY uchar red/green/blue), else empty.
+  /// Per-vertex RGB colour when the file has one (PLY red/green/blue, r/g/b or diffuse_red/…;
+  /// integer types as 0–255, float types as 0–1), else empty.
   std::vector<std::array<std::uint8_t, 3>> vertex_colors;
 };
 

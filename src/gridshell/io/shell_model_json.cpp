@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -31,10 +32,14 @@ Vec3 vec3(const json& j, const std::string& subject, const std::string& where) {
 
 int index(const json& j, int n, const std::string& subject, const std::string& where) {
   if (!j.is_number_integer()) throw Error(subject, where + " must be an integer node index");
-  const long long i = j.get<long long>();
-  if (i < 0 || i >= n)
-    throw Error(subject, fmt::format("{} refers to node {}, but there are {} nodes", where, i, n));
-  return static_cast<int>(i);
+  // Compared as JSON stores it (ids beyond 2^63 are unsigned), never wrapped into range.
+  const bool in_range = j.is_number_unsigned()
+                            ? j.get<std::uint64_t>() < static_cast<std::uint64_t>(n)
+                            : j.get<std::int64_t>() >= 0 && j.get<std::int64_t>() < n;
+  if (!in_range)
+    throw Error(subject,
+                fmt::format("{} refers to node {}, but there are {} nodes", where, j.dump(), n));
+  return static_cast<int>(j.get<std::int64_t>());
 }
 
 }  // namespace
@@ -160,6 +165,8 @@ fem::ShellModel read_shell_model(const std::filesystem::path& path) {
                                    : std::string(L.contains("node") ? "node" : "");
       if (type == "node") {
         load.kind = Kind::kNode;
+        // (const json::operator[] on a missing key is undefined behaviour: ask first)
+        if (!L.contains("node")) throw Error(s, w + ": a nodal load needs 'node'");
         load.node = index(L["node"], n, s, w);
         if (L.contains("force")) load.force = vec3(L["force"], s, w + ".force");
         if (L.contains("moment")) load.moment = vec3(L["moment"], s, w + ".moment");

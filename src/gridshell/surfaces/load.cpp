@@ -2,13 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <map>
+#include <set>
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
 #include "gridshell/io/mesh_io.h"
+#include "gridshell/mesh/repair.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/builtin.h"
 
@@ -33,6 +38,7 @@ void reorient(Points& V, const std::string& up, double scale) {
   V *= scale;
 }
 
+/// The vertex ids of a JSON supports file; ids refer to the file's vertices (0 ≤ id < nv).
 std::vector<int> supports_from_json(const std::string& path, int nv) {
   nlohmann::json j;
   try {
@@ -45,14 +51,14 @@ std::vector<int> supports_from_json(const std::string& path, int nv) {
   std::vector<int> out;
   for (const auto& v : j) {
     if (!v.is_number_integer()) throw Error(path, "support ids must be integers");
-    const long long id = v.get<long long>();
-    if (id < 0 || id >= nv)
-      throw Error(path,
-                  fmt::format("support vertex {} out of range (mesh has {} vertices)", id, nv));
-    out.push_back(static_cast<int>(id));
+    const bool in_range = v.is_number_unsigned()
+                              ? v.get<std::uint64_t>() < static_cast<std::uint64_t>(nv)
+                              : v.get<std::int64_t>() >= 0 && v.get<std::int64_t>() < nv;
+    if (!in_range)
+      throw Error(
+          path, fmt::format("support vertex {} out of range (mesh has {} vertices)", v.dump(), nv));
+    out.push_back(static_cast<int>(v.get<std::int64_t>()));
   }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
 
@@ -64,58 +70,154 @@ std::vector<int> boundary_of(const PolyMesh& mesh) {
   return out;
 }
 
-std::vector<int> resolve_supports(const SurfaceOptions& o, const PolyMesh& mesh,
-                                  const io::MeshFile* file, const std::vector<int>* builtin) {
-  std::vector<int> red;
-  if (file)
-    for (std::size_t v = 0; v < file->vertex_colors.size(); ++v) {
-      const auto& c = file->vertex_colors[v];
-      if (c[0] == 255 && c[1] == 0 && c[2] == 0) red.push_back(static_cast<int>(v));
-    }
-  if (o.supports == "auto") {
-    if (!red.empty()) return red;
-    if (builtin) return *builtin;
-    return boundary_of(mesh);
+/// The vertex colours with their counts, rarest first (supports are the rare colour), e.g.
+/// "(0,0,255) x4, (200,200,200) x77".
+std::string colour_summary(const std::vector<std::array<std::uint8_t, 3>>& colours) {
+  std::map<std::array<std::uint8_t, 3>, int> count;
+  for (const auto& c : colours) ++count[c];
+  std::vector<std::pair<int, std::array<std::uint8_t, 3>>> byfreq;
+  for (const auto& [c, n] : count) byfreq.emplace_back(n, c);
+  std::sort(byfreq.begin(), byfreq.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : a.second < b.second;  // rarest first
+  });
+  std::string out;
+  for (std::size_t i = 0; i < byfreq.size() && i < 3; ++i) {
+    const auto& [n, c] = byfreq[i];
+    out += fmt::format("{}({},{},{}) x{}", i ? ", " : "", c[0], c[1], c[2], n);
   }
-  if (o.supports == "red") {
+  if (byfreq.size() > 3) out += ", ...";
+  return out;
+}
+
+/// File vertex ids → ids after the repair (`new_id` empty: unchanged); dropped ones are left
+/// out and counted in `dropped`. Sorted, without repeats.
+std::vector<int> remap(const std::vector<int>& ids, const std::vector<int>& new_id, int& dropped) {
+  std::vector<int> out;
+  dropped = 0;
+  for (int v : ids) {
+    const int w = new_id.empty() ? v : new_id[v];
+    if (w < 0) {
+      ++dropped;
+    } else {
+      out.push_back(w);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+/// The supports by the rules of SurfaceOptions::supports. `file` (when the surface comes from a
+/// file) gives the colours and `new_id` maps its vertex ids onto `mesh` (see mesh/repair.h);
+/// what the caller should hear about is appended to `notes`.
+std::vector<int> resolve_supports(const SurfaceOptions& o, const PolyMesh& mesh,
+                                  const io::MeshFile* file, const std::vector<int>& new_id,
+                                  const std::vector<int>* builtin,
+                                  std::vector<std::string>& notes) {
+  std::vector<int> red_in_file;
+  int near_red = 0;
+  if (file)
+    for (std::size_t v = 0; v < file->vertex_colors.size(); ++v)
+      if (is_support_colour(file->vertex_colors[v])) {
+        red_in_file.push_back(static_cast<int>(v));
+        const auto& c = file->vertex_colors[v];
+        near_red += !(c[0] == 255 && c[1] == 0 && c[2] == 0);
+      }
+  int red_dropped = 0;
+  const std::vector<int> red = remap(red_in_file, new_id, red_dropped);
+  const bool use_red = o.supports == "red" || (o.supports == "auto" && !red.empty());
+  if (use_red) {
     if (red.empty())
-      throw Error("--supports",
-                  "'red' asked for, but the surface has no pure red (255,0,0) vertices");
+      throw Error("--supports", red_dropped > 0 ? "'red' asked for, but the only red vertices "
+                                                  "are unreferenced (no face uses them)"
+                                                : "'red' asked for, but the surface has no red "
+                                                  "vertices (red >= 128, green and blue at "
+                                                  "most a quarter of it)");
+    if (near_red > 0)
+      notes.push_back(fmt::format("{} of the {} red support vertices {} not pure (255,0,0)",
+                                  near_red, red_in_file.size(), near_red == 1 ? "is" : "are"));
+    if (red_dropped > 0)
+      notes.push_back(fmt::format("{} of the dropped vertices {} red (not supports)", red_dropped,
+                                  red_dropped == 1 ? "was" : "were"));
     return red;
   }
+  if (o.supports == "auto") {
+    if (builtin) return *builtin;
+    if (file && !file->vertex_colors.empty()) {
+      std::set<std::array<std::uint8_t, 3>> distinct(file->vertex_colors.begin(),
+                                                     file->vertex_colors.end());
+      if (red_dropped > 0)
+        notes.push_back("the only red vertices are unreferenced: supports are the whole boundary");
+      else if (distinct.size() > 1)
+        notes.push_back(
+            fmt::format("no red vertices among the colours {}: supports are the "
+                        "whole boundary (--supports FILE.json names others)",
+                        colour_summary(file->vertex_colors)));
+    }
+    return boundary_of(mesh);
+  }
   if (o.supports == "boundary") return boundary_of(mesh);
-  return supports_from_json(o.supports, mesh.num_vertices());
+  const int nv_file = new_id.empty() ? mesh.num_vertices() : static_cast<int>(new_id.size());
+  int listed_dropped = 0;
+  std::vector<int> listed = remap(supports_from_json(o.supports, nv_file), new_id, listed_dropped);
+  if (listed_dropped > 0)
+    notes.push_back(fmt::format("{} of the listed supports {} unreferenced (dropped)",
+                                listed_dropped, listed_dropped == 1 ? "was" : "were"));
+  return listed;
+}
+
+void warn(const std::string& subject, const std::vector<std::string>& notes) {
+  if (notes.empty()) return;
+  std::string line;
+  for (const auto& n : notes) line += (line.empty() ? "" : "; ") + n;
+  spdlog::warn("{}: {}", subject, line);
 }
 
 }  // namespace
 
+bool is_support_colour(const std::array<std::uint8_t, 3>& rgb) {
+  const int r = rgb[0], g = rgb[1], b = rgb[2];
+  return r >= 128 && 4 * g <= r && 4 * b <= r;
+}
+
 Surface load_surface(const std::string& spec, const SurfaceOptions& o) {
   Surface s;
+  std::vector<std::string> notes;
   if (spec.rfind("builtin:", 0) == 0) {
     Surface b = make_builtin(spec.substr(8));
     s.mesh = b.mesh;
-    s.supports = resolve_supports(o, to_poly(b.mesh), nullptr, &b.supports);
+    s.supports = resolve_supports(o, to_poly(b.mesh), nullptr, {}, &b.supports, notes);
   } else {
     io::MeshFile file = io::read_mesh(spec);
+    const RepairReport repair = repair_mesh(file.mesh);
+    if (file.mesh.num_faces() == 0)
+      throw Error(spec, "no face has an area (every face uses a vertex twice)");
+    if (repair.changed()) notes.push_back(repair.describe());
     s.mesh = triangulate(file.mesh);
-    s.supports = resolve_supports(o, file.mesh, &file, nullptr);
+    s.supports = resolve_supports(o, file.mesh, &file, repair.new_id, nullptr, notes);
+    if (const int slivers = count_slivers(s.mesh); slivers > 0)
+      notes.push_back(fmt::format("kept {} sliver {} (an angle below 1 degree)", slivers,
+                                  slivers == 1 ? "triangle" : "triangles"));
   }
   reorient(s.mesh.V, o.up, o.scale);
+  warn(spec, notes);
   return s;
 }
 
 PolySurface load_poly_surface(const std::string& path, const SurfaceOptions& o) {
   PolySurface s;
+  std::vector<std::string> notes;
   if (path.rfind("builtin:", 0) == 0) {
     Surface b = make_builtin(path.substr(8));
     s.mesh = to_poly(b.mesh);
-    s.supports = resolve_supports(o, s.mesh, nullptr, &b.supports);
+    s.supports = resolve_supports(o, s.mesh, nullptr, {}, &b.supports, notes);
   } else {
     io::MeshFile file = io::read_mesh(path);
     s.mesh = file.mesh;
-    s.supports = resolve_supports(o, file.mesh, &file, nullptr);
+    s.supports = resolve_supports(o, file.mesh, &file, {}, nullptr, notes);
   }
   reorient(s.mesh.V, o.up, o.scale);
+  warn(path, notes);
   return s;
 }
 

@@ -2,30 +2,49 @@
 /// \file load.h
 /// Turning what a user names on the command line into a `Surface`: a mesh file or
 /// `builtin:NAME[:key=value,...]`, re-oriented (`up`), scaled, with its supports.
+///
+/// Real files are messy. `load_surface` repairs what it safely can (mesh/repair.h: merges exact
+/// duplicate vertices, drops faces without area and unreferenced vertices — vertex ids after them
+/// shift down, so per-vertex output and a CSV field refer to the repaired surface), keeps sliver
+/// triangles, and says what it did in one `spdlog::warn` line. `load_poly_surface` (grid-shells
+/// for `analyze`, any mesh for `info`) reads the file as it is.
+///
+/// Support colour: a vertex is a support when its colour is red — red channel at least 128,
+/// green and blue each at most a quarter of it. Pure red (255,0,0) is what our PLY writer uses;
+/// near-reds such as (254,0,0), (255,10,10) or a dark (160,20,20) count too (with a warning
+/// line), orange (255,128,0), pink (255,192,203) and grey do not.
 
+#include <array>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "gridshell/mesh/mesh.h"
 
 namespace gridshell {
 
 struct SurfaceOptions {
-  /// "auto" (red if the file has pure red (255,0,0) vertices, else the built-in's own supports or
-  /// the whole boundary), "red", "boundary", or a path to a JSON list of vertex ids.
+  /// "auto" (the red vertices if the file has any, else the built-in's own supports or the whole
+  /// boundary), "red", "boundary", or a path to a JSON list of vertex ids (ids of the file's
+  /// vertices; ones the repair drops are ignored with a warning, merged ones follow the merge).
   std::string supports = "auto";
   std::string up = "z";  ///< the file's up axis: z, y or -y
   double scale = 1.0;    ///< multiplies coordinates
 };
 
-/// Loads and prepares a surface (triangulating polygons). Throws Error for bad input.
+/// Loads and prepares a surface (repairing it as above, triangulating polygons). Throws Error
+/// for bad input, or when no face with an area is left.
 Surface load_surface(const std::string& spec, const SurfaceOptions& options = {});
 
-/// Loads a polygon mesh (a grid-shell) with its supports, by the same rules.
+/// Loads a polygon mesh (a grid-shell) with its supports, by the same rules, without repairs.
 struct PolySurface {
   PolyMesh mesh;
   std::vector<int> supports;
 };
 PolySurface load_poly_surface(const std::string& path, const SurfaceOptions& options = {});
+
+/// True for the colours that mark supports (the rule above).
+bool is_support_colour(const std::array<std::uint8_t, 3>& rgb);
 
 /// The default surface of `gridshell design`.
 inline constexpr const char* kDefaultSurface = "builtin:funicular";

@@ -1,0 +1,48 @@
+#pragma once
+/// \file repair.h
+/// Making a surface read from a file usable when its exporter left some mess behind. What is
+/// repaired, in this order:
+///   1. exact duplicate vertices (exporters that split the mesh at seams or per face): merged
+///      into the lowest-numbered of them, so the surface is connected again;
+///   2. faces that then use a vertex twice: a repeated corner next to itself is removed
+///      (a quad 0 1 1 2 becomes the triangle 0 1 2); a face left with fewer than 3 corners, or
+///      that still visits a vertex twice, has no area and is dropped;
+///   3. unreferenced vertices (construction points, sometimes even coloured as supports):
+///      dropped, the other vertices keep their order.
+/// Sliver triangles are not repaired (the analyses cope with them; moving vertices would change
+/// the designer's surface): `count_slivers` lets the loader say how many there are.
+/// Cost: O(V log V + sum of face sizes).
+
+#include <string>
+#include <vector>
+
+#include "gridshell/mesh/mesh.h"
+
+namespace gridshell {
+
+struct RepairReport {
+  int merged_vertices = 0;        ///< duplicate vertices merged into another one
+  int shortened_faces = 0;        ///< faces that lost a repeated corner and are still polygons
+  int dropped_faces = 0;          ///< faces without area (fewer than 3 distinct corners)
+  int unreferenced_vertices = 0;  ///< vertices no face uses, dropped
+  /// For each vertex of the mesh as it was: its id after the repair, or -1 when it was dropped
+  /// (an unreferenced vertex). Duplicates map to the id of the vertex they were merged into.
+  std::vector<int> new_id;
+
+  bool changed() const {
+    return merged_vertices + shortened_faces + dropped_faces + unreferenced_vertices > 0;
+  }
+  /// What was done, e.g. "merged 9 duplicate vertices, dropped 3 unreferenced vertices"; empty
+  /// when nothing was.
+  std::string describe() const;
+};
+
+/// Repairs `mesh` in place as described above. Indices must be in range (as io::read_mesh
+/// guarantees). Never throws; the result may have no faces left (the caller decides).
+RepairReport repair_mesh(PolyMesh& mesh);
+
+/// Number of sliver triangles: those whose smallest angle is below `min_angle_degrees`
+/// (zero-area triangles included).
+int count_slivers(const TriMesh& mesh, double min_angle_degrees = 1.0);
+
+}  // namespace gridshell
