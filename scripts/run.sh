@@ -70,11 +70,12 @@ case "$cmd" in
     echo "results in $(pwd)/demo (open gridshell.obj in MeshLab or gridshell.vtp / field.vtp in ParaView; report.json has δ and λ)"
     ;;
   test)
-    # Warnings are errors in the test builds (CI); the demo build only warns.
+    # Warnings are errors in the Release test build (CI); the demo and the -O1 sanitizer builds
+    # only warn (GCC's -O1 flow analysis gives false maybe-uninitialized warnings).
     build build -DGRIDSHELL_BUILD_TESTS=ON -DGRIDSHELL_WERROR=ON
     ctest --test-dir build --output-on-failure -j "$(nproc)"
     # The sanitizer pass: -O1 (faster to build), without the heavy programs.
-    build build-sanitize -DGRIDSHELL_SANITIZE=ON -DGRIDSHELL_WERROR=ON -DGRIDSHELL_BUILD_BENCH=OFF \
+    build build-sanitize -DGRIDSHELL_SANITIZE=ON -DGRIDSHELL_BUILD_BENCH=OFF \
       -DGRIDSHELL_HEAVY_TESTS=OFF -DGRIDSHELL_MPI=OFF "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
       ctest --test-dir build-sanitize --output-on-failure -j "$(nproc)" -LE heavy
