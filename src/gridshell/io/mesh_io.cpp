@@ -175,7 +175,7 @@ class PlyValues {
       : data_(data), pos_(h.body), name_(name), format_(h.format) {}
 
   double next(const std::string& type) {
-    return format_ == "ascii" ? next_ascii() : next_binary(type);
+    return format_ == "ascii" ? next_ascii(type == "float" || type == "float32") : next_binary(type);
   }
 
   /// A list length, checked against what is left of the file before anything is allocated.
@@ -190,7 +190,10 @@ class PlyValues {
   }
 
  private:
-  double next_ascii() {
+  /// `single`: the property is a 32-bit float, so the value is the nearest float, as a reader
+  /// that stores the declared type (CGAL's, which this replaced) gives it — designs on ascii
+  /// files keep their bits.
+  double next_ascii(bool single) {
     while (pos_ < data_.size() && std::isspace(static_cast<unsigned char>(data_[pos_]))) ++pos_;
     std::size_t end = pos_;
     while (end < data_.size() && !std::isspace(static_cast<unsigned char>(data_[end]))) ++end;
@@ -200,10 +203,12 @@ class PlyValues {
     pos_ = end;
     if (token[0] == '+') token.remove_prefix(1);
     double v = 0;
-    auto [stop, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+    float f = 0;
+    auto [stop, ec] = single ? std::from_chars(token.data(), token.data() + token.size(), f)
+                             : std::from_chars(token.data(), token.data() + token.size(), v);
     if (ec != std::errc() || stop != token.data() + token.size())
       throw Error(name_, fmt::format("malformed PLY value '{}'", token));
-    return v;
+    return single ? static_cast<double>(f) : v;
   }
 
   double next_binary(const std::string& type) {
