@@ -195,7 +195,7 @@ TessellationOptions sector_tessellation(const TessellationOptions& whole, double
   if (sectors > 1) {
     if (t.cells > 0) t.cells = std::max(1, t.cells / sectors);
     if (t.length > 0) t.length /= sectors;
-    for (const Plane& p : planes) t.length_excluded_planes.emplace_back(p.point, p.normal);
+    for (const Plane& p : planes) t.length_excluded_planes.push_back(p);
   }
   return t;
 }
