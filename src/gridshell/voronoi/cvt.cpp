@@ -24,6 +24,16 @@ namespace {
 /// projected on the surface too — after `max_evals` diagrams, or when the line search can make
 /// no progress; the seeds are left at the evaluated point of lowest energy (labels and
 /// integrals are then not current). Returns the number of diagrams computed.
+///
+/// How the run stops: LBFGS++ has no callback and counts iterations, not evaluations, so the
+/// objective itself ends the run through the solver's own convergence test. At the stopping
+/// evaluation it returns a zero gradient and the value −∞: the line search accepts that point at
+/// once (Armijo holds for −∞; the Wolfe test of a zero gradient passes), and minimize() returns
+/// on ‖g‖ ≤ epsilon = 0 — also when the first evaluation stops. LBFGS++ (0.1.0, Debian
+/// liblbfgspp-dev) evaluates nothing after that test, so the diagrams computed are exactly those
+/// of the former design, which threw an exception out of the objective there (the snapshot and
+/// an evaluation-by-evaluation trace of L-BFGS runs are bit-identical). The line search's own
+/// failures still arrive as exceptions from LBFGS++ and end the run the same way.
 int minimize_energy(Engine& E, double tol, int max_evals, int history, bool* converged) {
   std::vector<int> free;
   for (std::size_t i = 0; i < E.seeds.size(); ++i)
@@ -39,7 +49,6 @@ int minimize_energy(Engine& E, double tol, int max_evals, int history, bool* con
   std::vector<Seed> best_seeds;
   double best_f = std::numeric_limits<double>::infinity();
   int evals = 0;
-  struct Stop {};
   auto f = [&](Eigen::VectorXd& y, Eigen::VectorXd& grad) -> double {
     if (evals > 0)
       for (int k = 0; k < n; ++k) {
@@ -72,7 +81,10 @@ int minimize_energy(Engine& E, double tol, int max_evals, int history, bool* con
       if (move < tol && converged) *converged = true;
     }
     spdlog::debug("cvt energy {} {:.9e} rms move/R {:.3e}", evals, fx, move / E.R);
-    if (move < tol || evals >= max_evals) throw Stop{};
+    if (move < tol || evals >= max_evals) {  // stop: see above
+      grad.setZero();
+      return -std::numeric_limits<double>::infinity();
+    }
     return fx;
   };
   LBFGSpp::LBFGSParam<double> param;
@@ -86,8 +98,7 @@ int minimize_energy(Engine& E, double tol, int max_evals, int history, bool* con
   double fx = 0;
   try {
     solver.minimize(f, x, fx);
-  } catch (const Stop&) {
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // the line search could make no progress
     spdlog::debug("cvt energy: L-BFGS stopped ({})", e.what());
   }
   if (!best_seeds.empty()) E.seeds = std::move(best_seeds);
