@@ -17,8 +17,8 @@ namespace gridshell {
 struct RegionOptions {
   /// Regions smaller than this area are merged into the neighbour they share most border with.
   double min_area = 0;
-  /// A boundary vertex is a sharp corner when its boundary turns by more than this (degrees;
-  /// 0.5 rad. mesh/geometry.h boundary_corners).
+  /// A boundary vertex is a sharp corner when its boundary turns by more than this many degrees
+  /// (mesh/geometry.h boundary_corners). The default is 0.5 rad ≈ 28.6°.
   double corner_angle_deg = 90 / std::numbers::pi;
 };
 
