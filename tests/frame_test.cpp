@@ -323,6 +323,26 @@ TEST(FrameBuckling, EulerColumnNonlinear) {
   }
 }
 
+// The first buckling mode of a pin-pin column is the half-sine: lateral, zero at the ends,
+// largest (scaled to 1) at mid-span, sin(πk/n) at node k.
+TEST(FrameBuckling, EulerColumnModeShapeIsTheHalfSine) {
+  const int n = 8;
+  const FrameModel m = euler_column(1.5, n, 1e-9);  // model nodes at every element end
+  analysis::FrameAnalysisOptions o;
+  o.buckling = true;
+  o.buckling_modes = 2;
+  const analysis::FrameResult r = analysis::analyze_frame(m, o);
+  ASSERT_EQ(r.buckling_modes.size(), r.buckling_lambdas.size());
+  ASSERT_GE(r.buckling_modes.size(), 1u);
+  const Points& shape = r.buckling_modes.front();
+  ASSERT_EQ(shape.rows(), n + 1);
+  EXPECT_NEAR(shape.rowwise().norm().maxCoeff(), 1.0, 1e-12);
+  for (int k = 0; k <= n; ++k) {
+    EXPECT_NEAR(shape.row(k).tail<2>().norm(), std::sin(kPi * k / n), 0.01) << k;
+    EXPECT_LT(std::abs(shape(k, 0)), 0.01) << k;  // no axial movement in the mode
+  }
+}
+
 // Von Mises two-bar truss: the limit load of the closed form P(w) = −2 N (h − w) / l with
 // N = EA (l − l0) / l0, l = √(a² + (h − w)²), maximised over the apex deflection w.
 TEST(FrameClassic, VonMisesTrussLimitLoad) {

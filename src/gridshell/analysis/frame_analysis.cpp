@@ -125,6 +125,15 @@ void record_linear(const FrameMesh& mesh, const FrameAssembler& assembler,
 void record_buckling(const FrameMesh& mesh, const FrameAssembler& assembler,
                      const BucklingResult& lba, FrameResult& res) {
   res.buckling_lambdas = lba.lambdas;
+  for (const Eigen::VectorXd& mode : lba.modes) {
+    Points shape = Points::Zero(mesh.num_model_nodes, 3);
+    for (int v = 0; v < mesh.num_model_nodes; ++v)
+      for (int c = 0; c < 3; ++c)
+        if (mesh.dof[v][c] >= 0) shape(v, c) = mode(mesh.dof[v][c]);
+    const double largest = shape.rows() ? shape.rowwise().norm().maxCoeff() : 0.0;
+    if (largest > 0) shape /= largest;
+    res.buckling_modes.push_back(std::move(shape));
+  }
   if (!lba.lambdas.empty()) {
     res.lambda_linear_buckling = lba.lambdas.front();
     res.mode_energy.assign(mesh.member_elements.size(), 0.0);

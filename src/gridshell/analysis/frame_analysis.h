@@ -70,6 +70,10 @@ struct FrameResult {
   /// Where they concentrate is where more steel would help δ and λ_LBA most (their
   /// sensitivities to a member's stiffness are proportional to these energies).
   std::vector<double> strain_energy, mode_energy;
+  /// The buckling modes' shapes (same order as `buckling_lambdas`): the translation of each
+  /// model node, scaled so that the largest is 1 (the sign is arbitrary). For pictures and the
+  /// report's animation; empty without LBA.
+  std::vector<Points> buckling_modes;
   Eigen::VectorXd reactions;        ///< linear, 6 per model node
   double equilibrium_error = 0;     ///< |Σ reactions + Σ loads| / Σ |loads| (forces)
   std::vector<fem::PathPoint> path;
