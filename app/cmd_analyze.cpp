@@ -169,9 +169,13 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   if (lower_ext(a.input) != ".json") {  // a grid-shell mesh: members are its topology edges
     analysis::GridshellFrameOptions bars;
     bars.diameter = a.diameter;
-    report["fabrication"] =
-        fabrication_report(a.run.out_dir, PolyMesh{f.model.nodes, f.model.faces}, f.supports, &r,
-                           bars, fabrication::parse_sheet(a.sheet));
+    GridShellOutput out;
+    out.mesh = PolyMesh{f.model.nodes, f.model.faces};
+    out.supports = f.supports;
+    add_structure(out, r);
+    write_gridshell_vtp(a.run.out_dir, out);
+    report["fabrication"] = fabrication_report(a.run.out_dir, out.mesh, f.supports, &r, bars,
+                                               fabrication::parse_sheet(a.sheet));
   }
   report["timings_s"] = r.timings;
   write_report(a.run.out_dir, report);

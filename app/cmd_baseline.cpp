@@ -105,6 +105,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     structure = analyze_gridshell(out.mesh, out.supports, level);
     lap("analysis", t2);
   }
+  if (structure) add_structure(out, *structure);
   io::ensure_directory(a.run.out_dir);
   write_gridshell_files(a.run.out_dir, out);
   nlohmann::json report;
