@@ -153,8 +153,9 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   const LoadedFrame f = load_frame(a);
   const analysis::AnalysisLevel level = analysis_level(a.analyze, f.request);
   io::ensure_directory(a.run.out_dir);
-  const analysis::FrameResult r =
-      analysis::analyze_frame(f.model, analysis_options(a, level, f.request));
+  analysis::FrameAnalysisOptions options = analysis_options(a, level, f.request);
+  options.arc.progress = guard.progress;
+  const analysis::FrameResult r = analysis::analyze_frame(f.model, options);
   write_frame_outputs(a.run.out_dir, f.model, f.supports, r);
   nlohmann::json report;
   nlohmann::json st = structure_block(r);

@@ -102,7 +102,9 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   if (level != analysis::AnalysisLevel::none) {
     const auto t2 = Clock::now();
     spdlog::info("[analysis] {} frame: {} joints", a.analyze, out.mesh.num_vertices());
-    structure = analyze_gridshell(out.mesh, out.supports, level);
+    analysis::FrameAnalysisOptions options;
+    options.arc.progress = guard.progress;
+    structure = analyze_gridshell(out.mesh, out.supports, level, {}, options);
     lap("analysis", t2);
   }
   if (structure) add_structure(out, *structure);

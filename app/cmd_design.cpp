@@ -50,8 +50,10 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   options.field_options.measure = parse_stress_measure(a.measure);
   options.field_options.stretch = parse_stretch_axis(a.stretch);
   options.field_options.density = parse_density_trend(a.density);
+  options.frame_analysis.arc.progress = guard.progress;
   ObjectiveOptions objective;
   objective.objective = parse_objective(a.objective);
+  objective.progress = guard.progress;
   check_design_options(options);
   const fabrication::SheetOptions sheet = fabrication::parse_sheet(a.sheet);
   spdlog::info("[load] {}", a.surface);

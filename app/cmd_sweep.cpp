@@ -94,8 +94,11 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
       row.lambda =
           r.structure->lambda_nonlinear.value_or(r.structure->lambda_linear_buckling.value_or(0.0));
     }
-    spdlog::info("[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m",
-                 ++finished, cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta);
+    const int k = ++finished;
+    spdlog::info("[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m", k,
+                 cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta);
+    report_progress(guard.progress, "sweep", static_cast<double>(k) / cases.size(),
+                    fmt::format("{}/{} cases", k, cases.size()));
     return row;
   });
   const std::vector<SweepRow> rows = mpi.gather(mine);

@@ -3,11 +3,14 @@
 #include <filesystem>
 #include <thread>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 
 #include "gridshell/core/error.h"
+#include "gridshell/core/progress_display.h"
 #include "gridshell/io/files.h"
 
 namespace gridshell::app {
@@ -31,12 +34,20 @@ void add_run_options(CLI::App* sub, RunOptions& o) {
   sub->add_option("--config", "repeat a run: read options from a config.json written earlier");
 }
 
-std::shared_ptr<void> apply_run_options(const RunOptions& o) {
+RunGuard apply_run_options(const RunOptions& o) {
   if (o.threads < 0) throw Error("--threads", "must be ≥ 0");
-  spdlog::set_level(o.quiet ? spdlog::level::warn : spdlog::level::info);
   const std::size_t n = o.threads > 0 ? static_cast<std::size_t>(o.threads)
                                       : std::max(1u, std::thread::hardware_concurrency());
-  return std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism, n);
+  RunGuard guard;
+  guard.threads =
+      std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism, n);
+  auto display = std::make_shared<ProgressDisplay>(stderr, isatty(fileno(stderr)) != 0);
+  auto logger = std::make_shared<spdlog::logger>("gridshell", log_sink(display));
+  logger->set_pattern("%v");
+  logger->set_level(o.quiet ? spdlog::level::warn : spdlog::level::info);
+  spdlog::set_default_logger(logger);
+  if (!o.quiet) guard.progress = ProgressDisplay::callback(display);
+  return guard;
 }
 
 nlohmann::json resolved_config(const CLI::App* sub) {

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "gridshell/core/progress.h"
 #include "gridshell/surfaces/load.h"
 
 namespace gridshell::app {
@@ -27,8 +28,14 @@ struct RunOptions {
 void add_surface_options(CLI::App* sub, SurfaceOptions& options);
 void add_run_options(CLI::App* sub, RunOptions& options);
 
-/// Applies --threads and --quiet (logging level) for the duration of a run; returns a guard.
-std::shared_ptr<void> apply_run_options(const RunOptions& options);
+/// What a run holds while it works: the thread limit, and the progress display on stderr.
+struct RunGuard {
+  std::shared_ptr<void> threads;
+  Progress progress;  ///< for the library's options; empty with --quiet
+};
+
+/// Applies --threads and --quiet (logging level, progress) for the duration of a run.
+RunGuard apply_run_options(const RunOptions& options);
 
 /// The resolved parameters of `sub` (every option with its value), as written to config.json.
 nlohmann::json resolved_config(const CLI::App* sub);

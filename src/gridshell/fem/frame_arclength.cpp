@@ -306,9 +306,17 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
           std::clamp(std::sqrt(double(opt.desired_iterations) / std::max(its, 1)), 0.5, 2.0);
       ds = std::min(ds * factor, ds_max);
     }
-    spdlog::info("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} factorisations",
-                 res.steps, cur.lambda, umax, its, res.factorizations);
+    spdlog::debug("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} factorisations",
+                  res.steps, cur.lambda, umax, its, res.factorizations);
+    // How far: the nearest of the stop rules (a critical point cannot be foreseen).
+    double far = static_cast<double>(res.steps) / opt.max_steps;
+    if (opt.max_displacement > 0) far = std::max(far, umax / opt.max_displacement);
+    if (opt.max_lambda < 1e9) far = std::max(far, cur.lambda / opt.max_lambda);
+    report_progress(opt.progress, "non-linear path", std::min(far, 0.99),
+                    fmt::format("step {}, λ = {:.4g}", res.steps, cur.lambda));
   }
+  report_progress(opt.progress, "non-linear path", 1.0,
+                  fmt::format("{} steps, λ = {:.4g}", res.steps, cur.lambda));
   if (critical) {
     res.lambda_critical = lam_crit;
     if (res.stop_reason.empty()) res.stop_reason = "critical point found";
