@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
@@ -162,6 +163,23 @@ std::string subscript(std::size_t n) {
   static const char* kDigits[] = {"₀", "₁", "₂", "₃", "₄", "₅", "₆", "₇", "₈", "₉"};
   std::string s = n >= 10 ? subscript(n / 10) : "";
   return s + kDigits[n % 10];
+}
+
+/// Encodes the canvases in parallel (the PNG compression is most of a figure's cost) and writes
+/// them into DIR/figures/ in order; returns their paths relative to DIR.
+std::vector<std::string> write_pngs(const std::filesystem::path& dir,
+                                    const std::vector<std::pair<std::string, Canvas>>& drawn) {
+  std::vector<std::string> bytes(drawn.size()), written;
+  tbb::parallel_for(std::size_t{0}, drawn.size(),
+                    [&](std::size_t k) { bytes[k] = drawn[k].second.png(); });
+  if (drawn.empty()) return written;
+  const std::filesystem::path folder = dir / "figures";
+  io::ensure_directory(folder);
+  for (std::size_t k = 0; k < drawn.size(); ++k) {
+    io::write_file_atomic(folder / drawn[k].first, bytes[k]);
+    written.push_back("figures/" + drawn[k].first);
+  }
+  return written;
 }
 
 void check_size(const FigureOptions& o) {
@@ -570,28 +588,22 @@ Canvas draw_heatmap(const SweepGrid& grid, const HeatmapLabels& labels,
 std::vector<std::string> write_figures(const std::filesystem::path& dir, const FigureInput& in,
                                        const FigureOptions& options) {
   check_size(options);
-  std::vector<std::string> written;
-  const std::filesystem::path folder = dir / "figures";
-  io::ensure_directory(folder);
-  auto put = [&](const char* name, const Canvas& canvas) {
-    write_png(canvas, folder / name);
-    written.push_back(std::string("figures/") + name);
-  };
+  std::vector<std::pair<std::string, Canvas>> drawn;
   const bool mesh = in.gridshell && in.gridshell->num_vertices() > 0;
   const analysis::FrameResult* st = in.structure;
   if (mesh) {
-    put("top.png", draw_plan(in, options));
-    put("perspective.png", draw_perspective(in, options));
+    drawn.emplace_back("top.png", draw_plan(in, options));
+    drawn.emplace_back("perspective.png", draw_perspective(in, options));
   }
   if (in.surface && in.field && in.field->size() == in.surface->num_faces() &&
       in.field->size() > 0 && static_cast<int>(in.field->d.size()) == in.field->size() &&
       static_cast<int>(in.field->a.size()) == in.field->size())
-    put("field.png", draw_field(in, options));
+    drawn.emplace_back("field.png", draw_field(in, options));
   if (mesh && st && !st->buckling_modes.empty() && !st->buckling_lambdas.empty() &&
       st->buckling_modes.front().rows() == in.gridshell->V.rows())
-    put("buckling_mode.png", draw_buckling_mode(in, options));
-  if (st && st->path.size() >= 2) put("load_path.png", draw_load_path(in, options));
-  return written;
+    drawn.emplace_back("buckling_mode.png", draw_buckling_mode(in, options));
+  if (st && st->path.size() >= 2) drawn.emplace_back("load_path.png", draw_load_path(in, options));
+  return write_pngs(dir, drawn);
 }
 
 std::vector<std::string> write_sweep_figures(const std::filesystem::path& dir,
@@ -599,10 +611,7 @@ std::vector<std::string> write_sweep_figures(const std::filesystem::path& dir,
                                              const std::string& title,
                                              const FigureOptions& options) {
   check_size(options);
-  std::vector<std::string> written;
-  if (rows.empty()) return written;
-  const std::filesystem::path folder = dir / "figures";
-  io::ensure_directory(folder);
+  if (rows.empty()) return {};
   int repeats = 0;
   for (const auto& r : rows) repeats = std::max(repeats, r.c.repeat + 1);
   const std::string per_cell =
@@ -610,19 +619,18 @@ std::vector<std::string> write_sweep_figures(const std::filesystem::path& dir,
   const HeatmapLabels lambda{
       fmt::format("Buckling factor λ over density ratio D and anisotropy ratio A ({})", per_cell),
       title, "λ  (non-linear; else λ_LBA)", 1};
-  write_png(
-      draw_heatmap(sweep_grid(rows, [](const SweepRow& r) { return r.lambda; }), lambda, options),
-      folder / "lambda_heatmap.png");
-  written.push_back("figures/lambda_heatmap.png");
   const HeatmapLabels delta{
       fmt::format("Largest deflection δ over density ratio D and anisotropy ratio A ({})",
                   per_cell),
       title, "δ [mm]  (linear, λ = 1)", 1000};
-  write_png(
-      draw_heatmap(sweep_grid(rows, [](const SweepRow& r) { return r.delta; }), delta, options),
-      folder / "delta_heatmap.png");
-  written.push_back("figures/delta_heatmap.png");
-  return written;
+  std::vector<std::pair<std::string, Canvas>> drawn;
+  drawn.emplace_back(
+      "lambda_heatmap.png",
+      draw_heatmap(sweep_grid(rows, [](const SweepRow& r) { return r.lambda; }), lambda, options));
+  drawn.emplace_back(
+      "delta_heatmap.png",
+      draw_heatmap(sweep_grid(rows, [](const SweepRow& r) { return r.delta; }), delta, options));
+  return write_pngs(dir, drawn);
 }
 
 }  // namespace gridshell::figures
