@@ -55,6 +55,10 @@ void draw_force_legend(Canvas& canvas, const PageLayout& page, const ColorScale&
   const double fs = font_size(canvas);
   const TextStyle small{.size = 0.7 * fs, .color = {0.3, 0.3, 0.3}};
   const double x = page.legend.x - 1.6 * fs, y = page.legend.y + page.legend.h + 1.6 * fs;
+  // Round-off forces (e.g. 1e-17 kN in an unloaded beam) print as 0.
+  const double tiny = 1e-9 * std::max(-lo, hi);
+  if (std::abs(lo) < tiny) lo = 0;
+  if (std::abs(hi) < tiny) hi = 0;
   draw_text(canvas, x, y, fmt::format("range {:.3g} … {:.3g} kN", lo, hi), small);
   draw_text(canvas, x, y + 1.0 * fs, fmt::format("(colours end at ±{:.3g})", scale.hi), small);
 }
@@ -443,9 +447,8 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
   if (st.delta_max_m > 0) {
     dashed(axes.to_pixel(0, 0), axes.to_pixel(axes.x1, axes.x1 / (st.delta_max_m * 1000)),
            linear_color, 3);
-    legend.push_back(
-        {linear_color, true, false,
-         fmt::format("linear response (δ = {:.3g} mm at λ = 1)", st.delta_max_m * 1000)});
+    legend.push_back({linear_color, true, false,
+                      fmt::format("linear (δ = {:.3g} mm at λ = 1)", st.delta_max_m * 1000)});
   }
   if (st.lambda_linear_buckling) {
     const double l = *st.lambda_linear_buckling;
@@ -464,7 +467,8 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
     k == 0 ? cairo_move_to(cr, p.x(), p.y()) : cairo_line_to(cr, p.x(), p.y());
   }
   cairo_stroke(cr);
-  for (const auto& pt : path) {
+  for (const auto& pt : path) {  // the converged points, while they stay apart
+    if (path.size() > 60) break;
     const Vec2 p = axes.to_pixel(pt.displacement * 1000, pt.lambda);
     cairo_arc(cr, p.x(), p.y(), 4, 0, 2 * 3.14159265358979323846);
     cairo_fill(cr);
@@ -513,7 +517,10 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
     } else {
       draw_line(canvas, {lx, ly}, {lx + 2.4 * fs, ly}, e.color, 3);
     }
-    draw_text(canvas, lx + 3.2 * fs, ly, e.text, {.size = 0.9 * fs, .vertical = Align::middle});
+    TextStyle style{.size = 0.9 * fs, .vertical = Align::middle};
+    const double room = options.width - lx - 4.0 * fs, w = text_width(canvas, e.text, style);
+    if (w > room) style.size *= room / w;
+    draw_text(canvas, lx + 3.2 * fs, ly, e.text, style);
     ly += 1.8 * fs;
   }
   if (!st.nonlinear_stop_reason.empty())
