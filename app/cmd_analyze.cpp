@@ -183,7 +183,8 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   for (const fem::FrameMember& m : f.model.members) fig.beams.push_back({m.i, m.j});
   fig.gridshell = &frame, fig.supports = f.supports, fig.structure = &r;
   const auto t_fig = std::chrono::steady_clock::now();
-  report["figures"] = figures::write_figures(a.run.out_dir, fig);
+  report["figures"] =
+      figures::write_figures(a.run.out_dir, fig, figures::parse_figure_options(a.run.figures));
   report["timings_s"] = r.timings;
   report["timings_s"]["figures"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
@@ -240,6 +241,7 @@ void register_analyze(CLI::App& app, Action& action) {
       "panels.svg.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  add_figure_option(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_analyze(*a, sub); }; });
 }
 

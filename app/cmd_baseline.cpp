@@ -128,7 +128,8 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                             report["mesh"]["total_length_m"].get<double>(), a.analyze, a.run.seed),
        .gridshell = &out.mesh,
        .supports = out.supports,
-       .structure = structure ? &*structure : nullptr});
+       .structure = structure ? &*structure : nullptr},
+      figures::parse_figure_options(a.run.figures));
   lap("figures", t3);
   timings["total"] = std::chrono::duration<double>(Clock::now() - t0).count();
   report["timings_s"] = timings;
@@ -165,6 +166,7 @@ void register_baseline(CLI::App& app, Action& action) {
       "panels.csv, panels.svg, figures/*.png (docs/figures.md), report.json, config.json.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  add_figure_option(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_baseline(*a, sub); }; });
 }
 

@@ -96,7 +96,8 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
                                    .supports = r.supports,
                                    .structure = r.structure ? &*r.structure : nullptr,
                                    .surface = &surface.mesh,
-                                   .field = &r.field});
+                                   .field = &r.field},
+                             figures::parse_figure_options(a.run.figures));
   const double figures_s = std::chrono::duration<double>(Clock::now() - t_fig).count();
   nlohmann::json report = design_report(r, options);
   report["surface"] = a.surface;
@@ -212,6 +213,7 @@ void register_design(CLI::App& app, Action& action) {
   for (CLI::Option* o : exact) objective->excludes(o);
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  add_figure_option(sub, a->run);
   sub->callback([a, sub, exact, &action] {
     a->search = std::none_of(exact.begin(), exact.end(), [](CLI::Option* o) { return o->count(); });
     action = [a, sub] { return run_design_cmd(*a, sub); };

@@ -118,7 +118,8 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
                   a.surface, a.D, a.A, a.repeats,
                   a.length > 0 ? fmt::format("length {:g} m", a.length)
                                : fmt::format("{} cells", a.cells),
-                  a.field, a.analyze, a.run.seed));
+                  a.field, a.analyze, a.run.seed),
+      figures::parse_figure_options(a.run.figures));
   const double figures_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
   report["surface"] = a.surface;
@@ -180,6 +181,7 @@ void register_sweep(CLI::App& app, Action& action) {
       "the cases and rank 0 writes the outputs; rows equal those of a single process.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  add_figure_option(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_sweep_cmd(*a, sub); }; });
 }
 

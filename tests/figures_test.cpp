@@ -167,6 +167,16 @@ TEST(Plot, CanvasWritesAPngOfTheStatedSize) {
   EXPECT_THROW(canvas.pixel(320, 0), Error);
 }
 
+TEST(Figures, FigureOptionsParseSizesAndNone) {
+  const FigureOptions o = parse_figure_options("800x600");
+  EXPECT_TRUE(o.enabled);
+  EXPECT_EQ(o.width, 800);
+  EXPECT_EQ(o.height, 600);
+  EXPECT_FALSE(parse_figure_options("none").enabled);
+  for (const char* bad : {"", "800", "800x", "x600", "10x10", "800x9000", "8e2x600", "big"})
+    EXPECT_THROW(parse_figure_options(bad), Error) << bad;
+}
+
 TEST(Figures, CompressionIsDrawnRedAndTensionBlue) {
   // Two beams in plan: 0 → 1 in compression, 1 → 2 in tension.
   PolyMesh mesh;
@@ -334,4 +344,25 @@ TEST(FiguresCli, DesignAndSweepWriteTheirFigures) {
             (std::vector<std::string>{"figures/lambda_heatmap.png", "figures/delta_heatmap.png"}));
   EXPECT_EQ(png_size(d / "sweep" / "figures" / "delta_heatmap.png"),
             (std::pair<int, int>{1600, 1200}));
+}
+
+TEST(FiguresCli, FiguresOptionSetsTheSizeOrTurnsThemOff) {
+  const fs::path d = test::temp_dir("figures_cli_size");
+  const std::string base =
+      "baseline builtin:dome:res=12 --kind quad --spacing 4 --analyze linear "
+      "--quiet -o ";
+  test::RunResult r = test::run_gridshell(base + (d / "small").string() + " --figures 640x480");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto report = nlohmann::json::parse(slurp(d / "small" / "report.json"));
+  EXPECT_EQ(report["figures"].get<std::vector<std::string>>(),
+            (std::vector<std::string>{"figures/top.png", "figures/perspective.png"}));
+  EXPECT_EQ(png_size(d / "small" / "figures" / "top.png"), (std::pair<int, int>{640, 480}));
+  r = test::run_gridshell(base + (d / "none").string() + " --figures none");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(d / "none" / "figures"));
+  EXPECT_TRUE(nlohmann::json::parse(slurp(d / "none" / "report.json"))["figures"].empty());
+  r = test::run_gridshell(base + (d / "bad").string() + " --figures 20x20");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--figures"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "bad" / "report.json"));
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -191,6 +192,31 @@ void check_size(const FigureOptions& o) {
 }
 
 }  // namespace
+
+FigureOptions parse_figure_options(const std::string& word) {
+  FigureOptions o;
+  if (word == "none") {
+    o.enabled = false;
+    return o;
+  }
+  const std::size_t x = word.find_first_of("xX");
+  const auto bad = [&] {
+    return Error(
+        "--figures",
+        fmt::format("'{}' is not WxH in pixels (64..8192 each, e.g. 1600x1200) or none", word));
+  };
+  if (x == std::string::npos) throw bad();
+  const std::string ws = word.substr(0, x), hs = word.substr(x + 1);
+  char* end = nullptr;
+  const long w = std::strtol(ws.c_str(), &end, 10);
+  if (ws.empty() || *end != '\0') throw bad();
+  const long h = std::strtol(hs.c_str(), &end, 10);
+  if (hs.empty() || *end != '\0') throw bad();
+  if (w < 64 || h < 64 || w > 8192 || h > 8192) throw bad();
+  o.width = static_cast<int>(w);
+  o.height = static_cast<int>(h);
+  return o;
+}
 
 Axes plan_axes(const Points& V, const FigureOptions& options) {
   const PageLayout page = page_layout(options.width, options.height);
@@ -594,6 +620,7 @@ Canvas draw_heatmap(const SweepGrid& grid, const HeatmapLabels& labels,
 
 std::vector<std::string> write_figures(const std::filesystem::path& dir, const FigureInput& in,
                                        const FigureOptions& options) {
+  if (!options.enabled) return {};
   check_size(options);
   std::vector<std::pair<std::string, Canvas>> drawn;
   const bool mesh = in.gridshell && in.gridshell->num_vertices() > 0;
@@ -617,6 +644,7 @@ std::vector<std::string> write_sweep_figures(const std::filesystem::path& dir,
                                              const std::vector<SweepRow>& rows,
                                              const std::string& title,
                                              const FigureOptions& options) {
+  if (!options.enabled) return {};
   check_size(options);
   if (rows.empty()) return {};
   int repeats = 0;

@@ -35,9 +35,14 @@
 namespace gridshell::figures {
 
 struct FigureOptions {
-  int width = 1600;   ///< pixels
-  int height = 1200;  ///< pixels
+  bool enabled = true;  ///< false: write_figures draws nothing (`--figures none`)
+  int width = 1600;     ///< pixels
+  int height = 1200;    ///< pixels
 };
+
+/// Parses the `--figures` word: "WxH" in pixels (each 64 … 8192, e.g. 1600x1200) or "none".
+/// Throws Error("--figures", …).
+FigureOptions parse_figure_options(const std::string& word);
 
 /// What the figures of one grid-shell are drawn from. Null pointers are absent data.
 struct FigureInput {
@@ -78,8 +83,8 @@ Canvas draw_heatmap(const SweepGrid& grid, const HeatmapLabels& labels,
                     const FigureOptions& options);
 
 /// Draws every figure whose data `in` has into DIR/figures/ and returns their paths relative
-/// to DIR ("figures/top.png", …) in a fixed order. Throws Error for a bad size or an
-/// unwritable folder.
+/// to DIR ("figures/top.png", …) in a fixed order; nothing when `options.enabled` is false.
+/// Throws Error for a bad size or an unwritable folder.
 std::vector<std::string> write_figures(const std::filesystem::path& dir, const FigureInput& in,
                                        const FigureOptions& options = {});
 
