@@ -11,6 +11,7 @@
 
 #include "common.h"
 #include "gridshell/core/error.h"
+#include "gridshell/figures/figures.h"
 #include "gridshell/grids/dual.h"
 #include "gridshell/grids/quad_grid.h"
 #include "gridshell/grids/supports.h"
@@ -121,6 +122,18 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     report["mesh"]["length_error"] = report["mesh"]["total_length_m"].get<double>() / a.length - 1;
   }
   if (structure) report["structure"] = structure_block(*structure);
+  const auto t3 = Clock::now();
+  report["figures"] = figures::write_figures(
+      a.run.out_dir,
+      {.title = fmt::format("gridshell baseline {} --kind {}: {} cells, {:.0f} m of beams; "
+                            "analysis {}; seed {}",
+                            a.surface, a.kind, out.mesh.num_faces(),
+                            report["mesh"]["total_length_m"].get<double>(), a.analyze, a.run.seed),
+       .gridshell = &out.mesh,
+       .supports = out.supports,
+       .structure = structure ? &*structure : nullptr},
+      figures::parse_figure_options(a.run.figures));
+  lap("figures", t3);
   timings["total"] = std::chrono::duration<double>(Clock::now() - t0).count();
   report["timings_s"] = timings;
   write_config(a.run.out_dir, sub);
@@ -150,8 +163,13 @@ void register_baseline(CLI::App& app, Action& action) {
   sub->add_option("--sheet", a->sheet,
                   "fabrication: sheet size WxH in metres on which the panels are nested")
       ->default_str("2.5x1.25");
+  sub->footer(
+      "Writes the files of design (without field.vtp and field.png): gridshell_raw.obj,\n"
+      "gridshell.obj, gridshell.ply, gridshell.vtp, cells.csv, joints.csv, beams.csv,\n"
+      "panels.csv, panels.svg, figures/*.png (docs/figures.md), report.json, config.json.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  add_figure_option(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_baseline(*a, sub); }; });
 }
 

@@ -11,6 +11,7 @@
 
 #include "gridshell/core/error.h"
 #include "gridshell/core/progress_display.h"
+#include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
 
 namespace gridshell::app {
@@ -34,8 +35,15 @@ void add_run_options(CLI::App* sub, RunOptions& o) {
   sub->add_option("--config", "repeat a run: read options from a config.json written earlier");
 }
 
+void add_figure_option(CLI::App* sub, RunOptions& o) {
+  sub->add_option("--figures", o.figures,
+                  "size WxH in pixels of the PNG figures in DIR/figures/, or none")
+      ->default_str(o.figures);
+}
+
 RunGuard apply_run_options(const RunOptions& o) {
   if (o.threads < 0) throw Error("--threads", "must be ≥ 0");
+  figures::parse_figure_options(o.figures);
   const std::size_t n = o.threads > 0 ? static_cast<std::size_t>(o.threads)
                                       : std::max(1u, std::thread::hardware_concurrency());
   RunGuard guard;

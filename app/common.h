@@ -23,10 +23,13 @@ struct RunOptions {
   std::uint64_t seed = 1;
   int threads = 0;  ///< 0 = all cores
   bool quiet = false;
+  std::string figures = "1600x1200";  ///< --figures WxH | none (commands that draw figures)
 };
 
 void add_surface_options(CLI::App* sub, SurfaceOptions& options);
 void add_run_options(CLI::App* sub, RunOptions& options);
+/// --figures WxH|none: the size of the PNGs in DIR/figures/ (checked by apply_run_options).
+void add_figure_option(CLI::App* sub, RunOptions& options);
 
 /// What a run holds while it works: the thread limit, and the progress display on stderr.
 struct RunGuard {

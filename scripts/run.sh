@@ -25,6 +25,9 @@ PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libsuitespa
 # Open MPI: the optional distributed sweep (`mpirun -n K gridshell sweep ...`) and its test.
 PACKAGES+=(libopenmpi-dev openmpi-bin)
 
+# Cairo: the figures/*.png every design, baseline, analyze and sweep draws (src/gridshell/figures/).
+PACKAGES+=(libcairo2-dev)
+
 # Clang with libFuzzer and the sanitizer runtimes: the fuzz smoke run of `test` (scripts/fuzz.sh).
 PACKAGES+=(clang libclang-rt-14-dev)
 
