@@ -175,6 +175,12 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   }
   report["timings_s"] = r.timings;
   write_report(a.run.out_dir, report);
+  write_report_page(a.run.out_dir,
+                    lower_ext(a.input) == ".json"
+                        ? report::frame_report_input(f.model, f.supports, r)
+                        : report::gridshell_report_input(
+                              PolyMesh{f.model.nodes, f.model.faces}, f.supports, &r),
+                    report, sub);
   write_config(a.run.out_dir, sub);
   return 0;
 }
@@ -222,6 +228,10 @@ void register_analyze(CLI::App& app, Action& action) {
       ->default_str("2.5x1.25");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  sub->footer(
+      "Writes nodes.csv, beams.csv, path.csv, frame.vtp, report.json, config.json, for a\n"
+      "grid-shell mesh joints.csv, panels.csv and panels.svg, and report.html (open it first:\n"
+      "the 3D view with forces and buckling modes, offline) in the output folder.");
   sub->callback([a, sub, &action] { action = [a, sub] { return run_analyze(*a, sub); }; });
 }
 

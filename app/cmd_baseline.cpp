@@ -122,6 +122,10 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   report["timings_s"] = timings;
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
+  report::ReportInput page = report::gridshell_report_input(out.mesh, out.supports,
+                                                            structure ? &*structure : nullptr);
+  page.density = out.d_target;
+  write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[baseline] {} joints, {} panels, {:.1f} m of beams -> {}", out.mesh.num_vertices(),
                out.mesh.num_faces(), report["mesh"]["total_length_m"].get<double>(), a.run.out_dir);
   return 0;
@@ -149,6 +153,10 @@ void register_baseline(CLI::App& app, Action& action) {
       ->default_str("2.5x1.25");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  sub->footer(
+      "Writes the files of design (gridshell.obj, gridshell.vtp, cells.csv, joints.csv,\n"
+      "beams.csv, panels.csv, panels.svg, report.json, config.json) and report.html (open it\n"
+      "first: the 3D view, key figures and figures, offline) in the output folder.");
   sub->callback([a, sub, &action] { action = [a, sub] { return run_baseline(*a, sub); }; });
 }
 

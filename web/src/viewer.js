@@ -20,8 +20,8 @@ const SEQUENTIAL = [
   [0.267, 0.005, 0.329], [0.229, 0.322, 0.546], [0.128, 0.567, 0.551],
   [0.369, 0.789, 0.383], [0.993, 0.906, 0.144],
 ];
-const DIVERGING = [[0.70, 0.09, 0.17], [0.94, 0.54, 0.42], [0.82, 0.82, 0.82],
-  [0.46, 0.66, 0.92], [0.13, 0.29, 0.68]];
+const DIVERGING = [[0.70, 0.05, 0.12], [0.88, 0.38, 0.30], [0.58, 0.58, 0.58],
+  [0.33, 0.53, 0.86], [0.08, 0.22, 0.62]];
 
 function sample(stops, t) {
   const x = Math.min(1, Math.max(0, Number.isFinite(t) ? t : 0)) * (stops.length - 1);
@@ -63,7 +63,7 @@ function fmt(x, digits = 4) {
 
 // Per-joint displacement magnitude.
 let dispMag = null;
-if (data.displacement && data.displacement.length === 3 * nJoints) {
+if (nJoints && data.displacement && data.displacement.length === 3 * nJoints) {
   dispMag = new Float64Array(nJoints);
   for (let v = 0; v < nJoints; ++v) {
     const d = data.displacement;
@@ -73,7 +73,7 @@ if (data.displacement && data.displacement.length === 3 * nJoints) {
 
 // The colour modes present in the data. `on`: what carries the value (beam, joint or panel).
 const MODES = [{ key: 'plain', label: 'plain', on: 'none' }];
-if (data.axial_force && data.axial_force.length === nBeams) {
+if (nBeams && data.axial_force && data.axial_force.length === nBeams) {
   MODES.push({ key: 'axial', label: 'axial force', unit: 'kN', on: 'beam', diverging: true,
     values: data.axial_force.map((n) => n / 1000),
     note: 'compression < 0 (red), tension > 0 (blue)' });
@@ -90,7 +90,7 @@ if (data.planarity && data.planarity.length === panels.length && panels.length) 
   MODES.push({ key: 'planarity', label: 'panel planarity', unit: '–', on: 'panel',
     values: data.planarity, note: 'mean distance to the plane / half perimeter; 0 = flat' });
 }
-if (data.utilisation && data.utilisation.length === nBeams) {
+if (nBeams && data.utilisation && data.utilisation.length === nBeams) {
   MODES.push({ key: 'utilisation', label: 'utilisation', unit: '–', on: 'beam',
     values: data.utilisation, note: '1 = the member check is just met' });
 }
@@ -98,7 +98,14 @@ for (const m of MODES) {
   if (!m.values) continue;
   let lo = Infinity, hi = -Infinity;
   for (const x of m.values) { if (x < lo) lo = x; if (x > hi) hi = x; }
-  if (m.diverging) { const a = Math.max(Math.abs(lo), Math.abs(hi)) || 1; lo = -a; hi = a; }
+  m.min = lo; m.max = hi;
+  if (m.diverging) {
+    // Symmetric about 0; the few largest forces (at supports, typically) saturate, so that the
+    // rest of the structure is not all one grey.
+    const mags = m.values.map(Math.abs).sort((x, y) => x - y);
+    const a = mags[Math.min(mags.length - 1, Math.floor(0.98 * mags.length))] || mags[mags.length - 1] || 1;
+    lo = -a; hi = a;
+  }
   if (m.key === 'utilisation') { lo = 0; hi = Math.max(1, hi); }
   if (m.key === 'planarity') lo = 0;
   if (!(hi > lo)) hi = lo + 1;
@@ -135,7 +142,7 @@ const camera = new THREE.PerspectiveCamera(35, 1, radius / 100, radius * 100);
 camera.up.set(0, 0, 1);
 const controls = new OrbitControls(camera, renderer.domElement);
 function resetView() {
-  const dist = radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2)) * 1.05;
+  const dist = radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2)) * 0.85;
   const dir = new THREE.Vector3(0.9, -1.4, 0.85).normalize();
   camera.position.copy(center).addScaledVector(dir, dist);
   controls.target.copy(center);
@@ -186,7 +193,7 @@ if (nCorners > 0) scene.add(panelMesh);
 const jointGeometry = new THREE.BufferGeometry();
 jointGeometry.setAttribute('position', new THREE.BufferAttribute(pos, 3));
 const jointPoints = new THREE.Points(jointGeometry,
-  new THREE.PointsMaterial({ color: 0x333333, size: 2.5, sizeAttenuation: false }));
+  new THREE.PointsMaterial({ color: 0x444444, size: 2, sizeAttenuation: false }));
 scene.add(jointPoints);
 
 const supportSize = Math.max(span / 120, 1e-6);
@@ -234,7 +241,7 @@ function updatePositions() {
 // Colouring
 
 const BEAM_PLAIN = [0.22, 0.24, 0.27];
-const PANEL_PLAIN = [0.62, 0.76, 0.88];
+const PANEL_PLAIN = [0.70, 0.80, 0.90];
 let mode = MODES[0];
 
 function applyColors() {
@@ -261,7 +268,7 @@ function applyColors() {
     pc.set(rgb, 3 * c);
   }
   panelGeometry.attributes.color.needsUpdate = true;
-  panelMaterial.opacity = mode.on === 'panel' || mode.on === 'joint' ? 0.8 : 0.45;
+  panelMaterial.opacity = mode.on === 'panel' || mode.on === 'joint' ? 0.85 : 0.3;
   drawLegend();
   requestRender();
 }
@@ -279,7 +286,8 @@ function drawLegend() {
     `<div class="legend-bar" style="background:${cssGradient(mode.stops)}"></div>` +
     `<div class="legend-ticks"><span>${fmt(mode.lo, 3)}</span><span>${fmt(mid, 3)}</span>` +
     `<span>${fmt(mode.hi, 3)}</span></div>` +
-    `<div class="legend-note">${mode.note}</div>`;
+    `<div class="legend-note">${mode.note}; range ${fmt(mode.min, 3)} … ${fmt(mode.max, 3)}` +
+    `${mode.min < mode.lo || mode.max > mode.hi ? ' (colours saturate at the ends)' : ''}</div>`;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -339,7 +347,7 @@ function pick(ev) {
       const len = Math.hypot(joints[3 * i] - joints[3 * j], joints[3 * i + 1] - joints[3 * j + 1],
         joints[3 * i + 2] - joints[3 * j + 2]);
       let extra = valueText('beam', b);
-      if (data.axial_force && mode.key !== 'axial') {
+      if (data.axial_force && data.axial_force.length === nBeams && mode.key !== 'axial') {
         extra += `, axial force ${fmt(data.axial_force[b] / 1000)} kN`;
       }
       return `beam ${b}: joints ${i}–${j}, length ${fmt(len)} m${extra}`;
