@@ -142,7 +142,7 @@ const camera = new THREE.PerspectiveCamera(35, 1, radius / 100, radius * 100);
 camera.up.set(0, 0, 1);
 const controls = new OrbitControls(camera, renderer.domElement);
 function resetView() {
-  const dist = radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2)) * 0.85;
+  const dist = radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2)) * 0.95;
   const dir = new THREE.Vector3(0.9, -1.4, 0.85).normalize();
   camera.position.copy(center).addScaledVector(dir, dist);
   controls.target.copy(center);
