@@ -81,7 +81,7 @@ void write_report_page(const std::string& dir, report::ReportInput page,
   if (page.config["positional"].empty() && report.contains("surface"))
     page.title += " " + report["surface"].get<std::string>();
   const report::ReportWritten w = report::write_report_html(dir, page);
-  spdlog::info("[report] report.html: {:.1f} MB, {} figures, {:.2f} s", w.bytes / 1e6, w.figures,
+  spdlog::info("[report] report.html: {:.1f} MB, {} figures, {:.3f} s", w.bytes / 1e6, w.figures,
                w.seconds);
 }
 
