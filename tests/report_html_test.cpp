@@ -469,4 +469,32 @@ TEST(ReportHtml, ChromiumDrawsTheMeshFromDiskAndOverHttp) {
       differ += std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) > 24;
     }
   EXPECT_LT(differ, a.width * a.height / 200) << "disk and HTTP renderings differ";
+
+  // A link to another view (web/src/viewer.js applyLink): coloured by displacement, the first
+  // buckling mode at 10 % of the span, and a click in the middle of the view, whose id the info
+  // line shows. The picture changes; still no error.
+  const Shot linked =
+      chromium(exe,
+               "file://" + fs::absolute(dir / "report.html").string() +
+                   "#colour=displacement&mode=1&amplitude=10&click=430,420",
+               work / "linked.png", work);
+  ASSERT_EQ(linked.status, 0) << linked.log;
+  EXPECT_EQ(page_errors(linked.dom), "");
+  EXPECT_TRUE(console_errors(linked.log).empty()) << console_errors(linked.log).front();
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(linked.dom, m,
+                                std::regex("<div id=\"info\">(joint|beam|panel) (\\d+)")))
+      << "the click found nothing";
+  const int id = std::stoi(m[2]);
+  const int count = m[1] == "joint" ? 13 * 13 : m[1] == "beam" ? 2 * 12 * 13 : 12 * 12;
+  EXPECT_LT(id, count) << m[0];
+  const Image c = read_png(work / "linked.png");
+  ASSERT_EQ(c.width, a.width);
+  long changed = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < view_width; ++x) {
+      const unsigned char *p = a.at(x, y), *q = c.at(x, y);
+      changed += std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) > 24;
+    }
+  EXPECT_GT(changed, long(0.05 * area)) << "the link did not change the view";
 }

@@ -250,7 +250,8 @@ function applyColors() {
   for (let b = 0; b < nBeams; ++b) {
     let ci = BEAM_PLAIN, cj = BEAM_PLAIN;
     if (mode.on === 'beam') ci = cj = sample(mode.stops, t(mode.values[b]));
-    if (mode.on === 'joint') {
+    // Per-joint values colour the panels; the beams only when no panel is shown.
+    if (mode.on === 'joint' && !(nCorners > 0 && panelMesh.visible)) {
       ci = sample(mode.stops, t(mode.values[beams[2 * b]]));
       cj = sample(mode.stops, t(mode.values[beams[2 * b + 1]]));
     }
@@ -512,7 +513,7 @@ function setupControls() {
   document.getElementById('reset').addEventListener('click', resetView);
   document.getElementById('show-panels').addEventListener('change', (e) => {
     panelMesh.visible = e.target.checked;
-    requestRender();
+    applyColors();
   });
   document.getElementById('big').addEventListener('click', (e) => { e.currentTarget.hidden = true; });
 
@@ -528,6 +529,39 @@ function setupControls() {
   });
   controls.addEventListener('change', requestRender);
   window.addEventListener('resize', resize);
+}
+
+// A link can open a given view: report.html#colour=displacement&mode=2&amplitude=10&click=400,300
+// (colour mode key, buckling mode 1.., amplitude in % of the span shown at its largest, and a
+// click at that page position, whose id the info line then shows).
+function applyLink() {
+  const h = new URLSearchParams(window.location.hash.slice(1));
+  const colour = MODES.find((m) => m.key === h.get('colour'));
+  if (colour) {
+    mode = colour;
+    document.getElementById('colour').value = colour.key;
+  }
+  if (h.has('amplitude') && Number.isFinite(Number(h.get('amplitude')))) {
+    const amp = document.getElementById('amplitude');
+    amp.value = h.get('amplitude');
+    amplitude = Number(amp.value) / 100;
+    document.getElementById('amplitude-label').textContent = `${amp.value} % of the span`;
+  }
+  const k = Number(h.get('mode')) - 1;
+  if (modes.length && Number.isInteger(k) && k >= 0 && k < modes.length) {
+    modeIndex = k;
+    phase = Math.PI / 2;
+    document.getElementById('mode').value = String(k);
+  }
+  return h.get('click');
+}
+
+function clickAt(where) {
+  const [x, y] = where.split(',').map(Number);
+  if (!Number.isFinite(x) || !Number.isFinite(y)) return;
+  controls.update();
+  camera.updateMatrixWorld();
+  document.getElementById('info').textContent = pick({ clientX: x, clientY: y }) || 'nothing there';
 }
 
 let last = performance.now();
@@ -551,10 +585,12 @@ function loop(now) {
 document.getElementById('title').textContent = data.title || 'gridshell report';
 keyFigures();
 setupControls();
-updatePositions();
+const click = applyLink();
+setDeformed(Math.sin(phase));
 applyColors();
 resize();
 resetView();
 renderer.render(scene, camera);
+if (click) clickAt(click);
 document.documentElement.setAttribute('data-ready', '1');
 requestAnimationFrame(loop);
