@@ -5,10 +5,10 @@
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <png.h>
-#include <signal.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -368,32 +368,71 @@ std::vector<std::string> console_errors(const std::string& log) {
   return out;
 }
 
-/// A free TCP port on 127.0.0.1.
-int free_port() {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  addr.sin_port = 0;
-  socklen_t len = sizeof addr;
-  int port = -1;
-  if (::bind(s, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0 &&
-      ::getsockname(s, reinterpret_cast<sockaddr*>(&addr), &len) == 0)
-    port = ntohs(addr.sin_port);
-  ::close(s);
-  return port;
-}
+/// A minimal HTTP/1.1 server on 127.0.0.1 (a free port) that serves the files of one folder,
+/// one request per connection, until destroyed.
+class FolderServer {
+ public:
+  explicit FolderServer(fs::path root) : root_(std::move(root)) {
+    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof addr;
+    if (::bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
+        ::listen(fd_, 16) != 0 ||
+        ::getsockname(fd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0)
+      return;
+    port_ = ntohs(addr.sin_port);
+    thread_ = std::thread([this] { serve(); });
+  }
+  ~FolderServer() {
+    ::shutdown(fd_, SHUT_RDWR);  // wakes accept()
+    if (thread_.joinable()) thread_.join();
+    ::close(fd_);
+  }
+  int port() const { return port_; }
+  int requests() const { return requests_; }
 
-bool accepts(int port) {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  const bool ok = ::connect(s, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
-  ::close(s);
-  return ok;
-}
+ private:
+  void serve() {
+    for (;;) {
+      const int c = ::accept(fd_, nullptr, nullptr);
+      if (c < 0) return;
+      std::string request;
+      char buf[4096];
+      while (request.find("\r\n\r\n") == std::string::npos && request.size() < 65536) {
+        const ssize_t n = ::recv(c, buf, sizeof buf, 0);
+        if (n <= 0) break;
+        request.append(buf, static_cast<std::size_t>(n));
+      }
+      std::smatch m;
+      std::string status = "404 Not Found", body = "not found", type = "text/plain";
+      if (std::regex_search(request, m, std::regex("^GET /([A-Za-z0-9_./-]*)")) &&
+          m[1].str().find("..") == std::string::npos && fs::is_regular_file(root_ / m[1].str())) {
+        status = "200 OK";
+        body = slurp(root_ / m[1].str());
+        type = m[1].str().ends_with(".html") ? "text/html; charset=utf-8"
+                                              : "application/octet-stream";
+        ++requests_;
+      }
+      const std::string response = "HTTP/1.1 " + status + "\r\nContent-Type: " + type +
+                                   "\r\nContent-Length: " + std::to_string(body.size()) +
+                                   "\r\nConnection: close\r\n\r\n" + body;
+      for (std::size_t sent = 0; sent < response.size();) {
+        const ssize_t n = ::send(c, response.data() + sent, response.size() - sent, MSG_NOSIGNAL);
+        if (n <= 0) break;
+        sent += static_cast<std::size_t>(n);
+      }
+      ::close(c);
+    }
+  }
+
+  fs::path root_;
+  int fd_ = -1;
+  int port_ = -1;
+  std::atomic<int> requests_{0};
+  std::thread thread_;
+};
 
 /// The page's error record (<html data-errors="...">), or "(none)" when the attribute is missing
 /// (the page's scripts did not run).
@@ -442,20 +481,15 @@ TEST(ReportHtml, ChromiumDrawsTheMeshFromDiskAndOverHttp) {
   EXPECT_GT(x1 - x0, view_width / 2) << "the mesh is not fitted to the view";
   EXPECT_GT(y1 - y0, (a.height - 180) / 4);
 
-  // Over HTTP (python3 -m http.server serving the folder): the same picture.
-  const int port = free_port();
-  ASSERT_GT(port, 0);
-  const std::string serve = "python3 -m http.server " + std::to_string(port) +
-                            " --bind 127.0.0.1 --directory " + dir.string() + " >" +
-                            (work / "http.log").string() + " 2>&1 & echo $! >" +
-                            (work / "http.pid").string();
-  ASSERT_EQ(std::system(serve.c_str()), 0);
-  const pid_t server = static_cast<pid_t>(std::stol(slurp(work / "http.pid")));
-  for (int i = 0; i < 100 && !accepts(port); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  const Shot http = chromium(exe, "http://127.0.0.1:" + std::to_string(port) + "/report.html",
-                             work / "http.png", work);
-  ::kill(server, SIGTERM);
+  // Over HTTP (a small server in this test serving the folder): the same picture.
+  Shot http;
+  {
+    const FolderServer server(dir);
+    ASSERT_GT(server.port(), 0);
+    http = chromium(exe, "http://127.0.0.1:" + std::to_string(server.port()) + "/report.html",
+                    work / "http.png", work);
+    EXPECT_EQ(server.requests(), 2);  // the page, once per Chromium run: nothing else
+  }
   ASSERT_EQ(http.status, 0) << http.log;
   EXPECT_EQ(page_errors(http.dom), "");
   EXPECT_TRUE(console_errors(http.log).empty()) << console_errors(http.log).front();
