@@ -175,12 +175,12 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   }
   report["timings_s"] = r.timings;
   write_report(a.run.out_dir, report);
-  write_report_page(a.run.out_dir,
-                    lower_ext(a.input) == ".json"
-                        ? report::frame_report_input(f.model, f.supports, r)
-                        : report::gridshell_report_input(
-                              PolyMesh{f.model.nodes, f.model.faces}, f.supports, &r),
-                    report, sub);
+  write_report_page(
+      a.run.out_dir,
+      lower_ext(a.input) == ".json"
+          ? report::frame_report_input(f.model, f.supports, r)
+          : report::gridshell_report_input(PolyMesh{f.model.nodes, f.model.faces}, f.supports, &r),
+      report, sub);
   write_config(a.run.out_dir, sub);
   return 0;
 }

@@ -122,8 +122,8 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   report["timings_s"] = timings;
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
-  report::ReportInput page = report::gridshell_report_input(out.mesh, out.supports,
-                                                            structure ? &*structure : nullptr);
+  report::ReportInput page =
+      report::gridshell_report_input(out.mesh, out.supports, structure ? &*structure : nullptr);
   page.density = out.d_target;
   write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[baseline] {} joints, {} panels, {:.1f} m of beams -> {}", out.mesh.num_vertices(),

@@ -53,9 +53,9 @@ void BM_ReportHtml10kBeams(benchmark::State& state) {
   for (auto _ : state) w = report::write_report_html(dir, in);
   state.counters["beams"] = static_cast<double>(in.beams.size());
   state.counters["page_MB"] = static_cast<double>(w.bytes) / 1e6;
-  state.counters["data_MB"] =
-      static_cast<double>(w.bytes - report::viewer_script().size() -
-                          report::report_template().size()) / 1e6;
+  state.counters["data_MB"] = static_cast<double>(w.bytes - report::viewer_script().size() -
+                                                  report::report_template().size()) /
+                              1e6;
   std::filesystem::remove_all(dir);
 }
 BENCHMARK(BM_ReportHtml10kBeams)->Unit(benchmark::kMillisecond);

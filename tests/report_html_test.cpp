@@ -74,8 +74,11 @@ const unsigned char kPng[] = {
     0x9c, 0x63, 0xf8, 0xcf, 0x00, 0x04, 0xff, 0x01, 0x07, 0x00, 0x01, 0xff, 0xe2, 0x23,
     0x9e, 0x59, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
 const char* kPngBase64 =
-    "iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAIAAAB7QOjdAAAADUlEQVR4nGP4zwAE/wEHAAH/4iOeWQAAAABJRU5ErkJggg==";
-std::string png_bytes() { return std::string(reinterpret_cast<const char*>(kPng), sizeof kPng); }
+    "iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAIAAAB7QOjdAAAADUlEQVR4nGP4zwAE/wEHAAH/"
+    "4iOeWQAAAABJRU5ErkJggg==";
+std::string png_bytes() {
+  return std::string(reinterpret_cast<const char*>(kPng), sizeof kPng);
+}
 
 /// The JSON data block of a page.
 nlohmann::json page_data(const std::string& html) {
@@ -125,7 +128,8 @@ TEST(ReportHtml, PageIsSelfContained) {
   EXPECT_EQ(html.find(viewer, html.find(viewer) + 1), std::string::npos);
   EXPECT_EQ(viewer.find("</script"), std::string_view::npos);
   EXPECT_NE(html.find("<title>dome &lt;test&gt;</title>"), std::string::npos);
-  for (const char* p : {"@TITLE@", "@DATA@", "@VIEWER@"}) EXPECT_EQ(html.find(p), std::string::npos);
+  for (const char* p : {"@TITLE@", "@DATA@", "@VIEWER@"})
+    EXPECT_EQ(html.find(p), std::string::npos);
   // Size: viewer + data + template, nothing else.
   EXPECT_LT(html.size(), viewer.size() + rep::report_template().size() + 200000);
 }
@@ -164,9 +168,8 @@ TEST(ReportHtml, DataUsesTheIdsOfTheCsvFiles) {
   for (double x : pl) EXPECT_NEAR(x, 0, 1e-9);
   Dome twisted = quad_dome(n);
   twisted.mesh.V(0, 2) += 0.5;
-  const auto tj = nlohmann::json::parse(
-      rep::report_data_json(rep::gridshell_report_input(twisted.mesh, twisted.supports, nullptr),
-                            {}));
+  const auto tj = nlohmann::json::parse(rep::report_data_json(
+      rep::gridshell_report_input(twisted.mesh, twisted.supports, nullptr), {}));
   EXPECT_GT(tj["planarity"][0].get<double>(), 0.01);
   EXPECT_NEAR(tj["planarity"][1].get<double>(), 0, 1e-9);
   // Buckling modes: one translation per joint, the largest of length 1 (4 digits), zero at the
@@ -231,8 +234,10 @@ TEST(ReportHtml, CommandsWriteIt) {
   // design (mesh + density from the field + analysis), then analyze on its mesh and on a
   // MODEL.json frame (members as beams, no panels).
   const fs::path d = temp_dir("design");
-  auto r = run_gridshell("design builtin:dome --cells 40 --seed 3 -D 2 -A 1 --analyze buckling "
-                         "--quiet -o " + d.string());
+  auto r = run_gridshell(
+      "design builtin:dome --cells 40 --seed 3 -D 2 -A 1 --analyze buckling "
+      "--quiet -o " +
+      d.string());
   ASSERT_EQ(r.status, 0) << r.err;
   const auto mesh = gridshell::io::read_mesh(d / "gridshell.obj").mesh;
   const gridshell::Topology t = gridshell::build_topology(mesh);
@@ -261,8 +266,8 @@ TEST(ReportHtml, CommandsWriteIt) {
   }
 
   const fs::path a = temp_dir("analyze");
-  r = run_gridshell("analyze " + (d / "gridshell.obj").string() +
-                    " --analyze linear --quiet -o " + a.string());
+  r = run_gridshell("analyze " + (d / "gridshell.obj").string() + " --analyze linear --quiet -o " +
+                    a.string());
   ASSERT_EQ(r.status, 0) << r.err;
   j = page_data(slurp(a / "report.html"));
   EXPECT_EQ(j["beams"].size(), 2u * t.num_edges());
@@ -322,13 +327,14 @@ Shot chromium(const std::string& exe, const std::string& url, const fs::path& pn
       " --headless --no-sandbox --disable-gpu --use-angle=swiftshader --enable-unsafe-swiftshader"
       " --hide-scrollbars --window-size=1200,800 --virtual-time-budget=4000"
       " --host-resolver-rules=\"MAP * ~NOTFOUND, EXCLUDE 127.0.0.1\" --enable-logging=stderr --v=0"
-      " --user-data-dir=" + (work / "profile").string();
+      " --user-data-dir=" +
+      (work / "profile").string();
   Shot s;
   std::string cmd = "timeout 120 " + exe + flags + " --screenshot=" + png.string() + " '" + url +
                     "' >/dev/null 2>" + (work / "shot.log").string();
   s.status = std::system(cmd.c_str());
-  cmd = "timeout 120 " + exe + flags + " --dump-dom '" + url + "' >" + (work / "dom.html").string() +
-        " 2>" + (work / "dom.log").string();
+  cmd = "timeout 120 " + exe + flags + " --dump-dom '" + url + "' >" +
+        (work / "dom.html").string() + " 2>" + (work / "dom.log").string();
   const int status = std::system(cmd.c_str());
   if (s.status == 0) s.status = status;
   s.dom = slurp(work / "dom.html");
@@ -379,8 +385,7 @@ class FolderServer {
     addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     socklen_t len = sizeof addr;
     if (::bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
-        ::listen(fd_, 16) != 0 ||
-        ::getsockname(fd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0)
+        ::listen(fd_, 16) != 0 || ::getsockname(fd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0)
       return;
     port_ = ntohs(addr.sin_port);
     thread_ = std::thread([this] { serve(); });
@@ -411,8 +416,8 @@ class FolderServer {
           m[1].str().find("..") == std::string::npos && fs::is_regular_file(root_ / m[1].str())) {
         status = "200 OK";
         body = slurp(root_ / m[1].str());
-        type = m[1].str().ends_with(".html") ? "text/html; charset=utf-8"
-                                              : "application/octet-stream";
+        type =
+            m[1].str().ends_with(".html") ? "text/html; charset=utf-8" : "application/octet-stream";
         ++requests_;
       }
       const std::string response = "HTTP/1.1 " + status + "\r\nContent-Type: " + type +
@@ -438,7 +443,8 @@ class FolderServer {
 /// (the page's scripts did not run).
 std::string page_errors(const std::string& dom) {
   std::smatch m;
-  if (!std::regex_search(dom, m, std::regex("<html[^>]*\\sdata-errors=\"([^\"]*)\""))) return "(none)";
+  if (!std::regex_search(dom, m, std::regex("<html[^>]*\\sdata-errors=\"([^\"]*)\"")))
+    return "(none)";
   return m[1];
 }
 
@@ -507,17 +513,16 @@ TEST(ReportHtml, ChromiumDrawsTheMeshFromDiskAndOverHttp) {
   // A link to another view (web/src/viewer.js applyLink): coloured by displacement, the first
   // buckling mode at 10 % of the span, and a click in the middle of the view, whose id the info
   // line shows. The picture changes; still no error.
-  const Shot linked =
-      chromium(exe,
-               "file://" + fs::absolute(dir / "report.html").string() +
-                   "#colour=displacement&mode=1&amplitude=10&click=430,420",
-               work / "linked.png", work);
+  const Shot linked = chromium(exe,
+                               "file://" + fs::absolute(dir / "report.html").string() +
+                                   "#colour=displacement&mode=1&amplitude=10&click=430,420",
+                               work / "linked.png", work);
   ASSERT_EQ(linked.status, 0) << linked.log;
   EXPECT_EQ(page_errors(linked.dom), "");
   EXPECT_TRUE(console_errors(linked.log).empty()) << console_errors(linked.log).front();
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(linked.dom, m,
-                                std::regex("<div id=\"info\">(joint|beam|panel) (\\d+)")))
+  ASSERT_TRUE(
+      std::regex_search(linked.dom, m, std::regex("<div id=\"info\">(joint|beam|panel) (\\d+)")))
       << "the click found nothing";
   const int id = std::stoi(m[2]);
   const int count = m[1] == "joint" ? 13 * 13 : m[1] == "beam" ? 2 * 12 * 13 : 12 * 12;
