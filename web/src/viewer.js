@@ -53,7 +53,7 @@ const report = data.report || {};
 const config = data.config || {};
 
 function fmt(x, digits = 4) {
-  if (x === undefined || x === null) return '–';
+  if (x == null) return '–';
   if (typeof x !== 'number') return String(x);
   if (x === 0) return '0';
   const a = Math.abs(x);
@@ -381,7 +381,7 @@ function keyFigures() {
   const st = report.structure || {};
   const fab = report.fabrication || {};
   let length = mesh.total_length_m ?? st.total_length_m ?? fab.total_length_m;
-  if (length === undefined) {
+  if (length == null) {
     length = 0;
     for (let b = 0; b < nBeams; ++b) {
       const i = beams[2 * b], j = beams[2 * b + 1];
@@ -396,16 +396,16 @@ function keyFigures() {
   html += row('joints', nJoints);
   html += row('supports', supports.length);
   html += row('total length', `${fmt(length)} m`);
-  if (mass !== undefined) html += row('steel mass', `${fmt(mass)} kg`);
-  if (st.delta_max_m !== undefined) html += row('δ (linear)', `${fmt(st.delta_max_m * 1000)} mm`);
-  if (st.lambda_linear_buckling !== undefined) {
+  if (mass != null) html += row('steel mass', `${fmt(mass)} kg`);
+  if (st.delta_max_m != null) html += row('δ (linear)', `${fmt(st.delta_max_m * 1000)} mm`);
+  if (st.lambda_linear_buckling != null) {
     html += row('λ linear buckling', fmt(st.lambda_linear_buckling));
   }
-  if (st.lambda_nonlinear !== undefined) {
+  if (st.lambda_nonlinear != null) {
     html += row('λ non-linear', `${fmt(st.lambda_nonlinear)} (${escapeHtml(st.limit_type || '')})`);
   }
-  if (st.utilisation_max !== undefined) html += row('utilisation max', fmt(st.utilisation_max));
-  if (mesh.planarity_mean !== undefined) html += row('planarity mean', fmt(mesh.planarity_mean));
+  if (st.utilisation_max != null) html += row('utilisation max', fmt(st.utilisation_max));
+  if (mesh.planarity_mean != null) html += row('planarity mean', fmt(mesh.planarity_mean));
   html += '</table>';
   document.getElementById('figures-table').innerHTML = html;
 
