@@ -194,6 +194,12 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   report["timings_s"]["figures"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
   write_report(a.run.out_dir, report);
+  write_report_page(
+      a.run.out_dir,
+      lower_ext(a.input) == ".json"
+          ? report::frame_report_input(f.model, f.supports, r)
+          : report::gridshell_report_input(PolyMesh{f.model.nodes, f.model.faces}, f.supports, &r),
+      report, sub);
   write_config(a.run.out_dir, sub);
   return 0;
 }
@@ -242,8 +248,9 @@ void register_analyze(CLI::App& app, Action& action) {
   sub->footer(
       "Writes nodes.csv, beams.csv, path.csv (nodes_nonlinear.csv with --nonlinear-static),\n"
       "frame.vtp, figures/*.png (top, perspective, buckling_mode, load_path: docs/figures.md),\n"
-      "report.json and config.json; for a grid-shell mesh also joints.csv, panels.csv and\n"
-      "panels.svg.");
+      "report.json, config.json and report.html (open it first: the 3D view with forces and\n"
+      "buckling modes, offline); for a grid-shell mesh also gridshell.vtp, joints.csv,\n"
+      "panels.csv and panels.svg.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   add_figure_option(sub, a->run);

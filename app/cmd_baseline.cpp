@@ -138,6 +138,10 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   report["timings_s"] = timings;
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
+  report::ReportInput page =
+      report::gridshell_report_input(out.mesh, out.supports, structure ? &*structure : nullptr);
+  page.density = out.d_target;
+  write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[baseline] {} joints, {} panels, {:.1f} m of beams -> {}", out.mesh.num_vertices(),
                out.mesh.num_faces(), report["mesh"]["total_length_m"].get<double>(), a.run.out_dir);
   return 0;
@@ -166,7 +170,8 @@ void register_baseline(CLI::App& app, Action& action) {
   sub->footer(
       "Writes the files of design (without field.vtp and field.png): gridshell_raw.obj,\n"
       "gridshell.obj, gridshell.ply, gridshell.vtp, cells.csv, joints.csv, beams.csv,\n"
-      "panels.csv, panels.svg, figures/*.png (docs/figures.md), report.json, config.json.");
+      "panels.csv, panels.svg, figures/*.png (docs/figures.md), report.json, config.json\n"
+      "and report.html (open it first: the 3D view, key figures and figures, offline).");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   add_figure_option(sub, a->run);

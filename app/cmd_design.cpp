@@ -84,7 +84,8 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   auto t0 = Clock::now();
   const std::filesystem::path dir(a.run.out_dir);
   io::ensure_directory(dir);
-  write_gridshell_files(dir, design_output(r));
+  const GridShellOutput out = design_output(r);
+  write_gridshell_files(dir, out);
   const auto t_fab = Clock::now();
   const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports,
                                                 r.structure ? &*r.structure : nullptr,
@@ -115,6 +116,10 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const nlohmann::json& timings = report["timings_s"];
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
+  report::ReportInput page = report::gridshell_report_input(
+      r.mesh, r.supports, r.structure ? &*r.structure : nullptr);
+  page.density = out.d_target;
+  write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[done] {} joints, {} panels, {:.1f} m of beams in {:.1f} s -> {}",
                r.mesh.num_vertices(), r.mesh.num_faces(), r.metrics.total_length,
                timings["total"].get<double>(), dir.string());
@@ -209,8 +214,9 @@ void register_design(CLI::App& app, Action& action) {
       "Default size when none of --radius/--cells/--length is given: 300 cells.\n"
       "Writes gridshell_raw.obj, gridshell.obj, gridshell.ply, gridshell.vtp, field.vtp,\n"
       "cells.csv, joints.csv, beams.csv, panels.csv, panels.svg, figures/*.png (top,\n"
-      "perspective, field, buckling_mode, load_path: docs/figures.md), report.json and\n"
-      "config.json in the output folder.");
+      "perspective, field, buckling_mode, load_path: docs/figures.md), report.json,\n"
+      "config.json and report.html (open it first: the 3D view, key figures and figures,\n"
+      "offline) in the output folder.");
   exact.push_back(field);
   for (CLI::Option* o : exact) objective->excludes(o);
   add_surface_options(sub, a->surface_options);

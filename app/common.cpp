@@ -91,6 +91,19 @@ void write_report(const std::string& dir, const nlohmann::json& report) {
   io::write_file_atomic(std::filesystem::path(dir) / "report.json", report.dump(2) + "\n");
 }
 
+void write_report_page(const std::string& dir, report::ReportInput page,
+                       const nlohmann::json& report, const CLI::App* sub) {
+  page.config = resolved_config(sub);
+  page.report = report;
+  page.title = "gridshell " + sub->get_name();
+  for (const auto& p : page.config["positional"]) page.title += " " + p.get<std::string>();
+  if (page.config["positional"].empty() && report.contains("surface"))
+    page.title += " " + report["surface"].get<std::string>();
+  const report::ReportWritten w = report::write_report_html(dir, page);
+  spdlog::info("[report] report.html: {:.1f} MB, {} figures, {:.3f} s", w.bytes / 1e6, w.figures,
+               w.seconds);
+}
+
 std::vector<std::string> expand_config(const std::vector<std::string>& args, const CLI::App& cli) {
   std::string path;
   for (std::size_t i = 0; i < args.size(); ++i) {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gridshell/core/progress.h"
+#include "gridshell/report/report_html.h"
 #include "gridshell/surfaces/load.h"
 
 namespace gridshell::app {
@@ -46,6 +47,11 @@ nlohmann::json resolved_config(const CLI::App* sub);
 /// Writes DIR/config.json for `sub`, and DIR/report.json from `report`.
 void write_config(const std::string& dir, const CLI::App* sub);
 void write_report(const std::string& dir, const nlohmann::json& report);
+
+/// Writes DIR/report.html (report/report_html.h) from `page` with `report` (report.json) and the
+/// resolved config of `sub`; call it last, after the figures. Logs its size and time.
+void write_report_page(const std::string& dir, report::ReportInput page,
+                       const nlohmann::json& report, const CLI::App* sub);
 
 /// Expands `--config FILE` in argv: options stored in FILE and not given on the command line are
 /// appended. Throws Error for a bad file.
