@@ -10,6 +10,7 @@
 #include "common.h"
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
+#include "gridshell/checks/member_checks.h"
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
 #include "gridshell/io/frame_model_json.h"
@@ -38,6 +39,9 @@ struct AnalyzeArgs {
   int max_steps = 300;
   double displacement_limit = 0;
   std::string sheet = "2.5x1.25";
+  std::string steel = "S355";
+  double deflection_limit = 300;
+  bool single_path = false;
 };
 
 std::string lower_ext(const std::string& path) {
@@ -61,6 +65,9 @@ void check_analyze_args(const AnalyzeArgs& a) {
   if (!(a.displacement_limit >= 0) || !std::isfinite(a.displacement_limit))
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
   fabrication::parse_sheet(a.sheet);
+  checks::parse_steel_grade(a.steel);
+  if (!(a.deflection_limit > 0) || !std::isfinite(a.deflection_limit))
+    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
   if (a.analyze != "auto") {
     if (analysis::parse_analysis_level(a.analyze) == analysis::AnalysisLevel::none)
       throw Error("--analyze", "must be linear, buckling or nonlinear");
@@ -143,6 +150,9 @@ analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a,
       a.nonlinear_static > 0 ? a.nonlinear_static : request.nonlinear_static.value_or(0);
   o.arc.max_steps = a.max_steps;
   o.displacement_limit = a.displacement_limit;
+  o.checks.fy = checks::yield_strength(checks::parse_steel_grade(a.steel));
+  o.deflection_limit_divisor = a.deflection_limit;
+  o.stability = !a.single_path;
   if (o.imperfection && !o.buckling) o.buckling = true;
   return o;
 }
@@ -163,6 +173,7 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["members"] = f.model.members.size();
   st["supports"] = f.supports.size();
   st["analysis"] = to_string(level);
+  st["steel"] = a.steel;
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
   report["structure"] = st;
@@ -216,6 +227,15 @@ void register_analyze(CLI::App& app, Action& action) {
                   "report lambda_displacement_limit: the load factor at which the non-linear "
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
+  sub->add_option("--steel", a->steel, "member checks: steel grade S235 | S275 | S355")
+      ->default_str("S355");
+  sub->add_option("--deflection-limit", a->deflection_limit,
+                  "serviceability: delta passes when at most span / this (span = largest plan "
+                  "extent)")
+      ->default_str("300");
+  sub->add_flag("--single-path", a->single_path,
+                "non-linear analysis: follow only the path asked for (perfect, or imperfect with "
+                "--imperfection), not also the other");
   sub->add_option("--sheet", a->sheet,
                   "fabrication (grid-shell meshes): sheet size WxH in metres on which the panels "
                   "are nested")

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/checks/member_checks.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/frame_arclength.h"
@@ -142,4 +143,57 @@ TEST(MemberChecks, RejectsMismatchedForces) {
   const FrameModel m = cantilever(Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3::Zero());
   EXPECT_THROW(checks::check_members(m, {}), Error);
   EXPECT_THROW(checks::check_members(m, {MemberForces{}}, with_fy(0)), Error);
+}
+
+TEST(MemberChecks, LambdaAtFirstYieldFollowsThePathSectionForces) {
+  // A 1 m cantilever (Ø37, S355) under a transverse tip load F: the root moment F L reaches
+  // W fy at λ = W fy / (F L) in linear theory; the tip deflects only ~3 % of L by then, so the
+  // non-linear path's λ_y must agree within 1 %. δ at λ = 1 is F L³ / (3 E I).
+  FrameModel m = cantilever(Vec3(1, 0, 0), Vec3::Zero(), Vec3::Zero());
+  m.nodes.row(1) = m.nodes.row(0) + Eigen::RowVector3d(1.0, 0, 0);
+  const double F = 300;
+  m.loads = {{1, Vec3(0, 0, -F), Vec3::Zero()}};
+  analysis::FrameAnalysisOptions o;
+  o.buckling = false;
+  o.checks.fy = kFy;
+  o.deflection_limit_divisor = 300;
+  const analysis::FrameResult r = analysis::analyze_frame(m, o);
+  const double lambda_y = kW * kFy / (F * 1.0);  // 5.89
+  ASSERT_TRUE(r.lambda_yield_linear.has_value());
+  EXPECT_NEAR(*r.lambda_yield_linear, lambda_y, 1e-6 * lambda_y);
+  ASSERT_TRUE(r.lambda_yield.has_value());
+  EXPECT_NEAR(*r.lambda_yield, lambda_y, 0.01 * lambda_y);
+  EXPECT_EQ(r.lambda_yield_path, "perfect");
+  EXPECT_EQ(r.checks.section_worst, 0);
+  const double I = kPi * std::pow(kD, 4) / 64, delta = F / (3 * kE * I);
+  EXPECT_NEAR(r.delta_max_m, delta, 1e-3 * delta);
+  EXPECT_DOUBLE_EQ(r.delta_limit_m, 1.0 / 300);  // span = plan extent = 1 m
+  EXPECT_EQ(r.delta_pass, delta <= 1.0 / 300);
+}
+
+TEST(MemberChecks, ImperfectArchIsWeakerThanThePerfectOne) {
+  // A shallow pinned two-bar arch (a von Mises truss of beams) under an apex load: with the
+  // stability block both paths run, the imperfect one (first mode, span/300) carries less.
+  FrameModel m;
+  m.nodes.resize(3, 3);
+  m.nodes << 0, 0, 0, 2, 0, 0.4, 4, 0, 0;
+  m.sections = {circle_section(kD, "bar")};
+  m.materials = {{"steel", kE, 0.3, 7850}};
+  for (int k = 0; k < 2; ++k) {
+    FrameMember mb;
+    mb.i = k;
+    mb.j = k + 1;
+    mb.elements = 8;
+    m.members.push_back(mb);
+  }
+  m.supports = {{0, {true, true, true, true, false, true}}, {2, {true, true, true, true, false, true}}};
+  m.loads = {{1, Vec3(0, 0, -1e3), Vec3::Zero()}};
+  analysis::FrameAnalysisOptions o;
+  o.stability = true;
+  const analysis::FrameResult r = analysis::analyze_frame(m, o);
+  ASSERT_TRUE(r.lambda_perfect && r.lambda_imperfect && r.lambda_linear_buckling);
+  EXPECT_DOUBLE_EQ(*r.lambda_perfect, *r.lambda_nonlinear);  // imperfection off: main = perfect
+  EXPECT_LT(*r.lambda_imperfect, *r.lambda_perfect);
+  EXPECT_GT(*r.lambda_imperfect, 0.3 * *r.lambda_perfect);
+  EXPECT_DOUBLE_EQ(r.imperfection_amplitude_m, 4.0 / 300);
 }

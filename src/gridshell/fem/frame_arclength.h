@@ -23,6 +23,7 @@
 /// solve; per converged step one tangent assembly (~15 µs per element) and factorisation, plus
 /// the refreshes (typically one per step on a strongly non-linear path).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct ArcLengthOptions {
   double tolerance = 1e-8;           ///< residual norm relative to |λ f|
   double critical_tolerance = 2e-4;  ///< relative width of the bracket on the critical λ
   bool stop_at_critical = true;
+  /// Called at every point added to the path (λ = 0 first, in path order) with its converged
+  /// state: e.g. to evaluate section forces along the path without keeping the states.
+  std::function<void(const FrameState& state, double lambda)> on_point;
 };
 
 struct PathPoint {

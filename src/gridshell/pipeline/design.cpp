@@ -397,7 +397,35 @@ nlohmann::json structure_block(const analysis::FrameResult& r) {
   st["elements"] = r.num_elements;
   st["dofs"] = r.num_dofs;
   st["timings_s"] = r.timings;
+  add_checks_block(st, r);
   return st;
+}
+
+void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
+  // Serviceability.
+  st["span_m"] = r.span_m;
+  st["delta_limit_m"] = r.delta_limit_m;
+  st["delta_pass"] = r.delta_pass;
+  // Member checks (linear, λ = 1).
+  const checks::MemberChecks& c = r.checks;
+  st["utilisation_max"] = c.section_max;
+  st["utilisation_beam"] = c.section_worst >= 0 ? nlohmann::json(c.section_worst) : nlohmann::json();
+  st["buckling_utilisation_max"] = c.buckling_max;
+  st["buckling_utilisation_beam"] =
+      c.buckling_worst >= 0 ? nlohmann::json(c.buckling_worst) : nlohmann::json();
+  // Stability: read together (λ_LBA alone overstates a grid-shell's capacity).
+  st["lambda_lba"] = optional_number(r.lambda_linear_buckling);
+  st["lambda_perfect"] = optional_number(r.lambda_perfect);
+  st["lambda_imperfect"] = optional_number(r.lambda_imperfect);
+  st["imperfection_sensitivity"] =
+      r.lambda_perfect && r.lambda_imperfect && *r.lambda_perfect > 0
+          ? nlohmann::json(*r.lambda_imperfect / *r.lambda_perfect)
+          : nlohmann::json();
+  st["imperfection_amplitude_m"] = r.lambda_imperfect ? nlohmann::json(r.imperfection_amplitude_m)
+                                                      : nlohmann::json();
+  st["lambda_y"] = optional_number(r.lambda_yield);
+  st["lambda_y_path"] = r.lambda_yield ? nlohmann::json(r.lambda_yield_path) : nlohmann::json();
+  st["lambda_y_linear"] = optional_number(r.lambda_yield_linear);
 }
 
 namespace {

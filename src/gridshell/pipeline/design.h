@@ -96,6 +96,12 @@ analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<
 
 /// The report.json `structure` block of a frame analysis (CONTRACT keys plus details).
 nlohmann::json structure_block(const analysis::FrameResult& r);
+/// The member checks, serviceability and stability keys of `structure` (docs/checks.md):
+/// span_m, delta_limit_m, delta_pass, utilisation_max, utilisation_beam,
+/// buckling_utilisation_max/_beam, lambda_lba, lambda_perfect, lambda_imperfect,
+/// imperfection_sensitivity (λ_imperfect / λ_perfect), imperfection_amplitude_m, lambda_y,
+/// lambda_y_path, lambda_y_linear (1 / utilisation_max). Called by structure_block.
+void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r);
 
 
 }  // namespace gridshell
