@@ -40,6 +40,8 @@ struct AnalyzeArgs {
   double displacement_limit = 0;
   std::string sheet = "2.5x1.25";
   std::string steel = "S355";
+  std::string loads = "paper";
+  double glass = 0.4, snow = 1.0;
   double deflection_limit = 300;
   bool single_path = false;
 };
@@ -66,6 +68,9 @@ void check_analyze_args(const AnalyzeArgs& a) {
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
   fabrication::parse_sheet(a.sheet);
   checks::parse_steel_grade(a.steel);
+  if (analysis::parse_load_model(a.loads) == analysis::LoadModel::eurocode &&
+      lower_ext(a.input) == ".json")
+    throw Error("--loads", "eurocode load cases need a grid-shell mesh (MODEL.json has its loads)");
   if (!(a.deflection_limit > 0) || !std::isfinite(a.deflection_limit))
     throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
   if (a.analyze != "auto") {
@@ -81,6 +86,19 @@ struct LoadedFrame {
   std::vector<int> supports;
   io::ModelAnalysisRequest request;
 };
+
+/// The grid-shell frame options the arguments ask for.
+analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a) {
+  analysis::GridshellFrameOptions go;
+  go.diameter = a.diameter;
+  go.elements = a.elements;
+  go.self_weight_at_bars = a.self_weight == "at-bars";
+  go.area_load_kN_m2 = a.area_load;
+  go.loads = analysis::parse_load_model(a.loads);
+  go.glass_kN_m2 = a.glass;
+  go.snow_kN_m2 = a.snow;
+  return go;
+}
 
 LoadedFrame load_frame(const AnalyzeArgs& a) {
   LoadedFrame f;
@@ -115,15 +133,11 @@ LoadedFrame load_frame(const AnalyzeArgs& a) {
   }
   if (s.supports.empty())
     throw Error(a.input, "no support vertices: the grid-shell is a mechanism");
-  analysis::GridshellFrameOptions go;
-  go.diameter = a.diameter;
-  go.elements = a.elements;
-  go.self_weight_at_bars = a.self_weight == "at-bars";
-  go.area_load_kN_m2 = a.area_load;
-  f.model = analysis::gridshell_frame(s.mesh, s.supports, go);
+  f.model = analysis::gridshell_frame(s.mesh, s.supports, frame_options(a));
   f.supports = s.supports;
   return f;
 }
+
 
 /// `--analyze auto`: what a MODEL.json's `analysis` asks, else the whole (non-linear) analysis.
 analysis::AnalysisLevel analysis_level(const std::string& word,
@@ -176,6 +190,11 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["steel"] = a.steel;
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
+  st["loads"] = a.loads;
+  if (lower_ext(a.input) != ".json")
+    st["combinations"] = combinations_block(PolyMesh{f.model.nodes, f.model.faces}, f.supports,
+                                            frame_options(a), analysis_options(a, level, f.request),
+                                            r);
   report["structure"] = st;
   if (lower_ext(a.input) != ".json") {  // a grid-shell mesh: members are its topology edges
     analysis::GridshellFrameOptions bars;
@@ -229,6 +248,17 @@ void register_analyze(CLI::App& app, Action& action) {
       ->default_str("0");
   sub->add_option("--steel", a->steel, "member checks: steel grade S235 | S275 | S355")
       ->default_str("S355");
+  sub->add_option("--loads", a->loads,
+                  "grid-shell meshes: paper (the bars' weight spread over the surface, + "
+                  "--area-load) | eurocode (G1 bars, G2 --glass, Q --snow; structure = ULS 1.35 G "
+                  "+ 1.5 Q, combinations adds SLS G + Q)")
+      ->default_str("paper");
+  sub->add_option("--glass", a->glass, "--loads eurocode: glass and cladding in kN/m² of surface")
+      ->default_str("0.4");
+  sub->add_option("--snow", a->snow,
+                  "--loads eurocode: characteristic snow s_k in kN/m² of plan (times the shape "
+                  "factor of the roof slope)")
+      ->default_str("1.0");
   sub->add_option("--deflection-limit", a->deflection_limit,
                   "serviceability: delta passes when at most span / this (span = largest plan "
                   "extent)")

@@ -429,6 +429,47 @@ void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
 }
 
 namespace {
+nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_G, double gamma_Q) {
+  nlohmann::json all = nlohmann::json::object();
+  add_checks_block(all, r);
+  nlohmann::json c;
+  c["gamma_G"] = gamma_G;
+  c["gamma_Q"] = gamma_Q;
+  c["delta_max_m"] = r.delta_max_m;
+  for (const char* key :
+       {"delta_limit_m", "delta_pass", "utilisation_max", "utilisation_beam",
+        "buckling_utilisation_max", "buckling_utilisation_beam", "lambda_lba", "lambda_perfect",
+        "lambda_imperfect", "imperfection_sensitivity", "lambda_y", "lambda_y_path",
+        "lambda_y_linear"})
+    c[key] = all[key];
+  return c;
+}
+}  // namespace
+
+nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
+                                  const analysis::GridshellFrameOptions& frame,
+                                  const analysis::FrameAnalysisOptions& options,
+                                  const analysis::FrameResult& primary) {
+  nlohmann::json block;
+  if (frame.loads == analysis::LoadModel::paper) {
+    block["paper"] = combination_block(primary, 1, 0);
+    block["paper"].erase("gamma_G");  // the paper's load: the structure's own weight, λ-scaled
+    block["paper"].erase("gamma_Q");
+    return block;
+  }
+  const auto [uG, uQ] = analysis::partial_factors(analysis::Combination::ULS);
+  block["ULS"] = combination_block(primary, uG, uQ);
+  analysis::GridshellFrameOptions sls = frame;
+  sls.combination = analysis::Combination::SLS;
+  spdlog::info("[analysis] SLS combination: linear");
+  const analysis::FrameResult r =
+      analyze_gridshell(mesh, supports, analysis::AnalysisLevel::linear, sls, options);
+  const auto [sG, sQ] = analysis::partial_factors(analysis::Combination::SLS);
+  block["SLS"] = combination_block(r, sG, sQ);
+  return block;
+}
+
+namespace {
 DesignResult design(const Surface& surface, const DesignOptions& o, const StressField* given) {
   check_design_options(o);
   DesignResult r;

@@ -103,5 +103,14 @@ nlohmann::json structure_block(const analysis::FrameResult& r);
 /// lambda_y_path, lambda_y_linear (1 / utilisation_max). Called by structure_block.
 void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r);
 
+/// report.json's `structure.combinations`: one block per load combination with δ, its limit and
+/// pass/fail, the member checks and the stability figures (add_checks_block's keys that apply).
+/// paper load: {"paper": from `primary`}; eurocode: {"ULS": from `primary` (analysed with
+/// frame.combination = ULS), "SLS": a linear analysis of the SLS combination, run here}.
+nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
+                                  const analysis::GridshellFrameOptions& frame,
+                                  const analysis::FrameAnalysisOptions& options,
+                                  const analysis::FrameResult& primary);
+
 
 }  // namespace gridshell
