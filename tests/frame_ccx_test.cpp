@@ -337,8 +337,8 @@ TEST(FrameCcx, GridshellSectionForcesMatchCalculixStresses) {
       "%.4f\n",
       members, err.size(), ours_peak, peak, ours_peak / peak, median, p90, worst);
   // Measured: peak 4.487e7 against 4.505e7 Pa (−0.4 %); per member median 0.6 %, 90th
-  // percentile 1.8 %, worst 11 % (a member near the 10 % cut whose stations sit where its moment
-  // changes sign: CalculiX's brick has shear deformation and 3D effects Euler–Bernoulli lacks).
+  // percentile 1.8 %, worst 11 % (one member; CalculiX's brick has shear deformation and 3D
+  // effects that our Euler–Bernoulli element lacks).
   EXPECT_NEAR(ours_peak / peak, 1.0, 0.02);
   EXPECT_LT(median, 0.015);
   EXPECT_LT(p90, 0.04);
