@@ -227,14 +227,23 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   const ArcLengthResult& al = main.al;
   const bool main_imperfect = o.imperfection && can_perturb;
   (main_imperfect ? res.lambda_imperfect : res.lambda_perfect) = al.lambda_critical;
+  const auto largest = [](const std::vector<double>& u) {
+    return u.empty() ? 0.0 : *std::max_element(u.begin(), u.end());
+  };
   res.lambda_yield = lambda_at_utilisation(main.lambdas, main.utilisation);
   res.lambda_yield_path = main_imperfect ? "imperfect" : "perfect";
+  res.path_utilisation_max = largest(main.utilisation);
+  if (!main_imperfect) res.lambda_yield_perfect = res.lambda_yield;
   if (o.stability && can_perturb) {
     const PathRun other = follow_path(model, mesh, o, lba, res, !main_imperfect);
     (main_imperfect ? res.lambda_perfect : res.lambda_imperfect) = other.al.lambda_critical;
-    if (!main_imperfect) {
-      res.lambda_yield = lambda_at_utilisation(other.lambdas, other.utilisation);
+    const std::optional<double> other_yield = lambda_at_utilisation(other.lambdas, other.utilisation);
+    if (main_imperfect) {
+      res.lambda_yield_perfect = other_yield;
+    } else {
+      res.lambda_yield = other_yield;
       res.lambda_yield_path = "imperfect";
+      res.path_utilisation_max = largest(other.utilisation);
     }
     spdlog::info("non-linear ({}): lambda = {:.6g} ({})",
                  main_imperfect ? "perfect" : "imperfect", other.al.lambda_critical,

@@ -118,6 +118,10 @@ struct FrameResult {
   /// or none is followed. `lambda_yield_linear` = 1 / utilisation_max (linear estimate).
   std::optional<double> lambda_yield;
   std::string lambda_yield_path;  ///< "perfect" or "imperfect"
+  /// The largest cross-section utilisation reached on that path (at its last point: < 1 when
+  /// the structure buckles before any bar yields), and λ_y of the perfect path when followed.
+  double path_utilisation_max = 0;
+  std::optional<double> lambda_yield_perfect;
   std::optional<double> lambda_yield_linear;
   int num_elements = 0, num_dofs = 0;
   std::map<std::string, double> timings;  ///< seconds per stage

@@ -424,7 +424,10 @@ void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
   st["imperfection_amplitude_m"] = r.lambda_imperfect ? nlohmann::json(r.imperfection_amplitude_m)
                                                       : nlohmann::json();
   st["lambda_y"] = optional_number(r.lambda_yield);
-  st["lambda_y_path"] = r.lambda_yield ? nlohmann::json(r.lambda_yield_path) : nlohmann::json();
+  const bool path = !r.lambda_yield_path.empty();
+  st["lambda_y_path"] = path ? nlohmann::json(r.lambda_yield_path) : nlohmann::json();
+  st["path_utilisation_max"] = path ? nlohmann::json(r.path_utilisation_max) : nlohmann::json();
+  st["lambda_y_perfect"] = optional_number(r.lambda_yield_perfect);
   st["lambda_y_linear"] = optional_number(r.lambda_yield_linear);
 }
 
@@ -440,7 +443,7 @@ nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_G,
        {"delta_limit_m", "delta_pass", "utilisation_max", "utilisation_beam",
         "buckling_utilisation_max", "buckling_utilisation_beam", "lambda_lba", "lambda_perfect",
         "lambda_imperfect", "imperfection_sensitivity", "lambda_y", "lambda_y_path",
-        "lambda_y_linear"})
+        "path_utilisation_max", "lambda_y_perfect", "lambda_y_linear"})
     c[key] = all[key];
   return c;
 }
