@@ -138,7 +138,6 @@ LoadedFrame load_frame(const AnalyzeArgs& a) {
   return f;
 }
 
-
 /// `--analyze auto`: what a MODEL.json's `analysis` asks, else the whole (non-linear) analysis.
 analysis::AnalysisLevel analysis_level(const std::string& word,
                                        const io::ModelAnalysisRequest& request) {
@@ -192,9 +191,9 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["total_load_N"] = {total.x(), total.y(), total.z()};
   st["loads"] = a.loads;
   if (lower_ext(a.input) != ".json")
-    st["combinations"] = combinations_block(PolyMesh{f.model.nodes, f.model.faces}, f.supports,
-                                            frame_options(a), analysis_options(a, level, f.request),
-                                            r);
+    st["combinations"] =
+        combinations_block(PolyMesh{f.model.nodes, f.model.faces}, f.supports, frame_options(a),
+                           analysis_options(a, level, f.request), r);
   report["structure"] = st;
   if (lower_ext(a.input) != ".json") {  // a grid-shell mesh: members are its topology edges
     analysis::GridshellFrameOptions bars;

@@ -298,17 +298,15 @@ TEST(FrameCcx, GridshellSectionForcesMatchCalculixStresses) {
   // CalculiX: the deck of the tests above with the stresses printed.
   std::string deck = ccx_deck(f, "*STATIC");
   const std::string print = "*NODE PRINT, NSET=NALL\nU\n";
-  deck.replace(deck.find(print), print.size(),
-               "*EL PRINT, ELSET=EALL\nS\n");
+  deck.replace(deck.find(print), print.size(), "*EL PRINT, ELSET=EALL\nS\n");
   deck.insert(deck.find("*MATERIAL"),
               fmt::format("*ELSET, ELSET=EALL, GENERATE\n1,{},1\n", 4 * members));
   const auto dir = run_ccx("checks_ccx", deck);
   std::map<int, Vec3> axis;
   for (int k = 0; k < members; ++k)
     for (int q = 0; q < 4; ++q)
-      axis[4 * k + q + 1] = (m.nodes.row(m.members[k].j) - m.nodes.row(m.members[k].i))
-                                .transpose()
-                                .normalized();
+      axis[4 * k + q + 1] =
+          (m.nodes.row(m.members[k].j) - m.nodes.row(m.members[k].i)).transpose().normalized();
   const auto ccx = read_ccx_max_axial_stress(dir / "job.dat", axis);
   ASSERT_EQ(static_cast<int>(ccx.size()), 4 * members) << "stresses missing in " << dir;
 

@@ -189,7 +189,8 @@ TEST(MemberChecks, ImperfectArchIsWeakerThanThePerfectOne) {
     mb.elements = 8;
     m.members.push_back(mb);
   }
-  m.supports = {{0, {true, true, true, true, false, true}}, {2, {true, true, true, true, false, true}}};
+  m.supports = {{0, {true, true, true, true, false, true}},
+                {2, {true, true, true, true, false, true}}};
   m.loads = {{1, Vec3(0, 0, -1e3), Vec3::Zero()}};
   analysis::FrameAnalysisOptions o;
   o.stability = true;
@@ -242,9 +243,10 @@ TEST(MemberChecks, GridshellSectionForcesBalanceEveryJoint) {
   ASSERT_GT(free_dofs, 100);
   ASSERT_GT(scale, 0);
   RecordProperty("equilibrium_residual_relative", std::to_string(worst / scale));
-  std::printf("joint equilibrium from section forces: %d free dofs, worst residual %.3g of the "
-              "largest load\n",
-              free_dofs, worst / scale);
+  std::printf(
+      "joint equilibrium from section forces: %d free dofs, worst residual %.3g of the "
+      "largest load\n",
+      free_dofs, worst / scale);
   EXPECT_LT(worst, 1e-6 * scale);
   // And the member envelope is the largest end value of the member's elements.
   const auto members = member_forces(mesh, forces);

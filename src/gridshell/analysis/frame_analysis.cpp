@@ -237,7 +237,8 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   if (o.stability && can_perturb) {
     const PathRun other = follow_path(model, mesh, o, lba, res, !main_imperfect);
     (main_imperfect ? res.lambda_perfect : res.lambda_imperfect) = other.al.lambda_critical;
-    const std::optional<double> other_yield = lambda_at_utilisation(other.lambdas, other.utilisation);
+    const std::optional<double> other_yield =
+        lambda_at_utilisation(other.lambdas, other.utilisation);
     if (main_imperfect) {
       res.lambda_yield_perfect = other_yield;
     } else {
@@ -245,9 +246,8 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
       res.lambda_yield_path = "imperfect";
       res.path_utilisation_max = largest(other.utilisation);
     }
-    spdlog::info("non-linear ({}): lambda = {:.6g} ({})",
-                 main_imperfect ? "perfect" : "imperfect", other.al.lambda_critical,
-                 other.al.limit_type);
+    spdlog::info("non-linear ({}): lambda = {:.6g} ({})", main_imperfect ? "perfect" : "imperfect",
+                 other.al.lambda_critical, other.al.limit_type);
   }
   res.path = al.path;
   res.lambda_nonlinear = al.lambda_critical;

@@ -103,10 +103,10 @@ fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& su
     if (!(o.snow_kN_m2 >= 0) || !std::isfinite(o.snow_kN_m2))
       throw Error("--snow", "must be a load >= 0 (kN/m²)");
     if (o.area_load_kN_m2 != 0)
-      throw Error("--area-load", "with --loads eurocode give the surface loads as --glass and --snow");
+      throw Error("--area-load",
+                  "with --loads eurocode give the surface loads as --glass and --snow");
     const double w = o.self_weight ? o.density * o.g * m.sections[0].A : 0.0;
-    const LoadCases c =
-        eurocode_load_cases(mesh, std::vector<double>(topo.edges.size(), w), o);
+    const LoadCases c = eurocode_load_cases(mesh, std::vector<double>(topo.edges.size(), w), o);
     const auto [gG, gQ] = partial_factors(o.combination);
     for (int v = 0; v < n; ++v) fz[v] = gG * (c.G1[v] + c.G2[v]) + gQ * c.Q[v];
     for (int v = 0; v < n; ++v)

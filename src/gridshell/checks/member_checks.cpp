@@ -113,8 +113,8 @@ double max_section_utilisation(const fem::FrameModel& model,
   check_inputs(model, forces, o);
   double u = 0;
   for (size_t m = 0; m < forces.size(); ++m)
-    u = std::max(u, section_utilisation(capacity(model, model.members[m].section, o), forces[m],
-                                        o.fy));
+    u = std::max(
+        u, section_utilisation(capacity(model, model.members[m].section, o), forces[m], o.fy));
   return u;
 }
 

@@ -44,16 +44,16 @@ inline constexpr double kCurveCAlpha = 0.49;
 double buckling_reduction(double slenderness, double alpha = kCurveCAlpha);
 
 struct MemberCheckOptions {
-  double fy = 355e6;             ///< yield strength [Pa]
-  double alpha = kCurveCAlpha;   ///< buckling curve imperfection factor
+  double fy = 355e6;                  ///< yield strength [Pa]
+  double alpha = kCurveCAlpha;        ///< buckling curve imperfection factor
   double buckling_length_factor = 1;  ///< L_cr = factor × member length
   /// Outer-fibre distance c per section [m] (W = I / c); empty = the solid circle of area A.
   std::vector<double> outer_fibre;
 };
 
 struct MemberCheck {
-  double section = 0;   ///< cross-section utilisation (§6.2.1(7))
-  double buckling = 0;  ///< flexural buckling utilisation (§6.3.1); 0 unless compressed
+  double section = 0;      ///< cross-section utilisation (§6.2.1(7))
+  double buckling = 0;     ///< flexural buckling utilisation (§6.3.1); 0 unless compressed
   double slenderness = 0;  ///< λ̄
   double chi = 1;          ///< χ
 };

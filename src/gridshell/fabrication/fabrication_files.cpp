@@ -42,14 +42,13 @@ std::string mm(double x) {
 }  // namespace
 
 FabricationData fabrication_data(const PolyMesh& mesh, const std::vector<int>& supports,
-                                 const BeamResults& beams,
-                                 const FabricationFileOptions& options) {
+                                 const BeamResults& beams, const FabricationFileOptions& options) {
   FabricationData d;
   const Topology topo = build_topology(mesh);
   for (const auto* values : {&beams.axial_force, &beams.utilisation, &beams.buckling_utilisation})
     if (!values->empty() && static_cast<int>(values->size()) != topo.num_edges())
-      throw Error("fabrication", fmt::format("{} beam results for {} beams", values->size(),
-                                             topo.num_edges()));
+      throw Error("fabrication",
+                  fmt::format("{} beam results for {} beams", values->size(), topo.num_edges()));
   d.parts = fabrication_parts(mesh, topo, supports, options.parts);
   d.axial_force = beams.axial_force;
   d.utilisation = beams.utilisation;
@@ -229,8 +228,7 @@ nlohmann::json bill_of_materials(const FabricationData& d, const FabricationFile
 }
 
 nlohmann::json write_fabrication_files(const std::filesystem::path& dir, const PolyMesh& mesh,
-                                       const std::vector<int>& supports,
-                                       const BeamResults& beams,
+                                       const std::vector<int>& supports, const BeamResults& beams,
                                        const FabricationFileOptions& options) {
   const FabricationData d = fabrication_data(mesh, supports, beams, options);
   io::write_file_atomic(dir / "joints.csv", joints_csv(d));

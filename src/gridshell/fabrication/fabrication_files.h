@@ -74,8 +74,7 @@ nlohmann::json bill_of_materials(const FabricationData& d, const FabricationFile
 /// Writes joints.csv, beams.csv, panels.csv and panels.svg into `dir` (which must exist) and
 /// returns bill_of_materials.
 nlohmann::json write_fabrication_files(const std::filesystem::path& dir, const PolyMesh& mesh,
-                                       const std::vector<int>& supports,
-                                       const BeamResults& beams,
+                                       const std::vector<int>& supports, const BeamResults& beams,
                                        const FabricationFileOptions& options = {});
 
 }  // namespace gridshell::fabrication

@@ -166,8 +166,8 @@ std::vector<ElementSectionForces> element_section_forces(const FrameMesh& mesh,
 
 /// The envelope of a model member's section forces over its elements' ends.
 struct MemberForces {
-  double N_max = 0;  ///< largest axial force (tension positive) [N]
-  double N_min = 0;  ///< smallest axial force (compression negative) [N]
+  double N_max = 0;       ///< largest axial force (tension positive) [N]
+  double N_min = 0;       ///< smallest axial force (compression negative) [N]
   double My = 0, Mz = 0;  ///< largest |My|, |Mz| [N·m]
   double M = 0;           ///< largest resultant bending moment √(My² + Mz²) at one end [N·m]
   double T = 0;           ///< largest |T| [N·m]

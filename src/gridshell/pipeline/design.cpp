@@ -409,7 +409,8 @@ void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
   // Member checks (linear, λ = 1).
   const checks::MemberChecks& c = r.checks;
   st["utilisation_max"] = c.section_max;
-  st["utilisation_beam"] = c.section_worst >= 0 ? nlohmann::json(c.section_worst) : nlohmann::json();
+  st["utilisation_beam"] =
+      c.section_worst >= 0 ? nlohmann::json(c.section_worst) : nlohmann::json();
   st["buckling_utilisation_max"] = c.buckling_max;
   st["buckling_utilisation_beam"] =
       c.buckling_worst >= 0 ? nlohmann::json(c.buckling_worst) : nlohmann::json();
@@ -417,12 +418,11 @@ void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
   st["lambda_lba"] = optional_number(r.lambda_linear_buckling);
   st["lambda_perfect"] = optional_number(r.lambda_perfect);
   st["lambda_imperfect"] = optional_number(r.lambda_imperfect);
-  st["imperfection_sensitivity"] =
-      r.lambda_perfect && r.lambda_imperfect && *r.lambda_perfect > 0
-          ? nlohmann::json(*r.lambda_imperfect / *r.lambda_perfect)
-          : nlohmann::json();
-  st["imperfection_amplitude_m"] = r.lambda_imperfect ? nlohmann::json(r.imperfection_amplitude_m)
-                                                      : nlohmann::json();
+  st["imperfection_sensitivity"] = r.lambda_perfect && r.lambda_imperfect && *r.lambda_perfect > 0
+                                       ? nlohmann::json(*r.lambda_imperfect / *r.lambda_perfect)
+                                       : nlohmann::json();
+  st["imperfection_amplitude_m"] =
+      r.lambda_imperfect ? nlohmann::json(r.imperfection_amplitude_m) : nlohmann::json();
   st["lambda_y"] = optional_number(r.lambda_yield);
   const bool path = !r.lambda_yield_path.empty();
   st["lambda_y_path"] = path ? nlohmann::json(r.lambda_yield_path) : nlohmann::json();

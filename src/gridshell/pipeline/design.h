@@ -112,5 +112,4 @@ nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& 
                                   const analysis::FrameAnalysisOptions& options,
                                   const analysis::FrameResult& primary);
 
-
 }  // namespace gridshell
