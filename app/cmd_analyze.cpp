@@ -71,6 +71,10 @@ void check_analyze_args(const AnalyzeArgs& a) {
   if (analysis::parse_load_model(a.loads) == analysis::LoadModel::eurocode &&
       lower_ext(a.input) == ".json")
     throw Error("--loads", "eurocode load cases need a grid-shell mesh (MODEL.json has its loads)");
+  if (!(a.glass >= 0) || !std::isfinite(a.glass))
+    throw Error("--glass", "must be a load >= 0 (kN/m²)");
+  if (!(a.snow >= 0) || !std::isfinite(a.snow))
+    throw Error("--snow", "must be a load >= 0 (kN/m²)");
   if (!(a.deflection_limit > 0) || !std::isfinite(a.deflection_limit))
     throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
   if (a.analyze != "auto") {

@@ -5,11 +5,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
+
+#include <nlohmann/json.hpp>
 
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/frame_model.h"
+#include "test_support.h"
 
 using namespace gridshell;
 using namespace gridshell::analysis;
@@ -93,4 +98,44 @@ TEST(LoadCases, WordsAndBadValues) {
   o.snow_kN_m2 = 1;
   o.area_load_kN_m2 = 1;
   EXPECT_THROW(gridshell_frame(flat_and_sloped(10), {0}, o), Error);
+}
+
+TEST(LoadCases, CommandLineWritesOneBlockPerCombination) {
+  namespace fs = std::filesystem;
+  const fs::path d = test::temp_dir("load_cases_design");
+  const auto r = test::run_gridshell(
+      "design builtin:dome --cells 40 --seed 2 --field uniform --analyze none --quiet -o " +
+      d.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const fs::path a = test::temp_dir("load_cases_analyze");
+  const auto ra = test::run_gridshell("analyze " + (d / "gridshell.obj").string() +
+                                      " --loads eurocode --analyze buckling --quiet -o " +
+                                      a.string());
+  ASSERT_EQ(ra.status, 0) << ra.err;
+  std::ifstream in(a / "report.json");
+  const auto report = nlohmann::json::parse(in);
+  const auto& st = report.at("structure");
+  EXPECT_EQ(st.at("loads"), "eurocode");
+  const auto& uls = st.at("combinations").at("ULS");
+  const auto& sls = st.at("combinations").at("SLS");
+  EXPECT_DOUBLE_EQ(uls.at("gamma_G").get<double>(), 1.35);
+  EXPECT_DOUBLE_EQ(sls.at("gamma_Q").get<double>(), 1.0);
+  // The structure block is the ULS analysis; SLS (smaller factors, same cases) deflects less.
+  EXPECT_DOUBLE_EQ(uls.at("delta_max_m").get<double>(), st.at("delta_max_m").get<double>());
+  EXPECT_LT(sls.at("delta_max_m").get<double>(), uls.at("delta_max_m").get<double>());
+  EXPECT_GT(sls.at("delta_max_m").get<double>(), uls.at("delta_max_m").get<double>() / 1.5);
+  EXPECT_EQ(sls.at("delta_pass").get<bool>(),
+            sls.at("delta_max_m").get<double>() <= sls.at("delta_limit_m").get<double>());
+  EXPECT_TRUE(uls.at("lambda_lba").is_number());
+  EXPECT_TRUE(sls.at("lambda_lba").is_null());  // SLS: linear only
+  EXPECT_TRUE(fs::exists(a / "modes.csv"));
+
+  // Options are checked before any work.
+  const auto bad = test::run_gridshell("design builtin:dome --loads eurocode --area-load 1 -o " +
+                                       a.string());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--area-load"), std::string::npos) << bad.err;
+  const auto wind = test::run_gridshell("design builtin:dome --loads wind -o " + a.string());
+  EXPECT_EQ(wind.status, 2);
+  EXPECT_NE(wind.err.find("--loads"), std::string::npos) << wind.err;
 }

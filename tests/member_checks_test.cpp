@@ -256,3 +256,17 @@ TEST(MemberChecks, GridshellSectionForcesBalanceEveryJoint) {
   for (const auto& f : members) largest_member = std::max(largest_member, f.M);
   EXPECT_GE(largest_member, largest);
 }
+
+TEST(MemberChecks, SectionOuterFibreGivesTheModulus) {
+  // A solid square b × b (c = b/2, W = b³/6) under an end moment: the section's c is used.
+  FrameModel m = cantilever(Vec3(0, 1, 0), Vec3::Zero(), Vec3(800, 0, 0));
+  const double b = 0.032;
+  auto& s = m.sections[0];
+  s.A = b * b;
+  s.Iy = s.Iz = b * b * b * b / 12;
+  s.J = 0.1406 * b * b * b * b;
+  s.c = b / 2;
+  const checks::MemberChecks c = checks::check_members(m, linear_member_forces(m), with_fy(kFy));
+  const double expected = 800 / (b * b * b / 6 * kFy);
+  EXPECT_NEAR(c.members[0].section, expected, 0.005 * expected);
+}

@@ -49,7 +49,7 @@ struct FrameAnalysisOptions {
   double displacement_limit = 0;
   /// Member checks (checks/member_checks.h): fy and the buckling curve. The linear solution's
   /// section forces are always checked; along the non-linear path they give λ_y.
-  checks::MemberCheckOptions checks;
+  checks::MemberCheckOptions checks{};
   /// Serviceability: δ is compared with span / deflection_limit_divisor (300: a common limit
   /// for roofs; span = largest plan extent).
   double deflection_limit_divisor = 300;

@@ -53,11 +53,9 @@ struct SectionCapacity {
   double A = 0, Wy = 0, Wz = 0, Imin = 0;
 };
 
-SectionCapacity capacity(const fem::FrameModel& model, int section, const MemberCheckOptions& o) {
+SectionCapacity capacity(const fem::FrameModel& model, int section) {
   const fem::FrameSection& s = model.sections[section];
-  const double c = static_cast<size_t>(section) < o.outer_fibre.size() && o.outer_fibre[section] > 0
-                       ? o.outer_fibre[section]
-                       : std::sqrt(s.A / std::numbers::pi);
+  const double c = s.c > 0 ? s.c : std::sqrt(s.A / std::numbers::pi);
   return {s.A, s.Iy / c, s.Iz / c, std::min(s.Iy, s.Iz)};
 }
 
@@ -85,7 +83,7 @@ MemberChecks check_members(const fem::FrameModel& model,
   out.members.resize(forces.size());
   for (size_t m = 0; m < forces.size(); ++m) {
     const fem::FrameMember& mb = model.members[m];
-    const SectionCapacity c = capacity(model, mb.section, o);
+    const SectionCapacity c = capacity(model, mb.section);
     MemberCheck& r = out.members[m];
     r.section = section_utilisation(c, forces[m], o.fy);
     const double E = model.materials[mb.material].E;
@@ -114,7 +112,7 @@ double max_section_utilisation(const fem::FrameModel& model,
   double u = 0;
   for (size_t m = 0; m < forces.size(); ++m)
     u = std::max(
-        u, section_utilisation(capacity(model, model.members[m].section, o), forces[m], o.fy));
+        u, section_utilisation(capacity(model, model.members[m].section), forces[m], o.fy));
   return u;
 }
 

@@ -6,8 +6,8 @@
 /// * Cross-section (§6.2.1(7), the conservative linear elastic interaction):
 ///   u = |N| / (A fy) + M / (W fy), with M the resultant bending moment √(My² + Mz²) when the
 ///   section is axisymmetric (Wy = Wz, e.g. the solid circle), else My / Wy + Mz / Wz.
-///   W = I / c: c the outer-fibre distance; by default that of the solid circle of area A
-///   (c = d/2 = √(A/π)), the grid-shell's bar. N and M are the member's envelope over its element
+///   W = I / c: c the outer-fibre distance, FrameSection::c, or when that is 0 the solid circle
+///   of area A (c = d/2 = √(A/π)), the grid-shell's bar. N and M are the member's envelope over its element
 ///   ends (fem::MemberForces): the largest |N| with the largest M — exact when N is constant along
 ///   the member (loads only at joints, linear analysis), otherwise on the safe side.
 /// * Flexural buckling (§6.3.1): u_b = N_Ed / (χ A fy) for compressed members (0 otherwise),
@@ -47,8 +47,6 @@ struct MemberCheckOptions {
   double fy = 355e6;                  ///< yield strength [Pa]
   double alpha = kCurveCAlpha;        ///< buckling curve imperfection factor
   double buckling_length_factor = 1;  ///< L_cr = factor × member length
-  /// Outer-fibre distance c per section [m] (W = I / c); empty = the solid circle of area A.
-  std::vector<double> outer_fibre;
 };
 
 struct MemberCheck {

@@ -365,6 +365,17 @@ void check_design_options(const DesignOptions& o) {
   if (!(o.frame_analysis.displacement_limit >= 0) ||
       !std::isfinite(o.frame_analysis.displacement_limit))
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
+  if (!(o.frame_analysis.deflection_limit_divisor > 0))
+    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
+  if (o.frame.loads == analysis::LoadModel::eurocode) {
+    if (o.frame.area_load_kN_m2 != 0)
+      throw Error("--area-load",
+                  "with --loads eurocode give the surface loads as --glass and --snow");
+    if (!(o.frame.glass_kN_m2 >= 0) || !std::isfinite(o.frame.glass_kN_m2))
+      throw Error("--glass", "must be a load >= 0 (kN/m²)");
+    if (!(o.frame.snow_kN_m2 >= 0) || !std::isfinite(o.frame.snow_kN_m2))
+      throw Error("--snow", "must be a load >= 0 (kN/m²)");
+  }
   if (o.field == FieldInput::file && o.field_file.empty())
     throw Error("--field", "no field file given");
   check_tessellation_options(o.tessellation);
