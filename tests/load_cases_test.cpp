@@ -76,7 +76,7 @@ TEST(LoadCases, CombinationsScaleTheCases) {
   const double G = sum(c.G1) + sum(c.G2), Q = sum(c.Q);
   EXPECT_LT(Q, 0);
   EXPECT_NEAR(fem::total_load(ref).z(), 1.35 * G + 1.5 * Q, 1e-9 * std::abs(G + Q));
-  o.combination = Combination::SLS;
+  o.combination = Combination::sls;
   EXPECT_NEAR(fem::total_load(gridshell_frame(m, {0, 3}, o)).z(), G + Q, 1e-9 * std::abs(G + Q));
   // The paper's load is unchanged by the new options.
   GridshellFrameOptions paper;
@@ -90,7 +90,7 @@ TEST(LoadCases, WordsAndBadValues) {
   EXPECT_EQ(parse_load_model("eurocode"), LoadModel::eurocode);
   EXPECT_STREQ(to_string(LoadModel::paper), "paper");
   EXPECT_THROW(parse_load_model("wind"), Error);
-  EXPECT_EQ(partial_factors(Combination::ULS), std::make_pair(1.35, 1.5));
+  EXPECT_EQ(partial_factors(Combination::uls), std::make_pair(1.35, 1.5));
   GridshellFrameOptions o;
   o.loads = LoadModel::eurocode;
   o.snow_kN_m2 = -1;

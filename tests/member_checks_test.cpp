@@ -58,10 +58,10 @@ const double kA = kPi * kD * kD / 4, kW = kPi * kD * kD * kD / 32;
 }  // namespace
 
 TEST(MemberChecks, SteelGradesParseAndGiveTheirYieldStrength) {
-  EXPECT_EQ(checks::parse_steel_grade("S235"), checks::SteelGrade::S235);
+  EXPECT_EQ(checks::parse_steel_grade("S235"), checks::SteelGrade::s235);
   EXPECT_DOUBLE_EQ(checks::yield_strength(checks::parse_steel_grade("S275")), 275e6);
-  EXPECT_DOUBLE_EQ(checks::yield_strength(checks::SteelGrade::S355), 355e6);
-  EXPECT_STREQ(checks::to_string(checks::SteelGrade::S235), "S235");
+  EXPECT_DOUBLE_EQ(checks::yield_strength(checks::SteelGrade::s355), 355e6);
+  EXPECT_STREQ(checks::to_string(checks::SteelGrade::s235), "S235");
   EXPECT_THROW(checks::parse_steel_grade("S460"), Error);
 }
 

@@ -30,11 +30,11 @@ const char* to_string(LoadModel model) {
 }
 
 const char* to_string(Combination combination) {
-  return combination == Combination::ULS ? "ULS" : "SLS";
+  return combination == Combination::uls ? "ULS" : "SLS";
 }
 
 std::pair<double, double> partial_factors(Combination combination) {
-  return combination == Combination::ULS ? std::pair{1.35, 1.5} : std::pair{1.0, 1.0};
+  return combination == Combination::uls ? std::pair{1.35, 1.5} : std::pair{1.0, 1.0};
 }
 
 double snow_shape_factor(double slope_deg) {

@@ -37,7 +37,7 @@ LoadModel parse_load_model(const std::string& word);  ///< throws Error("--loads
 const char* to_string(LoadModel model);
 
 /// An EN 1990 combination of the eurocode load cases.
-enum class Combination { ULS, SLS };
+enum class Combination { uls, sls };
 const char* to_string(Combination combination);
 /// Partial factors (γ_G, γ_Q): ULS (1.35, 1.5), SLS (1, 1).
 std::pair<double, double> partial_factors(Combination combination);
@@ -58,7 +58,7 @@ struct GridshellFrameOptions {
   LoadModel loads = LoadModel::paper;
   double glass_kN_m2 = 0.4;  ///< eurocode G2 [kN/m² of surface]
   double snow_kN_m2 = 1.0;   ///< eurocode Q: s_k [kN/m² of plan]; set it for the site
-  Combination combination = Combination::ULS;  ///< eurocode: which combination to build
+  Combination combination = Combination::uls;  ///< eurocode: which combination to build
 };
 
 /// The eurocode load cases as vertical joint forces [N, negative down], one per vertex.

@@ -11,18 +11,18 @@
 namespace gridshell::checks {
 
 SteelGrade parse_steel_grade(const std::string& word) {
-  for (SteelGrade g : {SteelGrade::S235, SteelGrade::S275, SteelGrade::S355})
+  for (SteelGrade g : {SteelGrade::s235, SteelGrade::s275, SteelGrade::s355})
     if (word == to_string(g)) return g;
   throw Error("--steel", "'" + word + "' is not one of S235, S275, S355");
 }
 
 const char* to_string(SteelGrade grade) {
   switch (grade) {
-    case SteelGrade::S235:
+    case SteelGrade::s235:
       return "S235";
-    case SteelGrade::S275:
+    case SteelGrade::s275:
       return "S275";
-    case SteelGrade::S355:
+    case SteelGrade::s355:
       return "S355";
   }
   return "?";
@@ -30,11 +30,11 @@ const char* to_string(SteelGrade grade) {
 
 double yield_strength(SteelGrade grade) {
   switch (grade) {
-    case SteelGrade::S235:
+    case SteelGrade::s235:
       return 235e6;
-    case SteelGrade::S275:
+    case SteelGrade::s275:
       return 275e6;
-    case SteelGrade::S355:
+    case SteelGrade::s355:
       return 355e6;
   }
   return 0;

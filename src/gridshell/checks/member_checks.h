@@ -30,7 +30,7 @@
 namespace gridshell::checks {
 
 /// The steel grade; the option words of `--steel`.
-enum class SteelGrade { S235, S275, S355 };
+enum class SteelGrade { s235, s275, s355 };
 SteelGrade parse_steel_grade(const std::string& word);  ///< throws Error("--steel")
 const char* to_string(SteelGrade grade);
 /// Yield strength fy [Pa] for t ≤ 40 mm.

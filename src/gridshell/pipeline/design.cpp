@@ -471,14 +471,14 @@ nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& 
     block["paper"].erase("gamma_Q");
     return block;
   }
-  const auto [uG, uQ] = analysis::partial_factors(analysis::Combination::ULS);
+  const auto [uG, uQ] = analysis::partial_factors(analysis::Combination::uls);
   block["ULS"] = combination_block(primary, uG, uQ);
   analysis::GridshellFrameOptions sls = frame;
-  sls.combination = analysis::Combination::SLS;
+  sls.combination = analysis::Combination::sls;
   spdlog::info("[analysis] SLS combination: linear");
   const analysis::FrameResult r =
       analyze_gridshell(mesh, supports, analysis::AnalysisLevel::linear, sls, options);
-  const auto [sG, sQ] = analysis::partial_factors(analysis::Combination::SLS);
+  const auto [sG, sQ] = analysis::partial_factors(analysis::Combination::sls);
   block["SLS"] = combination_block(r, sG, sQ);
   return block;
 }
