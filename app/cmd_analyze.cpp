@@ -11,6 +11,7 @@
 #include "common.h"
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
+#include "gridshell/checks/member_checks.h"
 #include "gridshell/core/error.h"
 #include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
@@ -40,6 +41,11 @@ struct AnalyzeArgs {
   int max_steps = 300;
   double displacement_limit = 0;
   std::string sheet = "2.5x1.25";
+  std::string steel = "S355";
+  std::string loads = "paper";
+  double glass = 0.4, snow = 1.0;
+  double deflection_limit = 300;
+  bool single_path = false;
 };
 
 std::string lower_ext(const std::string& path) {
@@ -63,6 +69,16 @@ void check_analyze_args(const AnalyzeArgs& a) {
   if (!(a.displacement_limit >= 0) || !std::isfinite(a.displacement_limit))
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
   fabrication::parse_sheet(a.sheet);
+  checks::parse_steel_grade(a.steel);
+  if (analysis::parse_load_model(a.loads) == analysis::LoadModel::eurocode &&
+      lower_ext(a.input) == ".json")
+    throw Error("--loads", "eurocode load cases need a grid-shell mesh (MODEL.json has its loads)");
+  if (!(a.glass >= 0) || !std::isfinite(a.glass))
+    throw Error("--glass", "must be a load >= 0 (kN/m²)");
+  if (!(a.snow >= 0) || !std::isfinite(a.snow))
+    throw Error("--snow", "must be a load >= 0 (kN/m²)");
+  if (!(a.deflection_limit > 0) || !std::isfinite(a.deflection_limit))
+    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
   if (a.analyze != "auto") {
     if (analysis::parse_analysis_level(a.analyze) == analysis::AnalysisLevel::none)
       throw Error("--analyze", "must be linear, buckling or nonlinear");
@@ -76,6 +92,19 @@ struct LoadedFrame {
   std::vector<int> supports;
   io::ModelAnalysisRequest request;
 };
+
+/// The grid-shell frame options the arguments ask for.
+analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a) {
+  analysis::GridshellFrameOptions go;
+  go.diameter = a.diameter;
+  go.elements = a.elements;
+  go.self_weight_at_bars = a.self_weight == "at-bars";
+  go.area_load_kN_m2 = a.area_load;
+  go.loads = analysis::parse_load_model(a.loads);
+  go.glass_kN_m2 = a.glass;
+  go.snow_kN_m2 = a.snow;
+  return go;
+}
 
 LoadedFrame load_frame(const AnalyzeArgs& a) {
   LoadedFrame f;
@@ -110,12 +139,7 @@ LoadedFrame load_frame(const AnalyzeArgs& a) {
   }
   if (s.supports.empty())
     throw Error(a.input, "no support vertices: the grid-shell is a mechanism");
-  analysis::GridshellFrameOptions go;
-  go.diameter = a.diameter;
-  go.elements = a.elements;
-  go.self_weight_at_bars = a.self_weight == "at-bars";
-  go.area_load_kN_m2 = a.area_load;
-  f.model = analysis::gridshell_frame(s.mesh, s.supports, go);
+  f.model = analysis::gridshell_frame(s.mesh, s.supports, frame_options(a));
   f.supports = s.supports;
   return f;
 }
@@ -145,6 +169,9 @@ analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a,
       a.nonlinear_static > 0 ? a.nonlinear_static : request.nonlinear_static.value_or(0);
   o.arc.max_steps = a.max_steps;
   o.displacement_limit = a.displacement_limit;
+  o.checks.fy = checks::yield_strength(checks::parse_steel_grade(a.steel));
+  o.deflection_limit_divisor = a.deflection_limit;
+  o.stability = !a.single_path;
   if (o.imperfection && !o.buckling) o.buckling = true;
   return o;
 }
@@ -166,8 +193,14 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["members"] = f.model.members.size();
   st["supports"] = f.supports.size();
   st["analysis"] = to_string(level);
+  st["steel"] = a.steel;
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
+  st["loads"] = a.loads;
+  if (lower_ext(a.input) != ".json")
+    st["combinations"] =
+        combinations_block(PolyMesh{f.model.nodes, f.model.faces}, f.supports, frame_options(a),
+                           analysis_options(a, level, f.request), r);
   report["structure"] = st;
   if (lower_ext(a.input) != ".json") {  // a grid-shell mesh: members are its topology edges
     analysis::GridshellFrameOptions bars;
@@ -241,6 +274,26 @@ void register_analyze(CLI::App& app, Action& action) {
                   "report lambda_displacement_limit: the load factor at which the non-linear "
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
+  sub->add_option("--steel", a->steel, "member checks: steel grade S235 | S275 | S355")
+      ->default_str("S355");
+  sub->add_option("--loads", a->loads,
+                  "grid-shell meshes: paper (the bars' weight spread over the surface, + "
+                  "--area-load) | eurocode (G1 bars, G2 --glass, Q --snow; structure = ULS 1.35 G "
+                  "+ 1.5 Q, combinations adds SLS G + Q)")
+      ->default_str("paper");
+  sub->add_option("--glass", a->glass, "--loads eurocode: glass and cladding in kN/m² of surface")
+      ->default_str("0.4");
+  sub->add_option("--snow", a->snow,
+                  "--loads eurocode: characteristic snow s_k in kN/m² of plan (times the shape "
+                  "factor of the roof slope)")
+      ->default_str("1.0");
+  sub->add_option("--deflection-limit", a->deflection_limit,
+                  "serviceability: delta passes when at most span / this (span = largest plan "
+                  "extent)")
+      ->default_str("300");
+  sub->add_flag("--single-path", a->single_path,
+                "non-linear analysis: follow only the path asked for (perfect, or imperfect with "
+                "--imperfection), not also the other");
   sub->add_option("--sheet", a->sheet,
                   "fabrication (grid-shell meshes): sheet size WxH in metres on which the panels "
                   "are nested")

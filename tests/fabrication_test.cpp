@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -364,7 +365,7 @@ TEST(Fabrication, DesignAnalyzeAndBaselineWriteTheFiles) {
   }
   // beams.csv: the CONTRACT's analyze columns first, one row per topology edge, forces present.
   const Table beams = read_csv(slurp(d / "beams.csv"), &header);
-  EXPECT_EQ(header.rfind("beam,node_i,node_j,length,axial_force,", 0), 0u) << header;
+  EXPECT_EQ(header.rfind("beam,node_i,node_j,length,axial_force,utilisation,", 0), 0u) << header;
   ASSERT_EQ(beams.size(), static_cast<std::size_t>(t.num_edges()));
   for (std::size_t e = 0; e < beams.size(); ++e) {
     EXPECT_EQ(std::stoi(beams[e][1]), t.edges[e][0]);
@@ -372,6 +373,10 @@ TEST(Fabrication, DesignAnalyzeAndBaselineWriteTheFiles) {
     EXPECT_NEAR(std::stod(beams[e][3]), (m.vertex(t.edges[e][0]) - m.vertex(t.edges[e][1])).norm(),
                 1e-9);
     EXPECT_FALSE(beams[e][4].empty());
+    // Member checks: a cross-section utilisation is at least the axial part |N| / (A fy).
+    const double A = std::numbers::pi * 0.037 * 0.037 / 4;
+    EXPECT_GE(std::stod(beams[e][5]), std::abs(std::stod(beams[e][4])) / (A * 355e6) * (1 - 1e-9));
+    EXPECT_GE(std::stod(beams[e][6]), 0.0);
   }
   // panels.csv: one row per face, joints in face order, outline edges = 3D edges within 1 %
   // (or the panel says how non-planar it is).
@@ -449,6 +454,7 @@ TEST(Fabrication, DesignAnalyzeAndBaselineWriteTheFiles) {
   const Table bb = read_csv(slurp(b / "beams.csv"), &header);
   ASSERT_FALSE(bb.empty());
   EXPECT_TRUE(bb[0][4].empty());
+  EXPECT_TRUE(bb[0][5].empty());
   const auto rb_report = nlohmann::json::parse(slurp(b / "report.json"));
   EXPECT_EQ(rb_report.at("fabrication").at("beams").get<std::size_t>(), bb.size());
   EXPECT_EQ(xml_problem(slurp(b / "panels.svg")), "");

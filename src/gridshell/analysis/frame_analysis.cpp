@@ -119,6 +119,22 @@ void record_linear(const FrameMesh& mesh, const FrameAssembler& assembler,
                res.num_dofs);
 }
 
+/// The linear solution's member checks and serviceability.
+void record_checks(const FrameModel& model, const FrameMesh& mesh, const FrameAssembler& assembler,
+                   const LinearResult& lin, const FrameAnalysisOptions& o, FrameResult& res) {
+  res.member_forces = member_forces(mesh, element_section_forces(mesh, assembler, lin.u));
+  res.checks = checks::check_members(model, res.member_forces, o.checks);
+  if (res.checks.section_max > 0) res.lambda_yield_linear = 1 / res.checks.section_max;
+  if (!(o.deflection_limit_divisor > 0))
+    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
+  res.span_m = plan_span(mesh.X);
+  res.delta_limit_m = res.span_m / o.deflection_limit_divisor;
+  res.delta_pass = res.delta_max_m <= res.delta_limit_m;
+  spdlog::info("checks: utilisation {:.4g} (beam {}), buckling {:.4g}, delta {:.4g} m of {:.4g} m",
+               res.checks.section_max, res.checks.section_worst, res.checks.buckling_max,
+               res.delta_max_m, res.delta_limit_m);
+}
+
 /// The buckling modes' figures: λ_LBA, the factors, and the members' mode energy (modes within
 /// 10 % of the first count alike: on a symmetric structure the first mode is an arbitrary member
 /// of a degenerate pair, and its energy alone would be lopsided).
@@ -155,16 +171,30 @@ void record_buckling(const FrameMesh& mesh, const FrameAssembler& assembler,
                lba.lambdas.empty() ? std::string("none") : std::to_string(lba.lambdas[0]));
 }
 
-/// The non-linear path (of the geometry perturbed by the first mode when asked) to its first
-/// critical point, and λ at the displacement limit.
-void run_path(const FrameMesh& mesh, const FrameAnalysisOptions& o, const BucklingResult& lba,
-              FrameResult& res) {
+/// λ where the utilisation along the path first reaches 1 (linear between path points).
+std::optional<double> lambda_at_utilisation(const std::vector<double>& lambdas,
+                                            const std::vector<double>& utilisation) {
+  for (std::size_t i = 1; i < utilisation.size(); ++i) {
+    if (utilisation[i] < 1) continue;
+    const double rise = utilisation[i] - utilisation[i - 1];
+    const double t = rise > 0 ? (1 - utilisation[i - 1]) / rise : 1.0;
+    return lambdas[i - 1] + std::clamp(t, 0.0, 1.0) * (lambdas[i] - lambdas[i - 1]);
+  }
+  return std::nullopt;
+}
+
+/// One non-linear path (of the geometry perturbed by the first mode when `imperfect`) to its
+/// first critical point, with the largest cross-section utilisation at every path point.
+struct PathRun {
+  ArcLengthResult al;
+  std::vector<double> lambdas, utilisation;
+};
+PathRun follow_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysisOptions& o,
+                    const BucklingResult& lba, const FrameResult& res, bool imperfect) {
   const double span = plan_span(mesh.X);
   FrameMesh nl_mesh = mesh;
-  if (o.imperfection && !lba.modes.empty()) {
-    const double amp = o.imperfection_amplitude > 0 ? o.imperfection_amplitude : span / 300;
-    perturb_geometry(nl_mesh, lba.modes.front(), amp);
-  }
+  if (imperfect && !lba.modes.empty())
+    perturb_geometry(nl_mesh, lba.modes.front(), res.imperfection_amplitude_m);
   const FrameAssembler nl_asm(nl_mesh);
   ArcLengthOptions ao = o.arc;
   if (!(ao.initial_lambda > 0)) {
@@ -175,7 +205,50 @@ void run_path(const FrameMesh& mesh, const FrameAnalysisOptions& o, const Buckli
   if (!(ao.max_displacement > 0)) ao.max_displacement = span / 5;
   if (res.lambda_linear_buckling && ao.max_lambda >= 1e9)
     ao.max_lambda = 20 * *res.lambda_linear_buckling;
-  const ArcLengthResult al = arc_length(nl_mesh, nl_asm, ao, reference_state(nl_mesh));
+  PathRun run;
+  ao.on_point = [&](const FrameState& state, double lambda) {
+    run.lambdas.push_back(lambda);
+    run.utilisation.push_back(checks::max_section_utilisation(
+        model, member_forces(nl_mesh, element_section_forces(nl_mesh, state)), o.checks));
+  };
+  run.al = arc_length(nl_mesh, nl_asm, ao, reference_state(nl_mesh));
+  return run;
+}
+
+/// The non-linear path the options ask for (perfect, or imperfect with `imperfection`), λ at
+/// the displacement limit and λ_y; with `stability` also the other path.
+void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysisOptions& o,
+              const BucklingResult& lba, FrameResult& res) {
+  const double span = plan_span(mesh.X);
+  res.imperfection_amplitude_m =
+      o.imperfection_amplitude > 0 ? o.imperfection_amplitude : span / 300;
+  const bool can_perturb = !lba.modes.empty();
+  const PathRun main = follow_path(model, mesh, o, lba, res, o.imperfection && can_perturb);
+  const ArcLengthResult& al = main.al;
+  const bool main_imperfect = o.imperfection && can_perturb;
+  (main_imperfect ? res.lambda_imperfect : res.lambda_perfect) = al.lambda_critical;
+  const auto largest = [](const std::vector<double>& u) {
+    return u.empty() ? 0.0 : *std::max_element(u.begin(), u.end());
+  };
+  res.lambda_yield = lambda_at_utilisation(main.lambdas, main.utilisation);
+  res.lambda_yield_path = main_imperfect ? "imperfect" : "perfect";
+  res.path_utilisation_max = largest(main.utilisation);
+  if (!main_imperfect) res.lambda_yield_perfect = res.lambda_yield;
+  if (o.stability && can_perturb) {
+    const PathRun other = follow_path(model, mesh, o, lba, res, !main_imperfect);
+    (main_imperfect ? res.lambda_perfect : res.lambda_imperfect) = other.al.lambda_critical;
+    const std::optional<double> other_yield =
+        lambda_at_utilisation(other.lambdas, other.utilisation);
+    if (main_imperfect) {
+      res.lambda_yield_perfect = other_yield;
+    } else {
+      res.lambda_yield = other_yield;
+      res.lambda_yield_path = "imperfect";
+      res.path_utilisation_max = largest(other.utilisation);
+    }
+    spdlog::info("non-linear ({}): lambda = {:.6g} ({})", main_imperfect ? "perfect" : "imperfect",
+                 other.al.lambda_critical, other.al.limit_type);
+  }
   res.path = al.path;
   res.lambda_nonlinear = al.lambda_critical;
   res.limit_type = al.limit_type;
@@ -224,9 +297,10 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
   const LinearResult lin = linear_static(mesh, assembler, o.subject);
   res.timings["linear"] = t.seconds();
   record_linear(mesh, assembler, lin, res);
+  record_checks(model, mesh, assembler, lin, o, res);
 
   BucklingResult lba;
-  if (o.buckling || (o.nonlinear && o.imperfection)) {
+  if (o.buckling || (o.nonlinear && (o.imperfection || o.stability))) {
     t = Timer();
     BucklingOptions bo;
     bo.modes = std::max(1, o.buckling_modes);
@@ -236,7 +310,7 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
   }
   if (o.nonlinear) {
     t = Timer();
-    run_path(mesh, o, lba, res);
+    run_path(model, mesh, o, lba, res);
     res.timings["nonlinear"] = t.seconds();
   }
   if (o.nonlinear_static > 0) {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "gridshell/checks/member_checks.h"
 #include "gridshell/fem/frame_arclength.h"
 #include "gridshell/fem/frame_model.h"
 
@@ -26,6 +27,13 @@ enum class AnalysisLevel { none, linear, buckling, nonlinear };
 AnalysisLevel parse_analysis_level(const std::string& word);  ///< throws Error("--analyze")
 const char* to_string(AnalysisLevel level);
 
+/// Arc-length options with initial_lambda = 0 (automatic).
+inline fem::ArcLengthOptions automatic_arc() {
+  fem::ArcLengthOptions a;
+  a.initial_lambda = 0;
+  return a;
+}
+
 struct FrameAnalysisOptions {
   bool linear = true;           ///< always done when anything else is asked
   bool buckling = true;         ///< linearised buckling (LBA)
@@ -36,13 +44,20 @@ struct FrameAnalysisOptions {
   double imperfection_amplitude = 0;  ///< [m]; 0 = span / 300 (span = largest plan extent)
   /// Arc-length settings; initial_lambda ≤ 0 = automatic (λ_LBA / 10, or the factor giving a
   /// linear displacement of span / 2000); max_displacement ≤ 0 = span / 5.
-  fem::ArcLengthOptions arc = [] {
-    fem::ArcLengthOptions automatic;
-    automatic.initial_lambda = 0;
-    return automatic;
-  }();
+  fem::ArcLengthOptions arc = automatic_arc();
   /// Displacement limit [m] for λ_δ (FrameResult::lambda_displacement_limit); 0 = span / 100.
   double displacement_limit = 0;
+  /// Member checks (checks/member_checks.h): fy and the buckling curve. The linear solution's
+  /// section forces are always checked; along the non-linear path they give λ_y.
+  checks::MemberCheckOptions checks{};
+  /// Serviceability: δ is compared with span / deflection_limit_divisor (300: a common limit
+  /// for roofs; span = largest plan extent).
+  double deflection_limit_divisor = 300;
+  /// With `nonlinear`: follow both the perfect and the imperfect path (first LBA mode scaled to
+  /// `imperfection_amplitude`, default span / 300), so that λ_perfect, λ_imperfect and their
+  /// ratio are reported together (the stability block). Doubles the path's cost. The path that
+  /// sets `lambda_nonlinear` is still the one `imperfection` asks for.
+  bool stability = false;
   std::string subject = "model";  ///< named in error messages
 };
 
@@ -86,6 +101,28 @@ struct FrameResult {
   /// nonlinear_static results (when asked): per model node.
   std::optional<Points> nonlinear_displacement, nonlinear_rotation;
   std::vector<double> nonlinear_axial_force;
+  // Member checks of the linear solution under λ = 1 (per member, the frame's member order).
+  std::vector<fem::MemberForces> member_forces;  ///< linear section-force envelopes
+  checks::MemberChecks checks;
+  // Serviceability.
+  double span_m = 0;         ///< largest plan extent of the model nodes
+  double delta_limit_m = 0;  ///< span / deflection_limit_divisor
+  bool delta_pass = false;   ///< delta_max_m ≤ delta_limit_m
+  // Stability (with `stability` and `nonlinear`): the first critical λ of the perfect and of the
+  // imperfect structure, and the imperfection amplitude used [m].
+  std::optional<double> lambda_perfect, lambda_imperfect;
+  double imperfection_amplitude_m = 0;
+  /// λ_y: the load factor at which the largest cross-section utilisation first reaches 1 along
+  /// the non-linear path (section forces of the corotational states, linear between path
+  /// points); taken on the imperfect path when one is followed. Empty when the path ends first
+  /// or none is followed. `lambda_yield_linear` = 1 / utilisation_max (linear estimate).
+  std::optional<double> lambda_yield;
+  std::string lambda_yield_path;  ///< "perfect" or "imperfect"
+  /// The largest cross-section utilisation reached on that path (at its last point: < 1 when
+  /// the structure buckles before any bar yields), and λ_y of the perfect path when followed.
+  double path_utilisation_max = 0;
+  std::optional<double> lambda_yield_perfect;
+  std::optional<double> lambda_yield_linear;
   int num_elements = 0, num_dofs = 0;
   std::map<std::string, double> timings;  ///< seconds per stage
 };

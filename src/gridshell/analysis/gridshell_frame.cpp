@@ -1,5 +1,9 @@
 #include "gridshell/analysis/gridshell_frame.h"
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
 
@@ -13,6 +17,59 @@ std::vector<double> tributary_areas(const PolyMesh& mesh) {
     for (int v : face) a[v] += area / static_cast<double>(face.size());
   }
   return a;
+}
+
+LoadModel parse_load_model(const std::string& word) {
+  for (LoadModel m : {LoadModel::paper, LoadModel::eurocode})
+    if (word == to_string(m)) return m;
+  throw Error("--loads", "'" + word + "' is not one of paper, eurocode");
+}
+
+const char* to_string(LoadModel model) {
+  return model == LoadModel::paper ? "paper" : "eurocode";
+}
+
+const char* to_string(Combination combination) {
+  return combination == Combination::uls ? "ULS" : "SLS";
+}
+
+std::pair<double, double> partial_factors(Combination combination) {
+  return combination == Combination::uls ? std::pair{1.35, 1.5} : std::pair{1.0, 1.0};
+}
+
+double snow_shape_factor(double slope_deg) {
+  if (slope_deg <= 30) return 0.8;
+  if (slope_deg < 60) return 0.8 * (60 - slope_deg) / 30;
+  return 0.0;
+}
+
+LoadCases eurocode_load_cases(const PolyMesh& mesh, const std::vector<double>& bar_weight_per_m,
+                              const GridshellFrameOptions& o) {
+  const int n = mesh.num_vertices();
+  LoadCases c{std::vector<double>(n, 0.0), std::vector<double>(n, 0.0),
+              std::vector<double>(n, 0.0)};
+  const Topology topo = build_topology(mesh);
+  for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+    const int i = topo.edges[e][0], j = topo.edges[e][1];
+    const double w = bar_weight_per_m[e] * (mesh.vertex(j) - mesh.vertex(i)).norm();
+    c.G1[i] -= 0.5 * w;
+    c.G1[j] -= 0.5 * w;
+  }
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const auto& face = mesh.faces[f];
+    Vec3 a = Vec3::Zero();
+    for (std::size_t k = 0; k < face.size(); ++k)
+      a += mesh.vertex(face[k]).cross(mesh.vertex(face[(k + 1) % face.size()]));
+    const double area = 0.5 * a.norm(), plan = 0.5 * std::abs(a.z());
+    if (!(area > 0)) continue;
+    const double slope = std::acos(std::clamp(plan / area, 0.0, 1.0)) * 180 / std::numbers::pi;
+    const double share = 1.0 / static_cast<double>(face.size());
+    for (int v : face) {
+      c.G2[v] -= o.glass_kN_m2 * 1e3 * area * share;
+      c.Q[v] -= snow_shape_factor(slope) * o.snow_kN_m2 * 1e3 * plan * share;
+    }
+  }
+  return c;
 }
 
 fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& supports,
@@ -40,6 +97,22 @@ fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& su
   }
   const int n = mesh.num_vertices();
   std::vector<double> fz(n, 0.0);
+  if (o.loads == LoadModel::eurocode) {
+    if (!(o.glass_kN_m2 >= 0) || !std::isfinite(o.glass_kN_m2))
+      throw Error("--glass", "must be a load >= 0 (kN/m²)");
+    if (!(o.snow_kN_m2 >= 0) || !std::isfinite(o.snow_kN_m2))
+      throw Error("--snow", "must be a load >= 0 (kN/m²)");
+    if (o.area_load_kN_m2 != 0)
+      throw Error("--area-load",
+                  "with --loads eurocode give the surface loads as --glass and --snow");
+    const double w = o.self_weight ? o.density * o.g * m.sections[0].A : 0.0;
+    const LoadCases c = eurocode_load_cases(mesh, std::vector<double>(topo.edges.size(), w), o);
+    const auto [gG, gQ] = partial_factors(o.combination);
+    for (int v = 0; v < n; ++v) fz[v] = gG * (c.G1[v] + c.G2[v]) + gQ * c.Q[v];
+    for (int v = 0; v < n; ++v)
+      if (fz[v] != 0) m.loads.push_back({v, Vec3(0, 0, fz[v]), Vec3::Zero()});
+    return m;
+  }
   const double A = m.sections[0].A;
   const double weight = o.self_weight ? o.density * o.g * A * fem::total_length(m) : 0.0;
   const std::vector<double> trib = tributary_areas(mesh);

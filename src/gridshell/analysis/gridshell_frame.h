@@ -8,13 +8,42 @@
 /// λ is a multiple of the structure's own weight. An optional area load (kN/m², same
 /// distribution) is added; `self_weight_at_bars` puts each bar's weight at its two ends instead.
 /// All loads act along −z. Cost: O(edges + face corners).
+///
+/// `loads = eurocode` replaces the paper's load by named load cases and an EN 1990 combination
+/// (docs/checks.md):
+/// * G1 — the bars' self-weight, each bar's weight at its two ends;
+/// * G2 — glass and cladding, `glass_kN_m2` per m² of panel surface (default 0.4 kN/m²:
+///   10 mm laminated glass ≈ 0.25 kN/m² plus fittings and sealing), corners share each face;
+/// * Q  — snow, `snow_kN_m2` = s_k per m² of plan, times the roof shape factor μ1 of the face's
+///   slope α (EN 1991-1-3 §5.3.2, Table 5.2: 0.8 for 0° ≤ α ≤ 30°, 0.8 (60° − α) / 30° up to
+///   60°, 0 above); a face's plan area and slope come from its area vector (Newell), corners
+///   share it. Wind is out of scope.
+/// * combinations (EN 1990 6.4.3.2 / 6.5.3, one variable action): ULS = 1.35 (G1 + G2) + 1.5 Q,
+///   SLS (characteristic) = G1 + G2 + Q.
 
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "gridshell/fem/frame_model.h"
 #include "gridshell/mesh/mesh.h"
 
 namespace gridshell::analysis {
+
+/// The load model: the paper's (self-weight spread over the surface, plus `area_load_kN_m2`) or
+/// the Eurocode load cases and combinations. The option words of `--loads`.
+enum class LoadModel { paper, eurocode };
+LoadModel parse_load_model(const std::string& word);  ///< throws Error("--loads")
+const char* to_string(LoadModel model);
+
+/// An EN 1990 combination of the eurocode load cases.
+enum class Combination { uls, sls };
+const char* to_string(Combination combination);
+/// Partial factors (γ_G, γ_Q): ULS (1.35, 1.5), SLS (1, 1).
+std::pair<double, double> partial_factors(Combination combination);
+
+/// Snow shape factor μ1 for a roof slope α [degrees] (EN 1991-1-3 Table 5.2).
+double snow_shape_factor(double slope_deg);
 
 struct GridshellFrameOptions {
   double diameter = 0.037;  ///< [m]
@@ -26,7 +55,18 @@ struct GridshellFrameOptions {
   bool self_weight = true;
   bool self_weight_at_bars = false;
   double area_load_kN_m2 = 0;
+  LoadModel loads = LoadModel::paper;
+  double glass_kN_m2 = 0.4;  ///< eurocode G2 [kN/m² of surface]
+  double snow_kN_m2 = 1.0;   ///< eurocode Q: s_k [kN/m² of plan]; set it for the site
+  Combination combination = Combination::uls;  ///< eurocode: which combination to build
 };
+
+/// The eurocode load cases as vertical joint forces [N, negative down], one per vertex.
+struct LoadCases {
+  std::vector<double> G1, G2, Q;
+};
+LoadCases eurocode_load_cases(const PolyMesh& mesh, const std::vector<double>& bar_weight_per_m,
+                              const GridshellFrameOptions& options);
 
 fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& supports,
                                 const GridshellFrameOptions& options = {});

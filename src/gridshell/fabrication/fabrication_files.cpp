@@ -42,15 +42,17 @@ std::string mm(double x) {
 }  // namespace
 
 FabricationData fabrication_data(const PolyMesh& mesh, const std::vector<int>& supports,
-                                 const std::vector<double>& axial_force,
-                                 const FabricationFileOptions& options) {
+                                 const BeamResults& beams, const FabricationFileOptions& options) {
   FabricationData d;
   const Topology topo = build_topology(mesh);
-  if (!axial_force.empty() && static_cast<int>(axial_force.size()) != topo.num_edges())
-    throw Error("fabrication", fmt::format("{} axial forces for {} beams", axial_force.size(),
-                                           topo.num_edges()));
+  for (const auto* values : {&beams.axial_force, &beams.utilisation, &beams.buckling_utilisation})
+    if (!values->empty() && static_cast<int>(values->size()) != topo.num_edges())
+      throw Error("fabrication",
+                  fmt::format("{} beam results for {} beams", values->size(), topo.num_edges()));
   d.parts = fabrication_parts(mesh, topo, supports, options.parts);
-  d.axial_force = axial_force;
+  d.axial_force = beams.axial_force;
+  d.utilisation = beams.utilisation;
+  d.buckling_utilisation = beams.buckling_utilisation;
   std::vector<std::vector<Vec2>> outlines;
   outlines.reserve(d.parts.panels.size());
   for (const Panel& p : d.parts.panels) outlines.push_back(p.flat.outline);
@@ -68,11 +70,16 @@ std::string joints_csv(const FabricationData& d) {
 }
 
 std::string beams_csv(const FabricationData& d) {
-  std::string s = "beam,node_i,node_j,length,axial_force,length_class,panels\n";
+  std::string s =
+      "beam,node_i,node_j,length,axial_force,utilisation,buckling_utilisation,length_class,"
+      "panels\n";
+  const auto cell = [](const std::vector<double>& v, int id) {
+    return v.empty() ? std::string() : num(v[id]);
+  };
   for (const Beam& b : d.parts.beams)
-    s += fmt::format("{},{},{},{},{},{},{}\n", b.id, b.i, b.j, num(b.length),
-                     d.axial_force.empty() ? std::string() : num(d.axial_force[b.id]),
-                     b.length_class, ints(b.panels));
+    s += fmt::format("{},{},{},{},{},{},{},{},{}\n", b.id, b.i, b.j, num(b.length),
+                     cell(d.axial_force, b.id), cell(d.utilisation, b.id),
+                     cell(d.buckling_utilisation, b.id), b.length_class, ints(b.panels));
   return s;
 }
 
@@ -221,10 +228,9 @@ nlohmann::json bill_of_materials(const FabricationData& d, const FabricationFile
 }
 
 nlohmann::json write_fabrication_files(const std::filesystem::path& dir, const PolyMesh& mesh,
-                                       const std::vector<int>& supports,
-                                       const std::vector<double>& axial_force,
+                                       const std::vector<int>& supports, const BeamResults& beams,
                                        const FabricationFileOptions& options) {
-  const FabricationData d = fabrication_data(mesh, supports, axial_force, options);
+  const FabricationData d = fabrication_data(mesh, supports, beams, options);
   io::write_file_atomic(dir / "joints.csv", joints_csv(d));
   io::write_file_atomic(dir / "beams.csv", beams_csv(d));
   io::write_file_atomic(dir / "panels.csv", panels_csv(d));

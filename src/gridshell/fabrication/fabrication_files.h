@@ -6,10 +6,12 @@
 /// - joints.csv  `joint,x,y,z,valence,support,beams,angles_deg` — beams: incident beam ids
 ///   counter-clockwise about the joint's normal, space-separated; angles_deg: the angle from
 ///   each of them to the next in the joint's tangent plane (same order, cyclic, Σ = 360).
-/// - beams.csv   `beam,node_i,node_j,length,axial_force,length_class,panels` — the CONTRACT's
-///   analyze columns first (length = cut length = centre-line length [m]; axial_force [N],
-///   tension positive, empty when not analysed), then the beam's length class (distinct lengths
-///   at `length_resolution`, 0 = shortest) and the panels on either side (space-separated).
+/// - beams.csv   `beam,node_i,node_j,length,axial_force,utilisation,buckling_utilisation,
+///   length_class,panels` — the CONTRACT's analyze columns first (length = cut length =
+///   centre-line length [m]; axial_force [N], tension positive, empty when not analysed), the
+///   member checks (cross-section and flexural buckling utilisation, checks/member_checks.h;
+///   empty when not analysed), then the beam's length class (distinct lengths at
+///   `length_resolution`, 0 = shortest) and the panels on either side (space-separated).
 /// - panels.csv  `panel,sides,joints,area,planarity,edge_length_error,sheet,rotation_deg,
 ///   offset_x,offset_y,outline` — joints in face order; outline: the flattened corners as
 ///   space-separated x y pairs in the panel's own plane [m]; on the sheet a corner p lands at
@@ -38,17 +40,25 @@ struct FabricationFileOptions {
   double bar_density = 7850;    ///< [kg/m³]
 };
 
+/// What an analysis says per beam (topology edge order); each empty when not analysed.
+struct BeamResults {
+  std::vector<double> axial_force;           ///< [N], tension positive
+  std::vector<double> utilisation;           ///< cross-section utilisation
+  std::vector<double> buckling_utilisation;  ///< flexural buckling utilisation
+};
+
 /// Everything the files show, computed once.
 struct FabricationData {
   Fabrication parts;
   Nesting nesting;
   std::vector<double> axial_force;  ///< per beam [N], empty when not analysed
+  std::vector<double> utilisation, buckling_utilisation;  ///< per beam, empty when not analysed
 };
 
-/// Parts and nesting of `mesh`. `axial_force`: per topology edge (the frame's member order), or
-/// empty; throws Error when its size is neither.
+/// Parts and nesting of `mesh`. `beams`: each per topology edge (the frame's member order), or
+/// empty; throws Error when a size is neither.
 FabricationData fabrication_data(const PolyMesh& mesh, const std::vector<int>& supports,
-                                 const std::vector<double>& axial_force,
+                                 const BeamResults& beams,
                                  const FabricationFileOptions& options = {});
 
 /// The file contents (exposed for tests).
@@ -64,8 +74,7 @@ nlohmann::json bill_of_materials(const FabricationData& d, const FabricationFile
 /// Writes joints.csv, beams.csv, panels.csv and panels.svg into `dir` (which must exist) and
 /// returns bill_of_materials.
 nlohmann::json write_fabrication_files(const std::filesystem::path& dir, const PolyMesh& mesh,
-                                       const std::vector<int>& supports,
-                                       const std::vector<double>& axial_force,
+                                       const std::vector<int>& supports, const BeamResults& beams,
                                        const FabricationFileOptions& options = {});
 
 }  // namespace gridshell::fabrication

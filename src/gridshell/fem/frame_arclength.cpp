@@ -201,6 +201,7 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
   }
   cur.negative = solver_cur->negative_pivots();
   res.path.push_back({0.0, max_displacement(mesh, start), cur.negative});
+  if (opt.on_point) opt.on_point(start, 0.0);
   Eigen::VectorXd ut_cur = solver_cur->solve(mesh.load);
   if (!ut_cur.allFinite()) {
     res.stop_reason = "the initial tangent is singular";
@@ -280,6 +281,7 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
                              : std::max({cur.lambda, next.lambda, lam_max});
       ++res.steps;
       res.path.push_back({next.lambda, max_displacement(mesh, next.state), next.negative});
+      if (opt.on_point) opt.on_point(next.state, next.lambda);
       cur = std::move(next);
       break;
     }
@@ -292,6 +294,7 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
     lam_max = std::max(lam_max, cur.lambda);
     const double umax = max_displacement(mesh, cur.state);
     res.path.push_back({cur.lambda, umax, cur.negative});
+    if (opt.on_point) opt.on_point(cur.state, cur.lambda);
     if (cur.lambda >= opt.max_lambda) {
       res.stop_reason = "maximum load factor reached";
       break;

@@ -23,6 +23,7 @@
 /// solve; per converged step one tangent assembly (~15 µs per element) and factorisation, plus
 /// the refreshes (typically one per step on a strongly non-linear path).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,9 @@ struct ArcLengthOptions {
   double critical_tolerance = 2e-4;  ///< relative width of the bracket on the critical λ
   bool stop_at_critical = true;
   Progress progress = {};  ///< told after every step (empty: nobody listens)
+  /// Called at every point added to the path (λ = 0 first, in path order) with its converged
+  /// state: e.g. to evaluate section forces along the path without keeping the states.
+  std::function<void(const FrameState& state, double lambda)> on_point;
 };
 
 struct PathPoint {

@@ -23,6 +23,9 @@ struct FrameSection {
   double Iz = 0;           ///< second moment about local z [m⁴]
   double J = 0;            ///< torsion constant [m⁴]
   Vec3 up = Vec3::Zero();  ///< local z hint; zero = default rule
+  /// Outer-fibre distance [m] for the elastic section modulus W = I / c of the member checks
+  /// (checks/member_checks.h); 0 = that of the solid circle of area A (√(A/π)).
+  double c = 0;
 };
 
 /// Solid circular section of diameter d: A = πd²/4, Iy = Iz = πd⁴/64, J = 2I.

@@ -651,4 +651,79 @@ BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& asse
   return out;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Section forces
+
+std::vector<ElementSectionForces> element_section_forces(const FrameMesh& mesh,
+                                                         const FrameAssembler& assembler,
+                                                         const Eigen::VectorXd& u) {
+  const Eigen::VectorXd full = assembler.expand(u);
+  const int ne = static_cast<int>(mesh.elements.size());
+  std::vector<ElementSectionForces> out(ne);
+  tbb::parallel_for(0, ne, [&](int k) {
+    const auto& e = mesh.elements[k];
+    Vec12 ue;
+    ue.head<6>() = full.segment<6>(6 * e.i);
+    ue.tail<6>() = full.segment<6>(6 * e.j);
+    const Vec12 fe = element_linear_stiffness(e) * ue;
+    const Mat3 Rt = e.beam.R0.transpose();
+    ElementSectionForces& s = out[k];
+    s.N = Rt.row(0).dot(fe.segment<3>(6));
+    if (e.truss) return;
+    for (int end = 0; end < 2; ++end) {
+      const Vec3 m = Rt * fe.segment<3>(6 * end + 3);
+      s.T[end] = m(0);
+      s.My[end] = m(1);
+      s.Mz[end] = m(2);
+    }
+  });
+  return out;
+}
+
+std::vector<ElementSectionForces> element_section_forces(const FrameMesh& mesh,
+                                                         const FrameState& state) {
+  const int ne = static_cast<int>(mesh.elements.size());
+  std::vector<ElementSectionForces> out(ne);
+  tbb::parallel_for(0, ne, [&](int k) {
+    const auto& e = mesh.elements[k];
+    const CorotState st = element_state(e, state);
+    ElementSectionForces& s = out[k];
+    if (e.truss) {
+      truss_force(e.beam.s.EA, e.beam.l0, st.xi, st.xj, &s.N);
+      return;
+    }
+    Vec7 d, f;
+    corot_local(e.beam, st, d, f);
+    s.N = f(0);
+    for (int end = 0; end < 2; ++end) {
+      s.T[end] = f(1 + 3 * end);
+      s.My[end] = f(2 + 3 * end);
+      s.Mz[end] = f(3 + 3 * end);
+    }
+  });
+  return out;
+}
+
+std::vector<MemberForces> member_forces(const FrameMesh& mesh,
+                                        const std::vector<ElementSectionForces>& elements) {
+  std::vector<MemberForces> out(mesh.member_elements.size());
+  for (size_t m = 0; m < mesh.member_elements.size(); ++m) {
+    MemberForces& f = out[m];
+    bool first = true;
+    for (int k : mesh.member_elements[m]) {
+      const ElementSectionForces& s = elements[k];
+      f.N_max = first ? s.N : std::max(f.N_max, s.N);
+      f.N_min = first ? s.N : std::min(f.N_min, s.N);
+      first = false;
+      for (int end = 0; end < 2; ++end) {
+        f.My = std::max(f.My, std::abs(s.My[end]));
+        f.Mz = std::max(f.Mz, std::abs(s.Mz[end]));
+        f.T = std::max(f.T, std::abs(s.T[end]));
+        f.M = std::max(f.M, std::hypot(s.My[end], s.Mz[end]));
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace gridshell::fem

@@ -147,6 +147,34 @@ LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assemble
 std::vector<double> element_strain_energy(const FrameMesh& mesh, const FrameAssembler& assembler,
                                           const Eigen::VectorXd& u);
 
+/// Section forces of one element in its local frame (x from node i to node j, y and z the
+/// section axes of frame_model.h): the axial force N (tension positive; constant along the
+/// element, loads act only at nodes) and, at end i and end j, the torsion T and the bending
+/// moments My, Mz (signs follow the end-force convention; checks use magnitudes). Trusses: N only.
+struct ElementSectionForces {
+  double N = 0;
+  std::array<double, 2> T{}, My{}, Mz{};
+};
+
+/// Of a linear solution (free-dof vector u): the local end forces K_e u_e.
+std::vector<ElementSectionForces> element_section_forces(const FrameMesh& mesh,
+                                                         const FrameAssembler& assembler,
+                                                         const Eigen::VectorXd& u);
+/// Of a corotational state: the local forces of the corotational element (f = ∂U/∂d).
+std::vector<ElementSectionForces> element_section_forces(const FrameMesh& mesh,
+                                                         const FrameState& state);
+
+/// The envelope of a model member's section forces over its elements' ends.
+struct MemberForces {
+  double N_max = 0;       ///< largest axial force (tension positive) [N]
+  double N_min = 0;       ///< smallest axial force (compression negative) [N]
+  double My = 0, Mz = 0;  ///< largest |My|, |Mz| [N·m]
+  double M = 0;           ///< largest resultant bending moment √(My² + Mz²) at one end [N·m]
+  double T = 0;           ///< largest |T| [N·m]
+};
+std::vector<MemberForces> member_forces(const FrameMesh& mesh,
+                                        const std::vector<ElementSectionForces>& elements);
+
 /// Linearised buckling: K φ = λ (−K_G(N_linear)) φ; the smallest positive λ first.
 struct BucklingResult {
   std::vector<double> lambdas;         ///< ascending, positive only

@@ -365,6 +365,17 @@ void check_design_options(const DesignOptions& o) {
   if (!(o.frame_analysis.displacement_limit >= 0) ||
       !std::isfinite(o.frame_analysis.displacement_limit))
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
+  if (!(o.frame_analysis.deflection_limit_divisor > 0))
+    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
+  if (o.frame.loads == analysis::LoadModel::eurocode) {
+    if (o.frame.area_load_kN_m2 != 0)
+      throw Error("--area-load",
+                  "with --loads eurocode give the surface loads as --glass and --snow");
+    if (!(o.frame.glass_kN_m2 >= 0) || !std::isfinite(o.frame.glass_kN_m2))
+      throw Error("--glass", "must be a load >= 0 (kN/m²)");
+    if (!(o.frame.snow_kN_m2 >= 0) || !std::isfinite(o.frame.snow_kN_m2))
+      throw Error("--snow", "must be a load >= 0 (kN/m²)");
+  }
   if (o.field == FieldInput::file && o.field_file.empty())
     throw Error("--field", "no field file given");
   check_tessellation_options(o.tessellation);
@@ -397,7 +408,79 @@ nlohmann::json structure_block(const analysis::FrameResult& r) {
   st["elements"] = r.num_elements;
   st["dofs"] = r.num_dofs;
   st["timings_s"] = r.timings;
+  add_checks_block(st, r);
   return st;
+}
+
+void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
+  // Serviceability.
+  st["span_m"] = r.span_m;
+  st["delta_limit_m"] = r.delta_limit_m;
+  st["delta_pass"] = r.delta_pass;
+  // Member checks (linear, λ = 1).
+  const checks::MemberChecks& c = r.checks;
+  st["utilisation_max"] = c.section_max;
+  st["utilisation_beam"] =
+      c.section_worst >= 0 ? nlohmann::json(c.section_worst) : nlohmann::json();
+  st["buckling_utilisation_max"] = c.buckling_max;
+  st["buckling_utilisation_beam"] =
+      c.buckling_worst >= 0 ? nlohmann::json(c.buckling_worst) : nlohmann::json();
+  // Stability: read together (λ_LBA alone overstates a grid-shell's capacity).
+  st["lambda_lba"] = optional_number(r.lambda_linear_buckling);
+  st["lambda_perfect"] = optional_number(r.lambda_perfect);
+  st["lambda_imperfect"] = optional_number(r.lambda_imperfect);
+  st["imperfection_sensitivity"] = r.lambda_perfect && r.lambda_imperfect && *r.lambda_perfect > 0
+                                       ? nlohmann::json(*r.lambda_imperfect / *r.lambda_perfect)
+                                       : nlohmann::json();
+  st["imperfection_amplitude_m"] =
+      r.lambda_imperfect ? nlohmann::json(r.imperfection_amplitude_m) : nlohmann::json();
+  st["lambda_y"] = optional_number(r.lambda_yield);
+  const bool path = !r.lambda_yield_path.empty();
+  st["lambda_y_path"] = path ? nlohmann::json(r.lambda_yield_path) : nlohmann::json();
+  st["path_utilisation_max"] = path ? nlohmann::json(r.path_utilisation_max) : nlohmann::json();
+  st["lambda_y_perfect"] = optional_number(r.lambda_yield_perfect);
+  st["lambda_y_linear"] = optional_number(r.lambda_yield_linear);
+}
+
+namespace {
+nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_G, double gamma_Q) {
+  nlohmann::json all = nlohmann::json::object();
+  add_checks_block(all, r);
+  nlohmann::json c;
+  c["gamma_G"] = gamma_G;
+  c["gamma_Q"] = gamma_Q;
+  c["delta_max_m"] = r.delta_max_m;
+  for (const char* key :
+       {"delta_limit_m", "delta_pass", "utilisation_max", "utilisation_beam",
+        "buckling_utilisation_max", "buckling_utilisation_beam", "lambda_lba", "lambda_perfect",
+        "lambda_imperfect", "imperfection_sensitivity", "lambda_y", "lambda_y_path",
+        "path_utilisation_max", "lambda_y_perfect", "lambda_y_linear"})
+    c[key] = all[key];
+  return c;
+}
+}  // namespace
+
+nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
+                                  const analysis::GridshellFrameOptions& frame,
+                                  const analysis::FrameAnalysisOptions& options,
+                                  const analysis::FrameResult& primary) {
+  nlohmann::json block;
+  if (frame.loads == analysis::LoadModel::paper) {
+    block["paper"] = combination_block(primary, 1, 0);
+    block["paper"].erase("gamma_G");  // the paper's load: the structure's own weight, λ-scaled
+    block["paper"].erase("gamma_Q");
+    return block;
+  }
+  const auto [uG, uQ] = analysis::partial_factors(analysis::Combination::uls);
+  block["ULS"] = combination_block(primary, uG, uQ);
+  analysis::GridshellFrameOptions sls = frame;
+  sls.combination = analysis::Combination::sls;
+  spdlog::info("[analysis] SLS combination: linear");
+  const analysis::FrameResult r =
+      analyze_gridshell(mesh, supports, analysis::AnalysisLevel::linear, sls, options);
+  const auto [sG, sQ] = analysis::partial_factors(analysis::Combination::sls);
+  block["SLS"] = combination_block(r, sG, sQ);
+  return block;
 }
 
 namespace {

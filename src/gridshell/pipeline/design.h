@@ -96,6 +96,20 @@ analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<
 
 /// The report.json `structure` block of a frame analysis (CONTRACT keys plus details).
 nlohmann::json structure_block(const analysis::FrameResult& r);
+/// The member checks, serviceability and stability keys of `structure` (docs/checks.md):
+/// span_m, delta_limit_m, delta_pass, utilisation_max, utilisation_beam,
+/// buckling_utilisation_max/_beam, lambda_lba, lambda_perfect, lambda_imperfect,
+/// imperfection_sensitivity (λ_imperfect / λ_perfect), imperfection_amplitude_m, lambda_y,
+/// lambda_y_path, lambda_y_linear (1 / utilisation_max). Called by structure_block.
+void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r);
 
+/// report.json's `structure.combinations`: one block per load combination with δ, its limit and
+/// pass/fail, the member checks and the stability figures (add_checks_block's keys that apply).
+/// paper load: {"paper": from `primary`}; eurocode: {"ULS": from `primary` (analysed with
+/// frame.combination = ULS), "SLS": a linear analysis of the SLS combination, run here}.
+nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
+                                  const analysis::GridshellFrameOptions& frame,
+                                  const analysis::FrameAnalysisOptions& options,
+                                  const analysis::FrameResult& primary);
 
 }  // namespace gridshell

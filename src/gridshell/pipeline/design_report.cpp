@@ -65,9 +65,15 @@ nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMe
   o.sheet = sheet;
   o.bar_diameter = frame.diameter;
   o.bar_density = frame.density;
-  static const std::vector<double> kNone;
-  return fabrication::write_fabrication_files(dir, mesh, supports,
-                                              structure ? structure->axial_force : kNone, o);
+  fabrication::BeamResults beams;
+  if (structure) {
+    beams.axial_force = structure->axial_force;
+    for (const checks::MemberCheck& c : structure->checks.members) {
+      beams.utilisation.push_back(c.section);
+      beams.buckling_utilisation.push_back(c.buckling);
+    }
+  }
+  return fabrication::write_fabrication_files(dir, mesh, supports, beams, o);
 }
 
 }  // namespace gridshell

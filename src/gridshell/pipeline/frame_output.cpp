@@ -1,5 +1,6 @@
 #include "gridshell/pipeline/frame_output.h"
 
+#include <algorithm>
 #include <array>
 #include <string>
 
@@ -31,11 +32,12 @@ void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel
     io::write_file_atomic(dir / "nodes.csv", s);
   }
   {
-    std::string s = "beam,node_i,node_j,length,axial_force\n";
+    std::string s = "beam,node_i,node_j,length,axial_force,utilisation,buckling_utilisation\n";
     for (size_t m = 0; m < model.members.size(); ++m)
-      s += fmt::format("{},{},{},{},{}\n", m, model.members[m].i, model.members[m].j,
+      s += fmt::format("{},{},{},{},{},{},{}\n", m, model.members[m].i, model.members[m].j,
                        fmt_num(fem::member_length(model, static_cast<int>(m))),
-                       fmt_num(r.axial_force[m]));
+                       fmt_num(r.axial_force[m]), fmt_num(r.checks.members[m].section),
+                       fmt_num(r.checks.members[m].buckling));
     io::write_file_atomic(dir / "beams.csv", s);
   }
   {
@@ -44,6 +46,7 @@ void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel
       s += fmt::format("{},{}\n", fmt_num(p.lambda), fmt_num(p.displacement));
     io::write_file_atomic(dir / "path.csv", s);
   }
+  write_buckling_modes(dir, r);
   if (r.nonlinear_displacement) {
     const Points& U = *r.nonlinear_displacement;
     const Points& R = *r.nonlinear_rotation;
@@ -68,6 +71,20 @@ void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel
     io::write_vtp_lines(dir / "frame.vtp", model.nodes, lines,
                         {{"displacement", disp}, {"support", sup}}, {{"axial_force", axial}});
   }
+}
+
+void write_buckling_modes(const std::filesystem::path& dir, const analysis::FrameResult& r,
+                          int count) {
+  if (r.buckling_modes.empty()) return;
+  std::string s = "mode,lambda,joint,ux,uy,uz\n";
+  const int n = std::min(count, static_cast<int>(r.buckling_modes.size()));
+  for (int k = 0; k < n; ++k) {
+    const Points& shape = r.buckling_modes[k];
+    for (int v = 0; v < static_cast<int>(shape.rows()); ++v)
+      s += fmt::format("{},{},{},{},{},{}\n", k + 1, fmt_num(r.buckling_lambdas[k]), v,
+                       fmt_num(shape(v, 0)), fmt_num(shape(v, 1)), fmt_num(shape(v, 2)));
+  }
+  io::write_file_atomic(dir / "modes.csv", s);
 }
 
 }  // namespace gridshell

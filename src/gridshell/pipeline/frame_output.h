@@ -1,10 +1,11 @@
 #pragma once
 /// \file frame_output.h
 /// The files of a frame analysis (`gridshell analyze`), per the CONTRACT: nodes.csv
-/// (`node,x,y,z,ux,uy,uz,support`), beams.csv (`beam,node_i,node_j,length,axial_force`),
-/// path.csv (`lambda,displacement` of the non-linear path), nodes_nonlinear.csv (with `rx,ry,rz`,
-/// when a non-linear equilibrium was asked for) and frame.vtp (ParaView lines with displacement,
-/// support flags and axial forces). All written atomically.
+/// (`node,x,y,z,ux,uy,uz,support`), beams.csv (`beam,node_i,node_j,length,axial_force,utilisation,
+/// buckling_utilisation`: the member checks after the CONTRACT's columns),
+/// path.csv (`lambda,displacement` of the non-linear path), modes.csv (write_buckling_modes),
+/// nodes_nonlinear.csv (with `rx,ry,rz`, when a non-linear equilibrium was asked for) and frame.vtp
+/// (ParaView lines with displacement, support flags and axial forces). All written atomically.
 
 #include <filesystem>
 #include <vector>
@@ -17,5 +18,10 @@ namespace gridshell {
 /// Writes the files above into `dir` (which must exist). `supports`: supported model nodes.
 void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel& model,
                          const std::vector<int>& supports, const analysis::FrameResult& r);
+
+/// modes.csv `mode,lambda,joint,ux,uy,uz`: the first `count` buckling modes' shapes (joint
+/// translations, largest 1, sign arbitrary) with their λ. Nothing when there are no modes.
+void write_buckling_modes(const std::filesystem::path& dir, const analysis::FrameResult& r,
+                          int count = 3);
 
 }  // namespace gridshell

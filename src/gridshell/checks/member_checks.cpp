@@ -1,0 +1,119 @@
+#include "gridshell/checks/member_checks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "gridshell/core/error.h"
+
+namespace gridshell::checks {
+
+SteelGrade parse_steel_grade(const std::string& word) {
+  for (SteelGrade g : {SteelGrade::s235, SteelGrade::s275, SteelGrade::s355})
+    if (word == to_string(g)) return g;
+  throw Error("--steel", "'" + word + "' is not one of S235, S275, S355");
+}
+
+const char* to_string(SteelGrade grade) {
+  switch (grade) {
+    case SteelGrade::s235:
+      return "S235";
+    case SteelGrade::s275:
+      return "S275";
+    case SteelGrade::s355:
+      return "S355";
+  }
+  return "?";
+}
+
+double yield_strength(SteelGrade grade) {
+  switch (grade) {
+    case SteelGrade::s235:
+      return 235e6;
+    case SteelGrade::s275:
+      return 275e6;
+    case SteelGrade::s355:
+      return 355e6;
+  }
+  return 0;
+}
+
+double buckling_reduction(double slenderness, double alpha) {
+  if (!(slenderness > 0.2)) return 1.0;
+  const double l2 = slenderness * slenderness;
+  const double phi = 0.5 * (1 + alpha * (slenderness - 0.2) + l2);
+  return std::min(1.0, 1.0 / (phi + std::sqrt(phi * phi - l2)));
+}
+
+namespace {
+
+struct SectionCapacity {
+  double A = 0, Wy = 0, Wz = 0, Imin = 0;
+};
+
+SectionCapacity capacity(const fem::FrameModel& model, int section) {
+  const fem::FrameSection& s = model.sections[section];
+  const double c = s.c > 0 ? s.c : std::sqrt(s.A / std::numbers::pi);
+  return {s.A, s.Iy / c, s.Iz / c, std::min(s.Iy, s.Iz)};
+}
+
+double section_utilisation(const SectionCapacity& c, const fem::MemberForces& f, double fy) {
+  const double N = std::max(std::abs(f.N_max), std::abs(f.N_min));
+  const double bending = c.Wy == c.Wz ? f.M / c.Wy : f.My / c.Wy + f.Mz / c.Wz;
+  return N / (c.A * fy) + bending / fy;
+}
+
+void check_inputs(const fem::FrameModel& model, const std::vector<fem::MemberForces>& forces,
+                  const MemberCheckOptions& o) {
+  if (forces.size() != model.members.size())
+    throw Error("checks", fmt::format("{} member forces for {} members", forces.size(),
+                                      model.members.size()));
+  if (!(o.fy > 0) || !std::isfinite(o.fy)) throw Error("checks", "fy must be > 0");
+}
+
+}  // namespace
+
+MemberChecks check_members(const fem::FrameModel& model,
+                           const std::vector<fem::MemberForces>& forces,
+                           const MemberCheckOptions& o) {
+  check_inputs(model, forces, o);
+  MemberChecks out;
+  out.members.resize(forces.size());
+  for (size_t m = 0; m < forces.size(); ++m) {
+    const fem::FrameMember& mb = model.members[m];
+    const SectionCapacity c = capacity(model, mb.section);
+    MemberCheck& r = out.members[m];
+    r.section = section_utilisation(c, forces[m], o.fy);
+    const double E = model.materials[mb.material].E;
+    const double L = o.buckling_length_factor * fem::member_length(model, static_cast<int>(m));
+    const double Ncr = std::numbers::pi * std::numbers::pi * E * c.Imin / (L * L);
+    r.slenderness = Ncr > 0 ? std::sqrt(c.A * o.fy / Ncr) : 0;
+    r.chi = buckling_reduction(r.slenderness, o.alpha);
+    const double compression = std::max(0.0, -forces[m].N_min);
+    r.buckling = compression / (r.chi * c.A * o.fy);
+    if (out.section_worst < 0 || r.section > out.section_max) {
+      out.section_max = r.section;
+      out.section_worst = static_cast<int>(m);
+    }
+    if (compression > 0 && (out.buckling_worst < 0 || r.buckling > out.buckling_max)) {
+      out.buckling_max = r.buckling;
+      out.buckling_worst = static_cast<int>(m);
+    }
+  }
+  return out;
+}
+
+double max_section_utilisation(const fem::FrameModel& model,
+                               const std::vector<fem::MemberForces>& forces,
+                               const MemberCheckOptions& o) {
+  check_inputs(model, forces, o);
+  double u = 0;
+  for (size_t m = 0; m < forces.size(); ++m)
+    u = std::max(
+        u, section_utilisation(capacity(model, model.members[m].section), forces[m], o.fy));
+  return u;
+}
+
+}  // namespace gridshell::checks
