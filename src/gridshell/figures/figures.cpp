@@ -27,6 +27,14 @@ std::vector<std::array<int, 2>> beams_of(const FigureInput& in) {
   return build_topology(*in.gridshell).edges;
 }
 
+/// The supported joints that exist (a support list never indexes off the joints).
+std::vector<int> supports_of(const FigureInput& in) {
+  std::vector<int> out;
+  for (int v : in.supports)
+    if (v >= 0 && v < in.gridshell->num_vertices()) out.push_back(v);
+  return out;
+}
+
 /// The linear axial forces per beam [N] when the analysis has one per beam, else null.
 const std::vector<double>* forces_of(const FigureInput& in, std::size_t beams) {
   if (!in.structure || in.structure->axial_force.size() != beams || beams == 0) return nullptr;
@@ -248,7 +256,7 @@ Canvas draw_plan(const FigureInput& in, const FigureOptions& options) {
   for (int k : order)
     draw_line(canvas, px[beams[k][0]], px[beams[k][1]],
               force ? scale((*force)[k] / 1000) : kBeamGrey, width);
-  for (int v : in.supports) draw_square(canvas, px[v], 2 * width + 6, kSupport);
+  for (int v : supports_of(in)) draw_square(canvas, px[v], 2 * width + 6, kSupport);
   draw_axes(canvas, axes, "x [m]", "y [m]");
   const double fs = font_size(canvas);
   if (force) draw_force_legend(canvas, page, scale, *force);
@@ -307,7 +315,7 @@ Canvas draw_perspective(const FigureInput& in, const FigureOptions& options) {
     set_color(canvas, kGlass, 0.45);
     cairo_fill(cr);
   }
-  for (int v : in.supports) draw_support_triangle(canvas, px[v], 2 * width + 8, kSupport);
+  for (int v : supports_of(in)) draw_support_triangle(canvas, px[v], 2 * width + 8, kSupport);
   if (force) draw_force_legend(canvas, page, scale, *force);
   draw_supports_legend(canvas, page, true);
   draw_title(canvas, page.title, force_heading("Perspective", force != nullptr), in.title);
@@ -347,7 +355,7 @@ Canvas draw_field(const FigureInput& in, const FigureOptions& options) {
     const Points& V = in.gridshell->V;
     for (const auto& b : beams)
       draw_line(canvas, axes.to_pixel(V(b[0], 0), V(b[0], 1)),
-                axes.to_pixel(V(b[1], 0), V(b[1], 1)), {1, 1, 1}, 1.2, 0.45);
+                axes.to_pixel(V(b[1], 0), V(b[1], 1)), {1, 1, 1}, 1.2, 0.6);
   }
   // Direction segments on a plan grid: per grid cell the triangle whose centroid is nearest
   // its centre.
@@ -367,8 +375,9 @@ Canvas draw_field(const FigureInput& in, const FigureOptions& options) {
       best[slot] = dist, pick[slot] = f;
   }
   const double cell_px = cell * axes.pixels_per_unit_x();
+  const bool isotropic = a_max <= 1 + 1e-9;  // no stretch, so u means nothing
   for (int f : pick) {
-    if (f < 0) continue;
+    if (f < 0 || isotropic) continue;
     const Vec2 u(field.u[f].x(), field.u[f].y());
     if (u.norm() < 1e-6) continue;
     const double t = a_max > 1 + 1e-9 ? (field.a[f] - 1) / (a_max - 1) : 0.0;
@@ -383,9 +392,12 @@ Canvas draw_field(const FigureInput& in, const FigureOptions& options) {
   draw_scale_bar(canvas, axes, page.legend.x - 1.0 * fs, page.legend.y + page.legend.h + 3.0 * fs);
   draw_colorbar(canvas, page.legend, scale, "density d  (cells 1/d across; 1 … D)");
   draw_title(canvas, page.title,
-             fmt::format("Design field: density d (colour), stretch direction u (segments; "
-                         "longer and darker = more anisotropic, a up to {:.3g})",
-                         a_max),
+             isotropic ? std::string("Design field: density d (colour); isotropic cells (a = 1), "
+                                     "no stretch direction")
+                       : fmt::format("Design field: density d (colour), stretch direction u "
+                                     "(segments; longer and darker = more anisotropic, a up to "
+                                     "{:.3g})",
+                                     a_max),
              in.title);
   return canvas;
 }
@@ -414,7 +426,7 @@ Canvas draw_buckling_mode(const FigureInput& in, const FigureOptions& options) {
     const auto& b = beams[k];
     draw_line(canvas, p1[b[0]], p1[b[1]], scale(0.5 * (magnitude[b[0]] + magnitude[b[1]])), width);
   }
-  for (int v : in.supports) draw_support_triangle(canvas, p0[v], 2 * width + 8, kSupport);
+  for (int v : supports_of(in)) draw_support_triangle(canvas, p0[v], 2 * width + 8, kSupport);
   draw_colorbar(canvas, page.legend, scale, "mode displacement  (largest = 1)");
   draw_supports_legend(canvas, page, true);
   std::string others;
