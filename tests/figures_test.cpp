@@ -243,6 +243,14 @@ TEST(Figures, AnAnalysedShellGetsEveryFigureNonTrivialAndOfTheStatedSize) {
     EXPECT_GT(s.inked, 0.03) << f;   // more than a frame and a title
     EXPECT_LT(s.inked, 0.85) << f;   // not a flood
   }
+  // Deterministic: drawn again, the same bytes.
+  EXPECT_EQ(draw_buckling_mode({.title = "small shell",
+                                .gridshell = &mesh,
+                                .supports = surface.supports,
+                                .structure = &st},
+                               o)
+                .png(),
+            slurp(dir / "figures/buckling_mode.png"));
   // The field fills the surface's plan: its share of ink is the largest.
   EXPECT_GT(png_stats(dir / "figures/field.png").inked, png_stats(dir / "figures/top.png").inked);
 }
