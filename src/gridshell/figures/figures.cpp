@@ -18,6 +18,8 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
+constexpr double kPi = 3.14159265358979323846;
+
 constexpr Rgb kBeamGrey{0.35, 0.35, 0.38};
 constexpr Rgb kSupport{0.08, 0.08, 0.08};
 constexpr Rgb kGlass{0.80, 0.87, 0.93};
@@ -55,7 +57,7 @@ ColorScale force_scale(const std::vector<double>& force) {
   return {ColorMap::diverging, -m, m};
 }
 
-/// The colour bar of axial forces and, under it, the largest force and the support symbol.
+/// The colour bar of axial forces and, under it, the range of all forces.
 void draw_force_legend(Canvas& canvas, const PageLayout& page, const ColorScale& scale,
                        const std::vector<double>& force) {
   draw_colorbar(canvas, page.legend, scale, "axial force [kN]  (− compression, + tension)");
@@ -124,7 +126,7 @@ Camera view_camera(const Points& V) {
   const Vec3 lo = V.colwise().minCoeff().transpose(), hi = V.colwise().maxCoeff().transpose();
   const Vec3 centre = 0.5 * (lo + hi);
   const double radius = std::max(0.5 * (hi - lo).norm(), 1e-6);
-  const double az = -60 * 3.14159265358979323846 / 180, el = 30 * 3.14159265358979323846 / 180;
+  const double az = -60 * kPi / 180, el = 30 * kPi / 180;
   Camera c;
   const Vec3 dir(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
   c.eye = centre + 2.8 * radius * dir;
@@ -455,48 +457,35 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
   if (st.lambda_linear_buckling && *st.lambda_linear_buckling < 1.5 * y_max)
     y_max = std::max(y_max, *st.lambda_linear_buckling);
   Box box = page.plot;
-  box.w = 0.62 * options.width;
+  box.w = 0.62 * options.width;  // room for the legend at the right
   const Axes axes = make_axes(box, 0, x_max * 1.05, 0, y_max * 1.08, false);
   const double fs = font_size(canvas);
   cairo_t* cr = canvas.cr();
   cairo_save(cr);
   cairo_rectangle(cr, box.x, box.y, box.w, box.h);
   cairo_clip(cr);
-  // Light grid at the ticks.
-  for (double x : nice_ticks(axes.x0, axes.x1, 8))
-    draw_line(canvas, axes.to_pixel(x, axes.y0), axes.to_pixel(x, axes.y1), {0.9, 0.9, 0.9}, 1);
-  for (double y : nice_ticks(axes.y0, axes.y1, 7))
-    draw_line(canvas, axes.to_pixel(axes.x0, y), axes.to_pixel(axes.x1, y), {0.9, 0.9, 0.9}, 1);
-  struct Entry {
-    Rgb color;
-    bool dashed, marker;
-    std::string text;
-  };
-  std::vector<Entry> legend;
+  draw_grid(canvas, axes);
   const Rgb path_color{0.10, 0.25, 0.60}, lba_color{0.75, 0.10, 0.10},
-      limit_color{0.45, 0.45, 0.45}, linear_color{0.25, 0.60, 0.30}, mark_color{0.95, 0.55, 0.05};
-  auto dashed = [&](const Vec2& a, const Vec2& b, const Rgb& c, double dash) {
-    const double pattern[] = {dash, 0.6 * dash};
-    cairo_set_dash(cr, pattern, 2, 0);
-    draw_line(canvas, a, b, c, 2.0);
-    cairo_set_dash(cr, nullptr, 0, 0);
-  };
-  // The linear response λ δ_lin.
-  if (st.delta_max_m > 0) {
-    dashed(axes.to_pixel(0, 0), axes.to_pixel(axes.x1, axes.x1 / (st.delta_max_m * 1000)),
-           linear_color, 3);
-    legend.push_back({linear_color, true, false,
+      limit_color{0.45, 0.45, 0.45}, linear_color{0.25, 0.60, 0.30}, delta_color{0.95, 0.55, 0.05},
+      critical_color{0.85, 0.15, 0.60};
+  std::vector<LegendEntry> legend;
+  if (st.delta_max_m > 0) {  // the linear response λ δ_lin
+    draw_dashed_line(canvas, axes.to_pixel(0, 0),
+                     axes.to_pixel(axes.x1, axes.x1 / (st.delta_max_m * 1000)), linear_color, 2, 3);
+    legend.push_back({linear_color, LegendSymbol::dashed,
                       fmt::format("linear (δ = {:.3g} mm at λ = 1)", st.delta_max_m * 1000)});
   }
   if (st.lambda_linear_buckling) {
     const double l = *st.lambda_linear_buckling;
-    dashed(axes.to_pixel(axes.x0, l), axes.to_pixel(axes.x1, l), lba_color, 14);
-    legend.push_back({lba_color, true, false, fmt::format("λ_LBA = {:.4g}", l)});
+    draw_dashed_line(canvas, axes.to_pixel(axes.x0, l), axes.to_pixel(axes.x1, l), lba_color, 2,
+                     14);
+    legend.push_back({lba_color, LegendSymbol::dashed, fmt::format("λ_LBA = {:.4g}", l)});
   }
   if (show_limit) {
-    dashed(axes.to_pixel(limit_mm, axes.y0), axes.to_pixel(limit_mm, axes.y1), limit_color, 8);
+    draw_dashed_line(canvas, axes.to_pixel(limit_mm, axes.y0), axes.to_pixel(limit_mm, axes.y1),
+                     limit_color, 2, 8);
     legend.push_back(
-        {limit_color, true, false, fmt::format("displacement limit {:.3g} mm", limit_mm)});
+        {limit_color, LegendSymbol::dashed, fmt::format("displacement limit {:.3g} mm", limit_mm)});
   }
   cairo_set_line_width(cr, 3);
   set_color(canvas, path_color);
@@ -508,59 +497,34 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
   for (const auto& pt : path) {  // the converged points, while they stay apart
     if (path.size() > 60) break;
     const Vec2 p = axes.to_pixel(pt.displacement * 1000, pt.lambda);
-    cairo_arc(cr, p.x(), p.y(), 4, 0, 2 * 3.14159265358979323846);
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, p.x(), p.y(), 4, 0, 2 * kPi);
     cairo_fill(cr);
   }
   legend.push_back(
-      {path_color, false, false, fmt::format("non-linear path ({} points)", path.size())});
-  auto marker = [&](double x_mm, double lambda, const Rgb& c) {
-    const Vec2 p = axes.to_pixel(x_mm, lambda);
-    cairo_arc(cr, p.x(), p.y(), 0.5 * fs, 0, 2 * 3.14159265358979323846);
-    set_color(canvas, c);
-    cairo_fill_preserve(cr);
-    set_color(canvas, {0.1, 0.1, 0.1});
-    cairo_set_line_width(cr, 1.5);
-    cairo_stroke(cr);
-  };
+      {path_color, LegendSymbol::line, fmt::format("non-linear path ({} points)", path.size())});
   if (st.lambda_displacement_limit && show_limit) {
-    marker(limit_mm, *st.lambda_displacement_limit, mark_color);
-    legend.push_back(
-        {mark_color, false, true, fmt::format("λ_δ = {:.4g}", *st.lambda_displacement_limit)});
+    draw_marker(canvas, axes.to_pixel(limit_mm, *st.lambda_displacement_limit), 0.5 * fs,
+                delta_color);
+    legend.push_back({delta_color, LegendSymbol::marker,
+                      fmt::format("λ_δ = {:.4g}", *st.lambda_displacement_limit)});
   }
   if (st.lambda_nonlinear && st.limit_type != "none") {
-    // The path point nearest the critical factor.
+    // At the path point nearest the critical factor.
     std::size_t best = 0;
     for (std::size_t k = 1; k < path.size(); ++k)
       if (std::abs(path[k].lambda - *st.lambda_nonlinear) <
           std::abs(path[best].lambda - *st.lambda_nonlinear))
         best = k;
-    marker(path[best].displacement * 1000, *st.lambda_nonlinear, {0.85, 0.15, 0.60});
-    legend.push_back({{0.85, 0.15, 0.60},
-                      false,
-                      true,
+    draw_marker(canvas, axes.to_pixel(path[best].displacement * 1000, *st.lambda_nonlinear),
+                0.5 * fs, critical_color);
+    legend.push_back({critical_color, LegendSymbol::marker,
                       fmt::format("λ = {:.4g} ({})", *st.lambda_nonlinear, st.limit_type)});
   }
   cairo_restore(cr);
   draw_axes(canvas, axes, "largest displacement [mm]", "load factor λ  (× reference load)");
-  // Legend to the right of the plot.
   const double lx = box.x + box.w + 2.0 * fs;
-  double ly = box.y + 1.0 * fs;
-  for (const Entry& e : legend) {
-    if (e.marker) {
-      cairo_arc(cr, lx + 1.2 * fs, ly, 0.5 * fs, 0, 2 * 3.14159265358979323846);
-      set_color(canvas, e.color);
-      cairo_fill(cr);
-    } else if (e.dashed) {
-      dashed({lx, ly}, {lx + 2.4 * fs, ly}, e.color, 0.5 * fs);
-    } else {
-      draw_line(canvas, {lx, ly}, {lx + 2.4 * fs, ly}, e.color, 3);
-    }
-    TextStyle style{.size = 0.9 * fs, .vertical = Align::middle};
-    const double room = options.width - lx - 4.0 * fs, w = text_width(canvas, e.text, style);
-    if (w > room) style.size *= room / w;
-    draw_text(canvas, lx + 3.2 * fs, ly, e.text, style);
-    ly += 1.8 * fs;
-  }
+  const double ly = draw_legend(canvas, legend, lx, box.y + fs, options.width - 0.8 * fs);
   if (!st.nonlinear_stop_reason.empty())
     draw_text(canvas, lx, ly + 0.5 * fs, "path ended: " + st.nonlinear_stop_reason,
               {.size = 0.75 * fs, .color = {0.35, 0.35, 0.35}, .vertical = Align::middle});
@@ -624,7 +588,7 @@ Canvas draw_heatmap(const SweepGrid& grid, const HeatmapLabels& labels,
   draw_text(canvas, box.x + 0.5 * box.w, box.y + box.h + 2.2 * fs, "density ratio D",
             {.size = fs, .horizontal = Align::middle, .vertical = Align::start});
   draw_text(canvas, box.x - 2.6 * fs, box.y + 0.5 * box.h, "anisotropy ratio A",
-            {.size = fs, .horizontal = Align::middle, .angle = 0.5 * 3.14159265358979323846});
+            {.size = fs, .horizontal = Align::middle, .angle = 0.5 * kPi});
   draw_colorbar(canvas, page.legend, scale, labels.value_label);
   draw_title(canvas, page.title, labels.heading, labels.subtitle);
   return canvas;

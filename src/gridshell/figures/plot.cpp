@@ -321,6 +321,33 @@ void draw_scale_bar(Canvas& canvas, const Axes& axes, double x, double y) {
             {.size = 0.85 * fs, .vertical = Align::end});
 }
 
+void draw_grid(Canvas& canvas, const Axes& axes) {
+  const Rgb grey{0.9, 0.9, 0.9};
+  for (double x : nice_ticks(axes.x0, axes.x1, 8))
+    draw_line(canvas, axes.to_pixel(x, axes.y0), axes.to_pixel(x, axes.y1), grey, 1);
+  for (double y : nice_ticks(axes.y0, axes.y1, 7))
+    draw_line(canvas, axes.to_pixel(axes.x0, y), axes.to_pixel(axes.x1, y), grey, 1);
+}
+
+double draw_legend(Canvas& canvas, const std::vector<LegendEntry>& entries, double x, double y,
+                   double right) {
+  const double fs = font_size(canvas);
+  for (const LegendEntry& e : entries) {
+    if (e.symbol == LegendSymbol::marker)
+      draw_marker(canvas, {x + 1.2 * fs, y}, 0.5 * fs, e.color);
+    else if (e.symbol == LegendSymbol::dashed)
+      draw_dashed_line(canvas, {x, y}, {x + 2.4 * fs, y}, e.color, 2, 0.5 * fs);
+    else
+      draw_line(canvas, {x, y}, {x + 2.4 * fs, y}, e.color, 3);
+    TextStyle style{.size = 0.9 * fs, .vertical = Align::middle};
+    const double room = right - (x + 3.2 * fs), w = text_width(canvas, e.text, style);
+    if (w > room && room > 0) style.size *= room / w;
+    draw_text(canvas, x + 3.2 * fs, y, e.text, style);
+    y += 1.8 * fs;
+  }
+  return y;
+}
+
 // ---- Drawing helpers ---------------------------------------------------------------------
 
 void set_color(Canvas& canvas, const Rgb& c, double alpha) {
@@ -334,6 +361,25 @@ void draw_line(Canvas& canvas, const Eigen::Vector2d& a, const Eigen::Vector2d& 
   cairo_set_line_width(cr, width);
   cairo_move_to(cr, a.x(), a.y());
   cairo_line_to(cr, b.x(), b.y());
+  cairo_stroke(cr);
+}
+
+void draw_dashed_line(Canvas& canvas, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      const Rgb& color, double width, double dash) {
+  const double pattern[] = {dash, 0.6 * dash};
+  cairo_set_dash(canvas.cr(), pattern, 2, 0);
+  draw_line(canvas, a, b, color, width);
+  cairo_set_dash(canvas.cr(), nullptr, 0, 0);
+}
+
+void draw_marker(Canvas& canvas, const Eigen::Vector2d& p, double radius, const Rgb& fill) {
+  cairo_t* cr = canvas.cr();
+  cairo_new_sub_path(cr);
+  cairo_arc(cr, p.x(), p.y(), radius, 0, 2 * kPi);
+  set_color(canvas, fill);
+  cairo_fill_preserve(cr);
+  set_color(canvas, {0.1, 0.1, 0.1});
+  cairo_set_line_width(cr, 1.5);
   cairo_stroke(cr);
 }
 

@@ -145,11 +145,31 @@ void draw_colorbar(Canvas& canvas, const Box& strip, const ColorScale& scale,
 /// length written to its right; its left end at pixel (x, y) (y = its bottom).
 void draw_scale_bar(Canvas& canvas, const Axes& axes, double x, double y);
 
+/// Light grey lines at the axes' ticks, inside the plot box.
+void draw_grid(Canvas& canvas, const Axes& axes);
+
+/// A legend entry: a line sample (solid or dashed) or a round marker, and its text.
+enum class LegendSymbol { line, dashed, marker };
+struct LegendEntry {
+  Rgb color;
+  LegendSymbol symbol = LegendSymbol::line;
+  std::string text;
+};
+/// The entries one under the other from pixel (x, y) (the first entry's centre line), text
+/// shrunk to end before pixel x `right`; returns the y below the last entry.
+double draw_legend(Canvas& canvas, const std::vector<LegendEntry>& entries, double x, double y,
+                   double right);
+
 // ---- Drawing helpers ---------------------------------------------------------------------
 
 void set_color(Canvas& canvas, const Rgb& c, double alpha = 1);
 void draw_line(Canvas& canvas, const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Rgb& color,
                double width, double alpha = 1);
+/// A dashed line: dashes of `dash` pixels with gaps of 0.6 `dash`.
+void draw_dashed_line(Canvas& canvas, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      const Rgb& color, double width, double dash);
+/// A filled disc of `radius` pixels centred at p with a dark outline.
+void draw_marker(Canvas& canvas, const Eigen::Vector2d& p, double radius, const Rgb& fill);
 /// A filled square of side `size` centred at p, with a dark outline.
 void draw_square(Canvas& canvas, const Eigen::Vector2d& p, double size, const Rgb& fill);
 /// A filled triangle pointing up with its apex at p (a support symbol), dark outline.
