@@ -173,6 +173,12 @@ std::vector<int> far_to_near(const std::vector<std::array<int, 2>>& beams, const
   return order;
 }
 
+/// x with 4 significant digits, written out (no exponent) from 10⁴ to 10⁷.
+std::string number(double x) {
+  const double a = std::abs(x);
+  return a >= 1e4 && a < 1e7 ? fmt::format("{:.0f}", x) : fmt::format("{:.4g}", x);
+}
+
 /// n in Unicode subscript digits ("₁₂").
 std::string subscript(std::size_t n) {
   static const char* kDigits[] = {"₀", "₁", "₂", "₃", "₄", "₅", "₆", "₇", "₈", "₉"};
@@ -431,14 +437,17 @@ Canvas draw_buckling_mode(const FigureInput& in, const FigureOptions& options) {
   for (int v : supports_of(in)) draw_support_triangle(canvas, p0[v], 2 * width + 8, kSupport);
   draw_colorbar(canvas, page.legend, scale, "mode displacement  (largest = 1)");
   draw_supports_legend(canvas, page, true);
-  std::string others;
+  // The next factors under the legend: close ones mean a near-degenerate (symmetric) mode.
+  const double fs = font_size(canvas);
   for (std::size_t k = 1; k < std::min<std::size_t>(st.buckling_lambdas.size(), 4); ++k)
-    others += fmt::format("{}λ{} = {:.4g}", k == 1 ? "; " : ", ", subscript(k + 1),
-                          st.buckling_lambdas[k]);
+    draw_text(canvas, page.legend.x - 1.0 * fs,
+              page.legend.y + page.legend.h + (6.5 + 1.1 * static_cast<double>(k)) * fs,
+              fmt::format("λ{} = {}", subscript(k + 1), number(st.buckling_lambdas[k])),
+              {.size = 0.8 * fs, .color = {0.3, 0.3, 0.3}});
   draw_title(canvas, page.title,
-             fmt::format("First buckling mode: λ₁ = {:.4g}{} (linearised buckling; shown at "
-                         "10 % of the span, {:.3g} m; grey: undeformed)",
-                         st.buckling_lambdas.front(), others, amplitude),
+             fmt::format("First buckling mode: λ₁ = {} (linearised buckling), at 10 % of the "
+                         "span ({:.3g} m) over the undeformed grid (grey)",
+                         number(st.buckling_lambdas.front()), amplitude),
              in.title);
   return canvas;
 }
@@ -479,7 +488,7 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
     const double l = *st.lambda_linear_buckling;
     draw_dashed_line(canvas, axes.to_pixel(axes.x0, l), axes.to_pixel(axes.x1, l), lba_color, 2,
                      14);
-    legend.push_back({lba_color, LegendSymbol::dashed, fmt::format("λ_LBA = {:.4g}", l)});
+    legend.push_back({lba_color, LegendSymbol::dashed, "λ_LBA = " + number(l)});
   }
   if (show_limit) {
     draw_dashed_line(canvas, axes.to_pixel(limit_mm, axes.y0), axes.to_pixel(limit_mm, axes.y1),
@@ -506,8 +515,8 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
   if (st.lambda_displacement_limit && show_limit) {
     draw_marker(canvas, axes.to_pixel(limit_mm, *st.lambda_displacement_limit), 0.5 * fs,
                 delta_color);
-    legend.push_back({delta_color, LegendSymbol::marker,
-                      fmt::format("λ_δ = {:.4g}", *st.lambda_displacement_limit)});
+    legend.push_back(
+        {delta_color, LegendSymbol::marker, "λ_δ = " + number(*st.lambda_displacement_limit)});
   }
   if (st.lambda_nonlinear && st.limit_type != "none") {
     // At the path point nearest the critical factor.
@@ -519,7 +528,7 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
     draw_marker(canvas, axes.to_pixel(path[best].displacement * 1000, *st.lambda_nonlinear),
                 0.5 * fs, critical_color);
     legend.push_back({critical_color, LegendSymbol::marker,
-                      fmt::format("λ = {:.4g} ({})", *st.lambda_nonlinear, st.limit_type)});
+                      fmt::format("λ = {} ({})", number(*st.lambda_nonlinear), st.limit_type)});
   }
   cairo_restore(cr);
   draw_axes(canvas, axes, "largest displacement [mm]", "load factor λ  (× reference load)");

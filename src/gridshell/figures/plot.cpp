@@ -255,18 +255,33 @@ double text_width(Canvas& canvas, const std::string& text, const TextStyle& styl
   return ext.x_advance;
 }
 
+std::string fit_text(Canvas& canvas, const std::string& text, TextStyle& style, double room) {
+  const double w = text_width(canvas, text, style);
+  if (w <= room) return text;
+  // Shrink in steps (hinted advances do not scale exactly with the size).
+  const double smallest = 0.6 * style.size;
+  style.size = std::max(smallest, style.size * room / w);
+  while (style.size > smallest && text_width(canvas, text, style) > room)
+    style.size = std::max(smallest, 0.97 * style.size);
+  if (text_width(canvas, text, style) <= room) return text;
+  std::string cut = text;
+  while (!cut.empty() && text_width(canvas, cut + "…", style) > room) {
+    // Drop the last UTF-8 character: its continuation bytes (10xxxxxx), then its lead byte.
+    while (!cut.empty() && (static_cast<unsigned char>(cut.back()) & 0xC0) == 0x80) cut.pop_back();
+    if (!cut.empty()) cut.pop_back();
+  }
+  return cut + "…";
+}
+
 void draw_title(Canvas& canvas, const Box& band, const std::string& heading,
                 const std::string& subtitle) {
   const double fs = font_size(canvas), margin = 1.5 * fs, room = band.w - 2 * margin;
-  auto fitted = [&](const std::string& text, TextStyle style) {
-    const double w = text_width(canvas, text, style);
-    if (w > room) style.size = std::max(0.55 * style.size, style.size * room / w);
-    return style;
-  };
-  draw_text(canvas, band.x + margin, band.y + 0.42 * band.h, heading,
-            fitted(heading, {.size = 1.45 * fs, .bold = true}));
-  draw_text(canvas, band.x + margin, band.y + 0.80 * band.h, subtitle,
-            fitted(subtitle, {.size = 0.95 * fs, .color = {0.3, 0.3, 0.3}}));
+  TextStyle style{.size = 1.45 * fs, .bold = true};
+  draw_text(canvas, band.x + margin, band.y + 0.42 * band.h, fit_text(canvas, heading, style, room),
+            style);
+  style = {.size = 0.95 * fs, .color = {0.3, 0.3, 0.3}};
+  draw_text(canvas, band.x + margin, band.y + 0.80 * band.h,
+            fit_text(canvas, subtitle, style, room), style);
 }
 
 void draw_colorbar(Canvas& canvas, const Box& strip, const ColorScale& scale,

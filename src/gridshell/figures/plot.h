@@ -131,8 +131,12 @@ void draw_text(Canvas& canvas, double x, double y, const std::string& text, cons
 /// The width in pixels `text` takes at `style`.
 double text_width(Canvas& canvas, const std::string& text, const TextStyle& style);
 
+/// `text` as it fits in `room` pixels: `style.size` shrunk (down to 0.6 of it) and, if still
+/// too wide, the text cut at a character boundary and ended with "…".
+std::string fit_text(Canvas& canvas, const std::string& text, TextStyle& style, double room);
+
 /// The title band: `heading` (what the figure shows) in bold, `subtitle` (what was run) below;
-/// each shrunk to fit the width when too long.
+/// each fitted to the width (fit_text).
 void draw_title(Canvas& canvas, const Box& band, const std::string& heading,
                 const std::string& subtitle);
 
