@@ -98,6 +98,7 @@ case "$cmd" in
     build build-sanitize -DGRIDSHELL_SANITIZE=ON -DGRIDSHELL_BUILD_BENCH=OFF \
       -DGRIDSHELL_HEAVY_TESTS=OFF -DGRIDSHELL_MPI=OFF "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+      LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0" \
       ctest --test-dir build-sanitize --output-on-failure -j "$(nproc)" -LE heavy
     # The fuzz smoke run: the input readers' libFuzzer harnesses (Clang, build-fuzz/), 25 s each
     # over their seed corpus fuzz/corpus/; a crash, sanitizer report or hang fails the run.

@@ -154,6 +154,26 @@ TEST(Plot, EqualScaleAxesKeepMetresSquare) {
   EXPECT_NEAR(c.y(), 150, 1e-9);
 }
 
+TEST(Plot, LongTextIsShrunkThenCutToFit) {
+  Canvas canvas(640, 480);
+  const std::string text = "First buckling mode: λ₁ = 25561, shown at 10 % of the span";
+  TextStyle style{.size = 20};
+  const double full = text_width(canvas, text, style);
+  // Fits at 80 % of the width: shrunk, not cut.
+  std::string fitted = fit_text(canvas, text, style, 0.8 * full);
+  EXPECT_EQ(fitted, text);
+  EXPECT_LT(style.size, 20);
+  EXPECT_LE(text_width(canvas, fitted, style), 0.8 * full);
+  // A third of the width: shrunk to 60 %, then cut at a character with an ellipsis.
+  style.size = 20;
+  fitted = fit_text(canvas, text, style, full / 3);
+  EXPECT_DOUBLE_EQ(style.size, 12);
+  EXPECT_LE(text_width(canvas, fitted, style), full / 3);
+  ASSERT_GE(fitted.size(), 3u);
+  EXPECT_EQ(fitted.substr(fitted.size() - 3), "…");
+  EXPECT_EQ(text.rfind(fitted.substr(0, fitted.size() - 3), 0), 0u);
+}
+
 TEST(Plot, CanvasWritesAPngOfTheStatedSize) {
   const fs::path dir = test::temp_dir("figures_canvas");
   Canvas canvas(320, 200);
@@ -243,6 +263,14 @@ TEST(Figures, AnAnalysedShellGetsEveryFigureNonTrivialAndOfTheStatedSize) {
     EXPECT_GT(s.inked, 0.03) << f;   // more than a frame and a title
     EXPECT_LT(s.inked, 0.85) << f;   // not a flood
   }
+  // Deterministic: drawn again, the same bytes.
+  EXPECT_EQ(draw_buckling_mode({.title = "small shell",
+                                .gridshell = &mesh,
+                                .supports = surface.supports,
+                                .structure = &st},
+                               o)
+                .png(),
+            slurp(dir / "figures/buckling_mode.png"));
   // The field fills the surface's plan: its share of ink is the largest.
   EXPECT_GT(png_stats(dir / "figures/field.png").inked, png_stats(dir / "figures/top.png").inked);
 }

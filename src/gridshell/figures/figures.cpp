@@ -18,6 +18,8 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
+constexpr double kPi = 3.14159265358979323846;
+
 constexpr Rgb kBeamGrey{0.35, 0.35, 0.38};
 constexpr Rgb kSupport{0.08, 0.08, 0.08};
 constexpr Rgb kGlass{0.80, 0.87, 0.93};
@@ -25,6 +27,14 @@ constexpr Rgb kGlass{0.80, 0.87, 0.93};
 std::vector<std::array<int, 2>> beams_of(const FigureInput& in) {
   if (!in.beams.empty()) return in.beams;
   return build_topology(*in.gridshell).edges;
+}
+
+/// The supported joints that exist (a support list never indexes off the joints).
+std::vector<int> supports_of(const FigureInput& in) {
+  std::vector<int> out;
+  for (int v : in.supports)
+    if (v >= 0 && v < in.gridshell->num_vertices()) out.push_back(v);
+  return out;
 }
 
 /// The linear axial forces per beam [N] when the analysis has one per beam, else null.
@@ -47,7 +57,7 @@ ColorScale force_scale(const std::vector<double>& force) {
   return {ColorMap::diverging, -m, m};
 }
 
-/// The colour bar of axial forces and, under it, the largest force and the support symbol.
+/// The colour bar of axial forces and, under it, the range of all forces.
 void draw_force_legend(Canvas& canvas, const PageLayout& page, const ColorScale& scale,
                        const std::vector<double>& force) {
   draw_colorbar(canvas, page.legend, scale, "axial force [kN]  (− compression, + tension)");
@@ -116,7 +126,7 @@ Camera view_camera(const Points& V) {
   const Vec3 lo = V.colwise().minCoeff().transpose(), hi = V.colwise().maxCoeff().transpose();
   const Vec3 centre = 0.5 * (lo + hi);
   const double radius = std::max(0.5 * (hi - lo).norm(), 1e-6);
-  const double az = -60 * 3.14159265358979323846 / 180, el = 30 * 3.14159265358979323846 / 180;
+  const double az = -60 * kPi / 180, el = 30 * kPi / 180;
   Camera c;
   const Vec3 dir(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
   c.eye = centre + 2.8 * radius * dir;
@@ -161,6 +171,12 @@ std::vector<int> far_to_near(const std::vector<std::array<int, 2>>& beams, const
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return depth[a] > depth[b]; });
   return order;
+}
+
+/// x with 4 significant digits, written out (no exponent) from 10⁴ to 10⁷.
+std::string number(double x) {
+  const double a = std::abs(x);
+  return a >= 1e4 && a < 1e7 ? fmt::format("{:.0f}", x) : fmt::format("{:.4g}", x);
 }
 
 /// n in Unicode subscript digits ("₁₂").
@@ -248,7 +264,7 @@ Canvas draw_plan(const FigureInput& in, const FigureOptions& options) {
   for (int k : order)
     draw_line(canvas, px[beams[k][0]], px[beams[k][1]],
               force ? scale((*force)[k] / 1000) : kBeamGrey, width);
-  for (int v : in.supports) draw_square(canvas, px[v], 2 * width + 6, kSupport);
+  for (int v : supports_of(in)) draw_square(canvas, px[v], 2 * width + 6, kSupport);
   draw_axes(canvas, axes, "x [m]", "y [m]");
   const double fs = font_size(canvas);
   if (force) draw_force_legend(canvas, page, scale, *force);
@@ -307,7 +323,7 @@ Canvas draw_perspective(const FigureInput& in, const FigureOptions& options) {
     set_color(canvas, kGlass, 0.45);
     cairo_fill(cr);
   }
-  for (int v : in.supports) draw_support_triangle(canvas, px[v], 2 * width + 8, kSupport);
+  for (int v : supports_of(in)) draw_support_triangle(canvas, px[v], 2 * width + 8, kSupport);
   if (force) draw_force_legend(canvas, page, scale, *force);
   draw_supports_legend(canvas, page, true);
   draw_title(canvas, page.title, force_heading("Perspective", force != nullptr), in.title);
@@ -347,7 +363,7 @@ Canvas draw_field(const FigureInput& in, const FigureOptions& options) {
     const Points& V = in.gridshell->V;
     for (const auto& b : beams)
       draw_line(canvas, axes.to_pixel(V(b[0], 0), V(b[0], 1)),
-                axes.to_pixel(V(b[1], 0), V(b[1], 1)), {1, 1, 1}, 1.2, 0.45);
+                axes.to_pixel(V(b[1], 0), V(b[1], 1)), {1, 1, 1}, 1.2, 0.6);
   }
   // Direction segments on a plan grid: per grid cell the triangle whose centroid is nearest
   // its centre.
@@ -367,8 +383,9 @@ Canvas draw_field(const FigureInput& in, const FigureOptions& options) {
       best[slot] = dist, pick[slot] = f;
   }
   const double cell_px = cell * axes.pixels_per_unit_x();
+  const bool isotropic = a_max <= 1 + 1e-9;  // no stretch, so u means nothing
   for (int f : pick) {
-    if (f < 0) continue;
+    if (f < 0 || isotropic) continue;
     const Vec2 u(field.u[f].x(), field.u[f].y());
     if (u.norm() < 1e-6) continue;
     const double t = a_max > 1 + 1e-9 ? (field.a[f] - 1) / (a_max - 1) : 0.0;
@@ -383,9 +400,12 @@ Canvas draw_field(const FigureInput& in, const FigureOptions& options) {
   draw_scale_bar(canvas, axes, page.legend.x - 1.0 * fs, page.legend.y + page.legend.h + 3.0 * fs);
   draw_colorbar(canvas, page.legend, scale, "density d  (cells 1/d across; 1 … D)");
   draw_title(canvas, page.title,
-             fmt::format("Design field: density d (colour), stretch direction u (segments; "
-                         "longer and darker = more anisotropic, a up to {:.3g})",
-                         a_max),
+             isotropic ? std::string("Design field: density d (colour); isotropic cells (a = 1), "
+                                     "no stretch direction")
+                       : fmt::format("Design field: density d (colour), stretch direction u "
+                                     "(segments; longer and darker = more anisotropic, a up to "
+                                     "{:.3g})",
+                                     a_max),
              in.title);
   return canvas;
 }
@@ -414,17 +434,20 @@ Canvas draw_buckling_mode(const FigureInput& in, const FigureOptions& options) {
     const auto& b = beams[k];
     draw_line(canvas, p1[b[0]], p1[b[1]], scale(0.5 * (magnitude[b[0]] + magnitude[b[1]])), width);
   }
-  for (int v : in.supports) draw_support_triangle(canvas, p0[v], 2 * width + 8, kSupport);
+  for (int v : supports_of(in)) draw_support_triangle(canvas, p0[v], 2 * width + 8, kSupport);
   draw_colorbar(canvas, page.legend, scale, "mode displacement  (largest = 1)");
   draw_supports_legend(canvas, page, true);
-  std::string others;
+  // The next factors under the legend: close ones mean a near-degenerate (symmetric) mode.
+  const double fs = font_size(canvas);
   for (std::size_t k = 1; k < std::min<std::size_t>(st.buckling_lambdas.size(), 4); ++k)
-    others += fmt::format("{}λ{} = {:.4g}", k == 1 ? "; " : ", ", subscript(k + 1),
-                          st.buckling_lambdas[k]);
+    draw_text(canvas, page.legend.x - 1.0 * fs,
+              page.legend.y + page.legend.h + (6.5 + 1.1 * static_cast<double>(k)) * fs,
+              fmt::format("λ{} = {}", subscript(k + 1), number(st.buckling_lambdas[k])),
+              {.size = 0.8 * fs, .color = {0.3, 0.3, 0.3}});
   draw_title(canvas, page.title,
-             fmt::format("First buckling mode: λ₁ = {:.4g}{} (linearised buckling; shown at "
-                         "10 % of the span, {:.3g} m; grey: undeformed)",
-                         st.buckling_lambdas.front(), others, amplitude),
+             fmt::format("First buckling mode: λ₁ = {} (linearised buckling), at 10 % of the "
+                         "span ({:.3g} m) over the undeformed grid (grey)",
+                         number(st.buckling_lambdas.front()), amplitude),
              in.title);
   return canvas;
 }
@@ -443,48 +466,35 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
   if (st.lambda_linear_buckling && *st.lambda_linear_buckling < 1.5 * y_max)
     y_max = std::max(y_max, *st.lambda_linear_buckling);
   Box box = page.plot;
-  box.w = 0.62 * options.width;
+  box.w = 0.62 * options.width;  // room for the legend at the right
   const Axes axes = make_axes(box, 0, x_max * 1.05, 0, y_max * 1.08, false);
   const double fs = font_size(canvas);
   cairo_t* cr = canvas.cr();
   cairo_save(cr);
   cairo_rectangle(cr, box.x, box.y, box.w, box.h);
   cairo_clip(cr);
-  // Light grid at the ticks.
-  for (double x : nice_ticks(axes.x0, axes.x1, 8))
-    draw_line(canvas, axes.to_pixel(x, axes.y0), axes.to_pixel(x, axes.y1), {0.9, 0.9, 0.9}, 1);
-  for (double y : nice_ticks(axes.y0, axes.y1, 7))
-    draw_line(canvas, axes.to_pixel(axes.x0, y), axes.to_pixel(axes.x1, y), {0.9, 0.9, 0.9}, 1);
-  struct Entry {
-    Rgb color;
-    bool dashed, marker;
-    std::string text;
-  };
-  std::vector<Entry> legend;
+  draw_grid(canvas, axes);
   const Rgb path_color{0.10, 0.25, 0.60}, lba_color{0.75, 0.10, 0.10},
-      limit_color{0.45, 0.45, 0.45}, linear_color{0.25, 0.60, 0.30}, mark_color{0.95, 0.55, 0.05};
-  auto dashed = [&](const Vec2& a, const Vec2& b, const Rgb& c, double dash) {
-    const double pattern[] = {dash, 0.6 * dash};
-    cairo_set_dash(cr, pattern, 2, 0);
-    draw_line(canvas, a, b, c, 2.0);
-    cairo_set_dash(cr, nullptr, 0, 0);
-  };
-  // The linear response λ δ_lin.
-  if (st.delta_max_m > 0) {
-    dashed(axes.to_pixel(0, 0), axes.to_pixel(axes.x1, axes.x1 / (st.delta_max_m * 1000)),
-           linear_color, 3);
-    legend.push_back({linear_color, true, false,
+      limit_color{0.45, 0.45, 0.45}, linear_color{0.25, 0.60, 0.30}, delta_color{0.95, 0.55, 0.05},
+      critical_color{0.85, 0.15, 0.60};
+  std::vector<LegendEntry> legend;
+  if (st.delta_max_m > 0) {  // the linear response λ δ_lin
+    draw_dashed_line(canvas, axes.to_pixel(0, 0),
+                     axes.to_pixel(axes.x1, axes.x1 / (st.delta_max_m * 1000)), linear_color, 2, 3);
+    legend.push_back({linear_color, LegendSymbol::dashed,
                       fmt::format("linear (δ = {:.3g} mm at λ = 1)", st.delta_max_m * 1000)});
   }
   if (st.lambda_linear_buckling) {
     const double l = *st.lambda_linear_buckling;
-    dashed(axes.to_pixel(axes.x0, l), axes.to_pixel(axes.x1, l), lba_color, 14);
-    legend.push_back({lba_color, true, false, fmt::format("λ_LBA = {:.4g}", l)});
+    draw_dashed_line(canvas, axes.to_pixel(axes.x0, l), axes.to_pixel(axes.x1, l), lba_color, 2,
+                     14);
+    legend.push_back({lba_color, LegendSymbol::dashed, "λ_LBA = " + number(l)});
   }
   if (show_limit) {
-    dashed(axes.to_pixel(limit_mm, axes.y0), axes.to_pixel(limit_mm, axes.y1), limit_color, 8);
+    draw_dashed_line(canvas, axes.to_pixel(limit_mm, axes.y0), axes.to_pixel(limit_mm, axes.y1),
+                     limit_color, 2, 8);
     legend.push_back(
-        {limit_color, true, false, fmt::format("displacement limit {:.3g} mm", limit_mm)});
+        {limit_color, LegendSymbol::dashed, fmt::format("displacement limit {:.3g} mm", limit_mm)});
   }
   cairo_set_line_width(cr, 3);
   set_color(canvas, path_color);
@@ -496,59 +506,34 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
   for (const auto& pt : path) {  // the converged points, while they stay apart
     if (path.size() > 60) break;
     const Vec2 p = axes.to_pixel(pt.displacement * 1000, pt.lambda);
-    cairo_arc(cr, p.x(), p.y(), 4, 0, 2 * 3.14159265358979323846);
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, p.x(), p.y(), 4, 0, 2 * kPi);
     cairo_fill(cr);
   }
   legend.push_back(
-      {path_color, false, false, fmt::format("non-linear path ({} points)", path.size())});
-  auto marker = [&](double x_mm, double lambda, const Rgb& c) {
-    const Vec2 p = axes.to_pixel(x_mm, lambda);
-    cairo_arc(cr, p.x(), p.y(), 0.5 * fs, 0, 2 * 3.14159265358979323846);
-    set_color(canvas, c);
-    cairo_fill_preserve(cr);
-    set_color(canvas, {0.1, 0.1, 0.1});
-    cairo_set_line_width(cr, 1.5);
-    cairo_stroke(cr);
-  };
+      {path_color, LegendSymbol::line, fmt::format("non-linear path ({} points)", path.size())});
   if (st.lambda_displacement_limit && show_limit) {
-    marker(limit_mm, *st.lambda_displacement_limit, mark_color);
+    draw_marker(canvas, axes.to_pixel(limit_mm, *st.lambda_displacement_limit), 0.5 * fs,
+                delta_color);
     legend.push_back(
-        {mark_color, false, true, fmt::format("λ_δ = {:.4g}", *st.lambda_displacement_limit)});
+        {delta_color, LegendSymbol::marker, "λ_δ = " + number(*st.lambda_displacement_limit)});
   }
   if (st.lambda_nonlinear && st.limit_type != "none") {
-    // The path point nearest the critical factor.
+    // At the path point nearest the critical factor.
     std::size_t best = 0;
     for (std::size_t k = 1; k < path.size(); ++k)
       if (std::abs(path[k].lambda - *st.lambda_nonlinear) <
           std::abs(path[best].lambda - *st.lambda_nonlinear))
         best = k;
-    marker(path[best].displacement * 1000, *st.lambda_nonlinear, {0.85, 0.15, 0.60});
-    legend.push_back({{0.85, 0.15, 0.60},
-                      false,
-                      true,
-                      fmt::format("λ = {:.4g} ({})", *st.lambda_nonlinear, st.limit_type)});
+    draw_marker(canvas, axes.to_pixel(path[best].displacement * 1000, *st.lambda_nonlinear),
+                0.5 * fs, critical_color);
+    legend.push_back({critical_color, LegendSymbol::marker,
+                      fmt::format("λ = {} ({})", number(*st.lambda_nonlinear), st.limit_type)});
   }
   cairo_restore(cr);
   draw_axes(canvas, axes, "largest displacement [mm]", "load factor λ  (× reference load)");
-  // Legend to the right of the plot.
   const double lx = box.x + box.w + 2.0 * fs;
-  double ly = box.y + 1.0 * fs;
-  for (const Entry& e : legend) {
-    if (e.marker) {
-      cairo_arc(cr, lx + 1.2 * fs, ly, 0.5 * fs, 0, 2 * 3.14159265358979323846);
-      set_color(canvas, e.color);
-      cairo_fill(cr);
-    } else if (e.dashed) {
-      dashed({lx, ly}, {lx + 2.4 * fs, ly}, e.color, 0.5 * fs);
-    } else {
-      draw_line(canvas, {lx, ly}, {lx + 2.4 * fs, ly}, e.color, 3);
-    }
-    TextStyle style{.size = 0.9 * fs, .vertical = Align::middle};
-    const double room = options.width - lx - 4.0 * fs, w = text_width(canvas, e.text, style);
-    if (w > room) style.size *= room / w;
-    draw_text(canvas, lx + 3.2 * fs, ly, e.text, style);
-    ly += 1.8 * fs;
-  }
+  const double ly = draw_legend(canvas, legend, lx, box.y + fs, options.width - 0.8 * fs);
   if (!st.nonlinear_stop_reason.empty())
     draw_text(canvas, lx, ly + 0.5 * fs, "path ended: " + st.nonlinear_stop_reason,
               {.size = 0.75 * fs, .color = {0.35, 0.35, 0.35}, .vertical = Align::middle});
@@ -612,7 +597,7 @@ Canvas draw_heatmap(const SweepGrid& grid, const HeatmapLabels& labels,
   draw_text(canvas, box.x + 0.5 * box.w, box.y + box.h + 2.2 * fs, "density ratio D",
             {.size = fs, .horizontal = Align::middle, .vertical = Align::start});
   draw_text(canvas, box.x - 2.6 * fs, box.y + 0.5 * box.h, "anisotropy ratio A",
-            {.size = fs, .horizontal = Align::middle, .angle = 0.5 * 3.14159265358979323846});
+            {.size = fs, .horizontal = Align::middle, .angle = 0.5 * kPi});
   draw_colorbar(canvas, page.legend, scale, labels.value_label);
   draw_title(canvas, page.title, labels.heading, labels.subtitle);
   return canvas;

@@ -255,18 +255,33 @@ double text_width(Canvas& canvas, const std::string& text, const TextStyle& styl
   return ext.x_advance;
 }
 
+std::string fit_text(Canvas& canvas, const std::string& text, TextStyle& style, double room) {
+  const double w = text_width(canvas, text, style);
+  if (w <= room) return text;
+  // Shrink in steps (hinted advances do not scale exactly with the size).
+  const double smallest = 0.6 * style.size;
+  style.size = std::max(smallest, style.size * room / w);
+  while (style.size > smallest && text_width(canvas, text, style) > room)
+    style.size = std::max(smallest, 0.97 * style.size);
+  if (text_width(canvas, text, style) <= room) return text;
+  std::string cut = text;
+  while (!cut.empty() && text_width(canvas, cut + "…", style) > room) {
+    // Drop the last UTF-8 character: its continuation bytes (10xxxxxx), then its lead byte.
+    while (!cut.empty() && (static_cast<unsigned char>(cut.back()) & 0xC0) == 0x80) cut.pop_back();
+    if (!cut.empty()) cut.pop_back();
+  }
+  return cut + "…";
+}
+
 void draw_title(Canvas& canvas, const Box& band, const std::string& heading,
                 const std::string& subtitle) {
   const double fs = font_size(canvas), margin = 1.5 * fs, room = band.w - 2 * margin;
-  auto fitted = [&](const std::string& text, TextStyle style) {
-    const double w = text_width(canvas, text, style);
-    if (w > room) style.size = std::max(0.55 * style.size, style.size * room / w);
-    return style;
-  };
-  draw_text(canvas, band.x + margin, band.y + 0.42 * band.h, heading,
-            fitted(heading, {.size = 1.45 * fs, .bold = true}));
-  draw_text(canvas, band.x + margin, band.y + 0.80 * band.h, subtitle,
-            fitted(subtitle, {.size = 0.95 * fs, .color = {0.3, 0.3, 0.3}}));
+  TextStyle style{.size = 1.45 * fs, .bold = true};
+  draw_text(canvas, band.x + margin, band.y + 0.42 * band.h, fit_text(canvas, heading, style, room),
+            style);
+  style = {.size = 0.95 * fs, .color = {0.3, 0.3, 0.3}};
+  draw_text(canvas, band.x + margin, band.y + 0.80 * band.h,
+            fit_text(canvas, subtitle, style, room), style);
 }
 
 void draw_colorbar(Canvas& canvas, const Box& strip, const ColorScale& scale,
@@ -321,6 +336,33 @@ void draw_scale_bar(Canvas& canvas, const Axes& axes, double x, double y) {
             {.size = 0.85 * fs, .vertical = Align::end});
 }
 
+void draw_grid(Canvas& canvas, const Axes& axes) {
+  const Rgb grey{0.9, 0.9, 0.9};
+  for (double x : nice_ticks(axes.x0, axes.x1, 8))
+    draw_line(canvas, axes.to_pixel(x, axes.y0), axes.to_pixel(x, axes.y1), grey, 1);
+  for (double y : nice_ticks(axes.y0, axes.y1, 7))
+    draw_line(canvas, axes.to_pixel(axes.x0, y), axes.to_pixel(axes.x1, y), grey, 1);
+}
+
+double draw_legend(Canvas& canvas, const std::vector<LegendEntry>& entries, double x, double y,
+                   double right) {
+  const double fs = font_size(canvas);
+  for (const LegendEntry& e : entries) {
+    if (e.symbol == LegendSymbol::marker)
+      draw_marker(canvas, {x + 1.2 * fs, y}, 0.5 * fs, e.color);
+    else if (e.symbol == LegendSymbol::dashed)
+      draw_dashed_line(canvas, {x, y}, {x + 2.4 * fs, y}, e.color, 2, 0.5 * fs);
+    else
+      draw_line(canvas, {x, y}, {x + 2.4 * fs, y}, e.color, 3);
+    TextStyle style{.size = 0.9 * fs, .vertical = Align::middle};
+    const double room = right - (x + 3.2 * fs), w = text_width(canvas, e.text, style);
+    if (w > room && room > 0) style.size *= room / w;
+    draw_text(canvas, x + 3.2 * fs, y, e.text, style);
+    y += 1.8 * fs;
+  }
+  return y;
+}
+
 // ---- Drawing helpers ---------------------------------------------------------------------
 
 void set_color(Canvas& canvas, const Rgb& c, double alpha) {
@@ -334,6 +376,25 @@ void draw_line(Canvas& canvas, const Eigen::Vector2d& a, const Eigen::Vector2d& 
   cairo_set_line_width(cr, width);
   cairo_move_to(cr, a.x(), a.y());
   cairo_line_to(cr, b.x(), b.y());
+  cairo_stroke(cr);
+}
+
+void draw_dashed_line(Canvas& canvas, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      const Rgb& color, double width, double dash) {
+  const double pattern[] = {dash, 0.6 * dash};
+  cairo_set_dash(canvas.cr(), pattern, 2, 0);
+  draw_line(canvas, a, b, color, width);
+  cairo_set_dash(canvas.cr(), nullptr, 0, 0);
+}
+
+void draw_marker(Canvas& canvas, const Eigen::Vector2d& p, double radius, const Rgb& fill) {
+  cairo_t* cr = canvas.cr();
+  cairo_new_sub_path(cr);
+  cairo_arc(cr, p.x(), p.y(), radius, 0, 2 * kPi);
+  set_color(canvas, fill);
+  cairo_fill_preserve(cr);
+  set_color(canvas, {0.1, 0.1, 0.1});
+  cairo_set_line_width(cr, 1.5);
   cairo_stroke(cr);
 }
 

@@ -131,8 +131,12 @@ void draw_text(Canvas& canvas, double x, double y, const std::string& text, cons
 /// The width in pixels `text` takes at `style`.
 double text_width(Canvas& canvas, const std::string& text, const TextStyle& style);
 
+/// `text` as it fits in `room` pixels: `style.size` shrunk (down to 0.6 of it) and, if still
+/// too wide, the text cut at a character boundary and ended with "…".
+std::string fit_text(Canvas& canvas, const std::string& text, TextStyle& style, double room);
+
 /// The title band: `heading` (what the figure shows) in bold, `subtitle` (what was run) below;
-/// each shrunk to fit the width when too long.
+/// each fitted to the width (fit_text).
 void draw_title(Canvas& canvas, const Box& band, const std::string& heading,
                 const std::string& subtitle);
 
@@ -145,11 +149,31 @@ void draw_colorbar(Canvas& canvas, const Box& strip, const ColorScale& scale,
 /// length written to its right; its left end at pixel (x, y) (y = its bottom).
 void draw_scale_bar(Canvas& canvas, const Axes& axes, double x, double y);
 
+/// Light grey lines at the axes' ticks, inside the plot box.
+void draw_grid(Canvas& canvas, const Axes& axes);
+
+/// A legend entry: a line sample (solid or dashed) or a round marker, and its text.
+enum class LegendSymbol { line, dashed, marker };
+struct LegendEntry {
+  Rgb color;
+  LegendSymbol symbol = LegendSymbol::line;
+  std::string text;
+};
+/// The entries one under the other from pixel (x, y) (the first entry's centre line), text
+/// shrunk to end before pixel x `right`; returns the y below the last entry.
+double draw_legend(Canvas& canvas, const std::vector<LegendEntry>& entries, double x, double y,
+                   double right);
+
 // ---- Drawing helpers ---------------------------------------------------------------------
 
 void set_color(Canvas& canvas, const Rgb& c, double alpha = 1);
 void draw_line(Canvas& canvas, const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Rgb& color,
                double width, double alpha = 1);
+/// A dashed line: dashes of `dash` pixels with gaps of 0.6 `dash`.
+void draw_dashed_line(Canvas& canvas, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      const Rgb& color, double width, double dash);
+/// A filled disc of `radius` pixels centred at p with a dark outline.
+void draw_marker(Canvas& canvas, const Eigen::Vector2d& p, double radius, const Rgb& fill);
 /// A filled square of side `size` centred at p, with a dark outline.
 void draw_square(Canvas& canvas, const Eigen::Vector2d& p, double size, const Rgb& fill);
 /// A filled triangle pointing up with its apex at p (a support symbol), dark outline.
