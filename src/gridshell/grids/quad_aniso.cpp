@@ -108,6 +108,43 @@ void pushed_directions(const TriMesh& rest, const TriMesh& def, const Field& fie
   }
 }
 
+/// Two triangles sharing an edge are a quad cut by a diagonal (a lattice step taken across a
+/// seam of the position field): the edge is removed, longest shared edges first.
+void merge_triangle_pairs(std::vector<std::vector<int>>& faces, const std::vector<Vec3>& p) {
+  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    if (faces[f].size() != 3) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = faces[f][k], b = faces[f][(k + 1) % 3];
+      edge_faces[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  }
+  std::vector<std::pair<double, std::pair<int, int>>> shared;
+  for (const auto& [e, fs] : edge_faces)
+    if (fs.size() == 2) shared.push_back({-(p[e.first] - p[e.second]).norm(), e});
+  std::sort(shared.begin(), shared.end());
+  std::vector<char> merged(faces.size(), 0);
+  for (const auto& [neg_length, e] : shared) {
+    const int f = edge_faces[e][0], g = edge_faces[e][1];
+    if (merged[f] || merged[g]) continue;
+    int k = 0;
+    while (!((faces[f][k] == e.first || faces[f][k] == e.second) &&
+             (faces[f][(k + 1) % 3] == e.first || faces[f][(k + 1) % 3] == e.second)))
+      ++k;
+    const int a = faces[f][k], b = faces[f][(k + 1) % 3], c = faces[f][(k + 2) % 3];
+    int d = -1;
+    for (int v : faces[g])
+      if (v != a && v != b) d = v;
+    if (d == c) continue;
+    faces[f] = {a, d, b, c};
+    faces[g].clear();
+    merged[f] = merged[g] = 1;
+  }
+  faces.erase(std::remove_if(faces.begin(), faces.end(),
+                             [](const std::vector<int>& f) { return f.empty(); }),
+              faces.end());
+}
+
 }  // namespace
 
 PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
@@ -210,21 +247,34 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
   }
   std::vector<int> cluster(nv, -1);
   int nc = 0;
-  for (int v = 0; v < nv; ++v) {
-    const int r = find_root(uf, v);
-    if (cluster[r] < 0) cluster[r] = nc++;
-    cluster[v] = cluster[r];
-  }
-  std::vector<Vec3> cpos(nc, Vec3::Zero()), cnorm(nc, Vec3::Zero());
-  std::vector<int> ccount(nc, 0);
-  for (int v = 0; v < nv; ++v) {
-    cpos[cluster[v]] += org[v];
-    cnorm[cluster[v]] += n[v];
-    ++ccount[cluster[v]];
-  }
-  for (int c = 0; c < nc; ++c) {
-    cpos[c] /= ccount[c];
-    cnorm[c] = cnorm[c].norm() > 0 ? Vec3(cnorm[c].normalized()) : Vec3(Vec3::UnitZ());
+  std::vector<Vec3> cpos, cnorm;
+  std::vector<int> ccount;
+  // Joints from the unions; then once more after merging the joints closer than 0.3 h (one
+  // lattice point split in two where the lattices of a seam disagree slightly).
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1)
+      for (const auto& s : steps)
+        if ((cpos[cluster[s[0]]] - cpos[cluster[s[1]]]).norm() < 0.3 * h)
+          uf[find_root(uf, s[0])] = find_root(uf, s[1]);
+    std::fill(cluster.begin(), cluster.end(), -1);
+    nc = 0;
+    for (int v = 0; v < nv; ++v) {
+      const int r = find_root(uf, v);
+      if (cluster[r] < 0) cluster[r] = nc++;
+      cluster[v] = cluster[r];
+    }
+    cpos.assign(nc, Vec3::Zero());
+    cnorm.assign(nc, Vec3::Zero());
+    ccount.assign(nc, 0);
+    for (int v = 0; v < nv; ++v) {
+      cpos[cluster[v]] += org[v];
+      cnorm[cluster[v]] += n[v];
+      ++ccount[cluster[v]];
+    }
+    for (int c = 0; c < nc; ++c) {
+      cpos[c] /= ccount[c];
+      cnorm[c] = cnorm[c].norm() > 0 ? Vec3(cnorm[c].normalized()) : Vec3(Vec3::UnitZ());
+    }
   }
   std::vector<std::set<int>> adj(nc);
   for (const auto& s : steps) {
@@ -291,6 +341,7 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
     }
   }
   if (faces.empty()) throw Error("quad-aniso", "extraction found no faces (spacing too large?)");
+  merge_triangle_pairs(faces, cpos);
 
   // 4. Joints back on M: each vertex's lattice point through the affine map of the incident
   // triangle that contains it best, averaged over the joint's vertices.
@@ -331,8 +382,10 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
 
 namespace {
 
+bool is_simple(const PolyMesh& mesh, const std::vector<int>& f);
+
 /// Moves the grid's outer-boundary joints near M's boundary onto it, collapses the stubs this
-/// makes, and drops unused joints.
+/// makes, and drops unused joints and faces that are not simple polygons.
 PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, double snap) {
   const Topology topo = build_topology(mesh);
   std::vector<Vec3> p(mesh.num_vertices());
@@ -356,8 +409,10 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
   PolyMesh out;
   std::vector<int> index(mesh.num_vertices(), -1);
   int count = 0;
+  PolyMesh moved{mesh.V, {}};
+  for (int v = 0; v < mesh.num_vertices(); ++v) moved.V.row(v) = p[v].transpose();
   for (auto& f : faces) {
-    if (f.size() < 3) continue;
+    if (f.size() < 3 || !is_simple(moved, f)) continue;  // a fold at the seam of the lattice
     for (int& v : f) {
       if (index[v] < 0) index[v] = count++;
       v = index[v];
@@ -378,7 +433,12 @@ bool is_isotropic(const Field& field) {
 
 }  // namespace
 
-QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const QuadAnisoOptions& o) {
+QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const QuadAnisoOptions& oo) {
+  QuadAnisoOptions o = oo;
+  if (getenv("QA_POS")) o.position_iterations = atoi(getenv("QA_POS"));
+  if (getenv("QA_ORI")) o.orientation_iterations = atoi(getenv("QA_ORI"));
+  if (getenv("QA_RES")) o.resolution = atof(getenv("QA_RES"));
+  if (getenv("QA_ALIGN")) o.alignment = atof(getenv("QA_ALIGN"));
   const TriMesh& mesh = surface.mesh;
   if (field.size() != mesh.num_faces())
     throw Error("quad-aniso", "the field does not have one entry per triangle");

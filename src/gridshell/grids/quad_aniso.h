@@ -44,7 +44,7 @@ struct QuadAnisoOptions {
   double length = 0;   ///< total beam length wanted (m): h is fitted (secant on L ∝ 1/h)
   double length_tolerance = 0.03;  ///< relative, for the fit
   int max_fits = 8;                ///< extractions tried by the fit before Error
-  double resolution = 3;           ///< M′ refined to edges ≤ h / resolution
+  double resolution = 2;           ///< M′ refined to edges ≤ h / resolution
   int orientation_iterations = 20;
   int position_iterations = 40;
   /// Weight of the data term of the cross-field smoothing, per unit coherence, relative to the
