@@ -145,6 +145,56 @@ void merge_triangle_pairs(std::vector<std::vector<int>>& faces, const std::vecto
               faces.end());
 }
 
+/// A triangle left among quads is a lattice defect with two joints of valence ≥ 5 on one of its
+/// edges: that edge (the longest such one with a quad on its other side) is removed, leaving a
+/// pentagon and two joints of valence 4 (the share of quads is unchanged but for one face).
+void absorb_lone_triangles(std::vector<std::vector<int>>& faces, const std::vector<Vec3>& p) {
+  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+  std::map<int, int> degree;
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    const int n = static_cast<int>(faces[f].size());
+    for (int k = 0; k < n; ++k) {
+      const int a = faces[f][k], b = faces[f][(k + 1) % n];
+      auto& fs = edge_faces[{std::min(a, b), std::max(a, b)}];
+      if (fs.empty()) ++degree[a], ++degree[b];
+      fs.push_back(f);
+    }
+  }
+  std::vector<char> changed(faces.size(), 0);
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    if (faces[f].size() != 3 || changed[f]) continue;
+    int best_k = -1, best_g = -1;
+    double best_length = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int a = faces[f][k], b = faces[f][(k + 1) % 3];
+      const auto& fs = edge_faces[{std::min(a, b), std::max(a, b)}];
+      if (fs.size() != 2 || degree[a] < 5 || degree[b] < 5) continue;
+      const int g = fs[0] == f ? fs[1] : fs[0];
+      if (faces[g].size() != 4 || changed[g]) continue;
+      const double length = (p[a] - p[b]).norm();
+      if (length > best_length) best_length = length, best_k = k, best_g = g;
+    }
+    if (best_k < 0) continue;
+    const int a = faces[f][best_k], b = faces[f][(best_k + 1) % 3], c = faces[f][(best_k + 2) % 3];
+    // The quad walks b → a; splice c in between.
+    std::vector<int>& q = faces[best_g];
+    int j = 0;
+    while (!(q[j] == b && q[(j + 1) % 4] == a)) ++j;
+    std::vector<int> pent;
+    for (int i = 0; i < 4; ++i) {
+      pent.push_back(q[(j + 1 + i) % 4]);  // a, …, b
+    }
+    pent.push_back(c);
+    q = pent;
+    faces[f].clear();
+    changed[f] = changed[best_g] = 1;
+    --degree[a], --degree[b];
+  }
+  faces.erase(std::remove_if(faces.begin(), faces.end(),
+                             [](const std::vector<int>& f) { return f.empty(); }),
+              faces.end());
+}
+
 }  // namespace
 
 PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
@@ -342,6 +392,7 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
   }
   if (faces.empty()) throw Error("quad-aniso", "extraction found no faces (spacing too large?)");
   merge_triangle_pairs(faces, cpos);
+  absorb_lone_triangles(faces, cpos);
 
   // 4. Joints back on M: each vertex's lattice point through the affine map of the incident
   // triangle that contains it best, averaged over the joint's vertices.
@@ -406,6 +457,34 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
   const double median = lengths.empty() ? 0 : lengths[lengths.size() / 2];
   std::vector<std::vector<int>> faces = mesh.faces;
   collapse_boundary_stubs(faces, p, rank, 0.25 * median);
+  // Beams still shorter than 0.12 × median (lattice points that nearly coincide): each collapsed
+  // into its boundary end, or to its midpoint; a face left with < 3 corners disappears.
+  std::vector<std::pair<double, std::array<int, 2>>> stubs;
+  for (const auto& f : faces)
+    for (size_t k = 0; k < f.size(); ++k) {
+      const int a = f[k], b = f[(k + 1) % f.size()];
+      const double l = (p[a] - p[b]).norm();
+      if (a < b && l < 0.12 * median) stubs.push_back({l, {a, b}});
+    }
+  std::sort(stubs.begin(), stubs.end());
+  std::vector<int> into(mesh.num_vertices());
+  std::iota(into.begin(), into.end(), 0);
+  std::vector<char> touched(mesh.num_vertices(), 0);
+  for (const auto& [l, e] : stubs) {
+    int a = e[0], b = e[1];
+    if (touched[a] || touched[b]) continue;
+    if (rank[b] > rank[a]) std::swap(a, b);
+    if (rank[a] == rank[b]) p[a] = 0.5 * (p[a] + p[b]);
+    into[b] = a;
+    touched[a] = touched[b] = 1;
+  }
+  for (auto& f : faces) {
+    std::vector<int> g;
+    for (int v : f)
+      if (g.empty() || g.back() != into[v]) g.push_back(into[v]);
+    while (g.size() > 1 && g.front() == g.back()) g.pop_back();
+    f = g.size() >= 3 ? g : std::vector<int>{};
+  }
   PolyMesh out;
   std::vector<int> index(mesh.num_vertices(), -1);
   int count = 0;
