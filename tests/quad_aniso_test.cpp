@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "gridshell/core/error.h"
 #include "gridshell/grids/baseline_kind.h"
@@ -178,6 +181,21 @@ TEST(RecoverQuads, BotanicIsTangs1076Quads) {
   EXPECT_EQ(r.triangles, 0);
   EXPECT_EQ(r.mesh.num_vertices(), 1121);
   EXPECT_TRUE(check_mesh(r.mesh).ok());
+  // Tang's panels are planar quads: a wrong pairing would show as a bent quad.
+  double worst = 0;
+  std::vector<double> bend;
+  for (const auto& q : r.mesh.faces) {
+    const Vec3 a = r.mesh.vertex(q[0]), b = r.mesh.vertex(q[1]), c = r.mesh.vertex(q[2]),
+               d = r.mesh.vertex(q[3]);
+    const Vec3 n = (c - a).cross(d - b).normalized();  // the diagonals' common normal
+    bend.push_back(std::abs((b - a).dot(n)) / (0.5 * ((c - a).norm() + (d - b).norm())));
+    worst = std::max(worst, bend.back());
+  }
+  std::sort(bend.begin(), bend.end());
+  EXPECT_LT(bend[bend.size() / 2], 1e-3);
+  EXPECT_LT(std::count_if(bend.begin(), bend.end(), [](double x) { return x > 0.01; }), 22);
+  EXPECT_LT(worst, 0.05);
+  EXPECT_GE(quad_mesh_stats(r.mesh, s.mesh, uniform_field(s.mesh)).valence4_share, 0.95);
 }
 
 TEST(BaselineKind, WordsRoundTrip) {

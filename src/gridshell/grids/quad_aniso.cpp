@@ -512,12 +512,7 @@ bool is_isotropic(const Field& field) {
 
 }  // namespace
 
-QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const QuadAnisoOptions& oo) {
-  QuadAnisoOptions o = oo;
-  if (getenv("QA_POS")) o.position_iterations = atoi(getenv("QA_POS"));
-  if (getenv("QA_ORI")) o.orientation_iterations = atoi(getenv("QA_ORI"));
-  if (getenv("QA_RES")) o.resolution = atof(getenv("QA_RES"));
-  if (getenv("QA_ALIGN")) o.alignment = atof(getenv("QA_ALIGN"));
+QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const QuadAnisoOptions& o) {
   const TriMesh& mesh = surface.mesh;
   if (field.size() != mesh.num_faces())
     throw Error("quad-aniso", "the field does not have one entry per triangle");
