@@ -1,5 +1,5 @@
-// gridshell baseline SURFACE --kind quad|quad-aniso|tri|voronoi-iso --length L -o DIR: the comparison
-// grid-shells of the paper at equal total length, with the same outputs as design.
+// gridshell baseline SURFACE --kind quad|quad-aniso|tri|voronoi-iso --length L -o DIR: the
+// comparison grid-shells of the paper at equal total length, with the same outputs as design.
 
 #include <chrono>
 #include <cmath>
@@ -16,6 +16,7 @@
 #include "gridshell/grids/dual.h"
 #include "gridshell/grids/quad_aniso.h"
 #include "gridshell/grids/quad_grid.h"
+#include "gridshell/grids/recover_quads.h"
 #include "gridshell/grids/supports.h"
 #include "gridshell/io/files.h"
 #include "gridshell/mesh/topology.h"
@@ -105,6 +106,13 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                   {"aspect_quads", st.aspect_quads},
                   {"median_aspect", st.median_aspect},
                   {"median_aspect_all", st.median_aspect_all}};
+  } else if (kind == BaselineKind::original) {
+    // The surface file's own grid-shell (Botanic.ply: Tang's quads as triangle pairs).
+    RecoveredQuads q = recover_quads(surface.mesh);
+    spdlog::info("[baseline] original: {} quads, {} triangles left",
+                 q.mesh.num_faces() - q.triangles, q.triangles);
+    out.mesh = std::move(q.mesh);
+    out.supports = surface.supports;
   } else if (kind == BaselineKind::voronoi_iso) {
     // The isotropic centroidal Voronoi tessellation (D = A = 1), regularized as design does.
     DesignOptions o;
@@ -192,13 +200,17 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
 void register_baseline(CLI::App& app, Action& action) {
   auto a = std::make_shared<BaselineArgs>();
   CLI::App* sub = app.add_subcommand(
-      "baseline", "Comparison grid-shells of the paper (quad, quad-aniso, tri, voronoi-iso) at equal length");
+      "baseline",
+      "Comparison grid-shells of the paper (quad, quad-aniso, tri, voronoi-iso, original)");
   sub->add_option("surface", a->surface, "PLY/OBJ/OFF file or builtin:NAME")
       ->default_str(kDefaultSurface);
-  sub->add_option("--kind", a->kind, "quad | quad-aniso | tri | voronoi-iso")->default_str("quad");
+  sub->add_option("--kind", a->kind, "quad | quad-aniso | tri | voronoi-iso | original")
+      ->default_str("quad");
   sub->add_option("--length", a->length, "target total beam length (m), held within 5%");
-  sub->add_option("--spacing", a->spacing, "quad: grid spacing in plan (m) instead of --length (quad-aniso: on M')");
-  sub->add_option("-D", a->D, "quad-aniso: density ratio of the field (as design)")->default_str("3");
+  sub->add_option("--spacing", a->spacing,
+                  "quad: grid spacing in plan (m) instead of --length (quad-aniso: on M')");
+  sub->add_option("-D", a->D, "quad-aniso: density ratio of the field (as design)")
+      ->default_str("3");
   sub->add_option("-A", a->A, "quad-aniso: anisotropy ratio of the field (as design)")
       ->default_str("3");
   sub->add_option("--field", a->field, "quad-aniso: stress | uniform | FILE (as design)")

@@ -81,7 +81,8 @@ void expect_valid_quads(const QuadMeshStats& st) {
 TEST(QuadAniso, PlaneWithConstantFieldFollowsDirectionAndAspect) {
   const Surface s = plane(40, 20, 80, 40);
   Field field;
-  const QuadAnisoResult r = plane_grid(s, [](const Vec3&) { return 1.0; }, field);
+  const QuadAnisoResult r = plane_grid(
+      s, [](const Vec3&) { return 1.0; }, field);
   const PolyMesh& g = r.grid.mesh;
   EXPECT_EQ(r.folded_edges, 0);
   QuadMeshStatsOptions so;
@@ -200,7 +201,7 @@ TEST(RecoverQuads, BotanicIsTangs1076Quads) {
 
 TEST(BaselineKind, WordsRoundTrip) {
   for (BaselineKind k : {BaselineKind::quad, BaselineKind::quad_aniso, BaselineKind::tri,
-                         BaselineKind::voronoi_iso})
+                         BaselineKind::voronoi_iso, BaselineKind::original})
     EXPECT_EQ(parse_baseline_kind(to_string(k)), k);
   EXPECT_EQ(std::string(to_string(BaselineKind::quad_aniso)), "quad-aniso");
   EXPECT_THROW(parse_baseline_kind("hex"), Error);

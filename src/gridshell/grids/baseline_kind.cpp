@@ -8,10 +8,10 @@ namespace gridshell {
 
 BaselineKind parse_baseline_kind(const std::string& word) {
   for (BaselineKind k : {BaselineKind::quad, BaselineKind::quad_aniso, BaselineKind::tri,
-                         BaselineKind::voronoi_iso})
+                         BaselineKind::voronoi_iso, BaselineKind::original})
     if (word == to_string(k)) return k;
   throw Error("--kind",
-              fmt::format("'{}' is not one of quad, quad-aniso, tri, voronoi-iso", word));
+              fmt::format("'{}' is not one of quad, quad-aniso, tri, voronoi-iso, original", word));
 }
 
 const char* to_string(BaselineKind kind) {
@@ -24,6 +24,8 @@ const char* to_string(BaselineKind kind) {
       return "tri";
     case BaselineKind::voronoi_iso:
       return "voronoi-iso";
+    case BaselineKind::original:
+      return "original";
   }
   return "quad";
 }

@@ -101,7 +101,8 @@ void pushed_directions(const TriMesh& rest, const TriMesh& def, const Field& fie
     const Vec3 d1 = def.vertex(def.F(f, 1)) - a2, d2 = def.vertex(def.F(f, 2)) - a2;
     Eigen::Matrix2d G;
     G << e1.dot(e1), e1.dot(e2), e1.dot(e2), e2.dot(e2);
-    const Eigen::Vector2d ab = G.ldlt().solve(Eigen::Vector2d(e1.dot(field.u[f]), e2.dot(field.u[f])));
+    const Eigen::Vector2d ab =
+        G.ldlt().solve(Eigen::Vector2d(e1.dot(field.u[f]), e2.dot(field.u[f])));
     const Vec3 j = ab(0) * d1 + ab(1) * d2;
     area[f] = 0.5 * d1.cross(d2).norm();
     if (j.norm() > 0 && std::isfinite(j.norm())) w[f] = j.normalized();
@@ -246,7 +247,8 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
   Rng rng(o.seed);
   for (int root = 0; root < nv; ++root) {
     if (seen[root]) continue;
-    org[root] = pos[root] + h * (rng.uniform(-0.5, 0.5) * q[root] + rng.uniform(-0.5, 0.5) * t[root]);
+    org[root] =
+        pos[root] + h * (rng.uniform(-0.5, 0.5) * q[root] + rng.uniform(-0.5, 0.5) * t[root]);
     seen[root] = 1;
     std::deque<int> queue{root};
     while (!queue.empty()) {
@@ -411,7 +413,8 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
       if (!std::isfinite(score) || score <= best) continue;
       best = score;
       const Vec3 ra = rest.vertex(rest.F(f, 0));
-      mapped = ra + st(0) * (rest.vertex(rest.F(f, 1)) - ra) + st(1) * (rest.vertex(rest.F(f, 2)) - ra);
+      mapped =
+          ra + st(0) * (rest.vertex(rest.F(f, 1)) - ra) + st(1) * (rest.vertex(rest.F(f, 2)) - ra);
     }
     cm[cluster[v]] += mapped;
   }
@@ -457,33 +460,35 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
   const double median = lengths.empty() ? 0 : lengths[lengths.size() / 2];
   std::vector<std::vector<int>> faces = mesh.faces;
   collapse_boundary_stubs(faces, p, rank, 0.25 * median);
-  // Beams still shorter than 0.12 × median (lattice points that nearly coincide): each collapsed
+  // Beams still shorter than 0.15 × median (lattice points that nearly coincide): each collapsed
   // into its boundary end, or to its midpoint; a face left with < 3 corners disappears.
-  std::vector<std::pair<double, std::array<int, 2>>> stubs;
-  for (const auto& f : faces)
-    for (size_t k = 0; k < f.size(); ++k) {
-      const int a = f[k], b = f[(k + 1) % f.size()];
-      const double l = (p[a] - p[b]).norm();
-      if (a < b && l < 0.12 * median) stubs.push_back({l, {a, b}});
+  for (int pass = 0; pass < 3; ++pass) {  // a collapse can leave another stub
+    std::vector<std::pair<double, std::array<int, 2>>> stubs;
+    for (const auto& f : faces)
+      for (size_t k = 0; k < f.size(); ++k) {
+        const int a = f[k], b = f[(k + 1) % f.size()];
+        const double l = (p[a] - p[b]).norm();
+        if (l < 0.15 * median) stubs.push_back({l, {std::min(a, b), std::max(a, b)}});
+      }
+    std::sort(stubs.begin(), stubs.end());
+    std::vector<int> into(mesh.num_vertices());
+    std::iota(into.begin(), into.end(), 0);
+    std::vector<char> touched(mesh.num_vertices(), 0);
+    for (const auto& [l, e] : stubs) {
+      int a = e[0], b = e[1];
+      if (touched[a] || touched[b]) continue;
+      if (rank[b] > rank[a]) std::swap(a, b);
+      if (rank[a] == rank[b]) p[a] = 0.5 * (p[a] + p[b]);
+      into[b] = a;
+      touched[a] = touched[b] = 1;
     }
-  std::sort(stubs.begin(), stubs.end());
-  std::vector<int> into(mesh.num_vertices());
-  std::iota(into.begin(), into.end(), 0);
-  std::vector<char> touched(mesh.num_vertices(), 0);
-  for (const auto& [l, e] : stubs) {
-    int a = e[0], b = e[1];
-    if (touched[a] || touched[b]) continue;
-    if (rank[b] > rank[a]) std::swap(a, b);
-    if (rank[a] == rank[b]) p[a] = 0.5 * (p[a] + p[b]);
-    into[b] = a;
-    touched[a] = touched[b] = 1;
-  }
-  for (auto& f : faces) {
-    std::vector<int> g;
-    for (int v : f)
-      if (g.empty() || g.back() != into[v]) g.push_back(into[v]);
-    while (g.size() > 1 && g.front() == g.back()) g.pop_back();
-    f = g.size() >= 3 ? g : std::vector<int>{};
+    for (auto& f : faces) {
+      std::vector<int> g;
+      for (int v : f)
+        if (g.empty() || g.back() != into[v]) g.push_back(into[v]);
+      while (g.size() > 1 && g.front() == g.back()) g.pop_back();
+      f = g.size() >= 3 ? g : std::vector<int>{};
+    }
   }
   PolyMesh out;
   std::vector<int> index(mesh.num_vertices(), -1);
@@ -662,10 +667,12 @@ QuadMeshStats quad_mesh_stats(const PolyMesh& grid, const TriMesh& surface, cons
   }
   s.valence4_share = s.interior_joints ? static_cast<double>(valence4) / s.interior_joints : 0;
   std::vector<double> lengths;
-  for (const auto& e : topo.edges) lengths.push_back((grid.vertex(e[0]) - grid.vertex(e[1])).norm());
+  for (const auto& e : topo.edges)
+    lengths.push_back((grid.vertex(e[0]) - grid.vertex(e[1])).norm());
   const double median = median_of(lengths);
-  s.min_edge_ratio =
-      lengths.empty() || median <= 0 ? 0 : *std::min_element(lengths.begin(), lengths.end()) / median;
+  s.min_edge_ratio = lengths.empty() || median <= 0
+                         ? 0
+                         : *std::min_element(lengths.begin(), lengths.end()) / median;
   // Beams: alignment where the field is strongly anisotropic.
   Points mids(topo.num_edges(), 3);
   for (int e = 0; e < topo.num_edges(); ++e)

@@ -16,7 +16,8 @@
 ///      random offset, then Gauss–Seidel sweeps that average the neighbours' lattices brought to
 ///      the edge's middle (the 4 nearest lattice points of each side compared) and round the
 ///      result back to the lattice point nearest the vertex (the extrinsic smoothing of Jakob et
-///      al. 2015, "Instant field-aligned meshes"; here single-level, in vertex order: deterministic);
+///      al. 2015, "Instant field-aligned meshes"; here single-level, in vertex order:
+///      deterministic);
 ///   3. extraction: an edge whose ends carry the same lattice point is collapsed, one whose ends
 ///      differ by one lattice step along an axis becomes a beam; joints of degree ≤ 1 are pruned;
 ///      faces are walked with the beams ordered by angle around each joint; faces that are not
@@ -34,8 +35,8 @@
 
 #include "gridshell/field/field.h"
 #include "gridshell/grids/quad_grid.h"
-#include "gridshell/metric/deform.h"
 #include "gridshell/mesh/mesh.h"
+#include "gridshell/metric/deform.h"
 
 namespace gridshell {
 

@@ -21,10 +21,10 @@
 namespace gridshell {
 
 struct RecoveredQuads {
-  PolyMesh mesh;        ///< same vertices as the input; quads, and triangles left unpaired
-  int greedy = 0;       ///< quads from the greedy pass
-  int augmented = 0;    ///< triangles paired by an augmenting path (re-pairing others)
-  int triangles = 0;    ///< triangles left
+  PolyMesh mesh;      ///< same vertices as the input; quads, and triangles left unpaired
+  int greedy = 0;     ///< quads from the greedy pass
+  int augmented = 0;  ///< triangles paired by an augmenting path (re-pairing others)
+  int triangles = 0;  ///< triangles left
 };
 
 /// Throws Error("surface", …) for a mesh whose triangles are not consistently oriented.
