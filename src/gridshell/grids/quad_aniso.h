@@ -52,7 +52,7 @@ struct QuadAnisoOptions {
   /// sum of the neighbours (≥ 0): high keeps the field's directions where they are well defined.
   double alignment = 4;
   int max_face_sides = 8;      ///< faces with more sides are left out (holes in the grid)
-  double boundary_snap = 1.0;  ///< see step 4 (× the mean length of the joint's beams)
+  double boundary_snap = 1.5;  ///< see step 4 (× the mean length of the joint's beams)
   std::uint64_t seed = 1;
   DeformOptions deform;  ///< max_edge is set from h and `resolution`
 };
