@@ -504,8 +504,23 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
     out.faces.push_back(f);
   }
   out.V.resize(count, 3);
+  std::vector<char> on_surface_boundary(count, 0);
   for (int v = 0; v < mesh.num_vertices(); ++v)
-    if (index[v] >= 0) out.V.row(index[v]) = p[v].transpose();
+    if (index[v] >= 0) {
+      out.V.row(index[v]) = p[v].transpose();
+      on_surface_boundary[index[v]] = rank[v] > 0;
+    }
+  // Holes left by the faces that were not kept (more than max_face_sides sides, folded or not
+  // simple): a hole away from M's boundary whose loop is a simple polygon of ≤ 12 sides becomes
+  // a face again (its beams are there anyway; the panel carries its share of the load).
+  const Topology t = build_topology(out);
+  for (const auto& loop : t.boundary_loops) {
+    if (loop.size() > 12) continue;
+    bool inner = true;
+    for (int v : loop) inner = inner && !on_surface_boundary[v];
+    std::vector<int> face(loop.rbegin(), loop.rend());
+    if (inner && is_simple(out, face)) out.faces.push_back(std::move(face));
+  }
   return out;
 }
 
