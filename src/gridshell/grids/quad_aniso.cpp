@@ -524,6 +524,26 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
   return out;
 }
 
+/// Share of interior joints of valence 4 plus share of interior faces with 4 sides.
+double regularity_score(const PolyMesh& grid) {
+  const Topology t = build_topology(grid);
+  int joints = 0, valence4 = 0, faces = 0, quads = 0;
+  for (int v = 0; v < grid.num_vertices(); ++v) {
+    if (t.on_boundary[v] || t.vertex_faces[v].empty()) continue;
+    ++joints;
+    valence4 += t.vertex_neighbors[v].size() == 4;
+  }
+  for (const auto& f : grid.faces) {
+    bool interior = true;
+    for (int v : f) interior = interior && !t.on_boundary[v];
+    if (!interior) continue;
+    ++faces;
+    quads += f.size() == 4;
+  }
+  return (joints ? static_cast<double>(valence4) / joints : 0) +
+         (faces ? static_cast<double>(quads) / faces : 0);
+}
+
 bool is_isotropic(const Field& field) {
   for (int f = 0; f < field.size(); ++f)
     if (field.d[f] != 1 || field.a[f] != 1) return false;
@@ -582,10 +602,19 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   const SurfaceProjector proj(mesh);
   const double tol = 1e-6 * bbox_diagonal(mesh.V);
   auto build = [&](double spacing) {
-    PolyMesh grid = quad_mesh_on_metric(rest, def, rest_field, spacing, o);
-    for (int v = 0; v < grid.num_vertices(); ++v)
-      grid.V.row(v) = proj.closest_point(grid.vertex(v)).transpose();
-    return snap_to_boundary(grid, proj, o.boundary_snap);
+    PolyMesh best_grid;
+    double best_score = -1;
+    for (int start = 0; start < std::max(1, o.starts); ++start) {
+      QuadAnisoOptions so = o;
+      so.seed = o.seed + 7919 * static_cast<std::uint64_t>(start);
+      PolyMesh grid = quad_mesh_on_metric(rest, def, rest_field, spacing, so);
+      for (int v = 0; v < grid.num_vertices(); ++v)
+        grid.V.row(v) = proj.closest_point(grid.vertex(v)).transpose();
+      grid = snap_to_boundary(grid, proj, o.boundary_snap);
+      const double score = regularity_score(grid);
+      if (score > best_score) best_score = score, best_grid = std::move(grid);
+    }
+    return best_grid;
   };
   PolyMesh best;
   double best_error = std::numeric_limits<double>::infinity();

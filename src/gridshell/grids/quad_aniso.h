@@ -27,8 +27,9 @@
 ///      local beam length of M's boundary are moved onto it (so the boundary supports catch them).
 /// Supports: transfer_supports (grids/supports.h), as the other baselines.
 ///
-/// Cost: O(V · (orientation + position sweeps)) on M′ plus O(n log n) for the extraction; the
-/// length fit repeats steps 2–4 (M′ and the cross field are computed once).
+/// Cost: O(V · (orientation + position sweeps)) on M′ plus O(n log n) for the extraction, times
+/// `starts` (seeded lattice starts, the most regular grid kept); the length fit repeats steps
+/// 1–4 (M′ is computed once).
 
 #include <cstdint>
 #include <vector>
@@ -54,6 +55,10 @@ struct QuadAnisoOptions {
   int max_face_sides = 8;      ///< faces with more sides are left out (holes in the grid)
   double boundary_snap = 1.5;  ///< see step 4 (× the mean length of the joint's beams)
   std::uint64_t seed = 1;
+  /// Lattice starts tried per spacing (seeds seed + 7919 k); the grid with the highest share of
+  /// valence-4 interior joints plus share of interior quads is kept. The seed alone moves these
+  /// shares by several points (Shell at (3, 3): valence 4 from 81 % to 86 % over 4 seeds).
+  int starts = 4;
   DeformOptions deform;  ///< max_edge is set from h and `resolution`
 };
 
