@@ -1,5 +1,5 @@
-// gridshell baseline SURFACE --kind quad|quad-aniso|tri|voronoi-iso --length L -o DIR: the
-// comparison grid-shells of the paper at equal total length, with the same outputs as design.
+// gridshell baseline SURFACE --kind quad|quad-aniso|tri|voronoi-iso|original --length L -o DIR:
+// the comparison grid-shells of the paper at equal total length, with the same outputs as design.
 
 #include <chrono>
 #include <cmath>
