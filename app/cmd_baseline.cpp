@@ -93,6 +93,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                   {"fits", q.fits},
                   {"deformed_triangles", q.deformed_triangles},
                   {"folded_edges", q.folded_edges},
+                  {"field", a.field},
                   {"D", a.D},
                   {"A", a.A},
                   {"interior_joints", st.interior_joints},
