@@ -1,5 +1,5 @@
-// gridshell baseline SURFACE --kind quad|tri|voronoi-iso --length L -o DIR: the comparison
-// grid-shells of the paper at equal total length, with the same outputs as design.
+// gridshell baseline SURFACE --kind quad|quad-aniso|tri|voronoi-iso|original --length L -o DIR:
+// the comparison grid-shells of the paper at equal total length, with the same outputs as design.
 
 #include <chrono>
 #include <cmath>
@@ -12,11 +12,15 @@
 #include "common.h"
 #include "gridshell/core/error.h"
 #include "gridshell/figures/figures.h"
+#include "gridshell/grids/baseline_kind.h"
 #include "gridshell/grids/dual.h"
+#include "gridshell/grids/quad_aniso.h"
 #include "gridshell/grids/quad_grid.h"
+#include "gridshell/grids/recover_quads.h"
 #include "gridshell/grids/supports.h"
 #include "gridshell/io/files.h"
 #include "gridshell/mesh/topology.h"
+#include "gridshell/pipeline/baseline_field.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/design_report.h"
 #include "gridshell/pipeline/gridshell_output.h"
@@ -32,6 +36,9 @@ struct BaselineArgs {
   int cells = 0;
   std::string analyze = "nonlinear";
   std::string sheet = "2.5x1.25";
+  // quad-aniso: the field of design
+  double D = 3, A = 3;
+  std::string field = "stress", measure = "magnitude", stretch = "along", density = "rising";
   SurfaceOptions surface_options;
   RunOptions run;
 };
@@ -46,11 +53,19 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   };
   const analysis::AnalysisLevel level = analysis::parse_analysis_level(a.analyze);
   const fabrication::SheetOptions sheet = fabrication::parse_sheet(a.sheet);
+  const BaselineKind kind = parse_baseline_kind(a.kind);
+  DesignOptions field_options;  // quad-aniso: the design's field
+  field_options.field = parse_field_input(a.field, &field_options.field_file);
+  field_options.D = a.D, field_options.A = a.A;
+  field_options.field_options.measure = parse_stress_measure(a.measure);
+  field_options.field_options.stretch = parse_stretch_axis(a.stretch);
+  field_options.field_options.density = parse_density_trend(a.density);
   Surface surface = load_surface(a.surface, a.surface_options);
   lap("load", t0);
   GridShellOutput out;
+  nlohmann::json quad_stats;
   const auto t1 = Clock::now();
-  if (a.kind == "quad") {
+  if (kind == BaselineKind::quad) {
     QuadGridOptions qo;
     qo.angle = a.angle_deg * 3.14159265358979323846 / 180;
     GridShell g;
@@ -64,7 +79,42 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     }
     out.mesh = std::move(g.mesh);
     out.supports = std::move(g.supports);
-  } else if (a.kind == "voronoi-iso") {
+  } else if (kind == BaselineKind::quad_aniso) {
+    const Field field = baseline_field(surface, field_options);
+    QuadAnisoOptions qo;
+    qo.length = a.length;
+    qo.spacing = a.spacing;
+    qo.seed = a.run.seed;
+    QuadAnisoResult q = quad_aniso(surface, field, qo);
+    out.mesh = std::move(q.grid.mesh);
+    out.supports = std::move(q.grid.supports);
+    const QuadMeshStats st = quad_mesh_stats(out.mesh, surface.mesh, field);
+    quad_stats = {{"spacing_deformed_m", q.spacing},
+                  {"fits", q.fits},
+                  {"deformed_triangles", q.deformed_triangles},
+                  {"folded_edges", q.folded_edges},
+                  {"field", a.field},
+                  {"D", a.D},
+                  {"A", a.A},
+                  {"interior_joints", st.interior_joints},
+                  {"valence4_share", st.valence4_share},
+                  {"interior_faces", st.interior_faces},
+                  {"quad_share", st.quad_share},
+                  {"non_simple_faces", st.non_simple_faces},
+                  {"min_edge_ratio", st.min_edge_ratio},
+                  {"strong_beams", st.strong_beams},
+                  {"aligned_share", st.aligned_share},
+                  {"aspect_quads", st.aspect_quads},
+                  {"median_aspect", st.median_aspect},
+                  {"median_aspect_all", st.median_aspect_all}};
+  } else if (kind == BaselineKind::original) {
+    // The surface file's own grid-shell (Botanic.ply: Tang's quads as triangle pairs).
+    RecoveredQuads q = recover_quads(surface.mesh);
+    spdlog::info("[baseline] original: {} quads, {} triangles left",
+                 q.mesh.num_faces() - q.triangles, q.triangles);
+    out.mesh = std::move(q.mesh);
+    out.supports = surface.supports;
+  } else if (kind == BaselineKind::voronoi_iso) {
     // The isotropic centroidal Voronoi tessellation (D = A = 1), regularized as design does.
     DesignOptions o;
     o.field = FieldInput::uniform;
@@ -80,7 +130,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     out.supports = std::move(r.supports);
     out.planarity = r.metrics.planarity;
     out.regularity = r.metrics.regularity;
-  } else if (a.kind == "tri") {
+  } else {
     TriBaselineOptions to;
     to.tessellation.seed = a.run.seed;
     to.tessellation.radius = a.radius;
@@ -89,8 +139,6 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     GridShell g = tri_baseline(surface, to);
     out.mesh = std::move(g.mesh);
     out.supports = std::move(g.supports);
-  } else {
-    throw Error("--kind", fmt::format("'{}' is not one of quad, tri, voronoi-iso", a.kind));
   }
   lap("grid", t1);
   if (out.raw.num_faces() == 0) out.raw = out.mesh;
@@ -122,6 +170,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     report["mesh"]["length_error"] = report["mesh"]["total_length_m"].get<double>() / a.length - 1;
   }
   if (structure) report["structure"] = structure_block(*structure);
+  if (!quad_stats.is_null()) report["quad_aniso"] = quad_stats;
   const auto t3 = Clock::now();
   report["figures"] = figures::write_figures(
       a.run.out_dir,
@@ -152,12 +201,25 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
 void register_baseline(CLI::App& app, Action& action) {
   auto a = std::make_shared<BaselineArgs>();
   CLI::App* sub = app.add_subcommand(
-      "baseline", "Comparison grid-shells of the paper (quad, tri, voronoi-iso) at equal length");
+      "baseline",
+      "Comparison grid-shells of the paper (quad, quad-aniso, tri, voronoi-iso, original)");
   sub->add_option("surface", a->surface, "PLY/OBJ/OFF file or builtin:NAME")
       ->default_str(kDefaultSurface);
-  sub->add_option("--kind", a->kind, "quad | tri | voronoi-iso")->default_str("quad");
+  sub->add_option("--kind", a->kind, "quad | quad-aniso | tri | voronoi-iso | original")
+      ->default_str("quad");
   sub->add_option("--length", a->length, "target total beam length (m), held within 5%");
-  sub->add_option("--spacing", a->spacing, "quad: grid spacing in plan (m) instead of --length");
+  sub->add_option("--spacing", a->spacing,
+                  "quad: grid spacing in plan (m) instead of --length (quad-aniso: on M')");
+  sub->add_option("-D", a->D, "quad-aniso: density ratio of the field (as design)")
+      ->default_str("3");
+  sub->add_option("-A", a->A, "quad-aniso: anisotropy ratio of the field (as design)")
+      ->default_str("3");
+  sub->add_option("--field", a->field, "quad-aniso: stress | uniform | FILE (as design)")
+      ->default_str("stress");
+  sub->add_option("--stress-measure", a->measure, "quad-aniso: magnitude | tension | compression")
+      ->default_str("magnitude");
+  sub->add_option("--stretch", a->stretch, "quad-aniso: along | across")->default_str("along");
+  sub->add_option("--density", a->density, "quad-aniso: rising | falling")->default_str("rising");
   sub->add_option("--angle", a->angle_deg, "quad: rotation of the grid in plan (degrees)")
       ->default_str("0");
   sub->add_option("--radius", a->radius, "voronoi-iso/tri: cell size R (m) instead of --length");

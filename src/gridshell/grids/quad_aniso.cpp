@@ -1,0 +1,780 @@
+#include "gridshell/grids/quad_aniso.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <deque>
+#include <map>
+#include <numeric>
+#include <set>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "gridshell/core/error.h"
+#include "gridshell/core/rng.h"
+#include "gridshell/grids/supports.h"
+#include "gridshell/mesh/nearest.h"
+#include "gridshell/mesh/topology.h"
+#include "gridshell/optimize/projector.h"
+
+namespace gridshell {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A unit vector perpendicular to n (deterministic).
+Vec3 any_perpendicular(const Vec3& n) {
+  const Vec3 axis = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
+  return n.cross(axis).normalized();
+}
+
+/// The one of ±q, ±n×q closest to `target`: q's cross brought to agree with target's.
+Vec3 match_cross(const Vec3& q, const Vec3& n, const Vec3& target) {
+  const Vec3 t = n.cross(q);
+  const std::array<Vec3, 4> c = {q, t, Vec3(-q), Vec3(-t)};
+  int best = 0;
+  for (int k = 1; k < 4; ++k)
+    if (c[k].dot(target) > c[best].dot(target)) best = k;
+  return c[best];
+}
+
+/// The lattice point (origin o, axes q, t, spacing h) nearest p, or the one below-left of p.
+Vec3 lattice_round(const Vec3& o, const Vec3& q, const Vec3& t, const Vec3& p, double h) {
+  const Vec3 d = p - o;
+  return o + q * (h * std::round(q.dot(d) / h)) + t * (h * std::round(t.dot(d) / h));
+}
+Vec3 lattice_floor(const Vec3& o, const Vec3& q, const Vec3& t, const Vec3& p, double h) {
+  const Vec3 d = p - o;
+  return o + q * (h * std::floor(q.dot(d) / h)) + t * (h * std::floor(t.dot(d) / h));
+}
+
+/// The two lattice points, one of each side's lattice, nearest each other near the middle of
+/// the edge v0 v1 (the 4 corners of the cell around the middle compared on each side).
+std::pair<Vec3, Vec3> compat_position(const Vec3& v0, const Vec3& q0, const Vec3& t0,
+                                      const Vec3& o0, const Vec3& v1, const Vec3& q1,
+                                      const Vec3& t1, const Vec3& o1, double h) {
+  const Vec3 m = 0.5 * (v0 + v1);
+  const Vec3 a = lattice_floor(o0, q0, t0, m, h), b = lattice_floor(o1, q1, t1, m, h);
+  std::pair<Vec3, Vec3> best{a, b};
+  double best_d = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 ai = a + h * ((i & 1) * q0 + (i >> 1) * t0);
+    for (int j = 0; j < 4; ++j) {
+      const Vec3 bj = b + h * ((j & 1) * q1 + (j >> 1) * t1);
+      const double d = (ai - bj).squaredNorm();
+      if (d < best_d) best_d = d, best = {ai, bj};
+    }
+  }
+  return best;
+}
+
+int find_root(std::vector<int>& parent, int x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+/// Per vertex of M′: unit normal.
+std::vector<Vec3> vertex_normals(const TriMesh& m) {
+  std::vector<Vec3> n(m.num_vertices(), Vec3::Zero());
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const Vec3 a = m.vertex(m.F(f, 0)), b = m.vertex(m.F(f, 1)), c = m.vertex(m.F(f, 2));
+    const Vec3 fn = (b - a).cross(c - a);
+    for (int k = 0; k < 3; ++k) n[m.F(f, k)] += fn;
+  }
+  for (Vec3& v : n) v = v.norm() > 0 ? Vec3(v.normalized()) : Vec3(Vec3::UnitZ());
+  return n;
+}
+
+/// J_t u_t: the field direction of each face of `rest` carried onto `deformed` (unit), and the
+/// area of the face in M′.
+void pushed_directions(const TriMesh& rest, const TriMesh& def, const Field& field,
+                       std::vector<Vec3>& w, std::vector<double>& area) {
+  w.assign(rest.num_faces(), Vec3::Zero());
+  area.assign(rest.num_faces(), 0);
+  for (int f = 0; f < rest.num_faces(); ++f) {
+    const Vec3 a = rest.vertex(rest.F(f, 0));
+    const Vec3 e1 = rest.vertex(rest.F(f, 1)) - a, e2 = rest.vertex(rest.F(f, 2)) - a;
+    const Vec3 a2 = def.vertex(def.F(f, 0));
+    const Vec3 d1 = def.vertex(def.F(f, 1)) - a2, d2 = def.vertex(def.F(f, 2)) - a2;
+    Eigen::Matrix2d G;
+    G << e1.dot(e1), e1.dot(e2), e1.dot(e2), e2.dot(e2);
+    const Eigen::Vector2d ab =
+        G.ldlt().solve(Eigen::Vector2d(e1.dot(field.u[f]), e2.dot(field.u[f])));
+    const Vec3 j = ab(0) * d1 + ab(1) * d2;
+    area[f] = 0.5 * d1.cross(d2).norm();
+    if (j.norm() > 0 && std::isfinite(j.norm())) w[f] = j.normalized();
+  }
+}
+
+/// Two triangles sharing an edge are a quad cut by a diagonal (a lattice step taken across a
+/// seam of the position field): the edge is removed, longest shared edges first.
+void merge_triangle_pairs(std::vector<std::vector<int>>& faces, const std::vector<Vec3>& p) {
+  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    if (faces[f].size() != 3) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = faces[f][k], b = faces[f][(k + 1) % 3];
+      edge_faces[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  }
+  std::vector<std::pair<double, std::pair<int, int>>> shared;
+  for (const auto& [e, fs] : edge_faces)
+    if (fs.size() == 2) shared.push_back({-(p[e.first] - p[e.second]).norm(), e});
+  std::sort(shared.begin(), shared.end());
+  std::vector<char> merged(faces.size(), 0);
+  for (const auto& [neg_length, e] : shared) {
+    const int f = edge_faces[e][0], g = edge_faces[e][1];
+    if (merged[f] || merged[g]) continue;
+    int k = 0;
+    while (!((faces[f][k] == e.first || faces[f][k] == e.second) &&
+             (faces[f][(k + 1) % 3] == e.first || faces[f][(k + 1) % 3] == e.second)))
+      ++k;
+    const int a = faces[f][k], b = faces[f][(k + 1) % 3], c = faces[f][(k + 2) % 3];
+    int d = -1;
+    for (int v : faces[g])
+      if (v != a && v != b) d = v;
+    if (d == c) continue;
+    faces[f] = {a, d, b, c};
+    faces[g].clear();
+    merged[f] = merged[g] = 1;
+  }
+  faces.erase(std::remove_if(faces.begin(), faces.end(),
+                             [](const std::vector<int>& f) { return f.empty(); }),
+              faces.end());
+}
+
+/// A triangle left among quads is a lattice defect with two joints of valence ≥ 5 on one of its
+/// edges: that edge (the longest such one with a quad on its other side) is removed, leaving a
+/// pentagon and two joints of valence 4 (the share of quads is unchanged but for one face).
+void absorb_lone_triangles(std::vector<std::vector<int>>& faces, const std::vector<Vec3>& p) {
+  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+  std::map<int, int> degree;
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    const int n = static_cast<int>(faces[f].size());
+    for (int k = 0; k < n; ++k) {
+      const int a = faces[f][k], b = faces[f][(k + 1) % n];
+      auto& fs = edge_faces[{std::min(a, b), std::max(a, b)}];
+      if (fs.empty()) ++degree[a], ++degree[b];
+      fs.push_back(f);
+    }
+  }
+  std::vector<char> changed(faces.size(), 0);
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    if (faces[f].size() != 3 || changed[f]) continue;
+    int best_k = -1, best_g = -1;
+    double best_length = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int a = faces[f][k], b = faces[f][(k + 1) % 3];
+      const auto& fs = edge_faces[{std::min(a, b), std::max(a, b)}];
+      if (fs.size() != 2 || degree[a] < 5 || degree[b] < 5) continue;
+      const int g = fs[0] == f ? fs[1] : fs[0];
+      if (faces[g].size() != 4 || changed[g]) continue;
+      const double length = (p[a] - p[b]).norm();
+      if (length > best_length) best_length = length, best_k = k, best_g = g;
+    }
+    if (best_k < 0) continue;
+    const int a = faces[f][best_k], b = faces[f][(best_k + 1) % 3], c = faces[f][(best_k + 2) % 3];
+    // The quad walks b → a; splice c in between.
+    std::vector<int>& q = faces[best_g];
+    int j = 0;
+    while (!(q[j] == b && q[(j + 1) % 4] == a)) ++j;
+    std::vector<int> pent;
+    for (int i = 0; i < 4; ++i) {
+      pent.push_back(q[(j + 1 + i) % 4]);  // a, …, b
+    }
+    pent.push_back(c);
+    q = pent;
+    faces[f].clear();
+    changed[f] = changed[best_g] = 1;
+    --degree[a], --degree[b];
+  }
+  faces.erase(std::remove_if(faces.begin(), faces.end(),
+                             [](const std::vector<int>& f) { return f.empty(); }),
+              faces.end());
+}
+
+}  // namespace
+
+PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
+                             const QuadAnisoOptions& o) {
+  if (!(h > 0) || !std::isfinite(h)) throw Error("quad-aniso", "spacing must be positive");
+  if (rest.num_faces() != def.num_faces() || rest.num_vertices() != def.num_vertices() ||
+      field.size() != rest.num_faces())
+    throw Error("quad-aniso", "M, M' and the field do not match");
+  const int nv = def.num_vertices();
+  const Topology topo = build_topology(def);
+  const std::vector<Vec3> n = vertex_normals(def);
+  std::vector<Vec3> w;
+  std::vector<double> warea;
+  pushed_directions(rest, def, field, w, warea);
+
+  // 1. Cross field: 4-fold average of J u per vertex, then smoothing with it as data term.
+  std::vector<Vec3> q(nv), q_data(nv);
+  std::vector<double> lambda(nv, 0);
+  for (int v = 0; v < nv; ++v) {
+    const Vec3 r = any_perpendicular(n[v]), s = n[v].cross(r);
+    std::complex<double> z = 0;
+    double total = 0;
+    for (int f : topo.vertex_faces[v]) {
+      const double theta = std::atan2(w[f].dot(s), w[f].dot(r));
+      z += warea[f] * std::polar(1.0, 4 * theta);
+      total += warea[f];
+    }
+    const double phi = std::abs(z) > 0 ? std::arg(z) / 4 : 0;
+    q[v] = q_data[v] = std::cos(phi) * r + std::sin(phi) * s;
+    lambda[v] = total > 0 ? o.alignment * std::abs(z) / total : 0;
+  }
+  for (int it = 0; it < o.orientation_iterations; ++it) {
+    for (int v = 0; v < nv; ++v) {
+      const auto& nb = topo.vertex_neighbors[v];
+      Vec3 sum = lambda[v] * static_cast<double>(nb.size()) * match_cross(q_data[v], n[v], q[v]);
+      for (int j : nb) sum += match_cross(q[j], n[j], q[v]);
+      sum -= n[v] * n[v].dot(sum);
+      if (sum.norm() > 1e-12) q[v] = sum.normalized();
+    }
+  }
+  std::vector<Vec3> t(nv);
+  for (int v = 0; v < nv; ++v) t[v] = n[v].cross(q[v]);
+
+  // 2. Position field: one lattice propagated breadth-first, then Gauss–Seidel smoothing.
+  std::vector<Vec3> pos(nv);
+  for (int v = 0; v < nv; ++v) pos[v] = def.vertex(v);
+  std::vector<Vec3> org(nv);
+  std::vector<char> seen(nv, 0);
+  Rng rng(o.seed);
+  for (int root = 0; root < nv; ++root) {
+    if (seen[root]) continue;
+    org[root] =
+        pos[root] + h * (rng.uniform(-0.5, 0.5) * q[root] + rng.uniform(-0.5, 0.5) * t[root]);
+    seen[root] = 1;
+    std::deque<int> queue{root};
+    while (!queue.empty()) {
+      const int i = queue.front();
+      queue.pop_front();
+      for (int j : topo.vertex_neighbors[i]) {
+        if (seen[j]) continue;
+        seen[j] = 1;
+        Vec3 oj = org[i] - n[j] * n[j].dot(org[i] - pos[j]);
+        org[j] = lattice_round(oj, q[j], t[j], pos[j], h);
+        queue.push_back(j);
+      }
+    }
+  }
+  for (int it = 0; it < o.position_iterations; ++it) {
+    for (int i = 0; i < nv; ++i) {
+      Vec3 sum = org[i];
+      double weight = 0;
+      for (int j : topo.vertex_neighbors[i]) {
+        const Vec3 qj = match_cross(q[j], n[j], q[i]), tj = n[j].cross(qj);
+        const auto [a, b] = compat_position(pos[i], q[i], t[i], sum, pos[j], qj, tj, org[j], h);
+        sum = (a * weight + b) / (weight + 1);
+        weight += 1;
+        sum -= n[i] * n[i].dot(sum - pos[i]);
+      }
+      org[i] = lattice_round(sum, q[i], t[i], pos[i], h);
+    }
+  }
+
+  // 3. Extraction: collapse edges within one lattice point, beams across one lattice step.
+  std::vector<int> uf(nv);
+  std::iota(uf.begin(), uf.end(), 0);
+  std::vector<std::array<int, 2>> steps;
+  for (const auto& e : topo.edges) {
+    const int i = e[0], j = e[1];
+    const Vec3 qj = match_cross(q[j], n[j], q[i]), tj = n[j].cross(qj);
+    const auto [a, b] = compat_position(pos[i], q[i], t[i], org[i], pos[j], qj, tj, org[j], h);
+    if ((a - b).norm() > 0.5 * h) continue;  // the two lattices disagree here
+    const int di0 = static_cast<int>(std::lround((a - org[i]).dot(q[i]) / h));
+    const int di1 = static_cast<int>(std::lround((a - org[i]).dot(t[i]) / h));
+    const int dj0 = static_cast<int>(std::lround((b - org[j]).dot(qj) / h));
+    const int dj1 = static_cast<int>(std::lround((b - org[j]).dot(tj) / h));
+    const int d0 = di0 - dj0, d1 = di1 - dj1;
+    if (d0 == 0 && d1 == 0)
+      uf[find_root(uf, i)] = find_root(uf, j);
+    else if (std::abs(d0) + std::abs(d1) == 1)
+      steps.push_back({i, j});
+  }
+  std::vector<int> cluster(nv, -1);
+  int nc = 0;
+  std::vector<Vec3> cpos, cnorm;
+  std::vector<int> ccount;
+  // Joints from the unions; then once more after merging the joints closer than 0.3 h (one
+  // lattice point split in two where the lattices of a seam disagree slightly).
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1)
+      for (const auto& s : steps)
+        if ((cpos[cluster[s[0]]] - cpos[cluster[s[1]]]).norm() < 0.3 * h)
+          uf[find_root(uf, s[0])] = find_root(uf, s[1]);
+    std::fill(cluster.begin(), cluster.end(), -1);
+    nc = 0;
+    for (int v = 0; v < nv; ++v) {
+      const int r = find_root(uf, v);
+      if (cluster[r] < 0) cluster[r] = nc++;
+      cluster[v] = cluster[r];
+    }
+    cpos.assign(nc, Vec3::Zero());
+    cnorm.assign(nc, Vec3::Zero());
+    ccount.assign(nc, 0);
+    for (int v = 0; v < nv; ++v) {
+      cpos[cluster[v]] += org[v];
+      cnorm[cluster[v]] += n[v];
+      ++ccount[cluster[v]];
+    }
+    for (int c = 0; c < nc; ++c) {
+      cpos[c] /= ccount[c];
+      cnorm[c] = cnorm[c].norm() > 0 ? Vec3(cnorm[c].normalized()) : Vec3(Vec3::UnitZ());
+    }
+  }
+  std::vector<std::set<int>> adj(nc);
+  for (const auto& s : steps) {
+    const int a = cluster[s[0]], b = cluster[s[1]];
+    if (a != b) adj[a].insert(b), adj[b].insert(a);
+  }
+  // Prune joints of degree ≤ 1 (dangling beams).
+  std::deque<int> prune;
+  for (int c = 0; c < nc; ++c)
+    if (adj[c].size() == 1) prune.push_back(c);
+  while (!prune.empty()) {
+    const int c = prune.front();
+    prune.pop_front();
+    if (adj[c].size() != 1) continue;
+    const int other = *adj[c].begin();
+    adj[c].clear();
+    adj[other].erase(c);
+    if (adj[other].size() == 1) prune.push_back(other);
+  }
+  // Neighbours ordered counter-clockwise about each joint's normal.
+  std::vector<std::vector<int>> ring(nc);
+  for (int c = 0; c < nc; ++c) {
+    const Vec3 r = any_perpendicular(cnorm[c]), s = cnorm[c].cross(r);
+    std::vector<std::pair<double, int>> by_angle;
+    for (int b : adj[c]) {
+      const Vec3 d = cpos[b] - cpos[c];
+      by_angle.emplace_back(std::atan2(d.dot(s), d.dot(r)), b);
+    }
+    std::sort(by_angle.begin(), by_angle.end());
+    for (const auto& [angle, b] : by_angle) ring[c].push_back(b);
+  }
+  std::map<std::pair<int, int>, char> used;
+  std::vector<std::vector<int>> faces;
+  for (int a0 = 0; a0 < nc; ++a0) {
+    for (int b0 : ring[a0]) {
+      if (used.count({a0, b0})) continue;
+      std::vector<int> face{a0};
+      int a = a0, b = b0;
+      bool closed = false;
+      for (int step = 0; step < 4 * o.max_face_sides; ++step) {
+        used[{a, b}] = 1;
+        if (b == a0) {
+          closed = true;
+          break;
+        }
+        face.push_back(b);
+        const auto& rb = ring[b];
+        const int k = static_cast<int>(std::find(rb.begin(), rb.end(), a) - rb.begin());
+        const int deg = static_cast<int>(rb.size());
+        const int next = rb[(k - 1 + deg) % deg];
+        a = b, b = next;
+      }
+      if (!closed || static_cast<int>(face.size()) > o.max_face_sides || face.size() < 3) continue;
+      std::vector<int> sorted = face;
+      std::sort(sorted.begin(), sorted.end());
+      if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
+      Vec3 area = Vec3::Zero(), normal = Vec3::Zero();
+      for (size_t k = 0; k < face.size(); ++k) {
+        area += cpos[face[k]].cross(cpos[face[(k + 1) % face.size()]]);
+        normal += cnorm[face[k]];
+      }
+      if (area.dot(normal) <= 0) continue;  // the outer boundary, or a folded face
+      faces.push_back(std::move(face));
+    }
+  }
+  if (faces.empty()) throw Error("quad-aniso", "extraction found no faces (spacing too large?)");
+  merge_triangle_pairs(faces, cpos);
+  absorb_lone_triangles(faces, cpos);
+
+  // 4. Joints back on M: each vertex's lattice point through the affine map of the incident
+  // triangle that contains it best, averaged over the joint's vertices.
+  std::vector<Vec3> cm(nc, Vec3::Zero());
+  for (int v = 0; v < nv; ++v) {
+    double best = -std::numeric_limits<double>::infinity();
+    Vec3 mapped = rest.vertex(v);
+    for (int f : topo.vertex_faces[v]) {
+      const Vec3 a = def.vertex(def.F(f, 0)), b = def.vertex(def.F(f, 1)),
+                 c = def.vertex(def.F(f, 2));
+      const Vec3 e1 = b - a, e2 = c - a, d = org[v] - a;
+      Eigen::Matrix2d G;
+      G << e1.dot(e1), e1.dot(e2), e1.dot(e2), e2.dot(e2);
+      const Eigen::Vector2d st = G.ldlt().solve(Eigen::Vector2d(e1.dot(d), e2.dot(d)));
+      const double score = std::min({1 - st(0) - st(1), st(0), st(1)});
+      if (!std::isfinite(score) || score <= best) continue;
+      best = score;
+      const Vec3 ra = rest.vertex(rest.F(f, 0));
+      mapped =
+          ra + st(0) * (rest.vertex(rest.F(f, 1)) - ra) + st(1) * (rest.vertex(rest.F(f, 2)) - ra);
+    }
+    cm[cluster[v]] += mapped;
+  }
+  std::vector<int> index(nc, -1);
+  PolyMesh out;
+  int count = 0;
+  for (auto& f : faces)
+    for (int& c : f) {
+      if (index[c] < 0) index[c] = count++;
+      c = index[c];
+    }
+  out.V.resize(count, 3);
+  const SurfaceProjector proj(rest);
+  for (int c = 0; c < nc; ++c)
+    if (index[c] >= 0) out.V.row(index[c]) = proj.closest_point(cm[c] / ccount[c]).transpose();
+  out.faces = std::move(faces);
+  return out;
+}
+
+namespace {
+
+bool is_simple(const PolyMesh& mesh, const std::vector<int>& f);
+
+/// Moves the grid's outer-boundary joints near M's boundary onto it, collapses the stubs this
+/// makes, and drops unused joints and faces that are not simple polygons.
+PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, double snap) {
+  const Topology topo = build_topology(mesh);
+  std::vector<Vec3> p(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) p[v] = mesh.vertex(v);
+  std::vector<int> rank(mesh.num_vertices(), 0);
+  std::vector<double> lengths;
+  for (const auto& e : topo.edges) lengths.push_back((p[e[0]] - p[e[1]]).norm());
+  for (const auto& loop : topo.boundary_loops) {
+    for (int v : loop) {
+      double mean = 0;
+      for (int u : topo.vertex_neighbors[v]) mean += (p[u] - p[v]).norm();
+      mean /= std::max<size_t>(1, topo.vertex_neighbors[v].size());
+      const Vec3 b = proj.closest_boundary_point(mesh.vertex(v));
+      if ((b - mesh.vertex(v)).norm() <= snap * mean) p[v] = b, rank[v] = 1;
+    }
+  }
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  const double median = lengths.empty() ? 0 : lengths[lengths.size() / 2];
+  std::vector<std::vector<int>> faces = mesh.faces;
+  collapse_boundary_stubs(faces, p, rank, 0.25 * median);
+  // Beams still shorter than 0.15 × median (lattice points that nearly coincide): each collapsed
+  // into its boundary end, or to its midpoint; a face left with < 3 corners disappears.
+  for (int pass = 0; pass < 3; ++pass) {  // a collapse can leave another stub
+    std::vector<std::pair<double, std::array<int, 2>>> stubs;
+    for (const auto& f : faces)
+      for (size_t k = 0; k < f.size(); ++k) {
+        const int a = f[k], b = f[(k + 1) % f.size()];
+        const double l = (p[a] - p[b]).norm();
+        if (l < 0.15 * median) stubs.push_back({l, {std::min(a, b), std::max(a, b)}});
+      }
+    std::sort(stubs.begin(), stubs.end());
+    std::vector<int> into(mesh.num_vertices());
+    std::iota(into.begin(), into.end(), 0);
+    std::vector<char> touched(mesh.num_vertices(), 0);
+    for (const auto& [l, e] : stubs) {
+      int a = e[0], b = e[1];
+      if (touched[a] || touched[b]) continue;
+      if (rank[b] > rank[a]) std::swap(a, b);
+      if (rank[a] == rank[b]) p[a] = 0.5 * (p[a] + p[b]);
+      into[b] = a;
+      touched[a] = touched[b] = 1;
+    }
+    for (auto& f : faces) {
+      std::vector<int> g;
+      for (int v : f)
+        if (g.empty() || g.back() != into[v]) g.push_back(into[v]);
+      while (g.size() > 1 && g.front() == g.back()) g.pop_back();
+      f = g.size() >= 3 ? g : std::vector<int>{};
+    }
+  }
+  PolyMesh out;
+  std::vector<int> index(mesh.num_vertices(), -1);
+  int count = 0;
+  PolyMesh moved{mesh.V, {}};
+  for (int v = 0; v < mesh.num_vertices(); ++v) moved.V.row(v) = p[v].transpose();
+  for (auto& f : faces) {
+    if (f.size() < 3 || !is_simple(moved, f)) continue;  // a fold at the seam of the lattice
+    for (int& v : f) {
+      if (index[v] < 0) index[v] = count++;
+      v = index[v];
+    }
+    out.faces.push_back(f);
+  }
+  out.V.resize(count, 3);
+  std::vector<char> on_surface_boundary(count, 0);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (index[v] >= 0) {
+      out.V.row(index[v]) = p[v].transpose();
+      on_surface_boundary[index[v]] = rank[v] > 0;
+    }
+  // Holes left by the faces that were not kept (more than max_face_sides sides, folded or not
+  // simple): a hole away from M's boundary whose loop is a simple polygon of ≤ 12 sides becomes
+  // a face again (its beams are there anyway; the panel carries its share of the load).
+  const Topology t = build_topology(out);
+  for (const auto& loop : t.boundary_loops) {
+    if (loop.size() > 12) continue;
+    bool inner = true;
+    for (int v : loop) inner = inner && !on_surface_boundary[v];
+    std::vector<int> face(loop.rbegin(), loop.rend());
+    if (inner && is_simple(out, face)) out.faces.push_back(std::move(face));
+  }
+  return out;
+}
+
+/// Share of interior joints of valence 4 plus share of interior faces with 4 sides.
+double regularity_score(const PolyMesh& grid) {
+  const Topology t = build_topology(grid);
+  int joints = 0, valence4 = 0, faces = 0, quads = 0;
+  for (int v = 0; v < grid.num_vertices(); ++v) {
+    if (t.on_boundary[v] || t.vertex_faces[v].empty()) continue;
+    ++joints;
+    valence4 += t.vertex_neighbors[v].size() == 4;
+  }
+  for (const auto& f : grid.faces) {
+    bool interior = true;
+    for (int v : f) interior = interior && !t.on_boundary[v];
+    if (!interior) continue;
+    ++faces;
+    quads += f.size() == 4;
+  }
+  return (joints ? static_cast<double>(valence4) / joints : 0) +
+         (faces ? static_cast<double>(quads) / faces : 0);
+}
+
+bool is_isotropic(const Field& field) {
+  for (int f = 0; f < field.size(); ++f)
+    if (field.d[f] != 1 || field.a[f] != 1) return false;
+  return true;
+}
+
+}  // namespace
+
+QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const QuadAnisoOptions& o) {
+  const TriMesh& mesh = surface.mesh;
+  if (field.size() != mesh.num_faces())
+    throw Error("quad-aniso", "the field does not have one entry per triangle");
+  if (!(o.length > 0) && !(o.spacing > 0))
+    throw Error("--length", "quad-aniso needs --length L (m) or a spacing");
+  if (!(o.resolution >= 1)) throw Error("quad-aniso", "resolution must be ≥ 1");
+  double area_def = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    area_def += triangle_area(mesh.vertex(mesh.F(f, 0)), mesh.vertex(mesh.F(f, 1)),
+                              mesh.vertex(mesh.F(f, 2))) *
+                field.d[f] * field.d[f] / field.a[f];
+  // Square cells of side h on M′ have 2/h of beams per m²; lengths on M are about
+  // √(area_M / area_M′) of those on M′.
+  double h = o.length > 0 ? 2 * std::sqrt(surface_area(mesh) * area_def) / o.length : o.spacing;
+  QuadAnisoResult r;
+  TriMesh rest, def;
+  Field rest_field;
+  const double max_edge = h / o.resolution;
+  if (is_isotropic(field)) {
+    rest = def = mesh;
+    std::vector<int> parent(mesh.num_faces());
+    std::iota(parent.begin(), parent.end(), 0);
+    for (int round = 0; round < 32; ++round) {
+      std::vector<int> p;
+      if (split_long_edges(rest, def, max_edge, p) == 0) break;
+      std::vector<int> composed(p.size());
+      for (size_t k = 0; k < p.size(); ++k) composed[k] = parent[p[k]];
+      parent = std::move(composed);
+    }
+    for (int p : parent) {
+      rest_field.u.push_back(field.u[p]);
+      rest_field.d.push_back(1);
+      rest_field.a.push_back(1);
+    }
+  } else {
+    DeformOptions dopt = o.deform;
+    dopt.max_edge = max_edge;
+    spdlog::info("[metric] deforming {} triangles (edges of M' ≤ {:.3g} m)", mesh.num_faces(),
+                 max_edge);
+    Deformed d = deform_metric(mesh, field, dopt);
+    r.folded_edges = d.folded_edges;
+    rest = std::move(d.rest);
+    def = std::move(d.deformed);
+    rest_field = std::move(d.field);
+  }
+  r.deformed_triangles = def.num_faces();
+  const SurfaceProjector proj(mesh);
+  const double tol = 1e-6 * bbox_diagonal(mesh.V);
+  auto build = [&](double spacing) {
+    PolyMesh best_grid;
+    double best_score = -1;
+    for (int start = 0; start < std::max(1, o.starts); ++start) {
+      QuadAnisoOptions so = o;
+      so.seed = o.seed + 7919 * static_cast<std::uint64_t>(start);
+      PolyMesh grid = quad_mesh_on_metric(rest, def, rest_field, spacing, so);
+      for (int v = 0; v < grid.num_vertices(); ++v)
+        grid.V.row(v) = proj.closest_point(grid.vertex(v)).transpose();
+      grid = snap_to_boundary(grid, proj, o.boundary_snap);
+      const double score = regularity_score(grid);
+      if (score > best_score) best_score = score, best_grid = std::move(grid);
+    }
+    return best_grid;
+  };
+  PolyMesh best;
+  double best_error = std::numeric_limits<double>::infinity();
+  const int fits = o.length > 0 ? o.max_fits : 1;
+  for (int k = 0; k < fits; ++k) {
+    PolyMesh grid = build(h);
+    ++r.fits;
+    const double length = total_edge_length(grid);
+    const double error = o.length > 0 ? length / o.length - 1 : 0;
+    spdlog::info("[quad-aniso] h = {:.4g} m on M': {} joints, {} faces, {:.1f} m", h,
+                 grid.num_vertices(), grid.num_faces(), length);
+    if (std::abs(error) < best_error) {
+      best_error = std::abs(error);
+      best = std::move(grid);
+      r.spacing = h;
+    }
+    if (best_error <= o.length_tolerance) break;
+    h *= length / o.length;
+  }
+  if (o.length > 0 && best_error > o.length_tolerance)
+    throw Error("quad-aniso", fmt::format("total length not within {:.0f}% of {} m after {} fits",
+                                          100 * o.length_tolerance, o.length, r.fits));
+  r.grid.mesh = std::move(best);
+  r.grid.supports = transfer_supports(r.grid.mesh.V, surface, tol);
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                    const Eigen::Vector2d& d) {
+  auto orient = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
+    const double v = (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
+    return (v > 0) - (v < 0);
+  };
+  return orient(a, b, c) * orient(a, b, d) < 0 && orient(c, d, a) * orient(c, d, b) < 0;
+}
+
+bool is_simple(const PolyMesh& mesh, const std::vector<int>& f) {
+  const int n = static_cast<int>(f.size());
+  std::vector<int> sorted = f;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+  Vec3 normal = Vec3::Zero(), centre = Vec3::Zero();
+  for (int k = 0; k < n; ++k) {
+    normal += mesh.vertex(f[k]).cross(mesh.vertex(f[(k + 1) % n]));
+    centre += mesh.vertex(f[k]);
+  }
+  if (normal.norm() == 0) return false;
+  normal.normalize();
+  const Vec3 r = any_perpendicular(normal), s = normal.cross(r);
+  std::vector<Eigen::Vector2d> p(n);
+  for (int k = 0; k < n; ++k) {
+    const Vec3 d = mesh.vertex(f[k]) - centre / n;
+    p[k] = Eigen::Vector2d(d.dot(r), d.dot(s));
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;
+      if (segments_cross(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n])) return false;
+    }
+  return true;
+}
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+QuadMeshStats quad_mesh_stats(const PolyMesh& grid, const TriMesh& surface, const Field& field,
+                              const QuadMeshStatsOptions& o) {
+  QuadMeshStats s;
+  const Topology topo = build_topology(grid);
+  Points centroids(surface.num_faces(), 3);
+  for (int f = 0; f < surface.num_faces(); ++f)
+    centroids.row(f) = (surface.V.row(surface.F(f, 0)) + surface.V.row(surface.F(f, 1)) +
+                        surface.V.row(surface.F(f, 2))) /
+                       3;
+  auto face_at = [&](const Points& queries) {
+    std::vector<int> out;
+    for (const auto& nn : nearest_points(centroids, queries)) out.push_back(nn[0]);
+    return out;
+  };
+  int valence4 = 0;
+  for (int v = 0; v < grid.num_vertices(); ++v) {
+    if (topo.on_boundary[v] || topo.vertex_faces[v].empty()) continue;
+    ++s.interior_joints;
+    if (topo.vertex_neighbors[v].size() == 4) ++valence4;
+  }
+  s.valence4_share = s.interior_joints ? static_cast<double>(valence4) / s.interior_joints : 0;
+  std::vector<double> lengths;
+  for (const auto& e : topo.edges)
+    lengths.push_back((grid.vertex(e[0]) - grid.vertex(e[1])).norm());
+  const double median = median_of(lengths);
+  s.min_edge_ratio = lengths.empty() || median <= 0
+                         ? 0
+                         : *std::min_element(lengths.begin(), lengths.end()) / median;
+  // Beams: alignment where the field is strongly anisotropic.
+  Points mids(topo.num_edges(), 3);
+  for (int e = 0; e < topo.num_edges(); ++e)
+    mids.row(e) = 0.5 * (grid.V.row(topo.edges[e][0]) + grid.V.row(topo.edges[e][1]));
+  const std::vector<int> edge_face = topo.num_edges() ? face_at(mids) : std::vector<int>{};
+  const double cos_limit = std::cos(o.angle_deg * kPi / 180);
+  int aligned = 0;
+  for (int e = 0; e < topo.num_edges(); ++e) {
+    const auto [a, b] = topo.edges[e];
+    if (topo.on_boundary[a] || topo.on_boundary[b]) continue;
+    const int f = edge_face[e];
+    if (field.a[f] < o.strong_a) continue;
+    ++s.strong_beams;
+    const Vec3 d = (grid.vertex(b) - grid.vertex(a)).normalized();
+    const Vec3 n = (surface.vertex(surface.F(f, 1)) - surface.vertex(surface.F(f, 0)))
+                       .cross(surface.vertex(surface.F(f, 2)) - surface.vertex(surface.F(f, 0)))
+                       .normalized();
+    const Vec3 u = field.u[f].normalized(), up = n.cross(u);
+    const Vec3 dt = (d - n * n.dot(d)).normalized();
+    if (std::abs(dt.dot(u)) >= cos_limit || std::abs(dt.dot(up)) >= cos_limit) ++aligned;
+  }
+  s.aligned_share = s.strong_beams ? static_cast<double>(aligned) / s.strong_beams : 0;
+  // Faces.
+  Points fc(grid.num_faces(), 3);
+  for (int f = 0; f < grid.num_faces(); ++f) {
+    Vec3 c = Vec3::Zero();
+    for (int v : grid.faces[f]) c += grid.vertex(v);
+    fc.row(f) = (c / static_cast<double>(grid.faces[f].size())).transpose();
+  }
+  const std::vector<int> face_face = grid.num_faces() ? face_at(fc) : std::vector<int>{};
+  int quads = 0;
+  std::vector<double> aspects, aspects_all;
+  for (int f = 0; f < grid.num_faces(); ++f) {
+    const auto& poly = grid.faces[f];
+    if (!is_simple(grid, poly)) ++s.non_simple_faces;
+    bool interior = true;
+    for (int v : poly) interior = interior && !topo.on_boundary[v];
+    if (!interior) continue;
+    ++s.interior_faces;
+    if (poly.size() != 4) continue;
+    ++quads;
+    std::array<Vec3, 4> e;
+    for (int k = 0; k < 4; ++k) e[k] = grid.vertex(poly[(k + 1) % 4]) - grid.vertex(poly[k]);
+    const double l02 = 0.5 * (e[0].norm() + e[2].norm()), l13 = 0.5 * (e[1].norm() + e[3].norm());
+    if (std::min(l02, l13) <= 0) continue;
+    aspects_all.push_back(std::max(l02, l13) / std::min(l02, l13));
+    const int t = face_face[f];
+    if (field.a[t] < o.aspect_a) continue;
+    const Vec3 u = field.u[t].normalized();
+    const double along02 = std::abs(e[0].normalized().dot(u)) + std::abs(e[2].normalized().dot(u));
+    const double along13 = std::abs(e[1].normalized().dot(u)) + std::abs(e[3].normalized().dot(u));
+    aspects.push_back(along02 >= along13 ? l02 / l13 : l13 / l02);
+  }
+  s.quad_share = s.interior_faces ? static_cast<double>(quads) / s.interior_faces : 0;
+  s.aspect_quads = static_cast<int>(aspects.size());
+  s.median_aspect = median_of(aspects);
+  s.median_aspect_all = median_of(aspects_all);
+  return s;
+}
+
+}  // namespace gridshell
