@@ -36,6 +36,11 @@ void fill_structure(ReportInput& in, const analysis::FrameResult& r) {
   for (const Points& m : r.buckling_modes) in.buckling_modes.push_back(first_rows(m, n));
   in.buckling_lambdas.resize(std::min(in.buckling_lambdas.size(), in.buckling_modes.size()));
   in.buckling_modes.resize(in.buckling_lambdas.size());
+  // Cross-section utilisation, as beams.csv's `utilisation` column (same member order).
+  if (r.checks.members.size() == in.axial_force.size()) {
+    in.utilisation.clear();
+    for (const checks::MemberCheck& c : r.checks.members) in.utilisation.push_back(c.section);
+  }
 }
 
 /// JSON text of a string, `<` escaped, invalid UTF-8 replaced.
