@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numeric>
 #include <set>
 
 #include "gridshell/core/error.h"
@@ -21,19 +20,14 @@ struct Labelling {
 
 /// Connected components of equally-labelled faces.
 Labelling components(const Topology& t, const std::vector<int>& label, int nf) {
-  std::vector<int> parent(nf);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  DisjointSets sets(nf);
   for (const auto& ef : t.edge_faces)
-    if (ef.size() == 2 && label[ef[0]] == label[ef[1]]) parent[find(ef[0])] = find(ef[1]);
+    if (ef.size() == 2 && label[ef[0]] == label[ef[1]]) sets.unite(ef[0], ef[1]);
   Labelling l;
   l.region.assign(nf, -1);
   std::map<int, int> ids;
   for (int f = 0; f < nf; ++f) {
-    auto [it, inserted] = ids.emplace(find(f), l.count);
+    auto [it, inserted] = ids.emplace(sets.find(f), l.count);
     if (inserted) ++l.count;
     l.region[f] = it->second;
   }

@@ -233,24 +233,19 @@ MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance) {
   for (int v = 0; v < nv; ++v) {
     const auto& vf = t.vertex_faces[v];
     if (vf.size() < 2) continue;
-    std::vector<int> parent(vf.size());
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&](int x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
+    DisjointSets fan(static_cast<int>(vf.size()));
     for (int nb : t.vertex_neighbors[v]) {
       int e = t.find_edge(v, nb);
       const auto& ef = t.edge_faces[e];
       for (std::size_t i = 1; i < ef.size(); ++i) {
         auto ia = std::find(vf.begin(), vf.end(), ef[0]) - vf.begin();
         auto ib = std::find(vf.begin(), vf.end(), ef[i]) - vf.begin();
-        parent[find(static_cast<int>(ia))] = find(static_cast<int>(ib));
+        fan.unite(static_cast<int>(ia), static_cast<int>(ib));
       }
     }
     int roots = 0;
     for (std::size_t i = 0; i < vf.size(); ++i)
-      roots += (find(static_cast<int>(i)) == static_cast<int>(i));
+      roots += (fan.find(static_cast<int>(i)) == static_cast<int>(i));
     if (roots > 1) ++p.non_manifold_vertices;
   }
   // Exact duplicate positions.

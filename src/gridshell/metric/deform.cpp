@@ -83,25 +83,19 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
     lv.area[f] = area;
   }
   // One fixed vertex per connected component; unreferenced vertices are fixed too.
-  std::vector<int> parent(nv);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  DisjointSets sets(nv);
   std::vector<char> used(nv, 0);
   for (int f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
       used[rest.F(f, k)] = 1;
-      const int a = find(rest.F(f, k)), b = find(rest.F(f, (k + 1) % 3));
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      sets.unite(rest.F(f, k), rest.F(f, (k + 1) % 3));
     }
   lv.free_index.assign(nv, -1);
   std::vector<char> root_fixed(nv, 0);
   lv.num_free = 0;
   for (int v = 0; v < nv; ++v) {
     if (!used[v]) continue;
-    const int r = find(v);
+    const int r = sets.find(v);
     if (!root_fixed[r]) {
       root_fixed[r] = 1;  // the first vertex of each component stays put
       continue;
