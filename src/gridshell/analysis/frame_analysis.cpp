@@ -7,6 +7,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
 
 namespace gridshell::analysis {
@@ -44,27 +45,18 @@ std::optional<double> lambda_at_displacement(const std::vector<PathPoint>& path,
 }
 }  // namespace
 
+namespace {
+constexpr EnumWords<AnalysisLevel, 4> kLevelWords{{{"none", AnalysisLevel::none},
+                                                   {"linear", AnalysisLevel::linear},
+                                                   {"buckling", AnalysisLevel::buckling},
+                                                   {"nonlinear", AnalysisLevel::nonlinear}}};
+}  // namespace
+
 AnalysisLevel parse_analysis_level(const std::string& word) {
-  for (AnalysisLevel l : {AnalysisLevel::none, AnalysisLevel::linear, AnalysisLevel::buckling,
-                          AnalysisLevel::nonlinear})
-    if (word == to_string(l)) return l;
-  throw Error("--analyze",
-              "'" + word + "' is not one of none, linear, buckling, nonlinear");
+  return parse_word(word, "--analyze", kLevelWords);
 }
 
-const char* to_string(AnalysisLevel level) {
-  switch (level) {
-    case AnalysisLevel::none:
-      return "none";
-    case AnalysisLevel::linear:
-      return "linear";
-    case AnalysisLevel::buckling:
-      return "buckling";
-    case AnalysisLevel::nonlinear:
-      return "nonlinear";
-  }
-  return "?";
-}
+const char* to_string(AnalysisLevel level) { return word_of(level, kLevelWords); }
 
 FrameAnalysisOptions at_level(FrameAnalysisOptions o, AnalysisLevel level) {
   o.linear = level != AnalysisLevel::none;

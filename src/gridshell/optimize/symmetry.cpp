@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/optimize/projector.h"
@@ -38,26 +39,20 @@ SymmetryReport detect_symmetry(const TriMesh& surface, double tolerance) {
   return r;
 }
 
+namespace {
+constexpr EnumWords<Symmetry, 4> kSymmetryWords{{{"none", Symmetry::none},
+                                                 {"x", Symmetry::x},
+                                                 {"y", Symmetry::y},
+                                                 {"xy", Symmetry::xy}}};
+}  // namespace
+
 Symmetry parse_symmetry(const std::string& word) {
-  if (word.empty() || word == "none") return Symmetry::none;
-  for (Symmetry s : {Symmetry::x, Symmetry::y, Symmetry::xy})
-    if (word == to_string(s)) return s;
+  if (word.empty()) return Symmetry::none;
+  if (const auto s = find_word(word, kSymmetryWords)) return *s;
   throw Error("--symmetry", "expected x, y, xy or none, got '" + word + "'");
 }
 
-const char* to_string(Symmetry s) {
-  switch (s) {
-    case Symmetry::none:
-      return "none";
-    case Symmetry::x:
-      return "x";
-    case Symmetry::y:
-      return "y";
-    case Symmetry::xy:
-      return "xy";
-  }
-  return "?";
-}
+const char* to_string(Symmetry s) { return word_of(s, kSymmetryWords); }
 
 std::vector<Plane> symmetry_planes(const SymmetryReport& r, Symmetry which) {
   std::vector<Plane> planes;
