@@ -15,17 +15,6 @@ namespace gridshell::analysis {
 using namespace gridshell::fem;
 
 namespace {
-class Timer {
- public:
-  Timer() : t0_(std::chrono::steady_clock::now()) {}
-  double seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-  }
-
- private:
-  std::chrono::steady_clock::time_point t0_;
-};
-
 double plan_span(const Points& X) {
   const Eigen::RowVector3d lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
   const double s = std::max(hi(0) - lo(0), hi(1) - lo(1));
@@ -199,7 +188,7 @@ void record_nonlinear_static(const FrameMesh& mesh, const FrameAssembler& assemb
 }  // namespace
 
 FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o) {
-  Timer total, t;
+  Stopwatch total, t;
   FrameResult res;
   const FrameMesh mesh = discretize(model, o.subject);
   if (mesh.load.norm() == 0 && mesh.load_full.norm() == 0)
@@ -212,14 +201,14 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
   const FrameAssembler assembler(mesh);
   res.timings["setup"] = t.seconds();
 
-  t = Timer();
+  t = Stopwatch();
   const LinearResult lin = linear_static(mesh, assembler, o.subject);
   res.timings["linear"] = t.seconds();
   record_linear(mesh, assembler, lin, res);
 
   BucklingResult lba;
   if (o.buckling || (o.nonlinear && o.imperfection)) {
-    t = Timer();
+    t = Stopwatch();
     BucklingOptions bo;
     bo.modes = std::max(1, o.buckling_modes);
     lba = linear_buckling(mesh, assembler, lin, bo);
@@ -227,12 +216,12 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
     record_buckling(mesh, assembler, lba, res);
   }
   if (o.nonlinear) {
-    t = Timer();
+    t = Stopwatch();
     run_path(mesh, o, lba, res);
     res.timings["nonlinear"] = t.seconds();
   }
   if (o.nonlinear_static > 0) {
-    t = Timer();
+    t = Stopwatch();
     record_nonlinear_static(mesh, assembler, o, res);
     res.timings["nonlinear_static"] = t.seconds();
   }

@@ -10,11 +10,11 @@
 /// one corotational tangent + factorisation per step and refresh (Lilium, 7 547 beams: 22 steps,
 /// 47 factorisations, 302 cheap corrector iterations).
 
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "gridshell/core/timings.h"
 #include "gridshell/fem/frame_arclength.h"
 #include "gridshell/fem/frame_model.h"
 
@@ -83,7 +83,7 @@ struct FrameResult {
   std::optional<Points> nonlinear_displacement, nonlinear_rotation;
   std::vector<double> nonlinear_axial_force;
   int num_elements = 0, num_dofs = 0;
-  std::map<std::string, double> timings;  ///< seconds per stage
+  Timings timings;  ///< seconds per stage (core/timings.h)
 };
 
 /// `options` with linear / buckling / nonlinear set for `level` (none: all three off).

@@ -17,12 +17,10 @@ namespace gridshell {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using Timings = std::vector<std::pair<std::string, double>>;
-
-/// Appends the seconds since `t` under `stage` and restarts `t`.
+/// Adds the seconds since `t` to `stage` and restarts `t`.
 void lap(Timings& timings, const char* stage, Clock::time_point& t) {
   const auto now = Clock::now();
-  timings.emplace_back(stage, std::chrono::duration<double>(now - t).count());
+  timings.add(stage, std::chrono::duration<double>(now - t).count());
   t = now;
 }
 
@@ -341,12 +339,6 @@ void build_grid(const Surface& surface, const StressField& stress, const DesignO
   lap(r.timings, "regularization", clock);
 }
 
-double total_seconds(const Timings& timings) {
-  double s = 0;
-  for (const auto& [stage, sec] : timings) s += sec;
-  return s;
-}
-
 }  // namespace
 
 FieldInput parse_field_input(const std::string& word, std::string* file) {
@@ -418,9 +410,9 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
     spdlog::info("[length] {:.5g} m of beams for {:.5g} m: tessellating again",
                  r.metrics.total_length, L);
     const double first = r.metrics.total_length, target = L * L / first;
-    const double first_seconds = total_seconds(r.timings);
+    const double first_seconds = r.timings.sum();
     r.timings.clear();
-    r.timings.emplace_back("length_first_pass", first_seconds);
+    r.timings.add("length_first_pass", first_seconds);
     r.details.erase("tessellation_seed_retries");
     build_grid(surface, stress, o, planes, target, given != nullptr, r);
     r.details["length_retry"] = {{"first_length_m", first}, {"tessellation_target_m", target}};
