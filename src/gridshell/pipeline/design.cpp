@@ -10,6 +10,7 @@
 #include "gridshell/field/field_io.h"
 #include "gridshell/grids/plane_cut.h"
 #include "gridshell/grids/supports.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
@@ -67,9 +68,9 @@ double estimate_radius(const TessellationOptions& t, double area_rest, double ar
 double predicted_deformed_area(const TriMesh& mesh, const Field& field) {
   double area = 0;
   for (int f = 0; f < mesh.num_faces(); ++f) {
-    const Vec3 a = mesh.vertex(mesh.F(f, 0)), b = mesh.vertex(mesh.F(f, 1)),
-               c = mesh.vertex(mesh.F(f, 2));
-    area += 0.5 * (b - a).cross(c - a).norm() * field.d[f] * field.d[f] / field.a[f];
+    const double rest = triangle_area(mesh.vertex(mesh.F(f, 0)), mesh.vertex(mesh.F(f, 1)),
+                                      mesh.vertex(mesh.F(f, 2)));
+    area += rest * field.d[f] * field.d[f] / field.a[f];
   }
   return area;
 }
