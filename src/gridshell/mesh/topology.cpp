@@ -88,6 +88,13 @@ Topology build_topology(const TriMesh& mesh) {
   return build_topology(to_poly(mesh));
 }
 
+std::vector<int> boundary_vertices(const Topology& topo) {
+  std::vector<int> out;
+  for (int v = 0; v < static_cast<int>(topo.on_boundary.size()); ++v)
+    if (topo.on_boundary[v]) out.push_back(v);
+  return out;
+}
+
 TriangleAdjacency build_triangle_adjacency(const Triangles& F, int nv) {
   const int nt = static_cast<int>(F.rows());
   // Half-edges 3t+k (F(t,k) → F(t,k+1)) grouped by their origin vertex (counting sort: linear).

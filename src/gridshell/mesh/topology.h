@@ -43,6 +43,9 @@ struct Topology {
 Topology build_topology(const PolyMesh& mesh);
 Topology build_topology(const TriMesh& mesh);
 
+/// The vertices on the mesh boundary (`on_boundary`), in id order.
+std::vector<int> boundary_vertices(const Topology& topo);
+
 /// Triangle-to-triangle adjacency of a manifold, consistently oriented triangle mesh. Local
 /// edge k of triangle t runs from corner k to corner k + 1 (mod 3).
 struct TriangleAdjacency {
