@@ -1,6 +1,7 @@
 // gridshell analyze GRIDSHELL.obj|.ply|MODEL.json: the grid-shell as a rigid-jointed 3D frame —
 // δ (linear), λ_LBA (linearised buckling) and λ (first critical point of the non-linear path).
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 
@@ -11,6 +12,7 @@
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/error.h"
+#include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
 #include "gridshell/io/frame_model_json.h"
 #include "gridshell/io/mesh_io.h"
@@ -153,8 +155,9 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   const LoadedFrame f = load_frame(a);
   const analysis::AnalysisLevel level = analysis_level(a.analyze, f.request);
   io::ensure_directory(a.run.out_dir);
-  const analysis::FrameResult r =
-      analysis::analyze_frame(f.model, analysis_options(a, level, f.request));
+  analysis::FrameAnalysisOptions options = analysis_options(a, level, f.request);
+  options.arc.progress = guard.progress;
+  const analysis::FrameResult r = analysis::analyze_frame(f.model, options);
   write_frame_outputs(a.run.out_dir, f.model, f.supports, r);
   nlohmann::json report;
   nlohmann::json st = structure_block(r);
@@ -169,12 +172,34 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   if (lower_ext(a.input) != ".json") {  // a grid-shell mesh: members are its topology edges
     analysis::GridshellFrameOptions bars;
     bars.diameter = a.diameter;
-    report["fabrication"] =
-        fabrication_report(a.run.out_dir, PolyMesh{f.model.nodes, f.model.faces}, f.supports, &r,
-                           bars, fabrication::parse_sheet(a.sheet));
+    GridShellOutput out;
+    out.mesh = PolyMesh{f.model.nodes, f.model.faces};
+    out.supports = f.supports;
+    add_structure(out, r);
+    write_gridshell_vtp(a.run.out_dir, out);
+    report["fabrication"] = fabrication_report(a.run.out_dir, out.mesh, f.supports, &r, bars,
+                                               fabrication::parse_sheet(a.sheet));
   }
+  figures::FigureInput fig{.title = fmt::format("gridshell analyze {}: {} nodes, {} members; "
+                                                "analysis {}",
+                                                a.input, f.model.num_nodes(),
+                                                f.model.members.size(), to_string(level))};
+  const PolyMesh frame{f.model.nodes, f.model.faces};
+  for (const fem::FrameMember& m : f.model.members) fig.beams.push_back({m.i, m.j});
+  fig.gridshell = &frame, fig.supports = f.supports, fig.structure = &r;
+  const auto t_fig = std::chrono::steady_clock::now();
+  report["figures"] =
+      figures::write_figures(a.run.out_dir, fig, figures::parse_figure_options(a.run.figures));
   report["timings_s"] = r.timings;
+  report["timings_s"]["figures"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
   write_report(a.run.out_dir, report);
+  write_report_page(
+      a.run.out_dir,
+      lower_ext(a.input) == ".json"
+          ? report::frame_report_input(f.model, f.supports, r)
+          : report::gridshell_report_input(PolyMesh{f.model.nodes, f.model.faces}, f.supports, &r),
+      report, sub);
   write_config(a.run.out_dir, sub);
   return 0;
 }
@@ -220,8 +245,15 @@ void register_analyze(CLI::App& app, Action& action) {
                   "fabrication (grid-shell meshes): sheet size WxH in metres on which the panels "
                   "are nested")
       ->default_str("2.5x1.25");
+  sub->footer(
+      "Writes nodes.csv, beams.csv, path.csv (nodes_nonlinear.csv with --nonlinear-static),\n"
+      "frame.vtp, figures/*.png (top, perspective, buckling_mode, load_path: docs/figures.md),\n"
+      "report.json, config.json and report.html (open it first: the 3D view with forces and\n"
+      "buckling modes, offline); for a grid-shell mesh also gridshell.vtp, joints.csv,\n"
+      "panels.csv and panels.svg.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  add_figure_option(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_analyze(*a, sub); }; });
 }
 

@@ -11,6 +11,7 @@
 
 #include "common.h"
 #include "gridshell/core/error.h"
+#include "gridshell/figures/figures.h"
 #include "gridshell/grids/dual.h"
 #include "gridshell/grids/quad_grid.h"
 #include "gridshell/grids/supports.h"
@@ -102,9 +103,12 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   if (level != analysis::AnalysisLevel::none) {
     const auto t2 = Clock::now();
     spdlog::info("[analysis] {} frame: {} joints", a.analyze, out.mesh.num_vertices());
-    structure = analyze_gridshell(out.mesh, out.supports, level);
+    analysis::FrameAnalysisOptions options;
+    options.arc.progress = guard.progress;
+    structure = analyze_gridshell(out.mesh, out.supports, level, {}, options);
     lap("analysis", t2);
   }
+  if (structure) add_structure(out, *structure);
   io::ensure_directory(a.run.out_dir);
   write_gridshell_files(a.run.out_dir, out);
   nlohmann::json report;
@@ -118,10 +122,26 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     report["mesh"]["length_error"] = report["mesh"]["total_length_m"].get<double>() / a.length - 1;
   }
   if (structure) report["structure"] = structure_block(*structure);
+  const auto t3 = Clock::now();
+  report["figures"] = figures::write_figures(
+      a.run.out_dir,
+      {.title = fmt::format("gridshell baseline {} --kind {}: {} cells, {:.0f} m of beams; "
+                            "analysis {}; seed {}",
+                            a.surface, a.kind, out.mesh.num_faces(),
+                            report["mesh"]["total_length_m"].get<double>(), a.analyze, a.run.seed),
+       .gridshell = &out.mesh,
+       .supports = out.supports,
+       .structure = structure ? &*structure : nullptr},
+      figures::parse_figure_options(a.run.figures));
+  lap("figures", t3);
   timings["total"] = std::chrono::duration<double>(Clock::now() - t0).count();
   report["timings_s"] = timings;
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
+  report::ReportInput page =
+      report::gridshell_report_input(out.mesh, out.supports, structure ? &*structure : nullptr);
+  page.density = out.d_target;
+  write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[baseline] {} joints, {} panels, {:.1f} m of beams -> {}", out.mesh.num_vertices(),
                out.mesh.num_faces(), report["mesh"]["total_length_m"].get<double>(), a.run.out_dir);
   return 0;
@@ -147,8 +167,14 @@ void register_baseline(CLI::App& app, Action& action) {
   sub->add_option("--sheet", a->sheet,
                   "fabrication: sheet size WxH in metres on which the panels are nested")
       ->default_str("2.5x1.25");
+  sub->footer(
+      "Writes the files of design (without field.vtp and field.png): gridshell_raw.obj,\n"
+      "gridshell.obj, gridshell.ply, gridshell.vtp, cells.csv, joints.csv, beams.csv,\n"
+      "panels.csv, panels.svg, figures/*.png (docs/figures.md), report.json, config.json\n"
+      "and report.html (open it first: the 3D view, key figures and figures, offline).");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  add_figure_option(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_baseline(*a, sub); }; });
 }
 

@@ -12,6 +12,7 @@
 
 #include "common.h"
 #include "gridshell/core/error.h"
+#include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/pipeline/design.h"
@@ -35,6 +36,21 @@ struct DesignArgs {
   bool search = true;  ///< no -D/-A/convention/--field given: search for the objective
 };
 
+/// The figures' subtitle: what was run.
+std::string design_title(const DesignArgs& a, const DesignResult& r,
+                         const ObjectiveResult* searched) {
+  const nlohmann::json f = r.details.value("field", nlohmann::json::object());
+  std::string field = f.value("kind", a.field);
+  if (f.contains("D")) field += fmt::format(" D={} A={}", f["D"].dump(), f["A"].dump());
+  if (searched)
+    field = fmt::format("{} (chosen by --objective {})",
+                        searched->candidates[searched->chosen].setting.label(), a.objective);
+  return fmt::format("gridshell design {}: field {}; {} cells, {:.0f} m of beams; analysis {}; "
+                     "seed {}",
+                     a.surface, field, r.mesh.num_faces(), r.metrics.total_length, a.analyze,
+                     a.run.seed);
+}
+
 int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const auto guard = apply_run_options(a.run);
   using Clock = std::chrono::steady_clock;
@@ -50,8 +66,10 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   options.field_options.measure = parse_stress_measure(a.measure);
   options.field_options.stretch = parse_stretch_axis(a.stretch);
   options.field_options.density = parse_density_trend(a.density);
+  options.frame_analysis.arc.progress = guard.progress;
   ObjectiveOptions objective;
   objective.objective = parse_objective(a.objective);
+  objective.progress = guard.progress;
   check_design_options(options);
   const fabrication::SheetOptions sheet = fabrication::parse_sheet(a.sheet);
   spdlog::info("[load] {}", a.surface);
@@ -66,25 +84,42 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   auto t0 = Clock::now();
   const std::filesystem::path dir(a.run.out_dir);
   io::ensure_directory(dir);
-  write_gridshell_files(dir, design_output(r));
+  const GridShellOutput out = design_output(r);
+  write_gridshell_files(dir, out);
   const auto t_fab = Clock::now();
   const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports,
                                                 r.structure ? &*r.structure : nullptr,
                                                 options.frame, sheet);
   const double fabrication_s = std::chrono::duration<double>(Clock::now() - t_fab).count();
   io::write_vtp(dir / "field.vtp", to_poly(surface.mesh), {}, field_attributes(r.field));
+  const auto t_fig = Clock::now();
+  const std::vector<std::string> figure_files =
+      figures::write_figures(dir, {.title = design_title(a, r, searched ? &*searched : nullptr),
+                                   .gridshell = &r.mesh,
+                                   .supports = r.supports,
+                                   .structure = r.structure ? &*r.structure : nullptr,
+                                   .surface = &surface.mesh,
+                                   .field = &r.field},
+                             figures::parse_figure_options(a.run.figures));
+  const double figures_s = std::chrono::duration<double>(Clock::now() - t_fig).count();
   nlohmann::json report = design_report(r, options);
   report["surface"] = a.surface;
   report["fabrication"] = bom;
+  report["figures"] = figure_files;
   if (searched) report["objective"] = searched->report();
   const double write_s =
-      std::chrono::duration<double>(Clock::now() - t0).count() - fabrication_s;
+      std::chrono::duration<double>(Clock::now() - t0).count() - fabrication_s - figures_s;
   report["timings_s"] = timings_block(
-      r.timings, {{"load", t_load}, {"write", write_s}, {"fabrication", fabrication_s}},
+      r.timings,
+      {{"load", t_load}, {"write", write_s}, {"fabrication", fabrication_s}, {"figures", figures_s}},
       std::chrono::duration<double>(Clock::now() - start).count());
   const nlohmann::json& timings = report["timings_s"];
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
+  report::ReportInput page = report::gridshell_report_input(
+      r.mesh, r.supports, r.structure ? &*r.structure : nullptr);
+  page.density = out.d_target;
+  write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[done] {} joints, {} panels, {:.1f} m of beams in {:.1f} s -> {}",
                r.mesh.num_vertices(), r.mesh.num_faces(), r.metrics.total_length,
                timings["total"].get<double>(), dir.string());
@@ -178,12 +213,15 @@ void register_design(CLI::App& app, Action& action) {
   sub->footer(
       "Default size when none of --radius/--cells/--length is given: 300 cells.\n"
       "Writes gridshell_raw.obj, gridshell.obj, gridshell.ply, gridshell.vtp, field.vtp,\n"
-      "cells.csv, joints.csv, beams.csv, panels.csv, panels.svg, report.json and config.json\n"
-      "in the output folder.");
+      "cells.csv, joints.csv, beams.csv, panels.csv, panels.svg, figures/*.png (top,\n"
+      "perspective, field, buckling_mode, load_path: docs/figures.md), report.json,\n"
+      "config.json and report.html (open it first: the 3D view, key figures and figures,\n"
+      "offline) in the output folder.");
   exact.push_back(field);
   for (CLI::Option* o : exact) objective->excludes(o);
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  add_figure_option(sub, a->run);
   sub->callback([a, sub, exact, &action] {
     a->search = std::none_of(exact.begin(), exact.end(), [](CLI::Option* o) { return o->count(); });
     action = [a, sub] { return run_design_cmd(*a, sub); };

@@ -13,6 +13,7 @@
 
 #include "common.h"
 #include "gridshell/core/error.h"
+#include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
 #include "gridshell/field/field_io.h"
 #include "gridshell/pipeline/design.h"
@@ -94,8 +95,11 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
       row.lambda =
           r.structure->lambda_nonlinear.value_or(r.structure->lambda_linear_buckling.value_or(0.0));
     }
-    spdlog::info("[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m",
-                 ++finished, cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta);
+    const int k = ++finished;
+    spdlog::info("[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m", k,
+                 cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta);
+    report_progress(guard.progress, "sweep", static_cast<double>(k) / cases.size(),
+                    fmt::format("{}/{} cases", k, cases.size()));
     return row;
   });
   const std::vector<SweepRow> rows = mpi.gather(mine);
@@ -110,12 +114,24 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
                         sweep_heatmap_svg(rows, "mean deflection δ (m) over (D, A)",
                                           [](const SweepRow& r) { return r.delta; }));
   nlohmann::json report;
+  const auto t_fig = std::chrono::steady_clock::now();
+  report["figures"] = figures::write_sweep_figures(
+      dir, rows,
+      fmt::format("gridshell sweep {}: D {}, A {}, repeats {}, {}; field {}; analysis {}; seed {}",
+                  a.surface, a.D, a.A, a.repeats,
+                  a.length > 0 ? fmt::format("length {:g} m", a.length)
+                               : fmt::format("{} cells", a.cells),
+                  a.field, a.analyze, a.run.seed),
+      figures::parse_figure_options(a.run.figures));
+  const double figures_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
   report["surface"] = a.surface;
   report["cases"] = rows.size();
   report["cases_total"] = all;
   report["shard"] = a.shard.empty() ? "1/1" : a.shard;
   report["mpi_ranks"] = mpi.size();
   report["timings_s"] = {
+      {"figures", figures_s},
       {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
@@ -163,10 +179,12 @@ void register_sweep(CLI::App& app, Action& action) {
       ->default_str("nonlinear");
   sub->footer(
       "Writes sweep.csv (D,A,repeat,seed,cells,total_length,lambda,delta), lambda.svg,\n"
-      "delta.svg, report.json and config.json. Under `mpirun -n K` (MPI build) the ranks share\n"
+      "delta.svg, figures/lambda_heatmap.png, figures/delta_heatmap.png, report.json and\n"
+      "config.json. Under `mpirun -n K` (MPI build) the ranks share\n"
       "the cases and rank 0 writes the outputs; rows equal those of a single process.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
+  add_figure_option(sub, a->run);
   sub->callback([a, sub, &action] { action = [a, sub] { return run_sweep_cmd(*a, sub); }; });
 }
 

@@ -3,11 +3,15 @@
 #include <filesystem>
 #include <thread>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 
 #include "gridshell/core/error.h"
+#include "gridshell/core/progress_display.h"
+#include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
 
 namespace gridshell::app {
@@ -31,12 +35,27 @@ void add_run_options(CLI::App* sub, RunOptions& o) {
   sub->add_option("--config", "repeat a run: read options from a config.json written earlier");
 }
 
-std::shared_ptr<void> apply_run_options(const RunOptions& o) {
+void add_figure_option(CLI::App* sub, RunOptions& o) {
+  sub->add_option("--figures", o.figures,
+                  "size WxH in pixels of the PNG figures in DIR/figures/, or none")
+      ->default_str(o.figures);
+}
+
+RunGuard apply_run_options(const RunOptions& o) {
   if (o.threads < 0) throw Error("--threads", "must be ≥ 0");
-  spdlog::set_level(o.quiet ? spdlog::level::warn : spdlog::level::info);
+  figures::parse_figure_options(o.figures);
   const std::size_t n = o.threads > 0 ? static_cast<std::size_t>(o.threads)
                                       : std::max(1u, std::thread::hardware_concurrency());
-  return std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism, n);
+  RunGuard guard;
+  guard.threads =
+      std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism, n);
+  auto display = std::make_shared<ProgressDisplay>(stderr, isatty(fileno(stderr)) != 0);
+  auto logger = std::make_shared<spdlog::logger>("gridshell", log_sink(display));
+  logger->set_pattern("%v");
+  logger->set_level(o.quiet ? spdlog::level::warn : spdlog::level::info);
+  spdlog::set_default_logger(logger);
+  if (!o.quiet) guard.progress = ProgressDisplay::callback(display);
+  return guard;
 }
 
 nlohmann::json resolved_config(const CLI::App* sub) {
@@ -70,6 +89,19 @@ void write_config(const std::string& dir, const CLI::App* sub) {
 
 void write_report(const std::string& dir, const nlohmann::json& report) {
   io::write_file_atomic(std::filesystem::path(dir) / "report.json", report.dump(2) + "\n");
+}
+
+void write_report_page(const std::string& dir, report::ReportInput page,
+                       const nlohmann::json& report, const CLI::App* sub) {
+  page.config = resolved_config(sub);
+  page.report = report;
+  page.title = "gridshell " + sub->get_name();
+  for (const auto& p : page.config["positional"]) page.title += " " + p.get<std::string>();
+  if (page.config["positional"].empty() && report.contains("surface"))
+    page.title += " " + report["surface"].get<std::string>();
+  const report::ReportWritten w = report::write_report_html(dir, page);
+  spdlog::info("[report] report.html: {:.1f} MB, {} figures, {:.3f} s", w.bytes / 1e6, w.figures,
+               w.seconds);
 }
 
 std::vector<std::string> expand_config(const std::vector<std::string>& args, const CLI::App& cli) {

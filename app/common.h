@@ -9,6 +9,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "gridshell/core/progress.h"
+#include "gridshell/report/report_html.h"
 #include "gridshell/surfaces/load.h"
 
 namespace gridshell::app {
@@ -22,13 +24,22 @@ struct RunOptions {
   std::uint64_t seed = 1;
   int threads = 0;  ///< 0 = all cores
   bool quiet = false;
+  std::string figures = "1600x1200";  ///< --figures WxH | none (commands that draw figures)
 };
 
 void add_surface_options(CLI::App* sub, SurfaceOptions& options);
 void add_run_options(CLI::App* sub, RunOptions& options);
+/// --figures WxH|none: the size of the PNGs in DIR/figures/ (checked by apply_run_options).
+void add_figure_option(CLI::App* sub, RunOptions& options);
 
-/// Applies --threads and --quiet (logging level) for the duration of a run; returns a guard.
-std::shared_ptr<void> apply_run_options(const RunOptions& options);
+/// What a run holds while it works: the thread limit, and the progress display on stderr.
+struct RunGuard {
+  std::shared_ptr<void> threads;
+  Progress progress;  ///< for the library's options; empty with --quiet
+};
+
+/// Applies --threads and --quiet (logging level, progress) for the duration of a run.
+RunGuard apply_run_options(const RunOptions& options);
 
 /// The resolved parameters of `sub` (every option with its value), as written to config.json.
 nlohmann::json resolved_config(const CLI::App* sub);
@@ -36,6 +47,11 @@ nlohmann::json resolved_config(const CLI::App* sub);
 /// Writes DIR/config.json for `sub`, and DIR/report.json from `report`.
 void write_config(const std::string& dir, const CLI::App* sub);
 void write_report(const std::string& dir, const nlohmann::json& report);
+
+/// Writes DIR/report.html (report/report_html.h) from `page` with `report` (report.json) and the
+/// resolved config of `sub`; call it last, after the figures. Logs its size and time.
+void write_report_page(const std::string& dir, report::ReportInput page,
+                       const nlohmann::json& report, const CLI::App* sub);
 
 /// Expands `--config FILE` in argv: options stored in FILE and not given on the command line are
 /// appended. Throws Error for a bad file.

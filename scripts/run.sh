@@ -25,6 +25,16 @@ PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libsuitespa
 # Open MPI: the optional distributed sweep (`mpirun -n K gridshell sweep ...`) and its test.
 PACKAGES+=(libopenmpi-dev openmpi-bin)
 
+# Cairo: the figures/*.png every design, baseline, analyze and sweep draws (src/gridshell/figures/).
+PACKAGES+=(libcairo2-dev)
+
+# report.html (docs/report.md): Node.js and npm bundle the viewer (three.js, esbuild from
+# web/package-lock.json) at build time; headless Chromium and libpng are the tests' browser and
+# screenshot reader.
+# (A machine with its own Node.js, e.g. NodeSource's, which bundles npm, keeps it.)
+PACKAGES+=(chromium libpng-dev)
+command -v npm >/dev/null || PACKAGES+=(nodejs npm)
+
 # Clang with libFuzzer and the sanitizer runtimes: the fuzz smoke run of `test` (scripts/fuzz.sh).
 PACKAGES+=(clang libclang-rt-14-dev)
 
@@ -49,6 +59,15 @@ install_packages() {
   fi
 }
 
+# The viewer's npm packages, exactly as pinned in web/package-lock.json (again only when the lock
+# file changed since the last install).
+install_web() {
+  if [ -x web/node_modules/.bin/esbuild ] && [ web/node_modules/.package-lock.json -nt web/package-lock.json ]; then
+    return 0
+  fi
+  npm ci --prefix web --no-audit --no-fund
+}
+
 build() {  # build DIR [extra cmake args]
   local dir=$1; shift
   local launcher=()
@@ -62,12 +81,13 @@ build() {  # build DIR [extra cmake args]
 
 cmd=${1:-demo}
 install_packages
+install_web
 case "$cmd" in
   build) build build ;;
   demo)
     build build -DGRIDSHELL_BUILD_TESTS=OFF
     ./build/gridshell design -o demo
-    echo "results in $(pwd)/demo (open gridshell.obj in MeshLab or gridshell.vtp / field.vtp in ParaView; report.json has δ and λ)"
+    echo "results in $(pwd)/demo (open report.html first; gridshell.obj in MeshLab or gridshell.vtp / field.vtp in ParaView; report.json has δ and λ)"
     ;;
   test)
     # Warnings are errors in the Release test build (CI); the demo and the -O1 sanitizer builds

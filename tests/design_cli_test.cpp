@@ -314,3 +314,23 @@ TEST(DesignCli, ObjectiveSearchReportsCandidatesAndRepeatsFromConfig) {
   EXPECT_EQ(exact.at("design").at("field").at("stretch"), "across");
   EXPECT_EQ(exact.at("design").at("field").at("D"), 2.0);
 }
+
+// The command line reports a non-linear path on stderr (a search is checked in objective_test);
+// --quiet says nothing.
+TEST(DesignCli, ProgressOnStderrAndQuietSilencesIt) {
+  const auto d = temp_dir("progress");
+  const auto made = run_gridshell(
+      "design builtin:funicular --cells 400 -D 2 -A 2 --seed 2 --analyze none --quiet -o " +
+      (d / "design").string());
+  ASSERT_EQ(made.status, 0) << made.err;
+  EXPECT_EQ(made.err, "");
+  // The path of a ~900-joint frame takes a few seconds: more than the one-second threshold.
+  const std::string args = "analyze " + (d / "design" / "gridshell.obj").string() +
+                           " --analyze nonlinear -o " + (d / "analyze").string();
+  const auto loud = run_gridshell(args);
+  ASSERT_EQ(loud.status, 0) << loud.err;
+  EXPECT_NE(loud.err.find("[non-linear path] 100%"), std::string::npos) << loud.err;
+  const auto quiet = run_gridshell(args + " --quiet");
+  ASSERT_EQ(quiet.status, 0) << quiet.err;
+  EXPECT_EQ(quiet.err.find('%'), std::string::npos) << quiet.err;
+}

@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "gridshell/core/error.h"
@@ -106,6 +107,38 @@ std::string xml_problem(const std::string& s) {
     if (tag.back() != '/') stack.push_back(name);
   }
   return stack.empty() ? "" : "unclosed <" + stack.back() + ">";
+}
+
+/// The values of the VTK DataArray called `name` in `vtp` (empty when absent).
+std::vector<double> vtk_array(const std::string& vtp, const std::string& name) {
+  const std::size_t at = vtp.find("Name=\"" + name + "\"");
+  if (at == std::string::npos) return {};
+  const std::size_t begin = vtp.find('>', at) + 1, end = vtp.find('<', begin);
+  return numbers(vtp.substr(begin, end - begin));
+}
+
+/// gridshell.vtp of a grid-shell with `t`'s edges as beams and `m`'s faces as panels: well-formed,
+/// beams then panels, axial forces as in beams.csv, displacements per joint as in joints' count.
+void expect_gridshell_vtp(const std::string& vtp, const PolyMesh& m, const gridshell::Topology& t,
+                          const Table& beams) {
+  EXPECT_EQ(xml_problem(vtp), "");
+  EXPECT_NE(vtp.find(fmt::format("NumberOfPoints=\"{}\" NumberOfLines=\"{}\" NumberOfPolys=\"{}\"",
+                                 m.num_vertices(), t.num_edges(), m.num_faces())),
+            std::string::npos);
+  const std::size_t ne = t.edges.size(), nf = m.faces.size();
+  const std::vector<double> is_beam = vtk_array(vtp, "is_beam"),
+                            axial = vtk_array(vtp, "axial_force");
+  ASSERT_EQ(is_beam.size(), ne + nf);
+  ASSERT_EQ(axial.size(), ne + nf);
+  for (std::size_t e = 0; e < ne; ++e) {
+    EXPECT_EQ(is_beam[e], 1.0);
+    EXPECT_NEAR(axial[e], std::stod(beams[e][4]), 1e-9 * std::abs(std::stod(beams[e][4])) + 1e-9);
+  }
+  for (std::size_t f = 0; f < nf; ++f) EXPECT_EQ(is_beam[ne + f], 0.0);
+  const std::vector<double> panel_id = vtk_array(vtp, "panel_id");
+  ASSERT_EQ(panel_id.size(), ne + nf);
+  EXPECT_EQ(panel_id[ne + nf - 1], static_cast<double>(nf - 1));
+  EXPECT_EQ(vtk_array(vtp, "displacement").size(), 3 * static_cast<std::size_t>(m.num_vertices()));
 }
 
 /// A planar regular honeycomb: hexagons of side `s` around the origin within `rings` rings,
@@ -254,7 +287,7 @@ TEST(Fabrication, NestedPanelsStayOnTheirSheetsAndApart) {
     }
     outlines.push_back(q);
   }
-  outlines.push_back({{0, 0}, {3, 0}, {3, 2}, {0, 2}});        // larger than a sheet
+  outlines.push_back({{0, 0}, {3, 0}, {3, 2}, {0, 2}});          // larger than a sheet
   outlines.push_back({{0, 0}, {0.5, 0}, {0.5, 2.0}, {0, 2.0}});  // fits only turned
   fab::SheetOptions sheet;  // 2.5 × 1.25, 10 mm gap and margin
   const fab::Nesting nest = fab::nest_panels(outlines, sheet);
@@ -308,7 +341,8 @@ TEST(Fabrication, DesignAnalyzeAndBaselineWriteTheFiles) {
   const fs::path d = temp_dir("design");
   const auto r = run_gridshell(
       "design builtin:dome --cells 60 --seed 5 --field uniform --analyze linear --quiet "
-      "--sheet 6x3.21 -o " + d.string());
+      "--sheet 6x3.21 -o " +
+      d.string());
   ASSERT_EQ(r.status, 0) << r.err;
   const auto file = gridshell::io::read_mesh(d / "gridshell.obj");
   const PolyMesh& m = file.mesh;
@@ -388,6 +422,9 @@ TEST(Fabrication, DesignAnalyzeAndBaselineWriteTheFiles) {
   for (std::size_t at = 0; (at = svg.find("<polygon", at)) != std::string::npos; ++at) ++polygons;
   EXPECT_EQ(polygons, m.faces.size());
 
+  // gridshell.vtp: beams with their forces, panels, joints with displacements, one numbering.
+  expect_gridshell_vtp(slurp(d / "gridshell.vtp"), m, t, beams);
+
   // analyze: the CONTRACT's beams.csv with the fabrication columns after it, same forces.
   const fs::path a = temp_dir("analyze");
   const auto ra = run_gridshell("analyze " + (d / "gridshell.obj").string() +
@@ -397,14 +434,17 @@ TEST(Fabrication, DesignAnalyzeAndBaselineWriteTheFiles) {
   EXPECT_EQ(slurp(a / "joints.csv"), slurp(d / "joints.csv"));
   EXPECT_TRUE(fs::exists(a / "panels.csv"));
   EXPECT_TRUE(fs::exists(a / "panels.svg"));
+  expect_gridshell_vtp(slurp(a / "gridshell.vtp"), m, t, beams);
   const auto ra_report = nlohmann::json::parse(slurp(a / "report.json"));
   EXPECT_EQ(ra_report.at("fabrication").at("beams").get<int>(), t.num_edges());
   EXPECT_EQ(ra_report.at("fabrication").at("sheet_m"), nlohmann::json({2.5, 1.25}));
 
   // baseline without analysis: the axial_force column is there but empty.
   const fs::path b = temp_dir("baseline");
-  const auto rb = run_gridshell("baseline builtin:dome --kind quad --length 400 --analyze none "
-                                "--quiet -o " + b.string());
+  const auto rb = run_gridshell(
+      "baseline builtin:dome --kind quad --length 400 --analyze none "
+      "--quiet -o " +
+      b.string());
   ASSERT_EQ(rb.status, 0) << rb.err;
   const Table bb = read_csv(slurp(b / "beams.csv"), &header);
   ASSERT_FALSE(bb.empty());

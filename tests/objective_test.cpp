@@ -3,6 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "gridshell/core/error.h"
@@ -38,8 +45,20 @@ TEST(Objective, ReferenceIsTheIsotropicBaselineAndTheChoiceFollowsTheRule) {
   for (Objective objective : {Objective::lambda, Objective::delta, Objective::balanced}) {
     ObjectiveOptions oo;
     oo.objective = objective;
+    std::mutex m;
+    std::vector<std::pair<double, std::string>> told;  // the progress listener's calls
+    oo.progress = [&](std::string_view stage, double fraction, std::string_view detail) {
+      const std::lock_guard lock(m);
+      EXPECT_EQ(stage, "objective search");
+      told.emplace_back(fraction, std::string(detail));
+    };
     const ObjectiveResult r = design_for_objective(surface, base, oo);
     ASSERT_GE(r.candidates.size(), 6u);
+    // Progress: a start, one call per candidate designed, and the end with the count.
+    ASSERT_EQ(told.size(), r.candidates.size() + 2);
+    EXPECT_EQ(told.front().first, 0.0);
+    for (std::size_t k = 1; k + 1 < told.size(); ++k) EXPECT_LT(told[k].first, 1.0);
+    EXPECT_EQ(told.back(), std::make_pair(1.0, fmt::format("{} designs", r.candidates.size())));
     const Candidate& ref = r.candidates.front();
     EXPECT_EQ(ref.setting.source, FieldSource::uniform);
     EXPECT_DOUBLE_EQ(ref.lambda, *plain.structure->lambda_linear_buckling);

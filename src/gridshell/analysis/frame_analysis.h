@@ -36,7 +36,11 @@ struct FrameAnalysisOptions {
   double imperfection_amplitude = 0;  ///< [m]; 0 = span / 300 (span = largest plan extent)
   /// Arc-length settings; initial_lambda ≤ 0 = automatic (λ_LBA / 10, or the factor giving a
   /// linear displacement of span / 2000); max_displacement ≤ 0 = span / 5.
-  fem::ArcLengthOptions arc{.initial_lambda = 0};
+  fem::ArcLengthOptions arc = [] {
+    fem::ArcLengthOptions automatic;
+    automatic.initial_lambda = 0;
+    return automatic;
+  }();
   /// Displacement limit [m] for λ_δ (FrameResult::lambda_displacement_limit); 0 = span / 100.
   double displacement_limit = 0;
   std::string subject = "model";  ///< named in error messages

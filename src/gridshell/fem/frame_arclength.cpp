@@ -236,6 +236,16 @@ double next_radius(double ds, int its, int desired_iterations, double ds_max) {
   return std::min(ds * factor, ds_max);
 }
 
+// Tells opt.progress how far the path is: the nearest of the stop rules (a critical point
+// cannot be foreseen).
+void report_path_progress(const ArcLengthOptions& opt, int steps, double umax, double lambda) {
+  double far = static_cast<double>(steps) / opt.max_steps;
+  if (opt.max_displacement > 0) far = std::max(far, umax / opt.max_displacement);
+  if (opt.max_lambda < 1e9) far = std::max(far, lambda / opt.max_lambda);
+  report_progress(opt.progress, "non-linear path", std::min(far, 0.99),
+                  fmt::format("step {}, λ = {:.4g}", steps, lambda));
+}
+
 }  // namespace
 
 ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
@@ -330,9 +340,12 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
     }
     stable_state = cur.state;
     if (!bracketing) ds = next_radius(ds, its, opt.desired_iterations, ds_max);
-    spdlog::info("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} factorisations",
-                 res.steps, cur.lambda, umax, its, res.factorizations);
+    spdlog::debug("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} factorisations",
+                  res.steps, cur.lambda, umax, its, res.factorizations);
+    report_path_progress(opt, res.steps, umax, cur.lambda);
   }
+  report_progress(opt.progress, "non-linear path", 1.0,
+                  fmt::format("{} steps, λ = {:.4g}", res.steps, cur.lambda));
   if (critical) {
     res.lambda_critical = lam_crit;
     if (res.stop_reason.empty()) res.stop_reason = "critical point found";

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "gridshell/core/progress.h"
 #include "gridshell/fem/frame_solver.h"
 
 namespace gridshell::fem {
@@ -40,6 +41,7 @@ struct ArcLengthOptions {
   double tolerance = 1e-8;           ///< residual norm relative to |λ f|
   double critical_tolerance = 2e-4;  ///< relative width of the bracket on the critical λ
   bool stop_at_critical = true;
+  Progress progress = {};  ///< told after every step (empty: nobody listens)
 };
 
 struct PathPoint {

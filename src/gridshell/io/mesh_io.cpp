@@ -572,50 +572,83 @@ void append_points(std::string& s, const Points& V) {
   s += "</DataArray>\n</Points>\n";
 }
 
+/// VTK XML PolyData with any of line segments and polygons (VTK orders cells lines first).
+void write_polydata(const fs::path& path, const Points& V,
+                    const std::vector<std::array<int, 2>>& lines,
+                    const std::vector<std::vector<int>>& polys, const Attributes& point_data,
+                    const Attributes& cell_data) {
+  std::string s =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" "
+      "byte_order=\"LittleEndian\">\n<PolyData>\n";
+  s += fmt::format("<Piece NumberOfPoints=\"{}\"", V.rows());
+  if (!lines.empty()) s += fmt::format(" NumberOfLines=\"{}\"", lines.size());
+  if (!polys.empty() || lines.empty()) s += fmt::format(" NumberOfPolys=\"{}\"", polys.size());
+  s += ">\n";
+  append_points(s, V);
+  if (!lines.empty()) {
+    s += "<Lines>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (const auto& l : lines) s += fmt::format("{} {}\n", l[0], l[1]);
+    s += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+    for (std::size_t i = 0; i < lines.size(); ++i) s += fmt::format("{}\n", 2 * (i + 1));
+    s += "</DataArray>\n</Lines>\n";
+  }
+  if (!polys.empty() || lines.empty()) {
+    s += "<Polys>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (const auto& f : polys) {
+      for (int v : f) s += fmt::format("{} ", v);
+      s += "\n";
+    }
+    s += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+    std::size_t offset = 0;
+    for (const auto& f : polys) s += fmt::format("{}\n", offset += f.size());
+    s += "</DataArray>\n</Polys>\n";
+  }
+  s += "<PointData>\n";
+  append_data_arrays(s, point_data, V.rows());
+  s += "</PointData>\n<CellData>\n";
+  append_data_arrays(s, cell_data, static_cast<Eigen::Index>(lines.size() + polys.size()));
+  s += "</CellData>\n</Piece>\n</PolyData>\n</VTKFile>\n";
+  write_file_atomic(path, s);
+}
+
 }  // namespace
 
 void write_vtp(const fs::path& path, const PolyMesh& mesh, const Attributes& point_data,
                const Attributes& cell_data) {
-  std::string s =
-      "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" "
-      "byte_order=\"LittleEndian\">\n<PolyData>\n";
-  s += fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfPolys=\"{}\">\n", mesh.num_vertices(),
-                   mesh.num_faces());
-  append_points(s, mesh.V);
-  s += "<Polys>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (const auto& f : mesh.faces) {
-    for (int v : f) s += fmt::format("{} ", v);
-    s += "\n";
-  }
-  s += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  std::size_t offset = 0;
-  for (const auto& f : mesh.faces) s += fmt::format("{}\n", offset += f.size());
-  s += "</DataArray>\n</Polys>\n<PointData>\n";
-  append_data_arrays(s, point_data, mesh.num_vertices());
-  s += "</PointData>\n<CellData>\n";
-  append_data_arrays(s, cell_data, mesh.num_faces());
-  s += "</CellData>\n</Piece>\n</PolyData>\n</VTKFile>\n";
-  write_file_atomic(path, s);
+  write_polydata(path, mesh.V, {}, mesh.faces, point_data, cell_data);
 }
 
 void write_vtp_lines(const fs::path& path, const Points& V,
                      const std::vector<std::array<int, 2>>& lines, const Attributes& point_data,
                      const Attributes& cell_data) {
-  std::string s =
-      "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" "
-      "byte_order=\"LittleEndian\">\n<PolyData>\n";
-  s += fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfLines=\"{}\">\n", V.rows(), lines.size());
-  append_points(s, V);
-  s += "<Lines>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (const auto& l : lines) s += fmt::format("{} {}\n", l[0], l[1]);
-  s += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t i = 0; i < lines.size(); ++i) s += fmt::format("{}\n", 2 * (i + 1));
-  s += "</DataArray>\n</Lines>\n<PointData>\n";
-  append_data_arrays(s, point_data, V.rows());
-  s += "</PointData>\n<CellData>\n";
-  append_data_arrays(s, cell_data, static_cast<Eigen::Index>(lines.size()));
-  s += "</CellData>\n</Piece>\n</PolyData>\n</VTKFile>\n";
-  write_file_atomic(path, s);
+  write_polydata(path, V, lines, {}, point_data, cell_data);
+}
+
+void write_vtp_beams_and_panels(const fs::path& path, const PolyMesh& mesh,
+                                const std::vector<std::array<int, 2>>& lines,
+                                const Attributes& point_data, const Attributes& line_data,
+                                const Attributes& panel_data) {
+  const auto nl = static_cast<Eigen::Index>(lines.size());
+  const Eigen::Index nf = mesh.num_faces();
+  Attributes cells;
+  auto place = [&](const Attributes& attrs, Eigen::Index rows, Eigen::Index first) {
+    for (const auto& [name, values] : attrs) {
+      if (values.rows() != rows)
+        throw Error(
+            name, fmt::format("internal: attribute has {} rows, expected {}", values.rows(), rows));
+      Eigen::MatrixXd& all = cells[name];
+      if (all.size() == 0) all = Eigen::MatrixXd::Zero(nl + nf, values.cols());
+      if (all.cols() != values.cols())
+        throw Error(name, "internal: beam and panel attributes differ in components");
+      all.middleRows(first, rows) = values;
+    }
+  };
+  place(line_data, nl, 0);
+  place(panel_data, nf, nl);
+  Eigen::MatrixXd is_beam = Eigen::MatrixXd::Zero(nl + nf, 1);
+  is_beam.topRows(nl).setOnes();
+  cells["is_beam"] = is_beam;
+  write_polydata(path, mesh.V, lines, mesh.faces, point_data, cells);
 }
 
 }  // namespace gridshell::io

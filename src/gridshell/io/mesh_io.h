@@ -57,6 +57,15 @@ void write_ply(const std::filesystem::path& path, const PolyMesh& mesh,
 void write_vtp(const std::filesystem::path& path, const PolyMesh& mesh,
                const Attributes& point_data = {}, const Attributes& cell_data = {});
 
+/// Writes VTK XML PolyData of line segments (beams) and polygons (panels) in one piece: the
+/// beams are cells 0 … L−1 and the polygons cells L … L+F−1 (VTK's order). A cell array given for
+/// only one kind is 0 on the other kind; the cell array `is_beam` (1 / 0) tells them apart (a
+/// Threshold on it in ParaView shows one kind).
+void write_vtp_beams_and_panels(const std::filesystem::path& path, const PolyMesh& mesh,
+                                const std::vector<std::array<int, 2>>& lines,
+                                const Attributes& point_data, const Attributes& line_data,
+                                const Attributes& panel_data);
+
 /// Writes VTK XML PolyData of line segments (beams), with point and cell (per line) attributes.
 void write_vtp_lines(const std::filesystem::path& path, const Points& V,
                      const std::vector<std::array<int, 2>>& lines,

@@ -13,6 +13,7 @@ GridShellOutput design_output(const DesignResult& r) {
   out.a_target = r.a_target;
   out.planarity = r.metrics.planarity;
   out.regularity = r.metrics.regularity;
+  if (r.structure) add_structure(out, *r.structure);
   return out;
 }
 

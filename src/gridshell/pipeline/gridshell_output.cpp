@@ -92,33 +92,67 @@ void write_gridshell_files(const std::filesystem::path& dir, const GridShellOutp
                        out.regularity.size() == static_cast<std::size_t>(nf);
   if (metrics) csv += ",planarity,regularity";
   csv += "\n";
-  Eigen::MatrixXd sides(nf, 1), area(nf, 1), d(nf, 1), a(nf, 1);
   for (int f = 0; f < nf; ++f) {
-    sides(f, 0) = static_cast<double>(out.mesh.faces[f].size());
-    area(f, 0) = polygon_area(out.mesh, f);
-    d(f, 0) = per_face(out.d_target, f);
-    a(f, 0) = per_face(out.a_target, f);
-    csv += fmt::format("{},{},{},{},{}", f, out.mesh.faces[f].size(), io::format_number(area(f, 0)),
-                       io::format_number(d(f, 0)), io::format_number(a(f, 0)));
+    csv += fmt::format(
+        "{},{},{},{},{}", f, out.mesh.faces[f].size(), io::format_number(polygon_area(out.mesh, f)),
+        io::format_number(per_face(out.d_target, f)), io::format_number(per_face(out.a_target, f)));
     if (metrics)
       csv += fmt::format(",{},{}", io::format_number(out.planarity[f]),
                          io::format_number(out.regularity[f]));
     csv += "\n";
   }
   io::write_file_atomic(dir / "cells.csv", csv);
-  io::Attributes cells = out.extra_cell_data, points = out.extra_point_data;
-  cells["sides"] = sides;
-  cells["area"] = area;
-  cells["d_target"] = d;
-  cells["a_target"] = a;
-  if (metrics) {
-    cells["planarity"] = Eigen::Map<const Eigen::VectorXd>(out.planarity.data(), nf);
-    cells["regularity"] = Eigen::Map<const Eigen::VectorXd>(out.regularity.data(), nf);
+  write_gridshell_vtp(dir, out);
+}
+
+void add_structure(GridShellOutput& out, const analysis::FrameResult& structure) {
+  out.beam_axial_force = structure.axial_force;
+  out.joint_displacement = structure.displacement.topRows(
+      std::min<Eigen::Index>(structure.displacement.rows(), out.mesh.num_vertices()));
+}
+
+void write_gridshell_vtp(const std::filesystem::path& dir, const GridShellOutput& out) {
+  const int nf = out.mesh.num_faces(), nv = out.mesh.num_vertices();
+  auto per_face = [&](const std::vector<double>& v, int f) {
+    return v.size() == static_cast<std::size_t>(nf) ? v[f] : 1.0;
+  };
+  io::Attributes panels = out.extra_cell_data, points = out.extra_point_data, beams;
+  Eigen::MatrixXd id(nf, 1), sides(nf, 1), area(nf, 1), d(nf, 1), a(nf, 1);
+  for (int f = 0; f < nf; ++f) {
+    id(f, 0) = f;
+    sides(f, 0) = static_cast<double>(out.mesh.faces[f].size());
+    area(f, 0) = polygon_area(out.mesh, f);
+    d(f, 0) = per_face(out.d_target, f);
+    a(f, 0) = per_face(out.a_target, f);
   }
-  Eigen::MatrixXd support = Eigen::MatrixXd::Zero(out.mesh.num_vertices(), 1);
+  panels["panel_id"] = id;
+  panels["sides"] = sides;
+  panels["area"] = area;
+  panels["d_target"] = d;
+  panels["a_target"] = a;
+  if (out.planarity.size() == static_cast<std::size_t>(nf) &&
+      out.regularity.size() == static_cast<std::size_t>(nf)) {
+    panels["planarity"] = Eigen::Map<const Eigen::VectorXd>(out.planarity.data(), nf);
+    panels["regularity"] = Eigen::Map<const Eigen::VectorXd>(out.regularity.data(), nf);
+  }
+  const Topology t = build_topology(out.mesh);
+  const int ne = t.num_edges();
+  Eigen::MatrixXd beam_id(ne, 1), length(ne, 1);
+  for (int e = 0; e < ne; ++e) {
+    beam_id(e, 0) = e;
+    length(e, 0) = (out.mesh.vertex(t.edges[e][0]) - out.mesh.vertex(t.edges[e][1])).norm();
+  }
+  beams["beam_id"] = beam_id;
+  beams["length"] = length;
+  if (out.beam_axial_force.size() == static_cast<std::size_t>(ne))
+    beams["axial_force"] = Eigen::Map<const Eigen::VectorXd>(out.beam_axial_force.data(), ne);
+  Eigen::MatrixXd joint_id(nv, 1), support = Eigen::MatrixXd::Zero(nv, 1);
+  for (int v = 0; v < nv; ++v) joint_id(v, 0) = v;
   for (int v : out.supports) support(v, 0) = 1;
+  points["joint_id"] = joint_id;
   points["support"] = support;
-  io::write_vtp(dir / "gridshell.vtp", out.mesh, points, cells);
+  if (out.joint_displacement.rows() == nv) points["displacement"] = out.joint_displacement;
+  io::write_vtp_beams_and_panels(dir / "gridshell.vtp", out.mesh, t.edges, points, beams, panels);
 }
 
 }  // namespace gridshell

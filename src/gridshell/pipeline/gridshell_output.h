@@ -1,9 +1,9 @@
 #pragma once
 /// \file gridshell_output.h
 /// The files every grid-shell producing command writes (design, baseline): gridshell.obj,
-/// gridshell_raw.obj, gridshell.ply (support flags), gridshell.vtp (ParaView, with per-face
-/// sides/area/targets and per-vertex support flags), cells.csv, and the `mesh` block of
-/// report.json.
+/// gridshell_raw.obj, gridshell.ply (support flags), gridshell.vtp (ParaView: beams and panels
+/// with their figures, joints with support flags and displacements), cells.csv, and the `mesh`
+/// block of report.json.
 
 #include <filesystem>
 #include <map>
@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/mesh/mesh.h"
 
@@ -27,7 +28,15 @@ struct GridShellOutput {
   io::Attributes extra_point_data;  ///< further per-vertex arrays for the .vtp
   std::vector<double> planarity;    ///< per face (empty: not computed)
   std::vector<double> regularity;   ///< per face (empty: not computed)
+  /// From a frame analysis whose members are the mesh's topology edges and whose first nodes
+  /// are the mesh's vertices (empty: not analysed): per beam, linear axial force [N] (tension
+  /// positive); per joint, linear displacement [m].
+  std::vector<double> beam_axial_force;
+  Points joint_displacement;
 };
+
+/// Copies a frame analysis's per-beam and per-joint results into `out` (see above).
+void add_structure(GridShellOutput& out, const analysis::FrameResult& structure);
 
 /// Statistics of a polygon mesh used in reports and tests.
 struct PolyStats {
@@ -45,5 +54,11 @@ nlohmann::json mesh_block(const GridShellOutput& out);
 
 /// Writes the files listed above into `dir` (which must exist).
 void write_gridshell_files(const std::filesystem::path& dir, const GridShellOutput& out);
+
+/// Writes only gridshell.vtp: the beams (lines: `beam_id`, `length`, `axial_force` when analysed)
+/// and the panels (polygons: `panel_id`, sides, area, targets, planarity, regularity) in one
+/// piece, cell array `is_beam` telling them apart; per joint `joint_id`, `support` and
+/// `displacement` when analysed. Ids are those of joints.csv, beams.csv and panels.csv.
+void write_gridshell_vtp(const std::filesystem::path& dir, const GridShellOutput& out);
 
 }  // namespace gridshell

@@ -1,6 +1,7 @@
 #include "gridshell/pipeline/objective.h"
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -137,13 +138,26 @@ int best_index(const std::vector<Evaluated>& all, const ObjectiveOptions& o) {
   return best;
 }
 
+/// Candidates designed so far, told to the progress listener (from any thread).
+struct SearchProgress {
+  const ObjectiveOptions& options;
+  std::atomic<int> designed{0};
+  void one_more() {
+    const int n = ++designed;
+    report_progress(options.progress, "objective search",
+                    std::min(0.99, static_cast<double>(n) / options.max_designs),
+                    fmt::format("{} designs", n));
+  }
+};
+
 std::vector<Evaluated> evaluate_all(const Surface& surface, const DesignOptions& base,
                                     const std::vector<std::pair<FieldSetting, const StressField*>>&
                                         settings,
-                                    double length, int round) {
+                                    double length, int round, SearchProgress& progress) {
   std::vector<Evaluated> out(settings.size());
   tbb::parallel_for(0, static_cast<int>(settings.size()), [&](int i) {
     out[i] = evaluate(surface, base, settings[i].first, settings[i].second, length, round);
+    progress.one_more();
   });
   return out;
 }
@@ -380,22 +394,28 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   if (!(options.tolerance >= 0 && options.tolerance < 1))
     throw Error("objective", "tolerance must be in [0, 1)");
   check_design_options(base);
+  SearchProgress progress{options};
+  report_progress(options.progress, "objective search", 0, "the isotropic reference");
   std::vector<Evaluated> all;
   all.push_back(evaluate(surface, base, FieldSetting{}, nullptr, 0, 1, true));
+  progress.one_more();
   const double length =
       base.tessellation.length > 0 ? base.tessellation.length : all[0].candidate.length;
   const StressField shell = fem::analyze_surface_stress(surface, base.shell).stress;
   std::deque<StressField> responses;
   for (Evaluated& e : evaluate_all(surface, base,
                                    first_round(surface, *all[0].design, shell, responses),
-                                   length, 1))
+                                   length, 1, progress))
     all.push_back(std::move(e));
   std::vector<std::string> explored;
   for (int round = 2; round <= options.rounds; ++round) {
     const Pending next = local_round(all, options, explored);
     if (next.empty()) break;
-    for (Evaluated& e : evaluate_all(surface, base, next, length, round)) all.push_back(std::move(e));
+    for (Evaluated& e : evaluate_all(surface, base, next, length, round, progress))
+      all.push_back(std::move(e));
   }
+  report_progress(options.progress, "objective search", 1,
+                  fmt::format("{} designs", all.size()));
   ObjectiveResult res = choose(all, base, options);
   res.seconds = seconds_since(t0);
   return res;

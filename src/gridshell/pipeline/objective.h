@@ -44,6 +44,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gridshell/core/progress.h"
 #include "gridshell/field/field.h"
 #include "gridshell/pipeline/design.h"
 
@@ -79,6 +80,7 @@ struct ObjectiveOptions {
   int rounds = 3;        ///< 1 = the first round only; then local rounds while a best changes
   int max_designs = 16;  ///< candidates at most, the reference included (the default design
                          ///< stays within 10 s: docs/field.md)
+  Progress progress = {};  ///< told after every candidate (empty: nobody listens)
 };
 
 /// A candidate as judged.

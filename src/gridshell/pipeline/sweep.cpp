@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <limits>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -102,24 +102,41 @@ std::string sweep_csv(const std::vector<SweepRow>& rows) {
   return s;
 }
 
+SweepGrid sweep_grid(const std::vector<SweepRow>& rows,
+                     const std::function<double(const SweepRow&)>& value) {
+  SweepGrid g;
+  for (const auto& r : rows) g.D.push_back(r.c.D), g.A.push_back(r.c.A);
+  for (auto* v : {&g.D, &g.A}) {
+    std::sort(v->begin(), v->end());
+    v->erase(std::unique(v->begin(), v->end()), v->end());
+  }
+  const auto at = [](const std::vector<double>& v, double x) {
+    return static_cast<int>(std::lower_bound(v.begin(), v.end(), x) - v.begin());
+  };
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(g.A.size(), g.D.size());
+  g.count = Eigen::MatrixXi::Zero(g.A.size(), g.D.size());
+  for (const auto& r : rows) {
+    const int j = at(g.A, r.c.A), i = at(g.D, r.c.D);
+    sum(j, i) += value(r);
+    g.count(j, i) += 1;
+  }
+  g.mean = sum.array() / g.count.cast<double>().array();
+  for (int j = 0; j < g.mean.rows(); ++j)
+    for (int i = 0; i < g.mean.cols(); ++i)
+      if (g.count(j, i) == 0) g.mean(j, i) = std::numeric_limits<double>::quiet_NaN();
+  return g;
+}
+
 std::string sweep_heatmap_svg(const std::vector<SweepRow>& rows, const std::string& title,
                               const std::function<double(const SweepRow&)>& value) {
-  std::map<std::pair<double, double>, std::pair<double, int>> acc;
-  std::vector<double> Ds, As;
-  for (const auto& r : rows) {
-    auto& a = acc[{r.c.D, r.c.A}];
-    a.first += value(r), a.second += 1;
-    Ds.push_back(r.c.D), As.push_back(r.c.A);
-  }
-  std::sort(Ds.begin(), Ds.end());
-  Ds.erase(std::unique(Ds.begin(), Ds.end()), Ds.end());
-  std::sort(As.begin(), As.end());
-  As.erase(std::unique(As.begin(), As.end()), As.end());
+  const SweepGrid grid = sweep_grid(rows, value);
+  const std::vector<double>& Ds = grid.D;
+  const std::vector<double>& As = grid.A;
   double lo = 1e300, hi = -1e300;
-  for (const auto& [k, v] : acc) {
-    const double m = v.first / v.second;
-    lo = std::min(lo, m), hi = std::max(hi, m);
-  }
+  for (int j = 0; j < grid.mean.rows(); ++j)
+    for (int i = 0; i < grid.mean.cols(); ++i)
+      if (grid.count(j, i) > 0)
+        lo = std::min(lo, grid.mean(j, i)), hi = std::max(hi, grid.mean(j, i));
   const int cell = 70, left = 60, top = 50;
   const int w = left + cell * static_cast<int>(Ds.size()) + 20;
   const int h = top + cell * static_cast<int>(As.size()) + 50;
@@ -130,9 +147,8 @@ std::string sweep_heatmap_svg(const std::vector<SweepRow>& rows, const std::stri
       w, h, left, title);
   for (std::size_t i = 0; i < Ds.size(); ++i)
     for (std::size_t j = 0; j < As.size(); ++j) {
-      auto it = acc.find({Ds[i], As[j]});
-      if (it == acc.end()) continue;
-      const double m = it->second.first / it->second.second;
+      if (grid.count(static_cast<int>(j), static_cast<int>(i)) == 0) continue;
+      const double m = grid.mean(static_cast<int>(j), static_cast<int>(i));
       const double t = hi > lo ? (m - lo) / (hi - lo) : 0.5;
       // Blue (low) to yellow (high).
       const int r = static_cast<int>(40 + 215 * t), g = static_cast<int>(60 + 160 * t),

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 namespace gridshell {
 
 struct SweepCase {
@@ -46,6 +48,17 @@ std::vector<SweepRow> run_sweep(const std::vector<SweepCase>& cases,
 
 /// sweep.csv: D,A,repeat,seed,cells,total_length,lambda,delta
 std::string sweep_csv(const std::vector<SweepRow>& rows);
+
+/// The mean of `value` per (D, A) of `rows`: the distinct D and A values (ascending) and
+/// mean(j, i) over the rows with A = A[j], D = D[i] (NaN where no row has them, e.g. a shard);
+/// count(j, i) is the number of rows averaged.
+struct SweepGrid {
+  std::vector<double> D, A;
+  Eigen::MatrixXd mean;
+  Eigen::MatrixXi count;
+};
+SweepGrid sweep_grid(const std::vector<SweepRow>& rows,
+                     const std::function<double(const SweepRow&)>& value);
 
 /// An SVG heatmap of the mean of `value` over the (D, A) grid of `rows`.
 std::string sweep_heatmap_svg(const std::vector<SweepRow>& rows, const std::string& title,
