@@ -161,7 +161,7 @@ Mat32 polar32(const Mat32& M) {
   const Eigen::Vector2d ev = es.eigenvalues();
   const double scale = std::max(ev[1], 1e-300);
   if (ev[0] > 1e-12 * scale && std::isfinite(ev[0])) {
-    const Eigen::Matrix2d V = es.eigenvectors();
+    const Eigen::Matrix2d& V = es.eigenvectors();
     const Eigen::Vector2d inv(1 / std::sqrt(ev[0]), 1 / std::sqrt(ev[1]));
     return M * (V * inv.asDiagonal() * V.transpose());
   }

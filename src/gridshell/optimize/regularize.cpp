@@ -386,7 +386,7 @@ double max_surface_distance(const Points& X, const Unknowns& u,
 }
 
 PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<VertexConstraint> cons,
-             const RegularizeOptions& o, TargetFn targets, RegularizeStats* stats) {
+             const RegularizeOptions& o, const TargetFn& targets, RegularizeStats* stats) {
   const auto t0 = Clock::now();
   check_input(mesh, cons, o);
   const int nv = mesh.num_vertices(), nf = mesh.num_faces();

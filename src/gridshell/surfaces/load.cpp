@@ -116,7 +116,7 @@ std::vector<int> resolve_supports(const SurfaceOptions& o, const PolyMesh& mesh,
         near_red += !(c[0] == 255 && c[1] == 0 && c[2] == 0);
       }
   int red_dropped = 0;
-  const std::vector<int> red = remap(red_in_file, new_id, red_dropped);
+  std::vector<int> red = remap(red_in_file, new_id, red_dropped);
   const bool use_red = o.supports == "red" || (o.supports == "auto" && !red.empty());
   if (use_red) {
     if (red.empty())

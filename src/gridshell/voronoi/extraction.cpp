@@ -590,11 +590,9 @@ void set_vertex_data(const Engine& E, const Extraction& X, const Input& in, Tess
         const int a = ids[0], b = ids[1];
         const Vec3 pa = rest.vertex(a), pb = rest.vertex(b), p = T.mesh.vertex(n);
         const double s = (p - pa).dot(pb - pa) / std::max((pb - pa).squaredNorm(), 1e-300);
-        if (supported[a] && supported[b])
-          sup[n] = 1;
-        else if (supported[a] && s <= 0.5)
-          sup[n] = 1;
-        else if (supported[b] && s >= 0.5)
+        // both ends supported, or the node lies in the supported end's half of the edge
+        if ((supported[a] && supported[b]) || (supported[a] && s <= 0.5) ||
+            (supported[b] && s >= 0.5))
           sup[n] = 1;
       }
     }
