@@ -120,7 +120,7 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
   if (!cfg.is_object() || !cfg.contains("options") || !cfg["options"].is_object())
     throw Error(path, "not a gridshell config.json (no \"options\" object)");
   std::vector<std::string> out;
-  bool has_command = args.size() > 1 && args[1].rfind("-", 0) != 0;
+  bool has_command = args.size() > 1 && args[1].rfind('-', 0) != 0;
   out.push_back(args.empty() ? "gridshell" : args[0]);
   if (!has_command && cfg.contains("command")) out.push_back(cfg["command"].get<std::string>());
   std::vector<std::string> given(args.begin() + 1, args.end());
@@ -158,7 +158,7 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
   // Positional arguments: only if none was given after the command.
   std::size_t positional_given = 0;
   for (std::size_t i = 1; i < kept.size(); ++i)
-    if (kept[i].rfind("-", 0) != 0 && (kept[i - 1].rfind("-", 0) != 0 || i == 1))
+    if (kept[i].rfind('-', 0) != 0 && (kept[i - 1].rfind('-', 0) != 0 || i == 1))
       ++positional_given;
   if (kept.size() <= 1 || positional_given == 0)
     if (cfg.contains("positional"))

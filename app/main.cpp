@@ -9,7 +9,9 @@
 #include "common.h"
 #include "gridshell/core/error.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   using namespace gridshell;
   spdlog::set_default_logger(spdlog::stderr_color_st("gridshell"));
   spdlog::set_pattern("%v");
@@ -53,4 +55,18 @@ int main(int argc, char** argv) {
     std::cerr << "gridshell: internal error: " << e.what() << "\n";
     return 1;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // What escapes run (set-up of the command line itself) is a bug: reported, never a terminate.
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "gridshell: internal error: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "gridshell: internal error\n";
+  }
+  return 1;
 }

@@ -146,3 +146,12 @@ TEST(Geometry, BoundaryCornersTurnByMoreThanTheAngle) {
   // Vertices off every loop are never corners.
   EXPECT_EQ(boundary_corners(V, {{0, 2, 6}}, 30), std::vector<char>({1, 0, 1, 0, 0, 0, 1}));
 }
+
+TEST(Geometry, SignedArea2dIsPositiveCounterClockwise) {
+  // An L-shaped hexagon of area 3 (a 2×2 square less a unit square), both orientations.
+  std::vector<Eigen::Vector2d> p{{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  EXPECT_DOUBLE_EQ(signed_area_2d(p), 3.0);
+  std::reverse(p.begin(), p.end());
+  EXPECT_DOUBLE_EQ(signed_area_2d(p), -3.0);
+  EXPECT_DOUBLE_EQ(signed_area_2d({}), 0.0);
+}

@@ -7,6 +7,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
 
 namespace gridshell::analysis {
@@ -14,17 +15,6 @@ namespace gridshell::analysis {
 using namespace gridshell::fem;
 
 namespace {
-class Timer {
- public:
-  Timer() : t0_(std::chrono::steady_clock::now()) {}
-  double seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-  }
-
- private:
-  std::chrono::steady_clock::time_point t0_;
-};
-
 double plan_span(const Points& X) {
   const Eigen::RowVector3d lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
   const double s = std::max(hi(0) - lo(0), hi(1) - lo(1));
@@ -44,27 +34,18 @@ std::optional<double> lambda_at_displacement(const std::vector<PathPoint>& path,
 }
 }  // namespace
 
+namespace {
+constexpr EnumWords<AnalysisLevel, 4> kLevelWords{{{"none", AnalysisLevel::none},
+                                                   {"linear", AnalysisLevel::linear},
+                                                   {"buckling", AnalysisLevel::buckling},
+                                                   {"nonlinear", AnalysisLevel::nonlinear}}};
+}  // namespace
+
 AnalysisLevel parse_analysis_level(const std::string& word) {
-  for (AnalysisLevel l : {AnalysisLevel::none, AnalysisLevel::linear, AnalysisLevel::buckling,
-                          AnalysisLevel::nonlinear})
-    if (word == to_string(l)) return l;
-  throw Error("--analyze",
-              "'" + word + "' is not one of none, linear, buckling, nonlinear");
+  return parse_word(word, "--analyze", kLevelWords);
 }
 
-const char* to_string(AnalysisLevel level) {
-  switch (level) {
-    case AnalysisLevel::none:
-      return "none";
-    case AnalysisLevel::linear:
-      return "linear";
-    case AnalysisLevel::buckling:
-      return "buckling";
-    case AnalysisLevel::nonlinear:
-      return "nonlinear";
-  }
-  return "?";
-}
+const char* to_string(AnalysisLevel level) { return word_of(level, kLevelWords); }
 
 FrameAnalysisOptions at_level(FrameAnalysisOptions o, AnalysisLevel level) {
   o.linear = level != AnalysisLevel::none;
@@ -280,7 +261,7 @@ void record_nonlinear_static(const FrameMesh& mesh, const FrameAssembler& assemb
 }  // namespace
 
 FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o) {
-  Timer total, t;
+  Stopwatch total, t;
   FrameResult res;
   const FrameMesh mesh = discretize(model, o.subject);
   if (mesh.load.norm() == 0 && mesh.load_full.norm() == 0)
@@ -293,7 +274,7 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
   const FrameAssembler assembler(mesh);
   res.timings["setup"] = t.seconds();
 
-  t = Timer();
+  t = Stopwatch();
   const LinearResult lin = linear_static(mesh, assembler, o.subject);
   res.timings["linear"] = t.seconds();
   record_linear(mesh, assembler, lin, res);
@@ -301,7 +282,7 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
 
   BucklingResult lba;
   if (o.buckling || (o.nonlinear && (o.imperfection || o.stability))) {
-    t = Timer();
+    t = Stopwatch();
     BucklingOptions bo;
     bo.modes = std::max(1, o.buckling_modes);
     lba = linear_buckling(mesh, assembler, lin, bo);
@@ -309,12 +290,12 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
     record_buckling(mesh, assembler, lba, res);
   }
   if (o.nonlinear) {
-    t = Timer();
+    t = Stopwatch();
     run_path(model, mesh, o, lba, res);
     res.timings["nonlinear"] = t.seconds();
   }
   if (o.nonlinear_static > 0) {
-    t = Timer();
+    t = Stopwatch();
     record_nonlinear_static(mesh, assembler, o, res);
     res.timings["nonlinear_static"] = t.seconds();
   }

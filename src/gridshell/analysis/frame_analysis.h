@@ -10,12 +10,12 @@
 /// one corotational tangent + factorisation per step and refresh (Lilium, 7 547 beams: 22 steps,
 /// 47 factorisations, 302 cheap corrector iterations).
 
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "gridshell/checks/member_checks.h"
+#include "gridshell/core/timings.h"
 #include "gridshell/fem/frame_arclength.h"
 #include "gridshell/fem/frame_model.h"
 
@@ -124,7 +124,7 @@ struct FrameResult {
   std::optional<double> lambda_yield_perfect;
   std::optional<double> lambda_yield_linear;
   int num_elements = 0, num_dofs = 0;
-  std::map<std::string, double> timings;  ///< seconds per stage
+  Timings timings;  ///< seconds per stage (core/timings.h)
 };
 
 /// `options` with linear / buckling / nonlinear set for `level` (none: all three off).

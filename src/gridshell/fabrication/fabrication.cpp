@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 
+#include "gridshell/mesh/geometry.h"
+
 namespace gridshell::fabrication {
 
 namespace {
@@ -21,31 +23,16 @@ Vec3 vector_area(const std::vector<Vec3>& p) {
   return 0.5 * a;
 }
 
-struct Plane {
-  Vec3 centre = Vec3::Zero();
-  Vec3 normal = Vec3::UnitZ();
-};
-
 /// Best-fit plane of points (PCA: the covariance's eigenvector of the smallest eigenvalue).
 Plane best_fit_plane(const std::vector<Vec3>& p) {
   Plane pl;
-  for (const Vec3& x : p) pl.centre += x;
-  pl.centre /= static_cast<double>(std::max<std::size_t>(1, p.size()));
+  for (const Vec3& x : p) pl.point += x;
+  pl.point /= static_cast<double>(std::max<std::size_t>(1, p.size()));
   Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-  for (const Vec3& x : p) C += (x - pl.centre) * (x - pl.centre).transpose();
+  for (const Vec3& x : p) C += (x - pl.point) * (x - pl.point).transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
   pl.normal = es.eigenvectors().col(0).normalized();
   return pl;
-}
-
-double polygon_area_2d(const std::vector<Vec2>& p) {
-  double a = 0;
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    const Vec2& u = p[k];
-    const Vec2& v = p[(k + 1) % p.size()];
-    a += u.x() * v.y() - u.y() * v.x();
-  }
-  return 0.5 * a;
 }
 
 double max_edge_error(const std::vector<Vec2>& q, const std::vector<double>& L) {
@@ -77,7 +64,7 @@ double panel_planarity(const std::vector<Vec3>& p) {
   const Plane pl = best_fit_plane(p);
   double dist = 0, perimeter = 0;
   for (std::size_t k = 0; k < p.size(); ++k) {
-    dist += std::abs((p[k] - pl.centre).dot(pl.normal));
+    dist += std::abs(pl.signed_distance(p[k]));
     perimeter += (p[(k + 1) % p.size()] - p[k]).norm();
   }
   dist /= static_cast<double>(p.size());
@@ -97,7 +84,7 @@ FlatPanel flatten_panel(const std::vector<Vec3>& p, int iterations) {
   ex.normalize();
   const Vec3 ey = pl.normal.cross(ex);
   std::vector<Vec2> q(n);
-  for (int k = 0; k < n; ++k) q[k] = Vec2((p[k] - pl.centre).dot(ex), (p[k] - pl.centre).dot(ey));
+  for (int k = 0; k < n; ++k) q[k] = Vec2((p[k] - pl.point).dot(ex), (p[k] - pl.point).dot(ey));
   std::vector<double> L(n);
   for (int k = 0; k < n; ++k) L[k] = (p[(k + 1) % n] - p[k]).norm();
   f.planarity = panel_planarity(p);
@@ -129,7 +116,7 @@ FlatPanel flatten_panel(const std::vector<Vec3>& p, int iterations) {
     q = best;
     err = best_err;
   }
-  if (polygon_area_2d(q) < 0) std::reverse(q.begin() + 1, q.end());  // never expected
+  if (signed_area_2d(q) < 0) std::reverse(q.begin() + 1, q.end());  // never expected
   normalise_outline(q);
   f.outline = std::move(q);
   f.edge_length_error = err;

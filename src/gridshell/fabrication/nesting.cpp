@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 
 namespace gridshell::fabrication {
 
@@ -72,16 +73,6 @@ double landscape_rotation(const std::vector<Vec2>& outline) {
   }
   const Box b = bounds(outline, best);
   return b.h() > b.w() ? best + kPi / 2 : best;
-}
-
-double area_2d(const std::vector<Vec2>& p) {
-  double a = 0;
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    const Vec2& u = p[k];
-    const Vec2& v = p[(k + 1) % p.size()];
-    a += u.x() * v.y() - u.y() * v.x();
-  }
-  return std::abs(0.5 * a);
 }
 
 }  // namespace
@@ -180,7 +171,7 @@ Nesting nest_panels(const std::vector<std::vector<Vec2>>& outlines, const SheetO
     p.rotation = it.rotation;
     p.offset = Vec2(o.margin + s->x, o.margin + s->y) - b.lo;
     s->x += it.w;
-    nest.used_area += area_2d(outlines[it.id]);
+    nest.used_area += std::abs(signed_area_2d(outlines[it.id]));
   }
   nest.sheets = static_cast<int>(sheet_top.size());
   std::sort(nest.oversize.begin(), nest.oversize.end());

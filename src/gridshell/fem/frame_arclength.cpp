@@ -182,6 +182,70 @@ double critical_mode_alignment(const TangentSolver& stable, const Eigen::VectorX
   }
   return std::abs(phi.dot(v)) / std::max(v.norm(), 1e-300);
 }
+// The start of the path: the tangent at `start` factorised into `solver` with its negative
+// pivots in cur.negative, the load tangent ut = K⁻¹f and the path's first point. False (with
+// res's stop reason and states set) when the initial tangent is singular.
+bool start_path(const FrameMesh& mesh, const FrameAssembler& asmb, const FrameState& start,
+                TangentSolver& solver, Converged& cur, Eigen::VectorXd& ut,
+                ArcLengthResult& res) {
+  const auto singular = [&] {
+    res.stop_reason = "the initial tangent is singular";
+    res.final_state = res.critical_state = start;
+    return false;
+  };
+  if (!factorize_tangent(asmb, start, solver, res.factorizations)) return singular();
+  cur.negative = solver.negative_pivots();
+  res.path.push_back({0.0, max_displacement(mesh, start), cur.negative});
+  ut = solver.solve(mesh.load);
+  if (!ut.allFinite()) return singular();
+  return true;
+}
+
+// Factorises the tangent at next.state into `work` and sets next.negative; false when the
+// factorisation fails. Only a change from positive definite matters for the first critical
+// point: the LDLᵀ count is needed only when the start was already indefinite.
+bool count_negative(const FrameAssembler& asmb, int base_negative, TangentSolver& work,
+                    Converged& next, int& factorizations) {
+  if (!factorize_tangent(asmb, next.state, work, factorizations)) return false;
+  next.negative = work.positive_definite()
+                      ? 0
+                      : (base_negative != 0 ? work.negative_pivots() : base_negative + 1);
+  return true;
+}
+
+// A bracketed event, classified with the tangent at the last stable point `cur`: near a limit
+// point the load tangent v = K⁻¹f is dominated by the critical mode φ (φᵀf ≠ 0); at a
+// bifurcation φ ⟂ f and v has no large component along φ. Sets res's alignment and limit type;
+// returns the critical load factor.
+double classify_critical(const FrameMesh& mesh, const TangentSolver& solver,
+                         const Eigen::VectorXd& ut, const Converged& cur, const Converged& next,
+                         double lam_max, int base_negative, ArcLengthResult& res) {
+  const double along = critical_mode_alignment(solver, ut, mesh.num_dofs);
+  res.critical_mode_alignment = along;
+  const bool bifurcation = along < 0.5 && next.negative > base_negative;
+  res.limit_type = bifurcation ? "bifurcation" : "limit point";
+  return bifurcation ? 0.5 * (cur.lambda + next.lambda)
+                     : std::max({cur.lambda, next.lambda, lam_max});
+}
+
+// The next arc-length radius: scaled so that the corrector would take about the desired number
+// of iterations (by at most ×2 or ×½), never above ds_max.
+double next_radius(double ds, int its, int desired_iterations, double ds_max) {
+  const double factor =
+      std::clamp(std::sqrt(double(desired_iterations) / std::max(its, 1)), 0.5, 2.0);
+  return std::min(ds * factor, ds_max);
+}
+
+// Tells opt.progress how far the path is: the nearest of the stop rules (a critical point
+// cannot be foreseen).
+void report_path_progress(const ArcLengthOptions& opt, int steps, double umax, double lambda) {
+  double far = static_cast<double>(steps) / opt.max_steps;
+  if (opt.max_displacement > 0) far = std::max(far, umax / opt.max_displacement);
+  if (opt.max_lambda < 1e9) far = std::max(far, lambda / opt.max_lambda);
+  report_progress(opt.progress, "non-linear path", std::min(far, 0.99),
+                  fmt::format("step {}, λ = {:.4g}", steps, lambda));
+}
+
 }  // namespace
 
 ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
@@ -194,20 +258,9 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
        solver_work = std::make_unique<TangentSolver>();
   Converged cur;
   cur.state = start;
-  if (!factorize_tangent(asmb, start, *solver_cur, res.factorizations)) {
-    res.stop_reason = "the initial tangent is singular";
-    res.final_state = res.critical_state = start;
-    return res;
-  }
-  cur.negative = solver_cur->negative_pivots();
-  res.path.push_back({0.0, max_displacement(mesh, start), cur.negative});
+  Eigen::VectorXd ut_cur;
+  if (!start_path(mesh, asmb, start, *solver_cur, cur, ut_cur, res)) return res;
   if (opt.on_point) opt.on_point(start, 0.0);
-  Eigen::VectorXd ut_cur = solver_cur->solve(mesh.load);
-  if (!ut_cur.allFinite()) {
-    res.stop_reason = "the initial tangent is singular";
-    res.final_state = res.critical_state = start;
-    return res;
-  }
   const double ds0 = opt.initial_lambda * std::sqrt(ut_cur.dot(W.cwiseProduct(ut_cur)));
   double ds = ds0;
   const double ds_min = 1e-7 * ds0, ds_max = 50 * ds0;
@@ -242,17 +295,8 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
     const double width = std::abs(next.lambda - cur.lambda);
     const bool refine =
         width > opt.critical_tolerance * std::max(std::abs(cur.lambda), 1e-300) && ds > ds_min;
-    const auto count_negative = [&]() {
-      if (!factorize_tangent(asmb, next.state, *solver_work, res.factorizations)) return false;
-      // Only a change from positive definite matters for the first critical point: the LDLᵀ
-      // count is needed only when the start was already indefinite.
-      next.negative =
-          solver_work->positive_definite()
-              ? 0
-              : (base_negative != 0 ? solver_work->negative_pivots() : base_negative + 1);
-      return true;
-    };
-    if (!(fell && refine) && !count_negative()) {
+    if (!(fell && refine) &&
+        !count_negative(asmb, base_negative, *solver_work, next, res.factorizations)) {
       if (!cut_back()) break;
       continue;
     }
@@ -268,17 +312,11 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
         ds *= 0.5;
         continue;
       }
-      // Bracketed: classify with the tangent at the last stable point. Near a limit point the
-      // load tangent v = K⁻¹f is dominated by the critical mode φ (φᵀf ≠ 0); at a bifurcation
-      // φ ⟂ f and v has no large component along φ.
+      // Bracketed: classify with the tangent at the last stable point.
       critical = true;
       stable_state = cur.state;
-      const double along = critical_mode_alignment(*solver_cur, ut_cur, mesh.num_dofs);
-      res.critical_mode_alignment = along;
-      const bool bifurcation = along < 0.5 && next.negative > base_negative;
-      res.limit_type = bifurcation ? "bifurcation" : "limit point";
-      lam_crit = bifurcation ? 0.5 * (cur.lambda + next.lambda)
-                             : std::max({cur.lambda, next.lambda, lam_max});
+      lam_crit = classify_critical(mesh, *solver_cur, ut_cur, cur, next, lam_max, base_negative,
+                                   res);
       ++res.steps;
       res.path.push_back({next.lambda, max_displacement(mesh, next.state), next.negative});
       if (opt.on_point) opt.on_point(next.state, next.lambda);
@@ -304,19 +342,10 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
       break;
     }
     stable_state = cur.state;
-    if (!bracketing) {
-      const double factor =
-          std::clamp(std::sqrt(double(opt.desired_iterations) / std::max(its, 1)), 0.5, 2.0);
-      ds = std::min(ds * factor, ds_max);
-    }
+    if (!bracketing) ds = next_radius(ds, its, opt.desired_iterations, ds_max);
     spdlog::debug("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} factorisations",
                   res.steps, cur.lambda, umax, its, res.factorizations);
-    // How far: the nearest of the stop rules (a critical point cannot be foreseen).
-    double far = static_cast<double>(res.steps) / opt.max_steps;
-    if (opt.max_displacement > 0) far = std::max(far, umax / opt.max_displacement);
-    if (opt.max_lambda < 1e9) far = std::max(far, cur.lambda / opt.max_lambda);
-    report_progress(opt.progress, "non-linear path", std::min(far, 0.99),
-                    fmt::format("step {}, λ = {:.4g}", res.steps, cur.lambda));
+    report_path_progress(opt, res.steps, umax, cur.lambda);
   }
   report_progress(opt.progress, "non-linear path", 1.0,
                   fmt::format("{} steps, λ = {:.4g}", res.steps, cur.lambda));

@@ -30,7 +30,7 @@ TriGeom tri_geom(const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
 // The lumping matrix L of the basic stiffness (Felippa 2003, eq. for the template), without the
 // thickness factor h/2; alpha_b = 3/2 weights the drilling contribution.
 Mat93 opt_lumping(const TriGeom& g) {
-  constexpr double ab = 1.5;
+  const double ab = 1.5;  // α_b (Felippa's name)
   Mat93 L;
   L << g.y23, 0, g.x32,  //
       0, g.x32, g.y23,   //
@@ -92,7 +92,7 @@ Mat9 membrane_opt_stiffness(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
 
   // Higher-order stiffness.
   const double b0 = std::max(0.5 * (1 - 4 * s.nu * s.nu), 0.01);
-  constexpr double b1 = 1, b2 = 2, b3 = 1, b4 = 0, b5 = 1, b6 = -1, b7 = -1, b8 = -1, b9 = -2;
+  const double b1 = 1, b2 = 2, b3 = 1, b4 = 0, b5 = 1, b6 = -1, b7 = -1, b8 = -1, b9 = -2;
   const double l21 = g.x21 * g.x21 + g.y21 * g.y21;
   const double l32 = g.x32 * g.x32 + g.y32 * g.y32;
   const double l13 = g.x13 * g.x13 + g.y13 * g.y13;
@@ -192,14 +192,14 @@ Mat18 shell_element_stiffness(const Vec3& p0, const Vec3& p1, const Vec3& p2,
   const Mat9 Km = membrane_opt_stiffness(x, y, s);
   const Mat9 Kb = dkt_stiffness(x, y, s);
   Mat18 Kl = Mat18::Zero();
-  constexpr int mem[3] = {0, 1, 5};  // ux, uy, rz
-  constexpr int ben[3] = {2, 3, 4};  // uz, rx, ry
+  constexpr int kMembraneDofs[3] = {0, 1, 5};  // ux, uy, rz
+  constexpr int kBendingDofs[3] = {2, 3, 4};  // uz, rx, ry
   for (int a = 0; a < 3; ++a)
     for (int i = 0; i < 3; ++i)
       for (int b = 0; b < 3; ++b)
         for (int j = 0; j < 3; ++j) {
-          Kl(6 * a + mem[i], 6 * b + mem[j]) += Km(3 * a + i, 3 * b + j);
-          Kl(6 * a + ben[i], 6 * b + ben[j]) += Kb(3 * a + i, 3 * b + j);
+          Kl(6 * a + kMembraneDofs[i], 6 * b + kMembraneDofs[j]) += Km(3 * a + i, 3 * b + j);
+          Kl(6 * a + kBendingDofs[i], 6 * b + kBendingDofs[j]) += Kb(3 * a + i, 3 * b + j);
         }
   // Kg = Tᵀ Kl T with T = blockdiag(R, R, R, R, R, R), block by block.
   for (int I = 0; I < 6; ++I)

@@ -8,7 +8,6 @@
 #include <ctime>
 #include <future>
 #include <mutex>
-#include <numeric>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -21,6 +20,7 @@
 #include "gridshell/core/error.h"
 #include "gridshell/fem/shell_element.h"
 #include "gridshell/fem/split_cholesky.h"
+#include "gridshell/mesh/topology.h"
 
 namespace gridshell::fem {
 
@@ -112,24 +112,18 @@ std::string axis_name(const Vec3& d) {
 // Connected components of the facets (by shared vertices); -1 for unreferenced vertices.
 std::vector<int> vertex_components(const TriMesh& m, int& count) {
   const int n = m.num_vertices();
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  };
+  DisjointSets sets(n);
   std::vector<char> used(n, 0);
   for (int f = 0; f < m.num_faces(); ++f)
     for (int k = 0; k < 3; ++k) {
       used[m.F(f, k)] = 1;
-      const int a = find(m.F(f, 0)), b = find(m.F(f, k));
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      sets.unite(m.F(f, 0), m.F(f, k));
     }
   std::vector<int> comp(n, -1), id(n, -1);
   count = 0;
   for (int v = 0; v < n; ++v) {
     if (!used[v]) continue;
-    const int r = find(v);
+    const int r = sets.find(v);
     if (id[r] < 0) id[r] = count++;
     comp[v] = id[r];
   }

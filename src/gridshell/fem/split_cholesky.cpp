@@ -41,6 +41,148 @@ struct Half {
 
 }  // namespace
 
+namespace {
+
+/// 1. A vertex separator of the node graph (upper CSC gp, gi): part[v] = 0 or 1 for the
+/// halves, 2 for the separator. False when it is not worth splitting (separator over 6 % of
+/// the nodes, or a half under 20 %).
+bool bisect_nodes(const std::vector<int>& gp, const std::vector<int>& gi, std::vector<int>& part) {
+  const int nn = static_cast<int>(gp.size()) - 1;
+  cholmod_common c;
+  cholmod_start(&c);
+  c.print = 0;
+  cholmod_sparse G = upper_csc_view(nn, const_cast<int*>(gp.data()), const_cast<int*>(gi.data()));
+  long nsep = -1;
+  {
+    const auto lock = lock_symbolic_analysis();
+    nsep = cholmod_bisect(&G, nullptr, 0, 1, part.data(), &c);
+  }
+  cholmod_finish(&c);
+  if (nsep <= 0) return false;
+  const long n0 = std::count(part.begin(), part.end(), 0);
+  const long n1 = std::count(part.begin(), part.end(), 1);
+  return !(nsep > 0.06 * nn || n0 < 0.2 * nn || n1 < 0.2 * nn);
+}
+
+/// The nodes of half h, in the fill-reducing (METIS) order of the half's own node graph.
+/// Empty and false when METIS fails.
+bool half_nodes_in_order(const std::vector<int>& gp, const std::vector<int>& gi,
+                         const std::vector<int>& part, int h, cholmod_common& c,
+                         std::vector<int>& ordered) {
+  const int nn = static_cast<int>(gp.size()) - 1;
+  std::vector<int> local(nn, -1), nodes;
+  for (int v = 0; v < nn; ++v)
+    if (part[v] == h) {
+      local[v] = static_cast<int>(nodes.size());
+      nodes.push_back(v);
+    }
+  const int nh_nodes = static_cast<int>(nodes.size());
+  std::vector<int> hp(nh_nodes + 1, 0), hi;
+  for (int q = 0; q < nh_nodes; ++q) {
+    const int v = nodes[q];
+    for (int k = gp[v]; k < gp[v + 1]; ++k)
+      if (local[gi[k]] >= 0) hi.push_back(local[gi[k]]);
+    hp[q + 1] = static_cast<int>(hi.size());
+  }
+  // gi is sorted per column and local[] is increasing in v: hi stays sorted, upper.
+  cholmod_sparse G = upper_csc_view(nh_nodes, hp.data(), hi.data());
+  std::vector<int> node_perm(nh_nodes);
+  {
+    const auto lock = lock_symbolic_analysis();
+    if (!cholmod_metis(&G, nullptr, 0, 0, node_perm.data(), &c)) return false;
+  }
+  ordered.resize(nh_nodes);
+  for (int q = 0; q < nh_nodes; ++q) ordered[q] = nodes[node_perm[q]];
+  return true;
+}
+
+/// H's local upper pattern: every stored entry of K between dofs with a local number
+/// (dof_local ≥ 0), in the column of its larger local index (counting pass, then the short
+/// columns sorted by row); H.source remembers where each value comes from in K.
+void build_local_pattern(const cholmod_sparse& K, const std::vector<int>& dof_local, Half& H) {
+  const int* Kp = static_cast<const int*>(K.p);
+  const int* Ki = static_cast<const int*>(K.i);
+  const int ndof = static_cast<int>(dof_local.size());
+  H.p.assign(H.n + 1, 0);
+  for (int j = 0; j < ndof; ++j) {
+    const int lj = dof_local[j];
+    if (lj < 0) continue;
+    for (int k = Kp[j]; k < Kp[j + 1]; ++k) {
+      const int li = dof_local[Ki[k]];
+      if (li >= 0) ++H.p[std::max(li, lj) + 1];
+    }
+  }
+  for (int j = 0; j < H.n; ++j) H.p[j + 1] += H.p[j];
+  const long nnz = H.p[H.n];
+  std::vector<std::pair<int, long>> slot(nnz);  // (row, source)
+  std::vector<int> next(H.p.begin(), H.p.end() - 1);
+  for (int j = 0; j < ndof; ++j) {
+    const int lj = dof_local[j];
+    if (lj < 0) continue;
+    for (int k = Kp[j]; k < Kp[j + 1]; ++k) {
+      const int li = dof_local[Ki[k]];
+      if (li >= 0) slot[next[std::max(li, lj)]++] = {std::min(li, lj), k};
+    }
+  }
+  H.i.resize(nnz);
+  H.x.assign(nnz, 0.0);
+  H.source.resize(nnz);
+  for (int j = 0; j < H.n; ++j) {
+    std::sort(slot.begin() + H.p[j], slot.begin() + H.p[j + 1]);
+    for (int k = H.p[j]; k < H.p[j + 1]; ++k) {
+      H.i[k] = slot[k].first;
+      H.source[k] = slot[k].second;
+    }
+  }
+  H.K = upper_csc_view(H.n, H.p.data(), H.i.data(), H.x.data());
+}
+
+/// Symbolic analysis of H in its local numbering (already fill-reducing, S last: identity
+/// ordering). Postordering the elimination tree keeps S last when it is the top of a single
+/// tree; false when it did not.
+bool analyze_separator_last(int m, Half& H) {
+  std::vector<int> ident(H.n);
+  for (int l = 0; l < H.n; ++l) ident[l] = l;
+  H.c.nmethods = 1;
+  H.c.method[0].ordering = CHOLMOD_GIVEN;
+  H.c.postorder = 1;
+  H.L = cholmod_analyze_p(&H.K, ident.data(), nullptr, 0, &H.c);
+  if (H.L == nullptr) return false;
+  const int* perm = static_cast<const int*>(H.L->Perm);
+  H.s_order.resize(m);
+  for (int q = 0; q < m; ++q) {
+    const int l = perm[H.nh + q];
+    if (l < H.nh) return false;  // S did not stay last
+    H.s_order[q] = l - H.nh;
+  }
+  return true;
+}
+
+/// 2. Half h ∪ S: local numbering (its nodes in METIS order, then the separator nodes in id
+/// order), pattern, symbolic analysis with S kept last.
+bool prepare_half(const cholmod_sparse& K, int dpn, const std::vector<int>& gp,
+                  const std::vector<int>& gi, const std::vector<int>& part,
+                  const std::vector<int>& sep_dof, int h, Half& H) {
+  H.c.print = 0;
+  H.c.supernodal = CHOLMOD_SUPERNODAL;
+  std::vector<int> nodes;
+  if (!half_nodes_in_order(gp, gi, part, h, H.c, nodes)) return false;
+  const int nh_nodes = static_cast<int>(nodes.size());
+  const int m = static_cast<int>(sep_dof.size()), ndof = static_cast<int>(K.ncol);
+  std::vector<int> dof_local(ndof, -1);
+  H.nh = nh_nodes * dpn;
+  H.n = H.nh + m;
+  H.global_dof.resize(H.n);
+  for (int q = 0; q < nh_nodes; ++q)
+    for (int d = 0; d < dpn; ++d) H.global_dof[dpn * q + d] = dpn * nodes[q] + d;
+  for (int k = 0; k < m; ++k) H.global_dof[H.nh + k] = sep_dof[k];
+  for (int l = 0; l < H.n; ++l) dof_local[H.global_dof[l]] = l;
+  build_local_pattern(K, dof_local, H);
+  return analyze_separator_last(m, H);
+}
+
+}  // namespace
+
 struct SplitCholesky::Impl {
   int dpn = 6;
   int ndof = 0;
@@ -62,126 +204,23 @@ bool SplitCholesky::analyze(const cholmod_sparse& K, int dofs_per_node, const st
   I.ndof = static_cast<int>(K.ncol);
   if (nn < 64 || I.ndof != nn * I.dpn) return false;
 
-  // 1. Vertex separator of the node graph.
   std::vector<int> part(nn, 0);
-  {
-    cholmod_common c;
-    cholmod_start(&c);
-    c.print = 0;
-    cholmod_sparse G = upper_csc_view(nn, const_cast<int*>(gp.data()), const_cast<int*>(gi.data()));
-    long nsep = -1;
-    {
-      const auto lock = lock_symbolic_analysis();
-      nsep = cholmod_bisect(&G, nullptr, 0, 1, part.data(), &c);
-    }
-    cholmod_finish(&c);
-    if (nsep <= 0) return false;
-    const long n0 = std::count(part.begin(), part.end(), 0);
-    const long n1 = std::count(part.begin(), part.end(), 1);
-    if (nsep > 0.06 * nn || n0 < 0.2 * nn || n1 < 0.2 * nn) return false;
-  }
+  if (!bisect_nodes(gp, gi, part)) return false;
   for (int v = 0; v < nn; ++v)
     if (part[v] == 2)
       for (int d = 0; d < I.dpn; ++d) I.sep_dof.push_back(I.dpn * v + d);
   const int m = static_cast<int>(I.sep_dof.size());
 
-  // 2. Each half: local numbering (its nodes in METIS order, then the separator), pattern,
-  //    symbolic analysis with S kept last.
-  const int* Kp = static_cast<const int*>(K.p);
-  const int* Ki = static_cast<const int*>(K.i);
   // The two halves are prepared side by side (only the METIS calls take turns, under the lock).
-  auto prepare = [&](int h) -> bool {
-    Half& H = *I.half[h];
-    H.c.print = 0;
-    H.c.supernodal = CHOLMOD_SUPERNODAL;
-    // The half's own node graph, for its fill-reducing ordering.
-    std::vector<int> local(nn, -1), nodes;
-    for (int v = 0; v < nn; ++v)
-      if (part[v] == h) {
-        local[v] = static_cast<int>(nodes.size());
-        nodes.push_back(v);
-      }
-    const int nh_nodes = static_cast<int>(nodes.size());
-    std::vector<int> hp(nh_nodes + 1, 0), hi;
-    for (int q = 0; q < nh_nodes; ++q) {
-      const int v = nodes[q];
-      for (int k = gp[v]; k < gp[v + 1]; ++k)
-        if (local[gi[k]] >= 0) hi.push_back(local[gi[k]]);
-      hp[q + 1] = static_cast<int>(hi.size());
-    }
-    // gi is sorted per column and local[] is increasing in v: hi stays sorted, upper.
-    cholmod_sparse G = upper_csc_view(nh_nodes, hp.data(), hi.data());
-    std::vector<int> node_perm(nh_nodes);
-    {
-      const auto lock = lock_symbolic_analysis();
-      if (!cholmod_metis(&G, nullptr, 0, 0, node_perm.data(), &H.c)) return false;
-    }
-    // Local dofs: the half's nodes in METIS order, then the separator nodes in id order.
-    std::vector<int> dof_local(I.ndof, -1);
-    H.nh = nh_nodes * I.dpn;
-    H.n = H.nh + m;
-    H.global_dof.resize(H.n);
-    for (int q = 0; q < nh_nodes; ++q)
-      for (int d = 0; d < I.dpn; ++d) H.global_dof[I.dpn * q + d] = I.dpn * nodes[node_perm[q]] + d;
-    for (int k = 0; k < m; ++k) H.global_dof[H.nh + k] = I.sep_dof[k];
-    for (int l = 0; l < H.n; ++l) dof_local[H.global_dof[l]] = l;
-    // Local upper pattern: every stored entry of K between dofs of h ∪ S, in the column of its
-    // larger local index (counting pass, then the short columns sorted by row).
-    H.p.assign(H.n + 1, 0);
-    for (int j = 0; j < I.ndof; ++j) {
-      const int lj = dof_local[j];
-      if (lj < 0) continue;
-      for (int k = Kp[j]; k < Kp[j + 1]; ++k) {
-        const int li = dof_local[Ki[k]];
-        if (li >= 0) ++H.p[std::max(li, lj) + 1];
-      }
-    }
-    for (int j = 0; j < H.n; ++j) H.p[j + 1] += H.p[j];
-    const long nnz = H.p[H.n];
-    std::vector<std::pair<int, long>> slot(nnz);  // (row, source)
-    std::vector<int> next(H.p.begin(), H.p.end() - 1);
-    for (int j = 0; j < I.ndof; ++j) {
-      const int lj = dof_local[j];
-      if (lj < 0) continue;
-      for (int k = Kp[j]; k < Kp[j + 1]; ++k) {
-        const int li = dof_local[Ki[k]];
-        if (li >= 0) slot[next[std::max(li, lj)]++] = {std::min(li, lj), k};
-      }
-    }
-    H.i.resize(nnz);
-    H.x.assign(nnz, 0.0);
-    H.source.resize(nnz);
-    for (int j = 0; j < H.n; ++j) {
-      std::sort(slot.begin() + H.p[j], slot.begin() + H.p[j + 1]);
-      for (int k = H.p[j]; k < H.p[j + 1]; ++k) {
-        H.i[k] = slot[k].first;
-        H.source[k] = slot[k].second;
-      }
-    }
-    H.K = upper_csc_view(H.n, H.p.data(), H.i.data(), H.x.data());
-    // Identity ordering of the local numbering (already fill-reducing, S last). Postordering the
-    // elimination tree keeps S last when it is the top of a single tree; checked below.
-    std::vector<int> ident(H.n);
-    for (int l = 0; l < H.n; ++l) ident[l] = l;
-    H.c.nmethods = 1;
-    H.c.method[0].ordering = CHOLMOD_GIVEN;
-    H.c.postorder = 1;
-    H.L = cholmod_analyze_p(&H.K, ident.data(), nullptr, 0, &H.c);
-    if (H.L == nullptr) return false;
-    const int* perm = static_cast<const int*>(H.L->Perm);
-    H.s_order.resize(m);
-    for (int q = 0; q < m; ++q) {
-      const int l = perm[H.nh + q];
-      if (l < H.nh) return false;  // S did not stay last
-      H.s_order[q] = l - H.nh;
-    }
-    return true;
-  };
   for (auto& h : I.half) h = std::make_unique<Half>();
   bool ok0 = false, ok1 = false;
-  tbb::parallel_invoke([&] { ok0 = prepare(0); }, [&] { ok1 = prepare(1); });
+  tbb::parallel_invoke(
+      [&] { ok0 = prepare_half(K, I.dpn, gp, gi, part, I.sep_dof, 0, *I.half[0]); },
+      [&] { ok1 = prepare_half(K, I.dpn, gp, gi, part, I.sep_dof, 1, *I.half[1]); });
   if (!ok0 || !ok1) return false;
   // Positions of K_SS's stored entries in the dense separator matrix.
+  const int* Kp = static_cast<const int*>(K.p);
+  const int* Ki = static_cast<const int*>(K.i);
   std::vector<int> sep_of_dof(I.ndof, -1);
   for (int k = 0; k < m; ++k) sep_of_dof[I.sep_dof[k]] = k;
   for (int j = 0; j < I.ndof; ++j) {

@@ -10,6 +10,7 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/Sparse>
 
+#include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
 
@@ -239,30 +240,13 @@ std::vector<double> rescale_robust(const std::vector<double>& values, double top
 }
 
 namespace {
-template <class Enum, std::size_t N>
-Enum parse_word(const std::string& word, const char* option,
-                const std::array<std::pair<const char*, Enum>, N>& words) {
-  std::string list;
-  for (const auto& [name, value] : words) {
-    if (word == name) return value;
-    list += list.empty() ? name : std::string(", ") + name;
-  }
-  throw Error(option, fmt::format("'{}' is not one of {}", word, list));
-}
-constexpr std::array<std::pair<const char*, StressMeasure>, 3> kMeasures{
-    {{"magnitude", StressMeasure::magnitude},
-     {"tension", StressMeasure::tension},
-     {"compression", StressMeasure::compression}}};
-constexpr std::array<std::pair<const char*, StretchAxis>, 2> kStretch{
+constexpr EnumWords<StressMeasure, 3> kMeasures{{{"magnitude", StressMeasure::magnitude},
+                                                 {"tension", StressMeasure::tension},
+                                                 {"compression", StressMeasure::compression}}};
+constexpr EnumWords<StretchAxis, 2> kStretch{
     {{"along", StretchAxis::along}, {"across", StretchAxis::across}}};
-constexpr std::array<std::pair<const char*, DensityTrend>, 2> kDensity{
+constexpr EnumWords<DensityTrend, 2> kDensity{
     {{"rising", DensityTrend::rising}, {"falling", DensityTrend::falling}}};
-template <class Enum, std::size_t N>
-const char* word_of(Enum value, const std::array<std::pair<const char*, Enum>, N>& words) {
-  for (const auto& [name, v] : words)
-    if (v == value) return name;
-  return "?";
-}
 }  // namespace
 
 StressMeasure parse_stress_measure(const std::string& w) {

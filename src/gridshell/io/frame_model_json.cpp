@@ -57,25 +57,21 @@ std::vector<std::vector<int>> polygons(const json& j, const std::string& what,
 
 }  // namespace
 
-FrameModelFile parse_frame_model(const std::string& text, const std::string& subject,
-                                 int default_elements) {
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const std::exception& e) {
-    throw Error(subject, std::string("not valid JSON: ") + e.what());
-  }
-  if (!j.is_object()) throw Error(subject, "the model must be a JSON object");
-  FrameModelFile out;
-  fem::FrameModel& m = out.model;
+namespace {
+
+using NameIndex = std::map<std::string, int>;
+
+void read_nodes(const json& j, const std::string& subject, fem::FrameModel& m) {
   if (!j.contains("nodes") || !j["nodes"].is_array() || j["nodes"].empty())
     throw Error(subject, "'nodes' must be a non-empty list of [x, y, z]");
   m.nodes.resize(j["nodes"].size(), 3);
   for (size_t i = 0; i < j["nodes"].size(); ++i)
     m.nodes.row(i) = vec3(j["nodes"][i], fmt::format("nodes[{}]", i), subject).transpose();
-  const int n = m.num_nodes();
+}
 
-  std::map<std::string, int> sections, materials;
+/// "sections": {NAME: {"shape": "circle", "diameter": d} or {"A", "Iy", "Iz", "J"}, "up"?}.
+NameIndex read_sections(const json& j, const std::string& subject, fem::FrameModel& m) {
+  NameIndex sections;
   if (!j.contains("sections") || !j["sections"].is_object())
     throw Error(subject, "'sections' must be an object of named sections");
   for (const auto& [name, s] : j["sections"].items()) {
@@ -101,6 +97,12 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
     sections[name] = static_cast<int>(m.sections.size());
     m.sections.push_back(sec);
   }
+  return sections;
+}
+
+/// "materials": {NAME: {"E", "nu" (0.3), "density" (0)}}.
+NameIndex read_materials(const json& j, const std::string& subject, fem::FrameModel& m) {
+  NameIndex materials;
   if (!j.contains("materials") || !j["materials"].is_object())
     throw Error(subject, "'materials' must be an object of named materials");
   for (const auto& [name, s] : j["materials"].items()) {
@@ -114,6 +116,26 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
     materials[name] = static_cast<int>(m.materials.size());
     m.materials.push_back(mat);
   }
+  return materials;
+}
+
+/// A member's section or material: the named one, or the only one there is.
+int pick_name(const json& mj, const char* key, const NameIndex& names, const std::string& what,
+              const std::string& subject) {
+  if (!mj.contains(key)) {
+    if (names.size() == 1) return names.begin()->second;
+    throw Error(subject, what + fmt::format(" needs '{}'", key));
+  }
+  if (!mj[key].is_string()) throw Error(subject, what + fmt::format(".{} must be a name", key));
+  const auto it = names.find(mj[key].get<std::string>());
+  if (it == names.end())
+    throw Error(subject, what + fmt::format(": unknown {} '{}'", key, mj[key].get<std::string>()));
+  return it->second;
+}
+
+/// "members": [{"nodes": [i, j], "section"?, "material"?, "type"?, "elements"?}].
+void read_members(const json& j, const std::string& subject, const NameIndex& sections,
+                  const NameIndex& materials, int default_elements, fem::FrameModel& m) {
   if (!j.contains("members") || !j["members"].is_array() || j["members"].empty())
     throw Error(subject, "'members' must be a non-empty list");
   for (size_t k = 0; k < j["members"].size(); ++k) {
@@ -125,20 +147,8 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
     fem::FrameMember mb;
     mb.i = index(mj["nodes"][0], what + ".nodes", subject);
     mb.j = index(mj["nodes"][1], what + ".nodes", subject);
-    auto pick = [&](const char* key, const std::map<std::string, int>& names) {
-      if (!mj.contains(key)) {
-        if (names.size() == 1) return names.begin()->second;
-        throw Error(subject, what + fmt::format(" needs '{}'", key));
-      }
-      if (!mj[key].is_string()) throw Error(subject, what + fmt::format(".{} must be a name", key));
-      const auto it = names.find(mj[key].get<std::string>());
-      if (it == names.end())
-        throw Error(subject,
-                    what + fmt::format(": unknown {} '{}'", key, mj[key].get<std::string>()));
-      return it->second;
-    };
-    mb.section = pick("section", sections);
-    mb.material = pick("material", materials);
+    mb.section = pick_name(mj, "section", sections, what, subject);
+    mb.material = pick_name(mj, "material", materials, what, subject);
     if (mj.contains("type")) {
       if (mj["type"] == "truss") {
         mb.type = fem::MemberType::truss;
@@ -153,94 +163,130 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
     if (mb.type == fem::MemberType::truss) mb.elements = 1;
     m.members.push_back(mb);
   }
+}
+
+/// "supports": [{"node", "fix": [dof names]}]; without "fix" a support is pinned.
+void read_supports(const json& j, const std::string& subject, fem::FrameModel& m) {
+  static const char* kNames[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+  if (!j["supports"].is_array()) throw Error(subject, "'supports' must be a list");
+  for (const auto& sj : j["supports"]) {
+    if (!sj.is_object() || !sj.contains("node")) throw Error(subject, "a support needs 'node'");
+    fem::FrameSupport s;
+    s.node = index(sj["node"], "supports.node", subject);
+    if (sj.contains("fix")) {
+      if (!sj["fix"].is_array()) throw Error(subject, "supports.fix must be a list");
+      for (const auto& f : sj["fix"]) {
+        bool found = false;
+        for (int c = 0; c < 6; ++c)
+          if (f.is_string() && f.get<std::string>() == kNames[c]) s.fix[c] = found = true;
+        if (!found) throw Error(subject, "supports.fix: unknown dof (use ux uy uz rx ry rz)");
+      }
+    } else {
+      s.fix = {true, true, true, false, false, false};  // pinned
+    }
+    m.supports.push_back(s);
+  }
+}
+
+/// A surface (per area) or projected (per plan area) load q spread over the faces' nodes.
+void add_face_load(const fem::FrameModel& m, const Vec3& q, bool projected, std::vector<Vec3>& F) {
+  for (const auto& f : m.faces) {
+    Vec3 va = Vec3::Zero();
+    for (size_t c = 0; c < f.size(); ++c)
+      va += m.nodes.row(f[c]).transpose().cross(m.nodes.row(f[(c + 1) % f.size()]).transpose());
+    va *= 0.5;
+    const double area = projected ? std::abs(va.z()) : va.norm();
+    for (int v : f) F[v] += q * (area / static_cast<double>(f.size()));
+  }
+}
+
+/// Each member's weight A ρ g L, half to each end node.
+void add_self_weight(const fem::FrameModel& m, double g, std::vector<Vec3>& F) {
+  for (size_t k = 0; k < m.members.size(); ++k) {
+    const auto& mb = m.members[k];
+    const double w = m.sections[mb.section].A * m.materials[mb.material].density * g *
+                     fem::member_length(m, static_cast<int>(k));
+    F[mb.i].z() -= 0.5 * w;
+    F[mb.j].z() -= 0.5 * w;
+  }
+}
+
+/// "loads": nodal, surface, projected and self_weight loads, summed into one nodal load per
+/// loaded node (needs validated references: faces, sections, materials).
+void read_loads(const json& j, const std::string& subject, fem::FrameModel& m) {
+  const int n = m.num_nodes();
+  if (!j["loads"].is_array()) throw Error(subject, "'loads' must be a list");
+  std::vector<Vec3> F(n, Vec3::Zero()), M(n, Vec3::Zero());
+  for (const auto& lj : j["loads"]) {
+    if (!lj.is_object()) throw Error(subject, "a load must be an object");
+    const std::string type = lj.contains("type") && lj["type"].is_string()
+                                 ? lj["type"].get<std::string>()
+                                 : std::string("nodal");
+    if (type == "nodal") {
+      if (!lj.contains("node")) throw Error(subject, "a nodal load needs 'node'");
+      const int v = index(lj["node"], "loads.node", subject);
+      if (v < 0 || v >= n) throw Error(subject, fmt::format("a load refers to node {}", v));
+      if (lj.contains("force")) F[v] += vec3(lj["force"], "loads.force", subject);
+      if (lj.contains("moment")) M[v] += vec3(lj["moment"], "loads.moment", subject);
+    } else if (type == "surface" || type == "projected") {
+      if (m.faces.empty())
+        throw Error(subject, "a " + type + " load needs 'faces' (or 'triangles')");
+      add_face_load(m, vec3(lj.value("q", json()), "loads.q", subject), type == "projected", F);
+    } else if (type == "self_weight") {
+      add_self_weight(m, lj.contains("g") ? num(lj["g"], "loads.g", subject) : 9.81, F);
+    } else {
+      throw Error(subject, "unknown load type '" + type + "'");
+    }
+  }
+  for (int v = 0; v < n; ++v)
+    if (F[v].squaredNorm() > 0 || M[v].squaredNorm() > 0) m.loads.push_back({v, F[v], M[v]});
+}
+
+/// "analysis": {"linear", "buckling", "nonlinear": true/false, "nonlinear_static": factor}.
+void read_analysis(const json& a, const std::string& subject, ModelAnalysisRequest& out) {
+  if (!a.is_object()) throw Error(subject, "'analysis' must be an object");
+  auto flag = [&](const char* key, std::optional<bool>& dst) {
+    if (!a.contains(key)) return;
+    if (!a[key].is_boolean())
+      throw Error(subject, fmt::format("analysis.{} must be true/false", key));
+    dst = a[key].get<bool>();
+  };
+  flag("linear", out.linear);
+  flag("buckling", out.buckling);
+  flag("nonlinear", out.nonlinear);
+  if (a.contains("nonlinear_static")) {
+    const double f = num(a["nonlinear_static"], "analysis.nonlinear_static", subject);
+    if (!(f > 0)) throw Error(subject, "analysis.nonlinear_static must be > 0");
+    out.nonlinear_static = f;
+  }
+}
+
+}  // namespace
+
+FrameModelFile parse_frame_model(const std::string& text, const std::string& subject,
+                                 int default_elements) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const std::exception& e) {
+    throw Error(subject, std::string("not valid JSON: ") + e.what());
+  }
+  if (!j.is_object()) throw Error(subject, "the model must be a JSON object");
+  FrameModelFile out;
+  fem::FrameModel& m = out.model;
+  read_nodes(j, subject, m);
+  const NameIndex sections = read_sections(j, subject, m);
+  const NameIndex materials = read_materials(j, subject, m);
+  read_members(j, subject, sections, materials, default_elements, m);
   if (j.contains("faces")) m.faces = polygons(j["faces"], "faces", subject);
   if (j.contains("triangles") && m.faces.empty())
     m.faces = polygons(j["triangles"], "triangles", subject);
-  static const char* kNames[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
-  if (j.contains("supports")) {
-    if (!j["supports"].is_array()) throw Error(subject, "'supports' must be a list");
-    for (const auto& sj : j["supports"]) {
-      if (!sj.is_object() || !sj.contains("node")) throw Error(subject, "a support needs 'node'");
-      fem::FrameSupport s;
-      s.node = index(sj["node"], "supports.node", subject);
-      if (sj.contains("fix")) {
-        if (!sj["fix"].is_array()) throw Error(subject, "supports.fix must be a list");
-        for (const auto& f : sj["fix"]) {
-          bool found = false;
-          for (int c = 0; c < 6; ++c)
-            if (f.is_string() && f.get<std::string>() == kNames[c]) s.fix[c] = found = true;
-          if (!found) throw Error(subject, "supports.fix: unknown dof (use ux uy uz rx ry rz)");
-        }
-      } else {
-        s.fix = {true, true, true, false, false, false};  // pinned
-      }
-      m.supports.push_back(s);
-    }
-  }
+  if (j.contains("supports")) read_supports(j, subject, m);
   // Validate references before the derived loads use them.
   fem::FrameModel check = m;
   fem::validate(check, subject);
-  if (j.contains("loads")) {
-    if (!j["loads"].is_array()) throw Error(subject, "'loads' must be a list");
-    std::vector<Vec3> F(n, Vec3::Zero()), M(n, Vec3::Zero());
-    for (const auto& lj : j["loads"]) {
-      if (!lj.is_object()) throw Error(subject, "a load must be an object");
-      const std::string type = lj.contains("type") && lj["type"].is_string()
-                                   ? lj["type"].get<std::string>()
-                                   : std::string("nodal");
-      if (type == "nodal") {
-        if (!lj.contains("node")) throw Error(subject, "a nodal load needs 'node'");
-        const int v = index(lj["node"], "loads.node", subject);
-        if (v < 0 || v >= n) throw Error(subject, fmt::format("a load refers to node {}", v));
-        if (lj.contains("force")) F[v] += vec3(lj["force"], "loads.force", subject);
-        if (lj.contains("moment")) M[v] += vec3(lj["moment"], "loads.moment", subject);
-      } else if (type == "surface" || type == "projected") {
-        if (m.faces.empty())
-          throw Error(subject, "a " + type + " load needs 'faces' (or 'triangles')");
-        const Vec3 q = vec3(lj.value("q", json()), "loads.q", subject);
-        for (const auto& f : m.faces) {
-          Vec3 va = Vec3::Zero();
-          for (size_t c = 0; c < f.size(); ++c)
-            va +=
-                m.nodes.row(f[c]).transpose().cross(m.nodes.row(f[(c + 1) % f.size()]).transpose());
-          va *= 0.5;
-          const double area = type == "surface" ? va.norm() : std::abs(va.z());
-          for (int v : f) F[v] += q * (area / static_cast<double>(f.size()));
-        }
-      } else if (type == "self_weight") {
-        const double g = lj.contains("g") ? num(lj["g"], "loads.g", subject) : 9.81;
-        for (size_t k = 0; k < m.members.size(); ++k) {
-          const auto& mb = m.members[k];
-          const double w = m.sections[mb.section].A * m.materials[mb.material].density * g *
-                           fem::member_length(m, static_cast<int>(k));
-          F[mb.i].z() -= 0.5 * w;
-          F[mb.j].z() -= 0.5 * w;
-        }
-      } else {
-        throw Error(subject, "unknown load type '" + type + "'");
-      }
-    }
-    for (int v = 0; v < n; ++v)
-      if (F[v].squaredNorm() > 0 || M[v].squaredNorm() > 0) m.loads.push_back({v, F[v], M[v]});
-  }
-  if (j.contains("analysis")) {
-    const json& a = j["analysis"];
-    if (!a.is_object()) throw Error(subject, "'analysis' must be an object");
-    auto flag = [&](const char* key, std::optional<bool>& dst) {
-      if (!a.contains(key)) return;
-      if (!a[key].is_boolean())
-        throw Error(subject, fmt::format("analysis.{} must be true/false", key));
-      dst = a[key].get<bool>();
-    };
-    flag("linear", out.analysis.linear);
-    flag("buckling", out.analysis.buckling);
-    flag("nonlinear", out.analysis.nonlinear);
-    if (a.contains("nonlinear_static")) {
-      const double f = num(a["nonlinear_static"], "analysis.nonlinear_static", subject);
-      if (!(f > 0)) throw Error(subject, "analysis.nonlinear_static must be > 0");
-      out.analysis.nonlinear_static = f;
-    }
-  }
+  if (j.contains("loads")) read_loads(j, subject, m);
+  if (j.contains("analysis")) read_analysis(j["analysis"], subject, out.analysis);
   fem::validate(m, subject);
   return out;
 }

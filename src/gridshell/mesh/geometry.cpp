@@ -48,6 +48,16 @@ std::vector<char> boundary_corners(const Points& V, const std::vector<std::vecto
   return corner;
 }
 
+double signed_area_2d(const std::vector<Eigen::Vector2d>& polygon) {
+  double a = 0;
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    const Eigen::Vector2d& u = polygon[k];
+    const Eigen::Vector2d& v = polygon[(k + 1) % polygon.size()];
+    a += u.x() * v.y() - u.y() * v.x();
+  }
+  return 0.5 * a;
+}
+
 double polygon_area(const PolyMesh& mesh, int face) {
   const auto& f = mesh.faces[face];
   Vec3 a = Vec3::Zero();

@@ -88,6 +88,13 @@ Topology build_topology(const TriMesh& mesh) {
   return build_topology(to_poly(mesh));
 }
 
+std::vector<int> boundary_vertices(const Topology& topo) {
+  std::vector<int> out;
+  for (int v = 0; v < static_cast<int>(topo.on_boundary.size()); ++v)
+    if (topo.on_boundary[v]) out.push_back(v);
+  return out;
+}
+
 TriangleAdjacency build_triangle_adjacency(const Triangles& F, int nv) {
   const int nt = static_cast<int>(F.rows());
   // Half-edges 3t+k (F(t,k) → F(t,k+1)) grouped by their origin vertex (counting sort: linear).
@@ -233,24 +240,19 @@ MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance) {
   for (int v = 0; v < nv; ++v) {
     const auto& vf = t.vertex_faces[v];
     if (vf.size() < 2) continue;
-    std::vector<int> parent(vf.size());
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&](int x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
+    DisjointSets fan(static_cast<int>(vf.size()));
     for (int nb : t.vertex_neighbors[v]) {
       int e = t.find_edge(v, nb);
       const auto& ef = t.edge_faces[e];
       for (std::size_t i = 1; i < ef.size(); ++i) {
         auto ia = std::find(vf.begin(), vf.end(), ef[0]) - vf.begin();
         auto ib = std::find(vf.begin(), vf.end(), ef[i]) - vf.begin();
-        parent[find(static_cast<int>(ia))] = find(static_cast<int>(ib));
+        fan.unite(static_cast<int>(ia), static_cast<int>(ib));
       }
     }
     int roots = 0;
     for (std::size_t i = 0; i < vf.size(); ++i)
-      roots += (find(static_cast<int>(i)) == static_cast<int>(i));
+      roots += (fan.find(static_cast<int>(i)) == static_cast<int>(i));
     if (roots > 1) ++p.non_manifold_vertices;
   }
   // Exact duplicate positions.

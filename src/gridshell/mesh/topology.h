@@ -9,6 +9,7 @@
 /// each triangle edge and the boundary loops with their triangle edges, in linear time, no
 /// per-vertex lists. It refuses non-manifold input; its boundary loops are Topology's.
 
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -42,6 +43,9 @@ struct Topology {
 Topology build_topology(const PolyMesh& mesh);
 Topology build_topology(const TriMesh& mesh);
 
+/// The vertices on the mesh boundary (`on_boundary`), in id order.
+std::vector<int> boundary_vertices(const Topology& topo);
+
 /// Triangle-to-triangle adjacency of a manifold, consistently oriented triangle mesh. Local
 /// edge k of triangle t runs from corner k to corner k + 1 (mod 3).
 struct TriangleAdjacency {
@@ -62,6 +66,26 @@ struct TriangleAdjacency {
 /// more than two triangles, triangles walking an edge the same way (inconsistent orientation),
 /// and boundaries that touch at a vertex or do not close.
 TriangleAdjacency build_triangle_adjacency(const Triangles& F, int num_vertices);
+
+/// Disjoint sets of 0 … n−1 (union–find with path halving), for connected components. `unite`
+/// hangs the larger root under the smaller, so a set's root is always its smallest element,
+/// whatever the order of the unions.
+struct DisjointSets {
+  std::vector<int> parent;
+
+  explicit DisjointSets(int n) : parent(n) {
+    for (int i = 0; i < n; ++i) parent[i] = i;
+  }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
 
 /// V − E + F counted over referenced vertices.
 int euler_characteristic(const PolyMesh& mesh, const Topology& topo);

@@ -83,25 +83,19 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
     lv.area[f] = area;
   }
   // One fixed vertex per connected component; unreferenced vertices are fixed too.
-  std::vector<int> parent(nv);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  DisjointSets sets(nv);
   std::vector<char> used(nv, 0);
   for (int f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
       used[rest.F(f, k)] = 1;
-      const int a = find(rest.F(f, k)), b = find(rest.F(f, (k + 1) % 3));
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      sets.unite(rest.F(f, k), rest.F(f, (k + 1) % 3));
     }
   lv.free_index.assign(nv, -1);
   std::vector<char> root_fixed(nv, 0);
   lv.num_free = 0;
   for (int v = 0; v < nv; ++v) {
     if (!used[v]) continue;
-    const int r = find(v);
+    const int r = sets.find(v);
     if (!root_fixed[r]) {
       root_fixed[r] = 1;  // the first vertex of each component stays put
       continue;
@@ -167,7 +161,7 @@ Mat32 polar32(const Mat32& M) {
   const Eigen::Vector2d ev = es.eigenvalues();
   const double scale = std::max(ev[1], 1e-300);
   if (ev[0] > 1e-12 * scale && std::isfinite(ev[0])) {
-    const Eigen::Matrix2d V = es.eigenvectors();
+    const Eigen::Matrix2d& V = es.eigenvectors();
     const Eigen::Vector2d inv(1 / std::sqrt(ev[0]), 1 / std::sqrt(ev[1]));
     return M * (V * inv.asDiagonal() * V.transpose());
   }
@@ -372,7 +366,9 @@ int split_long_edges(TriMesh& rest, TriMesh& deformed, double max_edge, std::vec
   return count;
 }
 
-Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOptions& o) {
+namespace {
+
+void check_input(const TriMesh& mesh, const Field& field, const DeformOptions& o) {
   const int nf = mesh.num_faces();
   if (field.size() != nf || static_cast<int>(field.d.size()) != nf ||
       static_cast<int>(field.a.size()) != nf)
@@ -388,6 +384,57 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
     throw Error("metric", "resolve_fraction must be in [0, 1]");
   if (!(o.split_ratio > 0 && o.split_ratio <= 1))
     throw Error("metric", "split_ratio must be in (0, 1]");
+}
+
+/// The mean edge length of `mesh`.
+double mean_edge_length(const TriMesh& mesh) {
+  double length = 0;
+  const Topology topo = build_topology(mesh);
+  for (const auto& [a, b] : topo.edges) length += (mesh.vertex(a) - mesh.vertex(b)).norm();
+  return length / std::max(1, topo.num_edges());
+}
+
+/// After a refinement round: the field on the new faces (each child carries its parent's values,
+/// `parent` per new face) and the new faces' input faces (`parent_face` per old face, updated).
+Field children_field(const Field& field, const std::vector<int>& parent,
+                     std::vector<int>& parent_face) {
+  Field child;
+  const std::size_t n = parent.size();
+  child.u.resize(n);
+  child.d.resize(n);
+  child.a.resize(n);
+  const bool raw = field.u_raw.size() == field.u.size() && field.d_raw.size() == field.u.size() &&
+                   field.a_raw.size() == field.u.size();
+  if (raw) {
+    child.u_raw.resize(n);
+    child.d_raw.resize(n);
+    child.a_raw.resize(n);
+  }
+  const bool coherent = field.coherence.size() == field.u.size();
+  if (coherent) child.coherence.resize(n);
+  std::vector<int> grand(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int p = parent[i];
+    child.u[i] = field.u[p];
+    child.d[i] = field.d[p];
+    child.a[i] = field.a[p];
+    if (raw) {
+      child.u_raw[i] = field.u_raw[p];
+      child.d_raw[i] = field.d_raw[p];
+      child.a_raw[i] = field.a_raw[p];
+    }
+    if (coherent) child.coherence[i] = field.coherence[p];
+    grand[i] = parent_face[p];
+  }
+  parent_face = std::move(grand);
+  return child;
+}
+
+}  // namespace
+
+Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOptions& o) {
+  check_input(mesh, field, o);
+  const int nf = mesh.num_faces();
   const bool refine = o.max_edge > 0 && std::isfinite(o.max_edge);
 
   Deformed out;
@@ -401,13 +448,7 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
   // The regulariser's length h is the input mesh's mean edge length on every level: with the
   // level's own (halving) h the bending weight fell 4× per refinement round and M′ creased on
   // the finer levels (barrel, D = A = 3: 8–16 folded edges along the crown).
-  double bending_length = 0;
-  {
-    const Topology topo = build_topology(mesh);
-    for (const auto& [a, b] : topo.edges)
-      bending_length += (mesh.vertex(a) - mesh.vertex(b)).norm();
-    bending_length /= std::max(1, topo.num_edges());
-  }
+  const double bending_length = mean_edge_length(mesh);
   // Initial guess: integrate the target Jacobians in the rest frames (membrane energy only), a
   // few membrane-only iterations to undo its folds, then that shape is the bending reference of
   // the iterations (a fold in the reference would be kept by the regulariser).
@@ -438,37 +479,7 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
       throw Error("metric", fmt::format("refinement exceeds {} faces (q = {} too small for the "
                                         "surface)",
                                         o.max_faces, o.max_edge));
-    Field child;
-    const std::size_t n = parent.size();
-    child.u.resize(n);
-    child.d.resize(n);
-    child.a.resize(n);
-    const bool raw = out.field.u_raw.size() == out.field.u.size() &&
-                     out.field.d_raw.size() == out.field.u.size() &&
-                     out.field.a_raw.size() == out.field.u.size();
-    if (raw) {
-      child.u_raw.resize(n);
-      child.d_raw.resize(n);
-      child.a_raw.resize(n);
-    }
-    const bool coherent = out.field.coherence.size() == out.field.u.size();
-    if (coherent) child.coherence.resize(n);
-    std::vector<int> grand(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const int p = parent[i];
-      child.u[i] = out.field.u[p];
-      child.d[i] = out.field.d[p];
-      child.a[i] = out.field.a[p];
-      if (raw) {
-        child.u_raw[i] = out.field.u_raw[p];
-        child.d_raw[i] = out.field.d_raw[p];
-        child.a_raw[i] = out.field.a_raw[p];
-      }
-      if (coherent) child.coherence[i] = out.field.coherence[p];
-      grand[i] = out.parent_face[p];
-    }
-    out.field = std::move(child);
-    out.parent_face = std::move(grand);
+    out.field = children_field(out.field, parent, out.parent_face);
     ++out.rounds;
     // Midpoint splits keep M′ the same piecewise-linear map and the children carry the parent's
     // target, so the residual is unchanged: a round that split only a few edges is not worth a

@@ -184,95 +184,228 @@ void guard_planarity(Points& X, const PolyMesh& mesh,
   X.swap(b.moved);
 }
 
+/// The unknowns of the iteration: the vertices some face uses that are not fixed, numbered in
+/// vertex order.
+struct Unknowns {
+  std::vector<char> used;  ///< per vertex: referenced by a face
+  std::vector<int> idx;    ///< per vertex: its row, or -1 (unused or fixed)
+  int count = 0;
+};
+
+Unknowns number_unknowns(const PolyMesh& mesh, const std::vector<VertexConstraint>& cons) {
+  const int nv = mesh.num_vertices();
+  Unknowns u;
+  u.used.assign(nv, 0);
+  for (const auto& f : mesh.faces)
+    for (int v : f) u.used[v] = 1;
+  u.idx.assign(nv, -1);
+  for (int v = 0; v < nv; ++v)
+    if (u.used[v] && cons[v] != VertexConstraint::fixed) u.idx[v] = u.count++;
+  return u;
+}
+
+/// The global step's system, factorised once. Σ_f |N_f x_f − N_f t_f|² is minimised in its
+/// incidence form Σ_f Σ_{i∈f} |x_i − c_f − t̃_{f,i}|² with one extra unknown per face, its
+/// centroid c_f (t̃ = targets minus their mean): eliminating c_f gives back the original energy
+/// exactly, but the matrix couples a vertex only to its faces, not to every vertex of its faces,
+/// and its Cholesky factor is 3× sparser (11 K polygons: 0.54 M against 1.62 M non-zeros), which
+/// is what the memory-bound back-substitutions pay for every iteration. Unknowns: the free
+/// vertices, then the faces (row count + f). Simplicial, not supernodal: the supernodes are tiny
+/// and the BLAS per-call overhead made each back-substitution ~4× slower.
+struct GlobalSystem {
+  /// A fixed vertex's term of a row: value · x_v goes to the right-hand side.
+  struct Coupling {
+    int row, fixed_vertex;
+    double value;
+  };
+  Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>> llt;
+  std::vector<Coupling> couplings;
+};
+
+/// Boundary fairing: w |x_b − (x_p + x_n)/2|² for each sliding boundary vertex b between its two
+/// neighbours p, n along the mesh boundary — keeps the beams along the edge even while the faces
+/// behind them move.
+void add_boundary_fairing(const Topology& topo, const Unknowns& u,
+                          const std::vector<VertexConstraint>& cons, double weight,
+                          std::vector<Eigen::Triplet<double>>& trip,
+                          std::vector<GlobalSystem::Coupling>& couplings) {
+  const std::vector<int>& idx = u.idx;
+  const int nv = static_cast<int>(idx.size());
+  std::vector<std::vector<int>> along(nv);
+  for (int e = 0; e < topo.num_edges(); ++e)
+    if (topo.edge_faces[e].size() == 1) {
+      along[topo.edges[e][0]].push_back(topo.edges[e][1]);
+      along[topo.edges[e][1]].push_back(topo.edges[e][0]);
+    }
+  for (int b = 0; b < nv; ++b) {
+    if (idx[b] < 0 || cons[b] != VertexConstraint::boundary || along[b].size() != 2) continue;
+    const std::array<int, 3> v{b, along[b][0], along[b][1]};
+    const std::array<double, 3> a{1.0, -0.5, -0.5};
+    for (int i = 0; i < 3; ++i) {
+      const int r = idx[v[i]];
+      if (r < 0) continue;
+      for (int j = 0; j < 3; ++j) {
+        const double val = weight * a[i] * a[j];
+        if (idx[v[j]] >= 0)
+          trip.emplace_back(r, idx[v[j]], val);
+        else
+          couplings.push_back({r, v[j], val});
+      }
+    }
+  }
+}
+
+void factorize_global(const PolyMesh& mesh, const Topology& topo, const Unknowns& u,
+                      const std::vector<VertexConstraint>& cons, const RegularizeOptions& o,
+                      GlobalSystem& sys) {
+  const int nfree = u.count, nf = mesh.num_faces(), nrows = nfree + nf;
+  std::vector<Eigen::Triplet<double>> trip;
+  for (int fi = 0; fi < nf; ++fi) {
+    const int cf = nfree + fi;
+    for (const int v : mesh.faces[fi]) {
+      trip.emplace_back(cf, cf, 1.0);
+      const int r = u.idx[v];
+      if (r < 0) {
+        sys.couplings.push_back({cf, v, -1.0});  // fixed vertex: x_v goes to the right-hand side
+        continue;
+      }
+      trip.emplace_back(r, r, 1.0);
+      trip.emplace_back(r, cf, -1.0);
+      trip.emplace_back(cf, r, -1.0);
+    }
+  }
+  if (o.boundary_fairing > 0)
+    add_boundary_fairing(topo, u, cons, o.boundary_fairing, trip, sys.couplings);
+  for (int r = 0; r < nfree; ++r) trip.emplace_back(r, r, o.closeness);
+  Eigen::SparseMatrix<double> A(nrows, nrows);
+  A.setFromTriplets(trip.begin(), trip.end());
+  compute_factorization(sys.llt, A);
+  if (sys.llt.info() != Eigen::Success)
+    throw Error("regularize", "the per-vertex system could not be factorised");
+}
+
+/// Per-face targets at X into T, and the energy mean_f Σ_i |x_i − t_i|² / area_f (parallel over
+/// the faces, disjoint writes; the sum is serial: deterministic).
+double face_targets(const PolyMesh& mesh, const Points& X, const TargetFn& targets,
+                    std::vector<std::vector<Vec3>>& T, std::vector<double>& face_energy) {
+  const int nf = mesh.num_faces();
+  tbb::parallel_for(tbb::blocked_range<int>(0, nf), [&](const tbb::blocked_range<int>& range) {
+    std::vector<Vec3> p;  // reused across the chunk's faces
+    for (int f = range.begin(); f != range.end(); ++f) {
+      const auto& face = mesh.faces[f];
+      p.resize(face.size());
+      for (std::size_t i = 0; i < face.size(); ++i) p[i] = X.row(face[i]).transpose();
+      targets(f, p, T[f]);  // T[f] keeps its capacity from one iteration to the next
+      Vec3 a = Vec3::Zero();
+      double s = 0, per = 0;
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        a += p[i].cross(p[(i + 1) % p.size()]);
+        per += (p[(i + 1) % p.size()] - p[i]).norm();
+        s += (p[i] - T[f][i]).squaredNorm();
+      }
+      face_energy[f] = s / std::max(0.5 * a.norm(), 1e-12 * per * per);
+    }
+  });
+  double e = 0;
+  for (double x : face_energy) e += x;  // serial: deterministic
+  return nf > 0 ? e / nf : 0.0;
+}
+
+/// The global step: Xnew = X + damping (argmin of the system at targets T − X) for the free
+/// vertices. `anchor`: the positions the closeness term pulls towards. B, Y: reused buffers.
+void global_step(const PolyMesh& mesh, const Unknowns& u, const GlobalSystem& sys,
+                 const std::vector<std::vector<Vec3>>& T, const Points& X, const Points& anchor,
+                 const RegularizeOptions& o, Eigen::MatrixX3d& B, Eigen::MatrixX3d& Y,
+                 Points& Xnew) {
+  const std::vector<int>& idx = u.idx;
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces(), nfree = u.count;
+  for (int v = 0; v < nv; ++v)
+    if (idx[v] >= 0) B.row(idx[v]) = o.closeness * anchor.row(v);
+  for (int f = 0; f < nf; ++f) {
+    const auto& face = mesh.faces[f];
+    Vec3 m = Vec3::Zero();
+    for (const Vec3& t : T[f]) m += t;
+    m /= static_cast<double>(face.size());
+    B.row(nfree + f).setZero();
+    for (std::size_t i = 0; i < face.size(); ++i) {
+      const Vec3 t = T[f][i] - m;
+      B.row(nfree + f) -= t.transpose();  // Σ t̃ = 0 up to rounding
+      if (idx[face[i]] >= 0) B.row(idx[face[i]]) += t.transpose();
+    }
+  }
+  for (const GlobalSystem::Coupling& c : sys.couplings)
+    B.row(c.row) -= c.value * X.row(c.fixed_vertex);
+  Y = sys.llt.solve(B);
+  for (int v = 0; v < nv; ++v)
+    if (idx[v] >= 0) Xnew.row(v) = X.row(v) + o.damping * (Y.row(idx[v]) - X.row(v));
+}
+
+/// The local step (no global solve): each free vertex moves towards the mean of its targets.
+/// B, count: reused buffers.
+void local_step(const PolyMesh& mesh, const Unknowns& u, const std::vector<std::vector<Vec3>>& T,
+                const Points& X, double damping, Eigen::MatrixX3d& B, std::vector<int>& count,
+                Points& Xnew) {
+  const std::vector<int>& idx = u.idx;
+  B.setZero();
+  count.assign(u.count, 0);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const auto& face = mesh.faces[f];
+    for (std::size_t i = 0; i < face.size(); ++i)
+      if (idx[face[i]] >= 0) {
+        B.row(idx[face[i]]) += T[f][i].transpose();
+        ++count[idx[face[i]]];
+      }
+  }
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (idx[v] >= 0) Xnew.row(v) = X.row(v) + damping * (B.row(idx[v]) / count[idx[v]] - X.row(v));
+}
+
+/// Energy stall: less than energy_tolerance relative decrease over the last 3 iterations. Not
+/// while the input is still the best iterate: the first over-relaxed steps can raise the energy
+/// before it falls (the built-in funicular at 300 cells returned its input unchanged).
+bool energy_stalled(const RegularizeStats& st, double best_energy, double energy_tolerance) {
+  const auto& eh = st.energy_history;
+  return eh.size() >= 4 && st.best_iteration > 0 &&
+         eh[eh.size() - 4] - best_energy <= energy_tolerance * eh[eh.size() - 4];
+}
+
+/// The largest distance of a movable vertex of X to M, over the diagonal (one AABB query per
+/// vertex, in parallel).
+double max_surface_distance(const Points& X, const Unknowns& u,
+                            const std::vector<VertexConstraint>& cons,
+                            const SurfaceProjector& proj, double diag) {
+  const int nv = static_cast<int>(X.rows());
+  std::vector<double> dist(nv, 0.0);
+  tbb::parallel_for(0, nv, [&](int v) {
+    if (u.used[v] && cons[v] != VertexConstraint::fixed && diag > 0)
+      dist[v] = proj.distance(X.row(v).transpose()) / diag;
+  });
+  double m = 0;
+  for (double d : dist) m = std::max(m, d);
+  return m;
+}
+
 PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<VertexConstraint> cons,
-             const RegularizeOptions& o, TargetFn targets, RegularizeStats* stats) {
+             const RegularizeOptions& o, const TargetFn& targets, RegularizeStats* stats) {
   const auto t0 = Clock::now();
   check_input(mesh, cons, o);
   const int nv = mesh.num_vertices(), nf = mesh.num_faces();
   if (cons.empty()) cons = classify_vertices(mesh);
-  std::vector<char> used(nv, 0);
-  for (const auto& f : mesh.faces)
-    for (int v : f) used[v] = 1;
-  // Unknowns: referenced, non-fixed vertices.
-  std::vector<int> idx(nv, -1);
-  int nfree = 0;
-  for (int v = 0; v < nv; ++v)
-    if (used[v] && cons[v] != VertexConstraint::fixed) idx[v] = nfree++;
+  const Unknowns u = number_unknowns(mesh, cons);
+  const int nfree = u.count;
 
   const Topology topo = build_topology(mesh);  // boundary edges, faces around each vertex
   PolyMesh out = mesh;
   Points& X = out.V;
   std::vector<int> triangles(nv, -1);  // where on M each vertex's closest point lies
-  project(X, cons, used, proj, nullptr, &triangles);
+  project(X, cons, u.used, proj, nullptr, &triangles);
   const Points X0 = X;
   const double diag = proj.diagonal();
 
-  // Global step, factorised once. Σ_f |N_f x_f − N_f t_f|² is minimised in its incidence form
-  // Σ_f Σ_{i∈f} |x_i − c_f − t̃_{f,i}|² with one extra unknown per face, its centroid c_f (t̃ =
-  // targets minus their mean): eliminating c_f gives back the original energy exactly, but the
-  // matrix couples a vertex only to its faces, not to every vertex of its faces, and its
-  // Cholesky factor is 3× sparser (11 K polygons: 0.54 M against 1.62 M non-zeros), which is
-  // what the memory-bound back-substitutions pay for every iteration. Unknowns: the free
-  // vertices, then the faces (row nfree + f). Simplicial, not supernodal: the supernodes are
-  // tiny and the BLAS per-call overhead made each back-substitution ~4× slower.
   const bool global = o.solver == RegularizeOptions::Solver::global;
-  Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>> llt;
-  struct Coupling {
-    int row, fixed_vertex;
-    double value;
-  };
-  std::vector<Coupling> couplings;
+  GlobalSystem sys;
   const int nrows = nfree + nf;
-  if (global && nfree > 0) {
-    std::vector<Eigen::Triplet<double>> trip;
-    for (int fi = 0; fi < nf; ++fi) {
-      const int cf = nfree + fi;
-      for (const int v : mesh.faces[fi]) {
-        trip.emplace_back(cf, cf, 1.0);
-        const int r = idx[v];
-        if (r < 0) {
-          couplings.push_back({cf, v, -1.0});  // fixed vertex: x_v goes to the right-hand side
-          continue;
-        }
-        trip.emplace_back(r, r, 1.0);
-        trip.emplace_back(r, cf, -1.0);
-        trip.emplace_back(cf, r, -1.0);
-      }
-    }
-    // Boundary fairing: w |x_b − (x_p + x_n)/2|² for each sliding boundary vertex b between its
-    // two neighbours p, n along the mesh boundary — keeps the beams along the edge even while
-    // the faces behind them move.
-    if (o.boundary_fairing > 0) {
-      std::vector<std::vector<int>> along(nv);
-      for (int e = 0; e < topo.num_edges(); ++e)
-        if (topo.edge_faces[e].size() == 1) {
-          along[topo.edges[e][0]].push_back(topo.edges[e][1]);
-          along[topo.edges[e][1]].push_back(topo.edges[e][0]);
-        }
-      for (int b = 0; b < nv; ++b) {
-        if (idx[b] < 0 || cons[b] != VertexConstraint::boundary || along[b].size() != 2) continue;
-        const std::array<int, 3> v{b, along[b][0], along[b][1]};
-        const std::array<double, 3> a{1.0, -0.5, -0.5};
-        for (int i = 0; i < 3; ++i) {
-          const int r = idx[v[i]];
-          if (r < 0) continue;
-          for (int j = 0; j < 3; ++j) {
-            const double val = o.boundary_fairing * a[i] * a[j];
-            if (idx[v[j]] >= 0)
-              trip.emplace_back(r, idx[v[j]], val);
-            else
-              couplings.push_back({r, v[j], val});
-          }
-        }
-      }
-    }
-    for (int r = 0; r < nfree; ++r) trip.emplace_back(r, r, o.closeness);
-    Eigen::SparseMatrix<double> A(nrows, nrows);
-    A.setFromTriplets(trip.begin(), trip.end());
-    compute_factorization(llt, A);
-    if (llt.info() != Eigen::Success)
-      throw Error("regularize", "the per-vertex system could not be factorised");
-  }
+  if (global && nfree > 0) factorize_global(mesh, topo, u, cons, o, sys);
   RegularizeStats st;
   // Planarity guard (hard projection): the input faces' planarity and the faces
   // around each vertex.
@@ -293,32 +426,9 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
   const bool hard = o.projection == RegularizeOptions::Projection::hard;
   if (!hard && !global) throw Error("projection", "soft projection needs the global solver");
   double best_energy = INFINITY;
-  // Per-face targets at X and the energy mean_f Σ_i |x_i − t_i|² / area_f (parallel, disjoint).
-  auto compute_targets = [&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, nf), [&](const tbb::blocked_range<int>& range) {
-      std::vector<Vec3> p;  // reused across the chunk's faces
-      for (int f = range.begin(); f != range.end(); ++f) {
-        const auto& face = mesh.faces[f];
-        p.resize(face.size());
-        for (std::size_t i = 0; i < face.size(); ++i) p[i] = X.row(face[i]).transpose();
-        targets(f, p, T[f]);  // T[f] keeps its capacity from one iteration to the next
-        Vec3 a = Vec3::Zero();
-        double s = 0, per = 0;
-        for (std::size_t i = 0; i < p.size(); ++i) {
-          a += p[i].cross(p[(i + 1) % p.size()]);
-          per += (p[(i + 1) % p.size()] - p[i]).norm();
-          s += (p[i] - T[f][i]).squaredNorm();
-        }
-        face_energy[f] = s / std::max(0.5 * a.norm(), 1e-12 * per * per);
-      }
-    });
-    double e = 0;
-    for (double x : face_energy) e += x;  // serial: deterministic
-    return nf > 0 ? e / nf : 0.0;
-  };
   for (int it = 0;; ++it) {
     auto tp = Clock::now();
-    const double energy = compute_targets();
+    const double energy = face_targets(mesh, X, targets, T, face_energy);
     st.targets_seconds += seconds_since(tp);
     st.energy_history.push_back(energy);
     if (energy < best_energy) {
@@ -327,12 +437,7 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
       st.best_iteration = it;
     }
     if (it >= o.max_iterations || st.converged) break;
-    // Energy stall: less than energy_tolerance relative decrease over the last 3 iterations.
-    // Not while the input is still the best iterate: the first over-relaxed steps can raise the
-    // energy before it falls (the built-in funicular at 300 cells returned its input unchanged).
-    const auto& eh = st.energy_history;
-    if (eh.size() >= 4 && st.best_iteration > 0 &&
-        eh[eh.size() - 4] - best_energy <= o.energy_tolerance * eh[eh.size() - 4]) {
+    if (energy_stalled(st, best_energy, o.energy_tolerance)) {
       st.converged = true;
       break;
     }
@@ -341,48 +446,18 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
     const Points* anchor = &X;
     if (!hard) {  // soft: pull towards the closest points of M (or its boundary)
       P = X;
-      project(P, cons, used, proj);
+      project(P, cons, u.used, proj);
       anchor = &P;
     }
-    if (nfree > 0 && global) {
-      for (int v = 0; v < nv; ++v)
-        if (idx[v] >= 0) B.row(idx[v]) = o.closeness * (o.anchor_to_input ? X0 : *anchor).row(v);
-      for (int f = 0; f < nf; ++f) {
-        const auto& face = mesh.faces[f];
-        Vec3 m = Vec3::Zero();
-        for (const Vec3& t : T[f]) m += t;
-        m /= static_cast<double>(face.size());
-        B.row(nfree + f).setZero();
-        for (std::size_t i = 0; i < face.size(); ++i) {
-          const Vec3 t = T[f][i] - m;
-          B.row(nfree + f) -= t.transpose();  // Σ t̃ = 0 up to rounding
-          if (idx[face[i]] >= 0) B.row(idx[face[i]]) += t.transpose();
-        }
-      }
-      for (const Coupling& c : couplings) B.row(c.row) -= c.value * X.row(c.fixed_vertex);
-      Y = llt.solve(B);
-      for (int v = 0; v < nv; ++v)
-        if (idx[v] >= 0) Xnew.row(v) = X.row(v) + o.damping * (Y.row(idx[v]) - X.row(v));
-    } else if (nfree > 0) {
-      B.setZero();
-      count.assign(nfree, 0);
-      for (int f = 0; f < nf; ++f) {
-        const auto& face = mesh.faces[f];
-        for (std::size_t i = 0; i < face.size(); ++i)
-          if (idx[face[i]] >= 0) {
-            B.row(idx[face[i]]) += T[f][i].transpose();
-            ++count[idx[face[i]]];
-          }
-      }
-      for (int v = 0; v < nv; ++v)
-        if (idx[v] >= 0)
-          Xnew.row(v) = X.row(v) + o.damping * (B.row(idx[v]) / count[idx[v]] - X.row(v));
-    }
+    if (nfree > 0 && global)
+      global_step(mesh, u, sys, T, X, o.anchor_to_input ? X0 : *anchor, o, B, Y, Xnew);
+    else if (nfree > 0)
+      local_step(mesh, u, T, X, o.damping, B, count, Xnew);
     if (hard && o.planarity_guard > 0)
       guard_planarity(Xnew, mesh, vertex_faces, raw_planarity, cons, o.planarity_guard, guard);
     st.solve_seconds += seconds_since(tp);
     tp = Clock::now();
-    if (hard) project(Xnew, cons, used, proj, &X, &triangles);  // X is on M: a valid hint
+    if (hard) project(Xnew, cons, u.used, proj, &X, &triangles);  // X is on M: a valid hint
     st.projection_seconds += seconds_since(tp);
     if (!Xnew.allFinite())
       throw Error("regularize", "the iteration diverged (non-finite position)");
@@ -395,12 +470,7 @@ PolyMesh run(const PolyMesh& mesh, const SurfaceProjector& proj, std::vector<Ver
   }
   X = best_X;
   st.energy = best_energy;
-  std::vector<double> dist(nv, 0.0);  // one AABB query per vertex: in parallel
-  tbb::parallel_for(0, nv, [&](int v) {
-    if (used[v] && cons[v] != VertexConstraint::fixed && diag > 0)
-      dist[v] = proj.distance(X.row(v).transpose()) / diag;
-  });
-  for (double d : dist) st.max_surface_distance = std::max(st.max_surface_distance, d);
+  st.max_surface_distance = max_surface_distance(X, u, cons, proj, diag);
   st.seconds = seconds_since(t0);
   if (stats) *stats = std::move(st);
   return out;

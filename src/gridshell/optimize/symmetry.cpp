@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/optimize/projector.h"
@@ -38,26 +39,20 @@ SymmetryReport detect_symmetry(const TriMesh& surface, double tolerance) {
   return r;
 }
 
+namespace {
+constexpr EnumWords<Symmetry, 4> kSymmetryWords{{{"none", Symmetry::none},
+                                                 {"x", Symmetry::x},
+                                                 {"y", Symmetry::y},
+                                                 {"xy", Symmetry::xy}}};
+}  // namespace
+
 Symmetry parse_symmetry(const std::string& word) {
-  if (word.empty() || word == "none") return Symmetry::none;
-  for (Symmetry s : {Symmetry::x, Symmetry::y, Symmetry::xy})
-    if (word == to_string(s)) return s;
+  if (word.empty()) return Symmetry::none;
+  if (const auto s = find_word(word, kSymmetryWords)) return *s;
   throw Error("--symmetry", "expected x, y, xy or none, got '" + word + "'");
 }
 
-const char* to_string(Symmetry s) {
-  switch (s) {
-    case Symmetry::none:
-      return "none";
-    case Symmetry::x:
-      return "x";
-    case Symmetry::y:
-      return "y";
-    case Symmetry::xy:
-      return "xy";
-  }
-  return "?";
-}
+const char* to_string(Symmetry s) { return word_of(s, kSymmetryWords); }
 
 std::vector<Plane> symmetry_planes(const SymmetryReport& r, Symmetry which) {
   std::vector<Plane> planes;
@@ -124,21 +119,28 @@ struct Stage {
   std::vector<std::vector<int>> mirror;  // per plane done so far: per vertex its mirror image
 };
 
-Stage reflect_once(const Stage& in, const Plane& plane, double tol_abs) {
-  const PolyMesh& S = in.mesh;
+/// The sector's vertices against a plane: which faces use them, which lie on the plane (within
+/// tol_abs; snapped onto it in V). Throws when the sector lies on both sides.
+struct PlaneSides {
+  std::vector<char> used, on;
+  Points V;
+};
+
+PlaneSides split_by_plane(const PolyMesh& S, const Plane& plane, double tol_abs) {
   const int nv = S.num_vertices();
-  std::vector<char> used(nv, 0);
+  PlaneSides ps;
+  ps.used.assign(nv, 0);
   for (const auto& f : S.faces)
-    for (int v : f) used[v] = 1;
-  std::vector<char> on(nv, 0);
+    for (int v : f) ps.used[v] = 1;
+  ps.on.assign(nv, 0);
   bool pos = false, neg = false;
-  Points V = S.V;
+  ps.V = S.V;
   for (int v = 0; v < nv; ++v) {
-    if (!used[v]) continue;
+    if (!ps.used[v]) continue;
     const double d = plane.signed_distance(S.vertex(v));
     if (std::abs(d) <= tol_abs) {
-      on[v] = 1;
-      V.row(v) = plane.project(S.vertex(v)).transpose();
+      ps.on[v] = 1;
+      ps.V.row(v) = plane.project(S.vertex(v)).transpose();
     } else if (d > 0) {
       pos = true;
     } else {
@@ -146,54 +148,39 @@ Stage reflect_once(const Stage& in, const Plane& plane, double tol_abs) {
     }
   }
   if (pos && neg) throw Error("symmetry", "the sector lies on both sides of a symmetry plane");
-  // Vertices: originals, then mirror images of the off-plane ones.
-  std::vector<int> mir(nv, -1);
-  int next = nv;
-  for (int v = 0; v < nv; ++v)
-    if (used[v]) mir[v] = on[v] ? v : next++;
-  Points W(next, 3);
-  W.topRows(nv) = V;
-  std::vector<int> src_v(next);
-  for (int v = 0; v < nv; ++v) {
-    src_v[v] = in.src_v[v];
-    if (used[v] && !on[v]) {
-      W.row(mir[v]) = plane.reflect(V.row(v).transpose()).transpose();
-      src_v[mir[v]] = in.src_v[v];
-    }
-  }
-  // Mirror maps: earlier planes carry over to the copy (perpendicular planes commute), and the
-  // new plane pairs each vertex with its copy.
+  return ps;
+}
+
+/// Mirror maps of the doubled vertex set: earlier planes carry over to the copy (perpendicular
+/// planes commute), and the new plane pairs each vertex with its copy `mir`.
+std::vector<std::vector<int>> doubled_mirror_maps(const std::vector<std::vector<int>>& earlier,
+                                                  const PlaneSides& ps, const std::vector<int>& mir,
+                                                  int next) {
+  const int nv = static_cast<int>(ps.used.size());
   std::vector<std::vector<int>> mirror;
-  for (const auto& m : in.mirror) {
+  for (const auto& m : earlier) {
     std::vector<int> mm(next, -1);
     for (int v = 0; v < nv; ++v)
-      if (used[v]) {
+      if (ps.used[v]) {
         mm[v] = m[v];
-        if (!on[v]) mm[mir[v]] = mir[m[v]];
+        if (!ps.on[v]) mm[mir[v]] = mir[m[v]];
       }
     mirror.push_back(std::move(mm));
   }
-  {
-    std::vector<int> mm(next, -1);
-    for (int v = 0; v < nv; ++v)
-      if (used[v]) {
-        mm[v] = mir[v];
-        mm[mir[v]] = v;
-      }
-    mirror.push_back(std::move(mm));
-  }
-  const int nf = S.num_faces();
-  std::vector<std::vector<int>> faces(S.faces);
-  std::vector<int> src_f(in.src_f);
-  for (int f = 0; f < nf; ++f) {
-    std::vector<int> g;
-    for (auto it = S.faces[f].rbegin(); it != S.faces[f].rend(); ++it) g.push_back(mir[*it]);
-    faces.push_back(std::move(g));
-    src_f.push_back(in.src_f[f]);
-  }
-  // Sector edges on the plane must be on the sector's boundary.
+  std::vector<int> mm(next, -1);
+  for (int v = 0; v < nv; ++v)
+    if (ps.used[v]) {
+      mm[v] = mir[v];
+      mm[mir[v]] = v;
+    }
+  mirror.push_back(std::move(mm));
+  return mirror;
+}
+
+/// Sector edges on the plane must be on the sector's boundary.
+void check_plane_edges_on_boundary(const PolyMesh& S, const std::vector<char>& on) {
   std::map<std::pair<int, int>, int> dir;
-  for (int f = 0; f < nf; ++f) {
+  for (int f = 0; f < S.num_faces(); ++f) {
     const auto& face = S.faces[f];
     for (std::size_t i = 0; i < face.size(); ++i) {
       const int a = face[i], b = face[(i + 1) % face.size()];
@@ -203,8 +190,13 @@ Stage reflect_once(const Stage& in, const Plane& plane, double tol_abs) {
   for (const auto& [e, f] : dir)
     if (dir.count({e.second, e.first}))
       throw Error("symmetry", "a sector edge on the symmetry plane is interior to the sector");
-  // Merge each face touching the plane along edges with its mirror.
-  std::vector<char> keep(faces.size(), 1);
+}
+
+/// Merges each sector face touching the plane along an edge with its mirror (faces[nf + f]),
+/// which `keep` then drops.
+void merge_faces_on_plane(const PolyMesh& S, const std::vector<char>& on,
+                          std::vector<std::vector<int>>& faces, std::vector<char>& keep) {
+  const int nf = S.num_faces();
   for (int f = 0; f < nf; ++f) {
     std::vector<int> merged = faces[f];
     const std::vector<int>& mirror_face = faces[nf + f];
@@ -228,28 +220,27 @@ Stage reflect_once(const Stage& in, const Plane& plane, double tol_abs) {
     faces[f] = std::move(merged);
     keep[nf + f] = 0;
   }
-  Stage out;
-  for (std::size_t f = 0; f < faces.size(); ++f)
-    if (keep[f]) {
-      out.mesh.faces.push_back(std::move(faces[f]));
-      out.src_f.push_back(src_f[f]);
-    }
-  out.mesh.V = std::move(W);
-  // Dissolve interior on-plane vertices left with two neighbours (a beam crossing the plane).
-  {
-    const Topology topo = build_topology(out.mesh);
-    std::vector<char> drop(next, 0);
-    for (int v = 0; v < nv; ++v)
-      if (used[v] && on[v] && !topo.on_boundary[v] && topo.vertex_neighbors[v].size() == 2)
-        drop[v] = 1;
-    for (auto& f : out.mesh.faces) {
-      std::vector<int> g;
-      for (int v : f)
-        if (!drop[v]) g.push_back(v);
-      f.swap(g);
-    }
+}
+
+/// Dissolves interior on-plane vertices left with two neighbours (a beam crossing the plane).
+void dissolve_plane_crossings(const PlaneSides& ps, PolyMesh& mesh) {
+  const Topology topo = build_topology(mesh);
+  std::vector<char> drop(mesh.num_vertices(), 0);
+  for (int v = 0; v < static_cast<int>(ps.used.size()); ++v)
+    if (ps.used[v] && ps.on[v] && !topo.on_boundary[v] && topo.vertex_neighbors[v].size() == 2)
+      drop[v] = 1;
+  for (auto& f : mesh.faces) {
+    std::vector<int> g;
+    for (int v : f)
+      if (!drop[v]) g.push_back(v);
+    f.swap(g);
   }
-  // Compact unreferenced vertices.
+}
+
+/// Drops the vertices no face references from out.mesh (of `next` vertices), renumbering the
+/// faces, the source vertices and the mirror maps.
+void compact_vertices(const std::vector<int>& src_v, const std::vector<std::vector<int>>& mirror,
+                      int next, Stage& out) {
   std::vector<int> remap(next, -1);
   int k = 0;
   for (const auto& f : out.mesh.faces)
@@ -277,6 +268,50 @@ Stage reflect_once(const Stage& in, const Plane& plane, double tol_abs) {
       }
     out.mirror.push_back(std::move(mm));
   }
+}
+
+Stage reflect_once(const Stage& in, const Plane& plane, double tol_abs) {
+  const PolyMesh& S = in.mesh;
+  const int nv = S.num_vertices();
+  const PlaneSides ps = split_by_plane(S, plane, tol_abs);
+  // Vertices: originals, then mirror images of the off-plane ones.
+  std::vector<int> mir(nv, -1);
+  int next = nv;
+  for (int v = 0; v < nv; ++v)
+    if (ps.used[v]) mir[v] = ps.on[v] ? v : next++;
+  Points W(next, 3);
+  W.topRows(nv) = ps.V;
+  std::vector<int> src_v(next);
+  for (int v = 0; v < nv; ++v) {
+    src_v[v] = in.src_v[v];
+    if (ps.used[v] && !ps.on[v]) {
+      W.row(mir[v]) = plane.reflect(ps.V.row(v).transpose()).transpose();
+      src_v[mir[v]] = in.src_v[v];
+    }
+  }
+  const std::vector<std::vector<int>> mirror = doubled_mirror_maps(in.mirror, ps, mir, next);
+  // Faces: originals, then their mirror images (reversed, to keep the orientation).
+  const int nf = S.num_faces();
+  std::vector<std::vector<int>> faces(S.faces);
+  std::vector<int> src_f(in.src_f);
+  for (int f = 0; f < nf; ++f) {
+    std::vector<int> g;
+    for (auto it = S.faces[f].rbegin(); it != S.faces[f].rend(); ++it) g.push_back(mir[*it]);
+    faces.push_back(std::move(g));
+    src_f.push_back(in.src_f[f]);
+  }
+  check_plane_edges_on_boundary(S, ps.on);
+  std::vector<char> keep(faces.size(), 1);
+  merge_faces_on_plane(S, ps.on, faces, keep);
+  Stage out;
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    if (keep[f]) {
+      out.mesh.faces.push_back(std::move(faces[f]));
+      out.src_f.push_back(src_f[f]);
+    }
+  out.mesh.V = std::move(W);
+  dissolve_plane_crossings(ps, out.mesh);
+  compact_vertices(src_v, mirror, next, out);
   for (const auto& f : out.mesh.faces)
     if (f.size() < 3) throw Error("symmetry", "welding produced a degenerate face");
   return out;

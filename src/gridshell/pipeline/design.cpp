@@ -10,6 +10,7 @@
 #include "gridshell/field/field_io.h"
 #include "gridshell/grids/plane_cut.h"
 #include "gridshell/grids/supports.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
@@ -17,12 +18,10 @@ namespace gridshell {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using Timings = std::vector<std::pair<std::string, double>>;
-
-/// Appends the seconds since `t` under `stage` and restarts `t`.
+/// Adds the seconds since `t` to `stage` and restarts `t`.
 void lap(Timings& timings, const char* stage, Clock::time_point& t) {
   const auto now = Clock::now();
-  timings.emplace_back(stage, std::chrono::duration<double>(now - t).count());
+  timings.add(stage, std::chrono::duration<double>(now - t).count());
   t = now;
 }
 
@@ -69,9 +68,9 @@ double estimate_radius(const TessellationOptions& t, double area_rest, double ar
 double predicted_deformed_area(const TriMesh& mesh, const Field& field) {
   double area = 0;
   for (int f = 0; f < mesh.num_faces(); ++f) {
-    const Vec3 a = mesh.vertex(mesh.F(f, 0)), b = mesh.vertex(mesh.F(f, 1)),
-               c = mesh.vertex(mesh.F(f, 2));
-    area += 0.5 * (b - a).cross(c - a).norm() * field.d[f] * field.d[f] / field.a[f];
+    const double rest = triangle_area(mesh.vertex(mesh.F(f, 0)), mesh.vertex(mesh.F(f, 1)),
+                                      mesh.vertex(mesh.F(f, 2)));
+    area += rest * field.d[f] * field.d[f] / field.a[f];
   }
   return area;
 }
@@ -341,12 +340,6 @@ void build_grid(const Surface& surface, const StressField& stress, const DesignO
   lap(r.timings, "regularization", clock);
 }
 
-double total_seconds(const Timings& timings) {
-  double s = 0;
-  for (const auto& [stage, sec] : timings) s += sec;
-  return s;
-}
-
 }  // namespace
 
 FieldInput parse_field_input(const std::string& word, std::string* file) {
@@ -501,9 +494,9 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
     spdlog::info("[length] {:.5g} m of beams for {:.5g} m: tessellating again",
                  r.metrics.total_length, L);
     const double first = r.metrics.total_length, target = L * L / first;
-    const double first_seconds = total_seconds(r.timings);
+    const double first_seconds = r.timings.sum();
     r.timings.clear();
-    r.timings.emplace_back("length_first_pass", first_seconds);
+    r.timings.add("length_first_pass", first_seconds);
     r.details.erase("tessellation_seed_retries");
     build_grid(surface, stress, o, planes, target, given != nullptr, r);
     r.details["length_retry"] = {{"first_length_m", first}, {"tessellation_target_m", target}};

@@ -22,6 +22,7 @@
 
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
+#include "gridshell/core/timings.h"
 #include "gridshell/fem/shell_solver.h"
 #include "gridshell/field/field.h"
 #include "gridshell/metric/deform.h"
@@ -74,7 +75,7 @@ struct DesignResult {
   Field field;                ///< on the input surface, per triangle
   std::optional<analysis::FrameResult> structure;
   nlohmann::json details;                               ///< per-stage figures for report.json
-  std::vector<std::pair<std::string, double>> timings;  ///< stage → seconds, in order
+  Timings timings;  ///< stage → seconds, in the order they ran (core/timings.h)
 };
 
 /// Throws Error for options that can never work (D < 1, a negative size, …), before any work.

@@ -46,12 +46,10 @@ nlohmann::json design_report(const DesignResult& r, const DesignOptions& options
   return report;
 }
 
-nlohmann::json timings_block(const std::vector<std::pair<std::string, double>>& timings,
-                             const std::vector<std::pair<std::string, double>>& extra,
-                             double total) {
-  nlohmann::json block = nlohmann::json::object();
-  for (const auto* list : {&extra, &timings})
-    for (const auto& [stage, s] : *list) block[stage] = block.value(stage, 0.0) + s;
+nlohmann::json timings_block(const Timings& timings, const Timings& extra, double total) {
+  Timings all = extra;
+  for (const auto& [stage, s] : timings) all.add(stage, s);
+  nlohmann::json block = all;
   block["total"] = total;
   return block;
 }

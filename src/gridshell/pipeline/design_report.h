@@ -25,11 +25,9 @@ GridShellOutput design_output(const DesignResult& r);
 /// report.json without `surface`, `objective` and `timings_s` (the command adds those).
 nlohmann::json design_report(const DesignResult& r, const DesignOptions& options);
 
-/// report.json's `timings_s`: the stages in `timings` (a stage that ran twice is summed), the
-/// extra ones given, and `total`.
-nlohmann::json timings_block(const std::vector<std::pair<std::string, double>>& timings,
-                             const std::vector<std::pair<std::string, double>>& extra,
-                             double total);
+/// report.json's `timings_s`: the stages in `timings` and the extra ones given (a stage in both
+/// is summed), and `total`.
+nlohmann::json timings_block(const Timings& timings, const Timings& extra, double total);
 
 /// Writes the fabrication files (joints.csv, beams.csv, panels.csv, panels.svg; see
 /// fabrication/fabrication_files.h) of `mesh` into `dir` and returns report.json's `fabrication`

@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
+#include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
 #include "gridshell/field/frame_response.h"
 
@@ -163,38 +164,24 @@ std::vector<Evaluated> evaluate_all(const Surface& surface, const DesignOptions&
 
 }  // namespace
 
+namespace {
+constexpr EnumWords<Objective, 3> kObjectiveWords{{{"lambda", Objective::lambda},
+                                                   {"delta", Objective::delta},
+                                                   {"balanced", Objective::balanced}}};
+constexpr EnumWords<FieldSource, 4> kFieldSourceWords{
+    {{"uniform", FieldSource::uniform},
+     {"shell-stress", FieldSource::shell_stress},
+     {"frame-mode", FieldSource::frame_mode},
+     {"frame-energy", FieldSource::frame_energy}}};
+}  // namespace
+
 Objective parse_objective(const std::string& w) {
-  if (w == "lambda") return Objective::lambda;
-  if (w == "delta") return Objective::delta;
-  if (w == "balanced") return Objective::balanced;
-  throw Error("--objective", fmt::format("'{}' is not one of lambda, delta, balanced", w));
+  return parse_word(w, "--objective", kObjectiveWords);
 }
 
-const char* to_string(Objective o) {
-  switch (o) {
-    case Objective::lambda:
-      return "lambda";
-    case Objective::delta:
-      return "delta";
-    case Objective::balanced:
-      return "balanced";
-  }
-  return "?";
-}
+const char* to_string(Objective o) { return word_of(o, kObjectiveWords); }
 
-const char* to_string(FieldSource s) {
-  switch (s) {
-    case FieldSource::uniform:
-      return "uniform";
-    case FieldSource::shell_stress:
-      return "shell-stress";
-    case FieldSource::frame_mode:
-      return "frame-mode";
-    case FieldSource::frame_energy:
-      return "frame-energy";
-  }
-  return "?";
-}
+const char* to_string(FieldSource s) { return word_of(s, kFieldSourceWords); }
 
 std::string FieldSetting::label() const {
   if (source == FieldSource::uniform) return "isotropic";

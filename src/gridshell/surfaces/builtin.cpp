@@ -42,14 +42,6 @@ TriMesh make_grid(int nx, int ny, const std::function<Vec3(int, int)>& map) {
   return m;
 }
 
-std::vector<int> boundary_vertices(const TriMesh& m) {
-  Topology t = build_topology(m);
-  std::vector<int> out;
-  for (int v = 0; v < m.num_vertices(); ++v)
-    if (t.on_boundary[v]) out.push_back(v);
-  return out;
-}
-
 double or_default(double v, double d) {
   return v > 0 ? v : d;
 }
@@ -68,7 +60,7 @@ Surface paraboloid(const BuiltinOptions& o) {
     const double x = -h + span * i / n, y = -h + span * j / n;
     return Vec3(x, y, rise * (1 - (x * x + y * y) / (2 * h * h)));
   });
-  s.supports = boundary_vertices(s.mesh);
+  s.supports = boundary_vertices(build_topology(s.mesh));
   return s;
 }
 
@@ -111,7 +103,7 @@ Surface dome(const BuiltinOptions& o) {
     m.F.row(static_cast<int>(i)) << tris[i][0], tris[i][1], tris[i][2];
   Surface s;
   s.mesh = std::move(m);
-  s.supports = boundary_vertices(s.mesh);
+  s.supports = boundary_vertices(build_topology(s.mesh));
   return s;
 }
 
@@ -184,7 +176,7 @@ Surface court(const BuiltinOptions& o) {
     }
   Surface s;
   s.mesh = std::move(m);
-  s.supports = boundary_vertices(s.mesh);
+  s.supports = boundary_vertices(build_topology(s.mesh));
   return s;
 }
 

@@ -62,14 +62,6 @@ std::vector<int> supports_from_json(const std::string& path, int nv) {
   return out;
 }
 
-std::vector<int> boundary_of(const PolyMesh& mesh) {
-  Topology t = build_topology(mesh);
-  std::vector<int> out;
-  for (int v = 0; v < mesh.num_vertices(); ++v)
-    if (t.on_boundary[v]) out.push_back(v);
-  return out;
-}
-
 /// The vertex colours with their counts, rarest first (supports are the rare colour), e.g.
 /// "(0,0,255) x4, (200,200,200) x77".
 std::string colour_summary(const std::vector<std::array<std::uint8_t, 3>>& colours) {
@@ -124,7 +116,7 @@ std::vector<int> resolve_supports(const SurfaceOptions& o, const PolyMesh& mesh,
         near_red += !(c[0] == 255 && c[1] == 0 && c[2] == 0);
       }
   int red_dropped = 0;
-  const std::vector<int> red = remap(red_in_file, new_id, red_dropped);
+  std::vector<int> red = remap(red_in_file, new_id, red_dropped);
   const bool use_red = o.supports == "red" || (o.supports == "auto" && !red.empty());
   if (use_red) {
     if (red.empty())
@@ -154,9 +146,9 @@ std::vector<int> resolve_supports(const SurfaceOptions& o, const PolyMesh& mesh,
                         "whole boundary (--supports FILE.json names others)",
                         colour_summary(file->vertex_colors)));
     }
-    return boundary_of(mesh);
+    return boundary_vertices(build_topology(mesh));
   }
-  if (o.supports == "boundary") return boundary_of(mesh);
+  if (o.supports == "boundary") return boundary_vertices(build_topology(mesh));
   const int nv_file = new_id.empty() ? mesh.num_vertices() : static_cast<int>(new_id.size());
   int listed_dropped = 0;
   std::vector<int> listed = remap(supports_from_json(o.supports, nv_file), new_id, listed_dropped);

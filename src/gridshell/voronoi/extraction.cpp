@@ -12,12 +12,13 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <string>
 #include <unordered_map>
 #include <utility>
 
 #include <spdlog/spdlog.h>
+
+#include "gridshell/mesh/topology.h"
 
 namespace gridshell::voronoi {
 
@@ -129,20 +130,14 @@ int merge_orphan_pieces(Engine& E) {
   const int nt = static_cast<int>(F.rows());
   const int ns = static_cast<int>(E.seeds.size());
   int relabelled = 0;
-  std::vector<int> parent(nv);
   std::vector<double> area(nv);
-  auto find = [&](int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
   for (int round = 0; round < 8; ++round) {
-    std::iota(parent.begin(), parent.end(), 0);
+    DisjointSets pieces(nv);  // a piece's root is its smallest vertex
+    const auto find = [&](int v) { return pieces.find(v); };
     for (int t = 0; t < nt; ++t)
       for (int k = 0; k < 3; ++k) {
         const int a = F(t, k), b = F(t, (k + 1) % 3);
-        if (L[a] != L[b]) continue;
-        const int ra = find(a), rb = find(b);
-        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+        if (L[a] == L[b]) pieces.unite(a, b);
       }
     // Each label keeps its largest piece (area on M′; a vertex carries a third of its
     // triangles): the piece nearest to a fixed boundary seed can be a sliver.
@@ -595,11 +590,9 @@ void set_vertex_data(const Engine& E, const Extraction& X, const Input& in, Tess
         const int a = ids[0], b = ids[1];
         const Vec3 pa = rest.vertex(a), pb = rest.vertex(b), p = T.mesh.vertex(n);
         const double s = (p - pa).dot(pb - pa) / std::max((pb - pa).squaredNorm(), 1e-300);
-        if (supported[a] && supported[b])
-          sup[n] = 1;
-        else if (supported[a] && s <= 0.5)
-          sup[n] = 1;
-        else if (supported[b] && s >= 0.5)
+        // both ends supported, or the node lies in the supported end's half of the edge
+        if ((supported[a] && supported[b]) || (supported[a] && s <= 0.5) ||
+            (supported[b] && s >= 0.5))
           sup[n] = 1;
       }
     }
