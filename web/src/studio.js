@@ -135,20 +135,26 @@ function draw(answer) {
 let sequence = 0;
 let inflight = null;
 
+// Values a link asked for that a control cannot show (a slider clamps D=0 to 1): sent as they
+// are, so that the server judges them, until the user moves that control.
+const linkValues = {};
+
+function value(id) { return id in linkValues ? linkValues[id] : $(id).value; }
+
 function query() {
   const q = new URLSearchParams();
-  q.set('surface', $('surface').value);
-  const objective = $('objective').value;
+  q.set('surface', value('surface'));
+  const objective = value('objective');
   if (objective !== 'none') {
     q.set('objective', objective);
   } else {
-    q.set('D', $('D').value);
-    q.set('A', $('A').value);
+    q.set('D', value('D'));
+    q.set('A', value('A'));
   }
-  q.set('cells', $('cells').value);
-  q.set('symmetry', $('symmetry').value);
-  q.set('analyze', $('analyze').value);
-  q.set('seed', $('seed').value);
+  q.set('cells', value('cells'));
+  q.set('symmetry', value('symmetry'));
+  q.set('analyze', value('analyze'));
+  q.set('seed', value('seed'));
   return q.toString();
 }
 
@@ -222,11 +228,12 @@ function setupControls(surfaces) {
     select.appendChild(o);
   }
   select.value = surfaces.initial;
+  const changed = (id) => () => { delete linkValues[id]; redesign(); };
   for (const id of ['surface', 'objective', 'symmetry', 'analyze', 'seed']) {
-    $(id).addEventListener('change', redesign);
+    $(id).addEventListener('change', changed(id));
   }
   // Sliders: a design per change while dragging; superseded ones are dropped.
-  for (const id of ['D', 'A', 'cells']) $(id).addEventListener('input', redesign);
+  for (const id of ['D', 'A', 'cells']) $(id).addEventListener('input', changed(id));
   $('colour').addEventListener('change', () => {
     mode = modes.find((m) => m.key === $('colour').value) || mode;
     applyColours();
@@ -258,6 +265,7 @@ function applyLink() {
       el.appendChild(o);
     }
     el.value = h.get(id);
+    if (el.value !== h.get(id)) linkValues[id] = h.get(id);
   }
   if (h.has('colour')) mode = { key: h.get('colour') };
   return h;
@@ -273,11 +281,6 @@ async function scripted(h) {
   const burst = Number(h.get('burst') || 0);
   const then = h.get('then');
   if (!burst && !then) return;
-  const first = Number(root.getAttribute('data-draws') || 0);
-  while (Number(root.getAttribute('data-draws') || 0) === first &&
-         root.getAttribute('data-status') !== 'error') {
-    await new Promise((r) => setTimeout(r, 20));
-  }
   for (let k = 0; k < burst; ++k) {
     userInput('cells', String(100 + 10 * k));
     await new Promise((r) => setTimeout(r, 5));
@@ -306,7 +309,7 @@ async function main() {
   const h = applyLink();
   resize();
   requestAnimationFrame(loop);
-  await redesign();
+  await redesign();  // the first design is drawn (or its error shown) before any scripted change
   if (root.getAttribute('data-status') === 'error') root.setAttribute('data-ready', '1');
   await scripted(h);
 }

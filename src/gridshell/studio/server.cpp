@@ -179,7 +179,7 @@ Server::Server(const ServerOptions& options) : state_(std::make_unique<State>())
         res.set_content(std::string("gridshell: internal error: ") + e.what() + "\n",
                         "text/plain; charset=utf-8");
       }
-      spdlog::info("studio: {} {} → {}", req.method, req.path, res.status);
+      spdlog::info("studio: {} {} → {}", req.method, req.path, res.status < 0 ? 200 : res.status);
     };
   };
 
