@@ -35,7 +35,9 @@ double parse_number(const std::string& text, const std::string& subject, const s
   return x;
 }
 
-std::string number_text(double x) { return fmt::format("{}", x); }
+std::string number_text(double x) {
+  return fmt::format("{}", x);
+}
 
 }  // namespace
 
@@ -71,8 +73,9 @@ StudioRequest parse_request(const Params& params) {
         throw Error("--seed", "must be a whole number ≥ 0");
       r.seed = static_cast<std::uint64_t>(s);
     } else {
-      throw Error(name, "unknown parameter (surface, D, A, cells, length, objective, symmetry, "
-                        "analyze, seed)");
+      throw Error(name,
+                  "unknown parameter (surface, D, A, cells, length, objective, symmetry, "
+                  "analyze, seed)");
     }
   }
   if (p.count("length") && p.count("cells"))

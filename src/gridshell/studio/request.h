@@ -36,8 +36,8 @@ using Params = std::vector<std::pair<std::string, std::string>>;
 struct StudioRequest {
   std::string surface = "builtin:funicular";  ///< builtin:NAME, or upload:N (an uploaded file)
   double D = 2, A = 2;
-  int cells = 300;    ///< 0 when `length` is given
-  double length = 0;  ///< total beam length (m), 0 = by cells
+  int cells = 300;                     ///< 0 when `length` is given
+  double length = 0;                   ///< total beam length (m), 0 = by cells
   std::optional<Objective> objective;  ///< set: search the field settings, D and A unused
   Symmetry symmetry = Symmetry::none;
   analysis::AnalysisLevel analyze = analysis::AnalysisLevel::buckling;

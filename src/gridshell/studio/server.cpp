@@ -1,5 +1,6 @@
 #include "gridshell/studio/server.h"
 
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -32,7 +33,9 @@ struct NamedSurface {
 };
 
 /// The CLI's line for an Error.
-std::string error_line(const Error& e) { return "gridshell: error: " + e.message() + "\n"; }
+std::string error_line(const Error& e) {
+  return "gridshell: error: " + e.message() + "\n";
+}
 
 Params query_params(const httplib::Request& req) {
   Params p;
@@ -42,9 +45,9 @@ Params query_params(const httplib::Request& req) {
 
 /// A fresh private folder under the system's temporary folder.
 std::filesystem::path scratch_folder(const std::string& what, std::uint64_t n) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                    ("gridshell-studio-" + std::to_string(::getpid()) + "-" +
-                                     what + "-" + std::to_string(n));
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() /
+      ("gridshell-studio-" + std::to_string(::getpid()) + "-" + what + "-" + std::to_string(n));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
@@ -74,8 +77,9 @@ struct Server::State {
     const auto it = surfaces.find(id);
     if (it != surfaces.end()) return it->second;
     if (id.rfind("builtin:", 0) != 0)
-      throw Error("surface", "unknown surface '" + id + "' (builtin:NAME, or a file dropped on "
-                                                       "the page)");
+      throw Error("surface", "unknown surface '" + id +
+                                 "' (builtin:NAME, or a file dropped on "
+                                 "the page)");
     auto s = std::make_shared<NamedSurface>(NamedSurface{id, load_surface(id)});
     surfaces[id] = s;
     return s;
@@ -153,15 +157,21 @@ Server::Server(const ServerOptions& options) : state_(std::make_unique<State>())
     (void)s.surface(options.surface);
     s.initial = options.surface;
   } else {
-    auto named = std::make_shared<NamedSurface>(NamedSurface{
-        std::filesystem::path(options.surface).filename().string(),
-        load_surface(options.surface, options.surface_options)});
+    auto named = std::make_shared<NamedSurface>(
+        NamedSurface{std::filesystem::path(options.surface).filename().string(),
+                     load_surface(options.surface, options.surface_options)});
     s.surfaces["upload:0"] = std::move(named);
     s.uploads = 1;
     s.initial = "upload:0";
   }
   httplib::Server& http = s.http;
   http.set_payload_max_length(256u << 20);
+  // SO_REUSEADDR only: the library's default adds SO_REUSEPORT, with which a second studio on
+  // the same port would start and share the requests instead of failing.
+  http.set_socket_options([](int sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
 
   // Every handler answers Error with 400 and the CLI's line; anything else with 500.
   auto guarded = [this](auto body) {
@@ -228,22 +238,23 @@ Server::Server(const ServerOptions& options) : state_(std::make_unique<State>())
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
              res.set_content(answer->dump(), "application/json");
            }));
-  http.Get("/api/config.json",
-           guarded([this](const httplib::Request& req, httplib::Response& res) {
+  http.Get("/api/config.json", guarded([this](const httplib::Request& req, httplib::Response& res) {
              const StudioRequest request = parse_request(query_params(req));
              const auto loaded = state_->surface(request.surface);
              res.set_header("Content-Disposition", "attachment; filename=\"config.json\"");
-             res.set_content(request_config(request, loaded->name).dump(2) + "\n", "application/json");
+             res.set_content(request_config(request, loaded->name).dump(2) + "\n",
+                             "application/json");
            }));
-  http.Get("/api/export.zip",
-           guarded([this](const httplib::Request& req, httplib::Response& res) {
+  http.Get("/api/export.zip", guarded([this](const httplib::Request& req, httplib::Response& res) {
              const StudioRequest request = parse_request(query_params(req));
              res.set_header("Content-Disposition", "attachment; filename=\"gridshell_design.zip\"");
              res.set_content(state_->export_zip(request), "application/zip");
            }));
 }
 
-Server::~Server() { stop(); }
+Server::~Server() {
+  stop();
+}
 
 int Server::bind() {
   State& s = *state_;
@@ -258,7 +269,9 @@ int Server::bind() {
   return s.port;
 }
 
-void Server::run() { state_->http.listen_after_bind(); }
+void Server::run() {
+  state_->http.listen_after_bind();
+}
 
 int Server::start() {
   const int p = bind();
@@ -273,7 +286,9 @@ void Server::stop() {
   if (state_->thread.joinable()) state_->thread.join();
 }
 
-int Server::port() const { return state_->port; }
+int Server::port() const {
+  return state_->port;
+}
 
 std::string studio_page() {
   std::string page(studio_template());

@@ -55,9 +55,9 @@ std::string zip_stored(const std::vector<ZipEntry>& entries) {
     const auto offset = static_cast<std::uint32_t>(out.size());
     // Local file header.
     put32(out, 0x04034b50);
-    put16(out, 20);  // version needed: 2.0
+    put16(out, 20);      // version needed: 2.0
     put16(out, 0x0800);  // flags: names are UTF-8
-    put16(out, 0);   // method: stored
+    put16(out, 0);       // method: stored
     put16(out, kDosTime);
     put16(out, kDosDate);
     put32(out, crc);
@@ -79,10 +79,10 @@ std::string zip_stored(const std::vector<ZipEntry>& entries) {
     put32(central, size);
     put32(central, size);
     put16(central, static_cast<std::uint32_t>(e.name.size()));
-    put16(central, 0);  // extra
-    put16(central, 0);  // comment
-    put16(central, 0);  // disk
-    put16(central, 0);  // internal attributes
+    put16(central, 0);               // extra
+    put16(central, 0);               // comment
+    put16(central, 0);               // disk
+    put16(central, 0);               // internal attributes
     put32(central, 0100644u << 16);  // external attributes: a regular file, rw-r--r--
     put32(central, offset);
     central += e.name;
@@ -107,8 +107,8 @@ std::vector<ZipEntry> zip_entries_of(const std::filesystem::path& dir) {
   std::vector<ZipEntry> entries;
   for (const auto& f : std::filesystem::recursive_directory_iterator(dir))
     if (f.is_regular_file())
-      entries.push_back({std::filesystem::relative(f.path(), dir).generic_string(),
-                         io::read_file(f.path())});
+      entries.push_back(
+          {std::filesystem::relative(f.path(), dir).generic_string(), io::read_file(f.path())});
   std::sort(entries.begin(), entries.end(),
             [](const ZipEntry& a, const ZipEntry& b) { return a.name < b.name; });
   return entries;
