@@ -1,6 +1,7 @@
 // gridshell studio [SURFACE] [--port P]: a local web server with one page that designs the
 // grid-shell live while the user moves sliders (src/gridshell/studio/server.h, docs/studio.md).
 
+#include <csignal>
 #include <iostream>
 
 #include <spdlog/spdlog.h>
@@ -29,6 +30,8 @@ int run_studio_cmd(const StudioArgs& a) {
   options.surface = a.surface;
   options.surface_options = a.surface_options;
   options.port = a.port;
+  // A browser that closes a connection while an answer is being sent must not end the server.
+  std::signal(SIGPIPE, SIG_IGN);
   studio::Server server(options);
   const int port = server.bind();
   // The URL on stderr, flushed: scripts and tests read the port from it (--port 0).
