@@ -170,7 +170,7 @@ function showError(message) {
 
 async function redesign() {
   const q = query();
-  for (const k of ['D', 'A', 'cells']) $(`${k}-value`).textContent = $(k).value;
+  for (const k of ['D', 'A', 'cells']) $(`${k}-value`).textContent = value(k);
   const objective = $('objective').value !== 'none';
   $('D').disabled = objective;
   $('A').disabled = objective;
