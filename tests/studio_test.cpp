@@ -291,6 +291,41 @@ TEST_F(StudioServerTest, RapidRequestsAreSupersededAndTheLastOneAnswers) {
   RecordProperty("burst_seconds", std::to_string(burst_s));
 }
 
+TEST_F(StudioServerTest, ANewerRequestStopsANonlinearAnalysisEarly) {
+  using Clock = std::chrono::steady_clock;
+  const std::string slow_q = "/api/design?surface=builtin:dome&D=1&A=1&cells=150&analyze=nonlinear";
+  // The whole design, for reference.
+  auto c = client();
+  auto t0 = Clock::now();
+  const auto full = c.Get(slow_q + "&seed=5");
+  const double full_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  ASSERT_TRUE(full);
+  ASSERT_EQ(full->status, 200) << full->body;
+  const double analysis_s =
+      nlohmann::json::parse(full->body)["report"]["timings_s"]["analysis"].get<double>();
+  // The same (another seed), and a quick request while its non-linear path runs.
+  int status = 0;
+  double stopped_s = 0;
+  t0 = Clock::now();
+  std::thread slow([&] {
+    auto cs = client();
+    const auto r = cs.Get(slow_q + "&seed=6");
+    status = r ? r->status : -1;
+    stopped_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  });
+  std::this_thread::sleep_for(std::chrono::duration<double>(full_s - 0.7 * analysis_s));
+  const auto quick = c.Get("/api/design?surface=builtin:dome&D=1&A=1&cells=60&analyze=linear");
+  slow.join();
+  ASSERT_TRUE(quick);
+  EXPECT_EQ(quick->status, 200);
+  EXPECT_EQ(status, 409);
+  // Stopped at the next arc-length step, well before the path would have ended.
+  EXPECT_LT(stopped_s, full_s - 0.3 * analysis_s)
+      << "full design " << full_s << " s, of which analysis " << analysis_s << " s";
+  RecordProperty("full_design_s", std::to_string(full_s));
+  RecordProperty("stopped_s", std::to_string(stopped_s));
+}
+
 // ---------------------------------------------------------------------------------------------
 // The page in headless Chromium
 

@@ -111,21 +111,23 @@ DesignOptions design_options(const StudioRequest& r) {
   return o;
 }
 
-StudioDesign design_request(const Surface& surface, const StudioRequest& request) {
+StudioDesign design_request(const Surface& surface, const StudioRequest& request,
+                            const Progress& progress) {
   const auto start = std::chrono::steady_clock::now();
   StudioDesign d;
   d.request = request;
-  const DesignOptions options = design_options(request);
+  DesignOptions options = design_options(request);
   if (request.objective) {
     ObjectiveOptions search;
     search.objective = *request.objective;
     d.search = design_for_objective(surface, options, search);
     d.result = std::move(d.search->design);
   } else {
+    options.frame_analysis.arc.progress = progress;  // (listening changes no result)
     d.result = run_design(surface, options);
   }
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  d.report = design_report(d.result, options);
+  d.report = design_report(d.result, design_options(request));
   d.report["surface"] = request.surface;
   if (d.search) d.report["objective"] = d.search->report();
   d.report["timings_s"] = timings_block(d.result.timings, {}, d.seconds);

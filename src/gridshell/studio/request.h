@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gridshell/analysis/frame_analysis.h"
+#include "gridshell/core/progress.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/objective.h"
 
@@ -63,8 +64,13 @@ struct StudioDesign {
   double seconds = 0;
 };
 
-/// Designs a request on a loaded surface (run_design, or design_for_objective).
-StudioDesign design_request(const Surface& surface, const StudioRequest& request);
+/// Designs a request on a loaded surface (run_design, or design_for_objective). `progress` is
+/// told after every step of the non-linear path of a single design (not of an objective search);
+/// it may throw to stop the design there (the server does when a newer request came in). Not
+/// given to the objective search: its listener is called from inside parallel rounds, where an
+/// exception would cancel the candidates' own nested parallel loops half done.
+StudioDesign design_request(const Surface& surface, const StudioRequest& request,
+                            const Progress& progress = {});
 
 /// config.json for `gridshell design --config` (`surface_arg`: the positional argument, e.g. the
 /// built-in's name or the uploaded file's name).

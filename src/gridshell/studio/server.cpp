@@ -32,6 +32,9 @@ struct NamedSurface {
   Surface surface;
 };
 
+/// Thrown by a design's progress listener when a newer request came in.
+struct Superseded {};
+
 /// The CLI's line for an Error.
 std::string error_line(const Error& e) {
   return "gridshell: error: " + e.message() + "\n";
@@ -121,7 +124,16 @@ struct Server::State {
     const std::string query = request_query(request);
     if (!last || last_query != query) {
       last.reset();
-      last = design_request(surface_ptr->surface, request);
+      // A newer request stops a long non-linear path at its next step (request.h).
+      const Progress stop_when_stale = [this, generation](std::string_view, double,
+                                                          std::string_view) {
+        if (generation != latest) throw Superseded{};
+      };
+      try {
+        last = design_request(surface_ptr->surface, request, stop_when_stale);
+      } catch (const Superseded&) {
+        return std::nullopt;
+      }
       last_query = query;
     }
     if (generation != latest) return std::nullopt;
