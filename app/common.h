@@ -64,5 +64,6 @@ void register_design(CLI::App& app, Action& action);
 void register_analyze(CLI::App& app, Action& action);
 void register_sweep(CLI::App& app, Action& action);
 void register_baseline(CLI::App& app, Action& action);
+void register_studio(CLI::App& app, Action& action);
 
 }  // namespace gridshell::app

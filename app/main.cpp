@@ -24,6 +24,7 @@ int run(int argc, char** argv) {
   app::register_analyze(cli, action);
   app::register_sweep(cli, action);
   app::register_baseline(cli, action);
+  app::register_studio(cli, action);
 
   std::vector<std::string> args(argv, argv + argc);
   try {

@@ -35,6 +35,10 @@ PACKAGES+=(libcairo2-dev)
 PACKAGES+=(chromium libpng-dev)
 command -v npm >/dev/null || PACKAGES+=(nodejs npm)
 
+# `gridshell studio` (docs/studio.md): cpp-httplib serves the page and its JSON API; unzip checks
+# the exported archive in the tests.
+PACKAGES+=(libcpp-httplib-dev unzip)
+
 # Clang with libFuzzer and the sanitizer runtimes: the fuzz smoke run of `test` (scripts/fuzz.sh).
 PACKAGES+=(clang libclang-rt-14-dev)
 

@@ -8,36 +8,9 @@
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { LineSegments2 } from 'three/addons/lines/LineSegments2.js';
-import { LineSegmentsGeometry } from 'three/addons/lines/LineSegmentsGeometry.js';
-import { LineMaterial } from 'three/addons/lines/LineMaterial.js';
-
-// ---------------------------------------------------------------------------------------------
-// Colour maps: a sequential one (dark blue → green → yellow) and a diverging one for axial
-// forces (compression red, 0 light grey, tension blue).
-
-const SEQUENTIAL = [
-  [0.267, 0.005, 0.329], [0.229, 0.322, 0.546], [0.128, 0.567, 0.551],
-  [0.369, 0.789, 0.383], [0.993, 0.906, 0.144],
-];
-const DIVERGING = [[0.70, 0.05, 0.12], [0.88, 0.38, 0.30], [0.58, 0.58, 0.58],
-  [0.33, 0.53, 0.86], [0.08, 0.22, 0.62]];
-
-function sample(stops, t) {
-  const x = Math.min(1, Math.max(0, Number.isFinite(t) ? t : 0)) * (stops.length - 1);
-  const i = Math.min(stops.length - 2, Math.floor(x));
-  const f = x - i;
-  const a = stops[i], b = stops[i + 1];
-  return [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])];
-}
-
-function cssGradient(stops) {
-  const parts = stops.map((c, i) => {
-    const rgb = c.map((v) => Math.round(v * 255)).join(',');
-    return `rgb(${rgb}) ${(100 * i / (stops.length - 1)).toFixed(0)}%`;
-  });
-  return `linear-gradient(to right, ${parts.join(', ')})`;
-}
+import {
+  buildGridObjects, colourModes, displacementMagnitudes, escapeHtml, fmt, legendHtml,
+} from './gridshell_scene.js';
 
 // ---------------------------------------------------------------------------------------------
 // Data
@@ -52,66 +25,9 @@ const supports = data.supports || [];
 const report = data.report || {};
 const config = data.config || {};
 
-function fmt(x, digits = 4) {
-  if (x == null) return '–';
-  if (typeof x !== 'number') return String(x);
-  if (x === 0) return '0';
-  const a = Math.abs(x);
-  if (a >= 1e5 || a < 1e-3) return x.toExponential(digits - 1);
-  return Number(x.toPrecision(digits)).toString();
-}
-
-// Per-joint displacement magnitude.
-let dispMag = null;
-if (nJoints && data.displacement && data.displacement.length === 3 * nJoints) {
-  dispMag = new Float64Array(nJoints);
-  for (let v = 0; v < nJoints; ++v) {
-    const d = data.displacement;
-    dispMag[v] = Math.hypot(d[3 * v], d[3 * v + 1], d[3 * v + 2]);
-  }
-}
-
-// The colour modes present in the data. `on`: what carries the value (beam, joint or panel).
-const MODES = [{ key: 'plain', label: 'plain', on: 'none' }];
-if (nBeams && data.axial_force && data.axial_force.length === nBeams) {
-  MODES.push({ key: 'axial', label: 'axial force', unit: 'kN', on: 'beam', diverging: true,
-    values: data.axial_force.map((n) => n / 1000),
-    note: 'compression < 0 (red), tension > 0 (blue)' });
-}
-if (dispMag) {
-  MODES.push({ key: 'displacement', label: 'displacement', unit: 'mm', on: 'joint',
-    values: Array.from(dispMag, (d) => d * 1000), note: 'linear, under the reference load' });
-}
-if (data.density && data.density.length === panels.length && panels.length) {
-  MODES.push({ key: 'density', label: 'cell density d_target', unit: '–', on: 'panel',
-    values: data.density, note: '1 = the sparsest cells the field asks for' });
-}
-if (data.planarity && data.planarity.length === panels.length && panels.length) {
-  MODES.push({ key: 'planarity', label: 'panel planarity', unit: '–', on: 'panel',
-    values: data.planarity, note: 'mean distance to the plane / half perimeter; 0 = flat' });
-}
-if (nBeams && data.utilisation && data.utilisation.length === nBeams) {
-  MODES.push({ key: 'utilisation', label: 'utilisation', unit: '–', on: 'beam',
-    values: data.utilisation, note: '1 = the member check is just met' });
-}
-for (const m of MODES) {
-  if (!m.values) continue;
-  let lo = Infinity, hi = -Infinity;
-  for (const x of m.values) { if (x < lo) lo = x; if (x > hi) hi = x; }
-  m.min = lo; m.max = hi;
-  if (m.diverging) {
-    // Symmetric about 0; the few largest forces (at supports, typically) saturate, so that the
-    // rest of the structure is not all one grey.
-    const mags = m.values.map(Math.abs).sort((x, y) => x - y);
-    const a = mags[Math.min(mags.length - 1, Math.floor(0.98 * mags.length))] || mags[mags.length - 1] || 1;
-    lo = -a; hi = a;
-  }
-  if (m.key === 'utilisation') { lo = 0; hi = Math.max(1, hi); }
-  if (m.key === 'planarity') lo = 0;
-  if (!(hi > lo)) hi = lo + 1;
-  m.lo = lo; m.hi = hi;
-  m.stops = m.diverging ? DIVERGING : SEQUENTIAL;
-}
+// Per-joint displacement magnitude, and the colour modes present in the data.
+const dispMag = displacementMagnitudes(data);
+const MODES = colourModes(data);
 
 // ---------------------------------------------------------------------------------------------
 // Scene
@@ -128,15 +44,14 @@ const sun = new THREE.DirectionalLight(0xffffff, 1.2);
 sun.position.set(1, -1, 2);
 scene.add(sun);
 
-const box = new THREE.Box3();
-for (let v = 0; v < nJoints; ++v) {
-  box.expandByPoint(new THREE.Vector3(joints[3 * v], joints[3 * v + 1], joints[3 * v + 2]));
-}
-if (box.isEmpty()) box.set(new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1));
-const center = box.getCenter(new THREE.Vector3());
-const size = box.getSize(new THREE.Vector3());
-const radius = Math.max(1e-6, 0.5 * size.length());
-const span = Math.max(size.x, size.y, size.z, 1e-6);
+// Current joint positions (base + animated buckling mode).
+const pos = new Float32Array(joints);
+
+// The grid-shell's objects (beams, panels, joints, supports): gridshell_scene.js.
+const grid = buildGridObjects(data, scene, pos);
+const { beamLines, beamMaterial, panelMesh, jointPoints, triPanel, nCorners } = grid;
+const { center, radius, span } = grid.bounds;
+const updatePositions = grid.updatePositions;
 
 const camera = new THREE.PerspectiveCamera(35, 1, radius / 100, radius * 100);
 camera.up.set(0, 0, 1);
@@ -149,146 +64,19 @@ function resetView() {
   controls.update();
 }
 
-// Current joint positions (base + animated buckling mode).
-const pos = new Float32Array(joints);
-
-// Beams: fat line segments, two colours per beam (its ends).
-const beamPositions = new Float32Array(6 * nBeams);
-const beamColors = new Float32Array(6 * nBeams);
-const beamGeometry = new LineSegmentsGeometry();
-const beamMaterial = new LineMaterial({ vertexColors: true, linewidth: 2.2, worldUnits: false });
-let beamLines = null;
-if (nBeams > 0) {
-  beamGeometry.setPositions(beamPositions);
-  beamGeometry.setColors(beamColors);
-  beamLines = new LineSegments2(beamGeometry, beamMaterial);
-  scene.add(beamLines);
-}
-
-// Panels: fan triangles, not indexed, so that a panel can carry its own colour.
-let nCorners = 0;
-for (const f of panels) nCorners += 3 * Math.max(0, f.length - 2);
-const cornerJoint = new Int32Array(nCorners);
-const triPanel = new Int32Array(nCorners / 3);
-{
-  let c = 0;
-  panels.forEach((f, p) => {
-    for (let k = 1; k + 1 < f.length; ++k) {
-      triPanel[c / 3] = p;
-      cornerJoint[c++] = f[0]; cornerJoint[c++] = f[k]; cornerJoint[c++] = f[k + 1];
-    }
-  });
-}
-const panelGeometry = new THREE.BufferGeometry();
-panelGeometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * nCorners), 3));
-panelGeometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(3 * nCorners), 3));
-const panelMaterial = new THREE.MeshLambertMaterial({
-  vertexColors: true, transparent: true, opacity: 0.55, side: THREE.DoubleSide,
-  depthWrite: false, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
-});
-const panelMesh = new THREE.Mesh(panelGeometry, panelMaterial);
-if (nCorners > 0) scene.add(panelMesh);
-
-// Joints (for picking, drawn small) and supports (dark cubes).
-const jointGeometry = new THREE.BufferGeometry();
-jointGeometry.setAttribute('position', new THREE.BufferAttribute(pos, 3));
-const jointPoints = new THREE.Points(jointGeometry,
-  new THREE.PointsMaterial({ color: 0x444444, size: 2, sizeAttenuation: false }));
-scene.add(jointPoints);
-
-const supportSize = Math.max(span / 120, 1e-6);
-const supportMesh = new THREE.InstancedMesh(
-  new THREE.BoxGeometry(supportSize, supportSize, supportSize),
-  new THREE.MeshLambertMaterial({ color: 0x202020 }), Math.max(1, supports.length));
-supportMesh.count = supports.length;
-{
-  const m = new THREE.Matrix4();
-  supports.forEach((v, i) => {
-    m.makeTranslation(joints[3 * v], joints[3 * v + 1], joints[3 * v + 2]);
-    supportMesh.setMatrixAt(i, m);
-  });
-}
-if (supports.length) scene.add(supportMesh);
-
-function updatePositions() {
-  for (let b = 0; b < nBeams; ++b) {
-    const i = beams[2 * b], j = beams[2 * b + 1];
-    beamPositions[6 * b] = pos[3 * i]; beamPositions[6 * b + 1] = pos[3 * i + 1];
-    beamPositions[6 * b + 2] = pos[3 * i + 2];
-    beamPositions[6 * b + 3] = pos[3 * j]; beamPositions[6 * b + 4] = pos[3 * j + 1];
-    beamPositions[6 * b + 5] = pos[3 * j + 2];
-  }
-  if (nBeams > 0) {
-    const start = beamGeometry.attributes.instanceStart;
-    start.data.array.set(beamPositions);
-    start.data.needsUpdate = true;
-    beamGeometry.computeBoundingSphere();
-    beamGeometry.computeBoundingBox();
-  }
-  const p = panelGeometry.attributes.position.array;
-  for (let c = 0; c < nCorners; ++c) {
-    const v = cornerJoint[c];
-    p[3 * c] = pos[3 * v]; p[3 * c + 1] = pos[3 * v + 1]; p[3 * c + 2] = pos[3 * v + 2];
-  }
-  panelGeometry.attributes.position.needsUpdate = true;
-  panelGeometry.computeVertexNormals();
-  panelGeometry.computeBoundingSphere();
-  jointGeometry.attributes.position.needsUpdate = true;
-  jointGeometry.computeBoundingSphere();
-}
-
 // ---------------------------------------------------------------------------------------------
 // Colouring
 
-const BEAM_PLAIN = [0.22, 0.24, 0.27];
-const PANEL_PLAIN = [0.70, 0.80, 0.90];
 let mode = MODES[0];
 
 function applyColors() {
-  const bc = beamColors, pc = panelGeometry.attributes.color.array;
-  const t = (x) => (x - mode.lo) / (mode.hi - mode.lo);
-  for (let b = 0; b < nBeams; ++b) {
-    let ci = BEAM_PLAIN, cj = BEAM_PLAIN;
-    if (mode.on === 'beam') ci = cj = sample(mode.stops, t(mode.values[b]));
-    // Per-joint values colour the panels; the beams only when no panel is shown.
-    if (mode.on === 'joint' && !(nCorners > 0 && panelMesh.visible)) {
-      ci = sample(mode.stops, t(mode.values[beams[2 * b]]));
-      cj = sample(mode.stops, t(mode.values[beams[2 * b + 1]]));
-    }
-    bc.set(ci, 6 * b); bc.set(cj, 6 * b + 3);
-  }
-  if (nBeams > 0) {
-    const col = beamGeometry.attributes.instanceColorStart;
-    col.data.array.set(bc);
-    col.data.needsUpdate = true;
-  }
-  for (let c = 0; c < nCorners; ++c) {
-    let rgb = PANEL_PLAIN;
-    if (mode.on === 'panel') rgb = sample(mode.stops, t(mode.values[triPanel[Math.floor(c / 3)]]));
-    if (mode.on === 'joint') rgb = sample(mode.stops, t(mode.values[cornerJoint[c]]));
-    pc.set(rgb, 3 * c);
-  }
-  panelGeometry.attributes.color.needsUpdate = true;
-  panelMaterial.opacity = mode.on === 'panel' || mode.on === 'joint' ? 0.85 : 0.3;
+  grid.applyColours(mode);
   drawLegend();
   requestRender();
 }
 
 function drawLegend() {
-  const legend = document.getElementById('legend');
-  if (!mode.values) {
-    legend.innerHTML = '<div class="legend-title">beams dark, panels light blue, ' +
-      'supports as black cubes</div>';
-    return;
-  }
-  const mid = mode.diverging ? 0 : 0.5 * (mode.lo + mode.hi);
-  legend.innerHTML =
-    `<div class="legend-title">${mode.label} [${mode.unit}] — on the ${mode.on}s</div>` +
-    `<div class="legend-bar" style="background:${cssGradient(mode.stops)}"></div>` +
-    `<div class="legend-ticks"><span>${fmt(mode.lo, 3)}</span><span>${fmt(mid, 3)}</span>` +
-    `<span>${fmt(mode.hi, 3)}</span></div>` +
-    `<div class="legend-note">${mode.note}; range ${fmt(mode.min, 3)} … ${fmt(mode.max, 3)}` +
-    `${mode.min < mode.lo || mode.max > mode.hi ? ' (colours saturate at the ends)' : ''}</div>`;
+  document.getElementById('legend').innerHTML = legendHtml(mode);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -370,10 +158,6 @@ function pick(ev) {
 
 function row(name, value) {
   return `<tr><th>${name}</th><td>${value}</td></tr>`;
-}
-
-function escapeHtml(s) {
-  return String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c]);
 }
 
 function keyFigures() {

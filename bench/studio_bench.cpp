@@ -1,0 +1,67 @@
+// `gridshell studio`'s /api/design over HTTP on the built-in surface (builtin:funicular, D = A
+// = 2, linear + LBA): the whole answer as the page gets it (design, analysis, JSON). Each
+// request has a new seed, so that the server's last-design cache never answers. Goals
+// (docs/studio.md): median ≤ 1 s at 300 cells, ≤ 3 s at 1000 cells.
+// Counter process_cpu_s: the whole process's CPU time per request (server threads included) — on
+// a busy machine the wall time is several times this, on an idle one about equal (the pipeline
+// is mostly serial).
+// Run: ./build/studio_bench  (medians of 7 requests each)
+
+#include <benchmark/benchmark.h>
+
+#include <ctime>
+
+#include <spdlog/spdlog.h>
+
+#include "gridshell/studio/server.h"
+
+#include <httplib.h>  // last: its <resolv.h> defines `_res`, which breaks Eigen headers after it
+
+using namespace gridshell;
+
+namespace {
+
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+void BM_StudioDesign(benchmark::State& state) {
+  spdlog::set_level(spdlog::level::warn);
+  studio::ServerOptions options;
+  options.port = 0;
+  studio::Server server(options);
+  const int port = server.start();
+  httplib::Client client("127.0.0.1", port);
+  client.set_read_timeout(600, 0);
+  static int seed = 100;
+  std::size_t bytes = 0;
+  double cpu = 0;
+  for (auto _ : state) {
+    const double cpu0 = process_cpu_seconds();
+    const auto res = client.Get("/api/design?surface=builtin:funicular&D=2&A=2&cells=" +
+                                std::to_string(state.range(0)) + "&seed=" + std::to_string(++seed));
+    if (!res || res->status != 200) {
+      state.SkipWithError("request failed");
+      break;
+    }
+    bytes = res->body.size();
+    cpu += process_cpu_seconds() - cpu0;
+  }
+  state.counters["answer_MB"] = static_cast<double>(bytes) / 1e6;
+  state.counters["process_cpu_s"] = cpu / static_cast<double>(state.iterations());
+  server.stop();
+}
+BENCHMARK(BM_StudioDesign)
+    ->Arg(300)
+    ->Arg(1000)
+    ->Iterations(1)
+    ->Repetitions(7)
+    ->ReportAggregatesOnly(true)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

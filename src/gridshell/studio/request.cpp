@@ -1,0 +1,217 @@
+#include "gridshell/studio/request.h"
+
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "gridshell/core/error.h"
+#include "gridshell/fabrication/nesting.h"
+#include "gridshell/field/field.h"
+#include "gridshell/figures/figures.h"
+#include "gridshell/io/files.h"
+#include "gridshell/io/mesh_io.h"
+#include "gridshell/pipeline/design_report.h"
+#include "gridshell/pipeline/gridshell_output.h"
+#include "gridshell/report/report_html.h"
+
+namespace gridshell::studio {
+
+namespace {
+
+/// The largest cell count a request may ask for (a design of 5000 cells takes about a minute).
+constexpr int kMaxCells = 5000;
+
+double parse_number(const std::string& text, const std::string& subject, const std::string& what) {
+  std::size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(text, &used);
+  } catch (const std::exception&) {
+    throw Error(subject, what);
+  }
+  if (used != text.size() || !std::isfinite(x)) throw Error(subject, what);
+  return x;
+}
+
+std::string number_text(double x) {
+  return fmt::format("{}", x);
+}
+
+}  // namespace
+
+StudioRequest parse_request(const Params& params) {
+  std::map<std::string, std::string> p;
+  for (const auto& [name, value] : params) p[name] = value;
+  StudioRequest r;
+  for (const auto& [name, value] : p) {
+    if (name == "surface") {
+      if (value.empty()) throw Error("surface", "no surface given");
+      r.surface = value;
+    } else if (name == "D") {
+      r.D = parse_number(value, "-D", "must be a number ≥ 1");
+    } else if (name == "A") {
+      r.A = parse_number(value, "-A", "must be a number ≥ 1");
+    } else if (name == "cells") {
+      const double c = parse_number(value, "--cells", "must be positive");
+      if (!(c >= 1) || c != std::floor(c)) throw Error("--cells", "must be positive");
+      if (c > kMaxCells) throw Error("--cells", fmt::format("at most {} in the studio", kMaxCells));
+      r.cells = static_cast<int>(c);
+    } else if (name == "length") {
+      r.length = parse_number(value, "--length", "must be positive");
+      if (!(r.length > 0)) throw Error("--length", "must be positive");
+    } else if (name == "objective") {
+      if (!value.empty() && value != "none") r.objective = parse_objective(value);
+    } else if (name == "symmetry") {
+      r.symmetry = parse_symmetry(value);
+    } else if (name == "analyze") {
+      r.analyze = analysis::parse_analysis_level(value);
+    } else if (name == "seed") {
+      const double s = parse_number(value, "--seed", "must be a whole number ≥ 0");
+      if (!(s >= 0) || s != std::floor(s) || s > 9e15)
+        throw Error("--seed", "must be a whole number ≥ 0");
+      r.seed = static_cast<std::uint64_t>(s);
+    } else {
+      throw Error(name,
+                  "unknown parameter (surface, D, A, cells, length, objective, symmetry, "
+                  "analyze, seed)");
+    }
+  }
+  if (p.count("length") && p.count("cells"))
+    throw Error("--radius/--cells/--length", "give at most one of them");
+  if (r.length > 0) r.cells = 0;
+  check_design_options(design_options(r));
+  return r;
+}
+
+std::string request_query(const StudioRequest& r) {
+  std::string q = "surface=" + r.surface;
+  if (r.objective) {
+    q += std::string("&objective=") + to_string(*r.objective);
+  } else {
+    q += "&D=" + number_text(r.D) + "&A=" + number_text(r.A);
+  }
+  q += r.length > 0 ? "&length=" + number_text(r.length) : "&cells=" + std::to_string(r.cells);
+  q += std::string("&symmetry=") + to_string(r.symmetry);
+  q += std::string("&analyze=") + analysis::to_string(r.analyze);
+  q += "&seed=" + std::to_string(r.seed);
+  return q;
+}
+
+DesignOptions design_options(const StudioRequest& r) {
+  DesignOptions o;
+  o.D = r.D;
+  o.A = r.A;
+  o.tessellation.cells = r.cells;
+  o.tessellation.length = r.length;
+  o.tessellation.seed = r.seed;
+  o.symmetry = r.symmetry;
+  o.analyze = r.analyze;
+  return o;
+}
+
+StudioDesign design_request(const Surface& surface, const StudioRequest& request,
+                            const Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  StudioDesign d;
+  d.request = request;
+  DesignOptions options = design_options(request);
+  if (request.objective) {
+    ObjectiveOptions search;
+    search.objective = *request.objective;
+    d.search = design_for_objective(surface, options, search);
+    d.result = std::move(d.search->design);
+  } else {
+    options.frame_analysis.arc.progress = progress;  // (listening changes no result)
+    d.result = run_design(surface, options);
+  }
+  d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  d.report = design_report(d.result, design_options(request));
+  d.report["surface"] = request.surface;
+  if (d.search) d.report["objective"] = d.search->report();
+  d.report["timings_s"] = timings_block(d.result.timings, {}, d.seconds);
+  return d;
+}
+
+nlohmann::json request_config(const StudioRequest& r, const std::string& surface_arg) {
+  nlohmann::json options = nlohmann::json::object();
+  if (r.objective) {
+    options["objective"] = to_string(*r.objective);
+  } else {
+    options["D"] = number_text(r.D);
+    options["A"] = number_text(r.A);
+  }
+  if (r.length > 0) {
+    options["length"] = number_text(r.length);
+  } else {
+    options["cells"] = std::to_string(r.cells);
+  }
+  options["symmetry"] = to_string(r.symmetry);
+  options["analyze"] = analysis::to_string(r.analyze);
+  options["seed"] = std::to_string(r.seed);
+  return {{"command", "design"}, {"positional", {surface_arg}}, {"options", options}};
+}
+
+nlohmann::json design_answer(const StudioDesign& d, const std::string& surface_arg) {
+  const DesignResult& r = d.result;
+  const analysis::FrameResult* structure = r.structure ? &*r.structure : nullptr;
+  report::ReportInput view = report::gridshell_report_input(r.mesh, r.supports, structure);
+  view.density = r.d_target;
+  view.report = d.report;
+  view.config = request_config(d.request, surface_arg);
+  view.title = "gridshell studio: " + surface_arg;
+
+  nlohmann::json vertices = nlohmann::json::array();
+  for (Eigen::Index v = 0; v < r.mesh.V.rows(); ++v)
+    vertices.push_back({r.mesh.V(v, 0), r.mesh.V(v, 1), r.mesh.V(v, 2)});
+  nlohmann::json beams = nlohmann::json::array();
+  for (const auto& b : view.beams) beams.push_back({b[0], b[1]});
+  nlohmann::json answer;
+  answer["request"] = request_query(d.request);
+  answer["mesh"] = {{"vertices", vertices}, {"faces", r.mesh.faces}, {"supports", r.supports}};
+  answer["beams"] = beams;
+  answer["axial_force"] = view.axial_force;  // [N] per beam, tension positive (empty: none)
+  answer["report"] = d.report;
+  answer["config"] = view.config;
+  answer["view"] = nlohmann::json::parse(report::report_data_json(view, {}));
+  return answer;
+}
+
+void write_design_folder(const std::filesystem::path& dir, const StudioDesign& d,
+                         const Surface& surface, const std::string& surface_arg) {
+  const DesignResult& r = d.result;
+  const DesignOptions options = design_options(d.request);
+  const analysis::FrameResult* structure = r.structure ? &*r.structure : nullptr;
+  io::ensure_directory(dir);
+  const GridShellOutput out = design_output(r);
+  write_gridshell_files(dir, out);
+  const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports, structure, options.frame,
+                                                fabrication::parse_sheet("2.5x1.25"));
+  io::write_vtp(dir / "field.vtp", to_poly(surface.mesh), {}, field_attributes(r.field));
+  const std::vector<std::string> figure_files = figures::write_figures(
+      dir,
+      {.title = fmt::format("gridshell studio {}: {}; {} cells, {:.0f} m of beams; seed {}",
+                            surface_arg, request_query(d.request), r.mesh.num_faces(),
+                            r.metrics.total_length, d.request.seed),
+       .gridshell = &r.mesh,
+       .supports = r.supports,
+       .structure = structure,
+       .surface = &surface.mesh,
+       .field = &r.field},
+      figures::parse_figure_options("1600x1200"));
+  nlohmann::json report = d.report;
+  report["fabrication"] = bom;
+  report["figures"] = figure_files;
+  const nlohmann::json config = request_config(d.request, surface_arg);
+  io::write_file_atomic(dir / "config.json", config.dump(2) + "\n");
+  io::write_file_atomic(dir / "report.json", report.dump(2) + "\n");
+  report::ReportInput page = report::gridshell_report_input(r.mesh, r.supports, structure);
+  page.density = out.d_target;
+  page.report = report;
+  page.config = config;
+  page.title = "gridshell design " + surface_arg;
+  report::write_report_html(dir, page);
+}
+
+}  // namespace gridshell::studio
