@@ -155,3 +155,19 @@ TEST(Geometry, SignedArea2dIsPositiveCounterClockwise) {
   EXPECT_DOUBLE_EQ(signed_area_2d(p), -3.0);
   EXPECT_DOUBLE_EQ(signed_area_2d({}), 0.0);
 }
+
+// A simple polygon: a square in 3D is; a bow-tie (two sides crossing), a face that uses a corner
+// twice and a face of zero area are not.
+TEST(Geometry, SimplePolygon) {
+  gridshell::PolyMesh m;
+  m.V.resize(5, 3);
+  m.V << 0, 0, 0, 1, 0, 0.5, 1, 1, 1, 0, 1, 0.5, 2, 0, 1;  // a tilted unit square and one more
+  EXPECT_TRUE(gridshell::is_simple_polygon(m, {0, 1, 2, 3}));
+  EXPECT_TRUE(gridshell::is_simple_polygon(m, {3, 2, 1, 0}));
+  EXPECT_FALSE(gridshell::is_simple_polygon(m, {0, 2, 1, 3}));  // bow-tie
+  EXPECT_FALSE(gridshell::is_simple_polygon(m, {0, 1, 2, 1}));  // a corner twice
+  gridshell::PolyMesh line;
+  line.V.resize(3, 3);
+  line.V << 0, 0, 0, 1, 0, 0, 2, 0, 0;
+  EXPECT_FALSE(gridshell::is_simple_polygon(line, {0, 1, 2}));  // no area
+}

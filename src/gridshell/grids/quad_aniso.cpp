@@ -15,6 +15,7 @@
 #include "gridshell/core/error.h"
 #include "gridshell/core/rng.h"
 #include "gridshell/grids/supports.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/nearest.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/optimize/projector.h"
@@ -69,11 +70,6 @@ std::pair<Vec3, Vec3> compat_position(const Vec3& v0, const Vec3& q0, const Vec3
     }
   }
   return best;
-}
-
-int find_root(std::vector<int>& parent, int x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
 }
 
 /// Per vertex of M′: unit normal.
@@ -198,20 +194,23 @@ void absorb_lone_triangles(std::vector<std::vector<int>>& faces, const std::vect
 
 }  // namespace
 
-PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
-                             const QuadAnisoOptions& o) {
-  if (!(h > 0) || !std::isfinite(h)) throw Error("quad-aniso", "spacing must be positive");
-  if (rest.num_faces() != def.num_faces() || rest.num_vertices() != def.num_vertices() ||
-      field.size() != rest.num_faces())
-    throw Error("quad-aniso", "M, M' and the field do not match");
+namespace {
+
+/// A cross field on M′'s vertices: normal n, the cross's first arm q and t = n × q.
+struct CrossField {
+  std::vector<Vec3> n, q, t;
+};
+
+/// Step 1: the 4-fold average of J u per vertex, then smoothing with it as the data term.
+CrossField cross_field(const TriMesh& rest, const TriMesh& def, const Field& field,
+                       const Topology& topo, const QuadAnisoOptions& o) {
   const int nv = def.num_vertices();
-  const Topology topo = build_topology(def);
-  const std::vector<Vec3> n = vertex_normals(def);
+  CrossField cf;
+  cf.n = vertex_normals(def);
+  const std::vector<Vec3>& n = cf.n;
   std::vector<Vec3> w;
   std::vector<double> warea;
   pushed_directions(rest, def, field, w, warea);
-
-  // 1. Cross field: 4-fold average of J u per vertex, then smoothing with it as data term.
   std::vector<Vec3> q(nv), q_data(nv);
   std::vector<double> lambda(nv, 0);
   for (int v = 0; v < nv; ++v) {
@@ -236,12 +235,18 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
       if (sum.norm() > 1e-12) q[v] = sum.normalized();
     }
   }
-  std::vector<Vec3> t(nv);
-  for (int v = 0; v < nv; ++v) t[v] = n[v].cross(q[v]);
+  cf.t.resize(nv);
+  for (int v = 0; v < nv; ++v) cf.t[v] = n[v].cross(q[v]);
+  cf.q = std::move(q);
+  return cf;
+}
 
-  // 2. Position field: one lattice propagated breadth-first, then Gauss–Seidel smoothing.
-  std::vector<Vec3> pos(nv);
-  for (int v = 0; v < nv; ++v) pos[v] = def.vertex(v);
+/// Step 2: the position field (a lattice origin per vertex): one lattice propagated
+/// breadth-first from a seeded random origin, then Gauss–Seidel smoothing.
+std::vector<Vec3> position_field(const std::vector<Vec3>& pos, const Topology& topo,
+                                 const CrossField& cf, double h, const QuadAnisoOptions& o) {
+  const int nv = static_cast<int>(pos.size());
+  const std::vector<Vec3>&n = cf.n, &q = cf.q, &t = cf.t;
   std::vector<Vec3> org(nv);
   std::vector<char> seen(nv, 0);
   Rng rng(o.seed);
@@ -277,11 +282,28 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
       org[i] = lattice_round(sum, q[i], t[i], pos[i], h);
     }
   }
+  return org;
+}
 
-  // 3. Extraction: collapse edges within one lattice point, beams across one lattice step.
-  std::vector<int> uf(nv);
-  std::iota(uf.begin(), uf.end(), 0);
+/// The joints: vertices of M′ collapsed to their lattice points (cluster per vertex, mean
+/// position and normal, vertex count), and the edges of M′ that cross one lattice step.
+struct LatticeJoints {
+  int count = 0;
+  std::vector<int> cluster;
+  std::vector<Vec3> pos, normal;
+  std::vector<int> vertices;
   std::vector<std::array<int, 2>> steps;
+};
+
+/// Step 3a: edges within one lattice point are collapsed, edges across one lattice step kept;
+/// then joints closer than 0.3 h are merged once more (one lattice point split in two where the
+/// lattices of a seam disagree slightly).
+LatticeJoints collapse_to_joints(const std::vector<Vec3>& pos, const Topology& topo,
+                                 const CrossField& cf, const std::vector<Vec3>& org, double h) {
+  const int nv = static_cast<int>(pos.size());
+  const std::vector<Vec3>&n = cf.n, &q = cf.q, &t = cf.t;
+  DisjointSets sets(nv);
+  LatticeJoints J;
   for (const auto& e : topo.edges) {
     const int i = e[0], j = e[1];
     const Vec3 qj = match_cross(q[j], n[j], q[i]), tj = n[j].cross(qj);
@@ -293,47 +315,50 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
     const int dj1 = static_cast<int>(std::lround((b - org[j]).dot(tj) / h));
     const int d0 = di0 - dj0, d1 = di1 - dj1;
     if (d0 == 0 && d1 == 0)
-      uf[find_root(uf, i)] = find_root(uf, j);
+      sets.unite(i, j);
     else if (std::abs(d0) + std::abs(d1) == 1)
-      steps.push_back({i, j});
+      J.steps.push_back({i, j});
   }
-  std::vector<int> cluster(nv, -1);
-  int nc = 0;
-  std::vector<Vec3> cpos, cnorm;
-  std::vector<int> ccount;
-  // Joints from the unions; then once more after merging the joints closer than 0.3 h (one
-  // lattice point split in two where the lattices of a seam disagree slightly).
+  J.cluster.assign(nv, -1);
   for (int pass = 0; pass < 2; ++pass) {
     if (pass == 1)
-      for (const auto& s : steps)
-        if ((cpos[cluster[s[0]]] - cpos[cluster[s[1]]]).norm() < 0.3 * h)
-          uf[find_root(uf, s[0])] = find_root(uf, s[1]);
-    std::fill(cluster.begin(), cluster.end(), -1);
+      for (const auto& s : J.steps)
+        if ((J.pos[J.cluster[s[0]]] - J.pos[J.cluster[s[1]]]).norm() < 0.3 * h)
+          sets.unite(s[0], s[1]);
+    std::fill(J.cluster.begin(), J.cluster.end(), -1);
+    int& nc = J.count;
     nc = 0;
     for (int v = 0; v < nv; ++v) {
-      const int r = find_root(uf, v);
-      if (cluster[r] < 0) cluster[r] = nc++;
-      cluster[v] = cluster[r];
+      const int r = sets.find(v);
+      if (J.cluster[r] < 0) J.cluster[r] = nc++;
+      J.cluster[v] = J.cluster[r];
     }
-    cpos.assign(nc, Vec3::Zero());
-    cnorm.assign(nc, Vec3::Zero());
-    ccount.assign(nc, 0);
+    J.pos.assign(nc, Vec3::Zero());
+    J.normal.assign(nc, Vec3::Zero());
+    J.vertices.assign(nc, 0);
     for (int v = 0; v < nv; ++v) {
-      cpos[cluster[v]] += org[v];
-      cnorm[cluster[v]] += n[v];
-      ++ccount[cluster[v]];
+      J.pos[J.cluster[v]] += org[v];
+      J.normal[J.cluster[v]] += n[v];
+      ++J.vertices[J.cluster[v]];
     }
     for (int c = 0; c < nc; ++c) {
-      cpos[c] /= ccount[c];
-      cnorm[c] = cnorm[c].norm() > 0 ? Vec3(cnorm[c].normalized()) : Vec3(Vec3::UnitZ());
+      J.pos[c] /= J.vertices[c];
+      J.normal[c] =
+          J.normal[c].norm() > 0 ? Vec3(J.normal[c].normalized()) : Vec3(Vec3::UnitZ());
     }
   }
+  return J;
+}
+
+/// Step 3b: each joint's beams (dangling ones pruned), ordered counter-clockwise about its
+/// normal.
+std::vector<std::vector<int>> joint_rings(const LatticeJoints& J) {
+  const int nc = J.count;
   std::vector<std::set<int>> adj(nc);
-  for (const auto& s : steps) {
-    const int a = cluster[s[0]], b = cluster[s[1]];
+  for (const auto& s : J.steps) {
+    const int a = J.cluster[s[0]], b = J.cluster[s[1]];
     if (a != b) adj[a].insert(b), adj[b].insert(a);
   }
-  // Prune joints of degree ≤ 1 (dangling beams).
   std::deque<int> prune;
   for (int c = 0; c < nc; ++c)
     if (adj[c].size() == 1) prune.push_back(c);
@@ -346,27 +371,33 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
     adj[other].erase(c);
     if (adj[other].size() == 1) prune.push_back(other);
   }
-  // Neighbours ordered counter-clockwise about each joint's normal.
   std::vector<std::vector<int>> ring(nc);
   for (int c = 0; c < nc; ++c) {
-    const Vec3 r = any_perpendicular(cnorm[c]), s = cnorm[c].cross(r);
+    const Vec3 r = any_perpendicular(J.normal[c]), s = J.normal[c].cross(r);
     std::vector<std::pair<double, int>> by_angle;
     for (int b : adj[c]) {
-      const Vec3 d = cpos[b] - cpos[c];
+      const Vec3 d = J.pos[b] - J.pos[c];
       by_angle.emplace_back(std::atan2(d.dot(s), d.dot(r)), b);
     }
     std::sort(by_angle.begin(), by_angle.end());
     for (const auto& [angle, b] : by_angle) ring[c].push_back(b);
   }
+  return ring;
+}
+
+/// Step 3c: faces traced by turning at each joint to the previous beam of its ring; kept when
+/// closed, not too many sides, no joint twice and facing along the joints' normals.
+std::vector<std::vector<int>> trace_faces(const std::vector<std::vector<int>>& ring,
+                                          const LatticeJoints& J, int max_face_sides) {
   std::map<std::pair<int, int>, char> used;
   std::vector<std::vector<int>> faces;
-  for (int a0 = 0; a0 < nc; ++a0) {
+  for (int a0 = 0; a0 < J.count; ++a0) {
     for (int b0 : ring[a0]) {
       if (used.count({a0, b0})) continue;
       std::vector<int> face{a0};
       int a = a0, b = b0;
       bool closed = false;
-      for (int step = 0; step < 4 * o.max_face_sides; ++step) {
+      for (int step = 0; step < 4 * max_face_sides; ++step) {
         used[{a, b}] = 1;
         if (b == a0) {
           closed = true;
@@ -379,25 +410,29 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
         const int next = rb[(k - 1 + deg) % deg];
         a = b, b = next;
       }
-      if (!closed || static_cast<int>(face.size()) > o.max_face_sides || face.size() < 3) continue;
+      if (!closed || static_cast<int>(face.size()) > max_face_sides || face.size() < 3) continue;
       std::vector<int> sorted = face;
       std::sort(sorted.begin(), sorted.end());
       if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
       Vec3 area = Vec3::Zero(), normal = Vec3::Zero();
       for (size_t k = 0; k < face.size(); ++k) {
-        area += cpos[face[k]].cross(cpos[face[(k + 1) % face.size()]]);
-        normal += cnorm[face[k]];
+        area += J.pos[face[k]].cross(J.pos[face[(k + 1) % face.size()]]);
+        normal += J.normal[face[k]];
       }
       if (area.dot(normal) <= 0) continue;  // the outer boundary, or a folded face
       faces.push_back(std::move(face));
     }
   }
-  if (faces.empty()) throw Error("quad-aniso", "extraction found no faces (spacing too large?)");
-  merge_triangle_pairs(faces, cpos);
-  absorb_lone_triangles(faces, cpos);
+  return faces;
+}
 
-  // 4. Joints back on M: each vertex's lattice point through the affine map of the incident
-  // triangle that contains it best, averaged over the joint's vertices.
+/// Step 4: joints back on M — each vertex's lattice point through the affine map of the incident
+/// triangle that contains it best, averaged over the joint's vertices, projected on M; joints
+/// renumbered in the order the faces use them.
+PolyMesh joints_on_surface(const TriMesh& rest, const TriMesh& def, const Topology& topo,
+                           const std::vector<Vec3>& org, const LatticeJoints& J,
+                           std::vector<std::vector<int>> faces) {
+  const int nv = def.num_vertices(), nc = J.count;
   std::vector<Vec3> cm(nc, Vec3::Zero());
   for (int v = 0; v < nv; ++v) {
     double best = -std::numeric_limits<double>::infinity();
@@ -416,7 +451,7 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
       mapped =
           ra + st(0) * (rest.vertex(rest.F(f, 1)) - ra) + st(1) * (rest.vertex(rest.F(f, 2)) - ra);
     }
-    cm[cluster[v]] += mapped;
+    cm[J.cluster[v]] += mapped;
   }
   std::vector<int> index(nc, -1);
   PolyMesh out;
@@ -429,14 +464,34 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
   out.V.resize(count, 3);
   const SurfaceProjector proj(rest);
   for (int c = 0; c < nc; ++c)
-    if (index[c] >= 0) out.V.row(index[c]) = proj.closest_point(cm[c] / ccount[c]).transpose();
+    if (index[c] >= 0) out.V.row(index[c]) = proj.closest_point(cm[c] / J.vertices[c]).transpose();
   out.faces = std::move(faces);
   return out;
 }
 
+}  // namespace
+
+PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
+                             const QuadAnisoOptions& o) {
+  if (!(h > 0) || !std::isfinite(h)) throw Error("quad-aniso", "spacing must be positive");
+  if (rest.num_faces() != def.num_faces() || rest.num_vertices() != def.num_vertices() ||
+      field.size() != rest.num_faces())
+    throw Error("quad-aniso", "M, M' and the field do not match");
+  const Topology topo = build_topology(def);
+  std::vector<Vec3> pos(def.num_vertices());
+  for (int v = 0; v < def.num_vertices(); ++v) pos[v] = def.vertex(v);
+  const CrossField cf = cross_field(rest, def, field, topo, o);
+  const std::vector<Vec3> org = position_field(pos, topo, cf, h, o);
+  const LatticeJoints joints = collapse_to_joints(pos, topo, cf, org, h);
+  std::vector<std::vector<int>> faces = trace_faces(joint_rings(joints), joints, o.max_face_sides);
+  if (faces.empty()) throw Error("quad-aniso", "extraction found no faces (spacing too large?)");
+  merge_triangle_pairs(faces, joints.pos);
+  absorb_lone_triangles(faces, joints.pos);
+  return joints_on_surface(rest, def, topo, org, joints, std::move(faces));
+}
+
 namespace {
 
-bool is_simple(const PolyMesh& mesh, const std::vector<int>& f);
 
 /// Moves the grid's outer-boundary joints near M's boundary onto it, collapses the stubs this
 /// makes, and drops unused joints and faces that are not simple polygons.
@@ -496,7 +551,7 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
   PolyMesh moved{mesh.V, {}};
   for (int v = 0; v < mesh.num_vertices(); ++v) moved.V.row(v) = p[v].transpose();
   for (auto& f : faces) {
-    if (f.size() < 3 || !is_simple(moved, f)) continue;  // a fold at the seam of the lattice
+    if (f.size() < 3 || !is_simple_polygon(moved, f)) continue;  // a fold at the seam of the lattice
     for (int& v : f) {
       if (index[v] < 0) index[v] = count++;
       v = index[v];
@@ -519,7 +574,7 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
     bool inner = true;
     for (int v : loop) inner = inner && !on_surface_boundary[v];
     std::vector<int> face(loop.rbegin(), loop.rend());
-    if (inner && is_simple(out, face)) out.faces.push_back(std::move(face));
+    if (inner && is_simple_polygon(out, face)) out.faces.push_back(std::move(face));
   }
   return out;
 }
@@ -640,141 +695,6 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   r.grid.mesh = std::move(best);
   r.grid.supports = transfer_supports(r.grid.mesh.V, surface, tol);
   return r;
-}
-
-// ---------------------------------------------------------------------------------------------
-
-namespace {
-
-bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                    const Eigen::Vector2d& d) {
-  auto orient = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
-    const double v = (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
-    return (v > 0) - (v < 0);
-  };
-  return orient(a, b, c) * orient(a, b, d) < 0 && orient(c, d, a) * orient(c, d, b) < 0;
-}
-
-bool is_simple(const PolyMesh& mesh, const std::vector<int>& f) {
-  const int n = static_cast<int>(f.size());
-  std::vector<int> sorted = f;
-  std::sort(sorted.begin(), sorted.end());
-  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
-  Vec3 normal = Vec3::Zero(), centre = Vec3::Zero();
-  for (int k = 0; k < n; ++k) {
-    normal += mesh.vertex(f[k]).cross(mesh.vertex(f[(k + 1) % n]));
-    centre += mesh.vertex(f[k]);
-  }
-  if (normal.norm() == 0) return false;
-  normal.normalize();
-  const Vec3 r = any_perpendicular(normal), s = normal.cross(r);
-  std::vector<Eigen::Vector2d> p(n);
-  for (int k = 0; k < n; ++k) {
-    const Vec3 d = mesh.vertex(f[k]) - centre / n;
-    p[k] = Eigen::Vector2d(d.dot(r), d.dot(s));
-  }
-  for (int i = 0; i < n; ++i)
-    for (int j = i + 2; j < n; ++j) {
-      if (i == 0 && j == n - 1) continue;
-      if (segments_cross(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n])) return false;
-    }
-  return true;
-}
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
-
-QuadMeshStats quad_mesh_stats(const PolyMesh& grid, const TriMesh& surface, const Field& field,
-                              const QuadMeshStatsOptions& o) {
-  QuadMeshStats s;
-  const Topology topo = build_topology(grid);
-  Points centroids(surface.num_faces(), 3);
-  for (int f = 0; f < surface.num_faces(); ++f)
-    centroids.row(f) = (surface.V.row(surface.F(f, 0)) + surface.V.row(surface.F(f, 1)) +
-                        surface.V.row(surface.F(f, 2))) /
-                       3;
-  auto face_at = [&](const Points& queries) {
-    std::vector<int> out;
-    for (const auto& nn : nearest_points(centroids, queries)) out.push_back(nn[0]);
-    return out;
-  };
-  int valence4 = 0;
-  for (int v = 0; v < grid.num_vertices(); ++v) {
-    if (topo.on_boundary[v] || topo.vertex_faces[v].empty()) continue;
-    ++s.interior_joints;
-    if (topo.vertex_neighbors[v].size() == 4) ++valence4;
-  }
-  s.valence4_share = s.interior_joints ? static_cast<double>(valence4) / s.interior_joints : 0;
-  std::vector<double> lengths;
-  for (const auto& e : topo.edges)
-    lengths.push_back((grid.vertex(e[0]) - grid.vertex(e[1])).norm());
-  const double median = median_of(lengths);
-  s.min_edge_ratio = lengths.empty() || median <= 0
-                         ? 0
-                         : *std::min_element(lengths.begin(), lengths.end()) / median;
-  // Beams: alignment where the field is strongly anisotropic.
-  Points mids(topo.num_edges(), 3);
-  for (int e = 0; e < topo.num_edges(); ++e)
-    mids.row(e) = 0.5 * (grid.V.row(topo.edges[e][0]) + grid.V.row(topo.edges[e][1]));
-  const std::vector<int> edge_face = topo.num_edges() ? face_at(mids) : std::vector<int>{};
-  const double cos_limit = std::cos(o.angle_deg * kPi / 180);
-  int aligned = 0;
-  for (int e = 0; e < topo.num_edges(); ++e) {
-    const auto [a, b] = topo.edges[e];
-    if (topo.on_boundary[a] || topo.on_boundary[b]) continue;
-    const int f = edge_face[e];
-    if (field.a[f] < o.strong_a) continue;
-    ++s.strong_beams;
-    const Vec3 d = (grid.vertex(b) - grid.vertex(a)).normalized();
-    const Vec3 n = (surface.vertex(surface.F(f, 1)) - surface.vertex(surface.F(f, 0)))
-                       .cross(surface.vertex(surface.F(f, 2)) - surface.vertex(surface.F(f, 0)))
-                       .normalized();
-    const Vec3 u = field.u[f].normalized(), up = n.cross(u);
-    const Vec3 dt = (d - n * n.dot(d)).normalized();
-    if (std::abs(dt.dot(u)) >= cos_limit || std::abs(dt.dot(up)) >= cos_limit) ++aligned;
-  }
-  s.aligned_share = s.strong_beams ? static_cast<double>(aligned) / s.strong_beams : 0;
-  // Faces.
-  Points fc(grid.num_faces(), 3);
-  for (int f = 0; f < grid.num_faces(); ++f) {
-    Vec3 c = Vec3::Zero();
-    for (int v : grid.faces[f]) c += grid.vertex(v);
-    fc.row(f) = (c / static_cast<double>(grid.faces[f].size())).transpose();
-  }
-  const std::vector<int> face_face = grid.num_faces() ? face_at(fc) : std::vector<int>{};
-  int quads = 0;
-  std::vector<double> aspects, aspects_all;
-  for (int f = 0; f < grid.num_faces(); ++f) {
-    const auto& poly = grid.faces[f];
-    if (!is_simple(grid, poly)) ++s.non_simple_faces;
-    bool interior = true;
-    for (int v : poly) interior = interior && !topo.on_boundary[v];
-    if (!interior) continue;
-    ++s.interior_faces;
-    if (poly.size() != 4) continue;
-    ++quads;
-    std::array<Vec3, 4> e;
-    for (int k = 0; k < 4; ++k) e[k] = grid.vertex(poly[(k + 1) % 4]) - grid.vertex(poly[k]);
-    const double l02 = 0.5 * (e[0].norm() + e[2].norm()), l13 = 0.5 * (e[1].norm() + e[3].norm());
-    if (std::min(l02, l13) <= 0) continue;
-    aspects_all.push_back(std::max(l02, l13) / std::min(l02, l13));
-    const int t = face_face[f];
-    if (field.a[t] < o.aspect_a) continue;
-    const Vec3 u = field.u[t].normalized();
-    const double along02 = std::abs(e[0].normalized().dot(u)) + std::abs(e[2].normalized().dot(u));
-    const double along13 = std::abs(e[1].normalized().dot(u)) + std::abs(e[3].normalized().dot(u));
-    aspects.push_back(along02 >= along13 ? l02 / l13 : l13 / l02);
-  }
-  s.quad_share = s.interior_faces ? static_cast<double>(quads) / s.interior_faces : 0;
-  s.aspect_quads = static_cast<int>(aspects.size());
-  s.median_aspect = median_of(aspects);
-  s.median_aspect_all = median_of(aspects_all);
-  return s;
 }
 
 }  // namespace gridshell

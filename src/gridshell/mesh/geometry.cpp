@@ -1,5 +1,6 @@
 #include "gridshell/mesh/geometry.h"
 
+#include <algorithm>
 #include <numbers>
 
 namespace gridshell {
@@ -77,6 +78,47 @@ double surface_area(const TriMesh& mesh) {
 double bbox_diagonal(const Points& V) {
   if (V.rows() == 0) return 0;
   return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+}
+
+namespace {
+
+bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                    const Eigen::Vector2d& d) {
+  auto orient = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
+    const double v = (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
+    return (v > 0) - (v < 0);
+  };
+  return orient(a, b, c) * orient(a, b, d) < 0 && orient(c, d, a) * orient(c, d, b) < 0;
+}
+
+}  // namespace
+
+bool is_simple_polygon(const PolyMesh& mesh, const std::vector<int>& f) {
+  const int n = static_cast<int>(f.size());
+  std::vector<int> sorted = f;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+  Vec3 normal = Vec3::Zero(), centre = Vec3::Zero();
+  for (int k = 0; k < n; ++k) {
+    normal += mesh.vertex(f[k]).cross(mesh.vertex(f[(k + 1) % n]));
+    centre += mesh.vertex(f[k]);
+  }
+  if (normal.norm() == 0) return false;
+  normal.normalize();
+  const Vec3 r = normal.cross(std::abs(normal.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY())
+                     .normalized(),
+             s = normal.cross(r);
+  std::vector<Eigen::Vector2d> p(n);
+  for (int k = 0; k < n; ++k) {
+    const Vec3 d = mesh.vertex(f[k]) - centre / n;
+    p[k] = Eigen::Vector2d(d.dot(r), d.dot(s));
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;
+      if (segments_cross(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n])) return false;
+    }
+  return true;
 }
 
 }  // namespace gridshell

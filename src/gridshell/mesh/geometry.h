@@ -122,4 +122,8 @@ double surface_area(const TriMesh& mesh);
 /// Length of the bounding-box diagonal.
 double bbox_diagonal(const Points& V);
 
+/// True when face `face` of `mesh` (projected on the plane of its vector area) is a simple
+/// polygon: no repeated corner, a non-zero area, and no two non-adjacent sides crossing.
+bool is_simple_polygon(const PolyMesh& mesh, const std::vector<int>& face);
+
 }  // namespace gridshell
