@@ -8,17 +8,10 @@
 
 #include "test_support.h"
 
+using gridshell::test::slurp;
+
 using namespace gridshell;
 namespace fs = std::filesystem;
-
-namespace {
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-}  // namespace
 
 TEST(Cli, HelpExitsZero) {
   test::RunResult r = test::run_gridshell("--help");

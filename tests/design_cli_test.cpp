@@ -16,18 +16,11 @@
 #include "gridshell/surfaces/load.h"
 #include "test_support.h"
 
+using gridshell::test::slurp;
+
 using gridshell::test::run_gridshell;
 using gridshell::test::temp_dir;
 namespace fs = std::filesystem;
-
-namespace {
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-}  // namespace
 
 TEST(DesignCli, WritesTheContractFiles) {
   const fs::path d = temp_dir("out");

@@ -23,6 +23,8 @@
 #include "gridshell/mesh/topology.h"
 #include "test_support.h"
 
+using gridshell::test::slurp;
+
 using gridshell::PolyMesh;
 using gridshell::Vec3;
 using gridshell::fabrication::Vec2;
@@ -34,13 +36,6 @@ namespace fab = gridshell::fabrication;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 using Table = std::vector<std::vector<std::string>>;
 

@@ -18,18 +18,13 @@
 #include "gridshell/figures/figures.h"
 #include "test_support.h"
 
+using gridshell::test::slurp;
+
 using namespace gridshell;
 using namespace gridshell::figures;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 /// Width and height from the PNG signature and IHDR chunk (big-endian), read byte by byte.
 std::pair<int, int> png_size(const fs::path& p) {

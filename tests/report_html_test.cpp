@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 #include <netinet/in.h>
-#include <png.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -27,7 +26,12 @@
 #include "gridshell/pipeline/design.h"
 #include "gridshell/report/assets.h"
 #include "gridshell/report/report_html.h"
+#include "png_support.h"
 #include "test_support.h"
+
+using gridshell::test::Image;
+using gridshell::test::read_png;
+using gridshell::test::slurp;
 
 using gridshell::PolyMesh;
 using gridshell::test::run_gridshell;
@@ -36,13 +40,6 @@ namespace fs = std::filesystem;
 namespace rep = gridshell::report;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 /// A shallow dome of n × n quads over 10 m × 10 m, supported along its whole boundary.
 struct Dome {
@@ -347,25 +344,6 @@ Shot chromium(const std::string& exe, const std::string& url, const fs::path& pn
   s.dom = slurp(work / "dom.html");
   s.log = slurp(work / "shot.log") + slurp(work / "dom.log");
   return s;
-}
-
-struct Image {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgb;
-  const unsigned char* at(int x, int y) const { return &rgb[3 * (y * width + x)]; }
-};
-
-Image read_png(const fs::path& path) {
-  Image im;
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_file(&png, path.c_str())) return im;
-  png.format = PNG_FORMAT_RGB;
-  im.rgb.resize(PNG_IMAGE_SIZE(png));
-  if (!png_image_finish_read(&png, nullptr, im.rgb.data(), 0, nullptr)) return {};
-  im.width = static_cast<int>(png.width);
-  im.height = static_cast<int>(png.height);
-  return im;
 }
 
 /// Console lines of the page that are errors (Chromium's own GPU performance notes aside).

@@ -4,7 +4,6 @@
 // page in headless Chromium (a slider moved by the page's script redraws the mesh).
 
 #include <gtest/gtest.h>
-#include <png.h>
 #include <signal.h>
 
 #include <atomic>
@@ -25,7 +24,12 @@
 #include "gridshell/studio/request.h"
 #include "gridshell/studio/server.h"
 #include "gridshell/studio/zip.h"
+#include "png_support.h"
 #include "test_support.h"
+
+using gridshell::test::Image;
+using gridshell::test::read_png;
+using gridshell::test::slurp;
 
 #include <httplib.h>  // last: its <resolv.h> defines `_res`, which breaks Eigen headers after it
 
@@ -34,13 +38,6 @@ using gridshell::test::run_gridshell;
 using gridshell::test::temp_dir;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 /// The message parse_request throws, as the CLI prints it.
 std::string request_error(const gridshell::studio::Params& params) {
@@ -357,24 +354,6 @@ std::string chromium(const std::string& exe, const std::string& url, const fs::p
                           (work / "dom.html").string() + " 2>/dev/null";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   return slurp(work / "dom.html");
-}
-
-struct Image {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgb;
-};
-
-Image read_png(const fs::path& path) {
-  Image im;
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_file(&png, path.c_str())) return im;
-  png.format = PNG_FORMAT_RGB;
-  im.rgb.resize(PNG_IMAGE_SIZE(png));
-  if (!png_image_finish_read(&png, nullptr, im.rgb.data(), 0, nullptr)) return {};
-  im.width = static_cast<int>(png.width);
-  im.height = static_cast<int>(png.height);
-  return im;
 }
 
 /// Share of the 3D view's pixels (left of the 330 px side panel) that are not the background.

@@ -36,8 +36,8 @@ fs::path temp_dir(const std::string& name) {
   return p;
 }
 
-static std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();

@@ -17,6 +17,9 @@ std::filesystem::path shared_data();
 /// Path of a file under shared/data, or empty when absent.
 std::filesystem::path shared_file(const std::string& relative);
 
+/// The whole content of a file (empty when it cannot be read).
+std::string slurp(const std::filesystem::path& path);
+
 /// A fresh empty folder under the system temp dir, unique per test.
 std::filesystem::path temp_dir(const std::string& name);
 
