@@ -1,7 +1,10 @@
 #pragma once
-// Reading headless Chromium's screenshots in the browser tests (link PNG::PNG).
+// The browser tests' helpers: finding headless Chromium and reading its screenshots (link
+// PNG::PNG).
 
+#include <cstdlib>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include <png.h>
@@ -26,6 +29,15 @@ inline Image read_png(const std::filesystem::path& path) {
   im.width = static_cast<int>(png.width);
   im.height = static_cast<int>(png.height);
   return im;
+}
+
+/// The Chromium executable on PATH, or empty.
+inline std::string find_chromium() {
+  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
+    const std::string cmd = std::string("command -v ") + name + " >/dev/null 2>&1";
+    if (std::system(cmd.c_str()) == 0) return name;
+  }
+  return "";
 }
 
 }  // namespace gridshell::test

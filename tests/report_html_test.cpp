@@ -29,6 +29,7 @@
 #include "png_support.h"
 #include "test_support.h"
 
+using gridshell::test::find_chromium;
 using gridshell::test::Image;
 using gridshell::test::read_png;
 using gridshell::test::slurp;
@@ -309,14 +310,6 @@ TEST(ReportHtml, CommandsWriteIt) {
 // Headless Chromium: the page from disk and over HTTP.
 
 namespace {
-
-std::string find_chromium() {
-  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
-    const std::string cmd = std::string("command -v ") + name + " >/dev/null 2>&1";
-    if (std::system(cmd.c_str()) == 0) return name;
-  }
-  return "";
-}
 
 struct Shot {
   int status = -1;

@@ -27,6 +27,7 @@
 #include "png_support.h"
 #include "test_support.h"
 
+using gridshell::test::find_chromium;
 using gridshell::test::Image;
 using gridshell::test::read_png;
 using gridshell::test::slurp;
@@ -327,14 +328,6 @@ TEST_F(StudioServerTest, ANewerRequestStopsANonlinearAnalysisEarly) {
 // The page in headless Chromium
 
 namespace {
-
-std::string find_chromium() {
-  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
-    const std::string cmd = std::string("command -v ") + name + " >/dev/null 2>&1";
-    if (std::system(cmd.c_str()) == 0) return name;
-  }
-  return "";
-}
 
 /// Headless Chromium with WebGL on SwiftShader and no network but 127.0.0.1: a screenshot of
 /// `url` (when `png` is set) and the DOM after the scripts ran.

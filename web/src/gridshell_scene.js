@@ -9,6 +9,20 @@ import { LineSegments2 } from 'three/addons/lines/LineSegments2.js';
 import { LineSegmentsGeometry } from 'three/addons/lines/LineSegmentsGeometry.js';
 import { LineMaterial } from 'three/addons/lines/LineMaterial.js';
 
+/// The renderer (drawn into `view`, pixels kept for screenshots) and the lit scene both pages use.
+export function createScene(view) {
+  const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(window.devicePixelRatio || 1);
+  renderer.setClearColor(0xf6f6f3, 1);
+  view.appendChild(renderer.domElement);
+  const scene = new THREE.Scene();
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x888880, 2.2));
+  const sun = new THREE.DirectionalLight(0xffffff, 1.2);
+  sun.position.set(1, -1, 2);
+  scene.add(sun);
+  return { renderer, scene };
+}
+
 // ---------------------------------------------------------------------------------------------
 // Colour maps: a sequential one (dark blue → green → yellow) and a diverging one for axial
 // forces (compression red, 0 light grey, tension blue).

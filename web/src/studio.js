@@ -14,7 +14,9 @@
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { buildGridObjects, colourModes, escapeHtml, fmt, legendHtml } from './gridshell_scene.js';
+import {
+  buildGridObjects, colourModes, createScene, escapeHtml, fmt, legendHtml,
+} from './gridshell_scene.js';
 
 const root = document.documentElement;
 const $ = (id) => document.getElementById(id);
@@ -23,15 +25,7 @@ const $ = (id) => document.getElementById(id);
 // Scene
 
 const view = $('view');
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
-renderer.setPixelRatio(window.devicePixelRatio || 1);
-renderer.setClearColor(0xf6f6f3, 1);
-view.appendChild(renderer.domElement);
-const scene = new THREE.Scene();
-scene.add(new THREE.HemisphereLight(0xffffff, 0x888880, 2.2));
-const sun = new THREE.DirectionalLight(0xffffff, 1.2);
-sun.position.set(1, -1, 2);
-scene.add(sun);
+const { renderer, scene } = createScene(view);
 const camera = new THREE.PerspectiveCamera(35, 1, 0.01, 1000);
 camera.up.set(0, 0, 1);
 const controls = new OrbitControls(camera, renderer.domElement);

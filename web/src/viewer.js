@@ -9,7 +9,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import {
-  buildGridObjects, colourModes, displacementMagnitudes, escapeHtml, fmt, legendHtml,
+  buildGridObjects, colourModes, createScene, displacementMagnitudes, escapeHtml, fmt, legendHtml,
 } from './gridshell_scene.js';
 
 // ---------------------------------------------------------------------------------------------
@@ -33,16 +33,7 @@ const MODES = colourModes(data);
 // Scene
 
 const view = document.getElementById('view');
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
-renderer.setPixelRatio(window.devicePixelRatio || 1);
-renderer.setClearColor(0xf6f6f3, 1);
-view.appendChild(renderer.domElement);
-
-const scene = new THREE.Scene();
-scene.add(new THREE.HemisphereLight(0xffffff, 0x888880, 2.2));
-const sun = new THREE.DirectionalLight(0xffffff, 1.2);
-sun.position.set(1, -1, 2);
-scene.add(sun);
+const { renderer, scene } = createScene(view);
 
 // Current joint positions (base + animated buckling mode).
 const pos = new Float32Array(joints);
