@@ -3,12 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 
@@ -105,4 +107,20 @@ TEST(Objective, WordsAndBadOptions) {
   bad.tolerance = -1;
   const Surface surface = load_surface("builtin:funicular:res=12", {});
   EXPECT_THROW(design_for_objective(surface, small_design(), bad), Error);
+}
+
+TEST(Objective, AStopRequestEndsTheSearchBeforeItsNextCandidate) {
+  const Surface surface = load_surface("builtin:funicular:res=24", {});
+  ObjectiveOptions oo;
+  std::atomic<int> designed{0};
+  oo.progress = [&](std::string_view, double fraction, std::string_view) {
+    if (fraction > 0 && fraction < 1) ++designed;
+  };
+  // Stop once two candidates are done: candidates already running finish, no new one starts.
+  oo.stop = [&] { return designed >= 2; };
+  EXPECT_THROW(design_for_objective(surface, small_design(), oo), Stopped);
+  const int running_at_most = tbb::this_task_arena::max_concurrency();
+  EXPECT_GE(designed, 2);
+  // (On two cores at most 4 of the search's ≥ 7 candidates: the test above.)
+  EXPECT_LE(designed, 2 + running_at_most) << "the search went on after the stop request";
 }

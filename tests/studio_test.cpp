@@ -324,6 +324,39 @@ TEST_F(StudioServerTest, ANewerRequestStopsANonlinearAnalysisEarly) {
   RecordProperty("stopped_s", std::to_string(stopped_s));
 }
 
+TEST_F(StudioServerTest, ANewerRequestStopsAnObjectiveSearchEarly) {
+  using Clock = std::chrono::steady_clock;
+  const std::string search_q = "/api/design?surface=builtin:dome&cells=100&objective=lambda";
+  auto c = client();
+  auto t0 = Clock::now();
+  const auto full = c.Get(search_q + "&seed=5");
+  const double full_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  ASSERT_TRUE(full);
+  ASSERT_EQ(full->status, 200) << full->body;
+  const auto candidates = nlohmann::json::parse(full->body)["report"]["objective"]["candidates"];
+  ASSERT_GE(candidates.size(), 7u);
+  // The same search (another seed), superseded by a quick request a quarter of the way in.
+  int status = 0;
+  double stopped_s = 0;
+  t0 = Clock::now();
+  std::thread slow([&] {
+    auto cs = client();
+    const auto r = cs.Get(search_q + "&seed=6");
+    status = r ? r->status : -1;
+    stopped_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  });
+  std::this_thread::sleep_for(std::chrono::duration<double>(0.25 * full_s));
+  const auto quick = c.Get("/api/design?surface=builtin:dome&D=1&A=1&cells=60&analyze=linear");
+  slow.join();
+  ASSERT_TRUE(quick);
+  EXPECT_EQ(quick->status, 200);
+  EXPECT_EQ(status, 409);
+  // It stopped before its next candidate, not at the end of the search.
+  EXPECT_LT(stopped_s, 0.75 * full_s) << "full search " << full_s << " s";
+  RecordProperty("full_search_s", std::to_string(full_s));
+  RecordProperty("stopped_s", std::to_string(stopped_s));
+}
+
 // ---------------------------------------------------------------------------------------------
 // The page in headless Chromium
 

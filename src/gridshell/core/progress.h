@@ -6,6 +6,7 @@
 /// empty Progress reports nothing — the default in every options struct, so library users and
 /// tests pay nothing. Calls may come from several threads at once: the receiver serialises them.
 
+#include <exception>
 #include <functional>
 #include <string_view>
 
@@ -20,5 +21,18 @@ inline void report_progress(const Progress& progress, std::string_view stage, do
                             std::string_view detail = {}) {
   if (progress) progress(stage, fraction, detail);
 }
+
+/// Asked by a long computation that can be stopped, between its units of work (never inside a
+/// parallel loop's body, so nothing is left half done); true asks it to stop. May be called from
+/// several threads. An empty one never stops anything — the default everywhere.
+using StopRequest = std::function<bool()>;
+
+/// Thrown by a computation that stopped because its StopRequest said so; nothing it would have
+/// returned exists.
+struct Stopped : std::exception {
+  const char* what() const noexcept override { return "stopped on request"; }
+};
+
+inline bool stop_requested(const StopRequest& stop) { return stop && stop(); }
 
 }  // namespace gridshell

@@ -156,9 +156,11 @@ std::vector<Evaluated> evaluate_all(const Surface& surface, const DesignOptions&
                                     double length, int round, SearchProgress& progress) {
   std::vector<Evaluated> out(settings.size());
   tbb::parallel_for(0, static_cast<int>(settings.size()), [&](int i) {
+    if (stop_requested(progress.options.stop)) return;
     out[i] = evaluate(surface, base, settings[i].first, settings[i].second, length, round);
     progress.one_more();
   });
+  if (stop_requested(progress.options.stop)) throw Stopped{};
   return out;
 }
 
@@ -399,6 +401,7 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   std::vector<Evaluated> all;
   all.push_back(evaluate(surface, base, FieldSetting{}, nullptr, 0, 1, true));
   progress.one_more();
+  if (stop_requested(options.stop)) throw Stopped{};
   const double length =
       base.tessellation.length > 0 ? base.tessellation.length : all[0].candidate.length;
   const StressField shell = fem::analyze_surface_stress(surface, base.shell).stress;
@@ -416,6 +419,7 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   }
   report_progress(options.progress, "objective search", 1,
                   fmt::format("{} designs", all.size()));
+  if (stop_requested(options.stop)) throw Stopped{};
   ObjectiveResult res = choose(all, base, options);
   res.seconds = seconds_since(t0);
   return res;

@@ -81,6 +81,11 @@ struct ObjectiveOptions {
   int max_designs = 16;  ///< candidates at most, the reference included (the default design
                          ///< stays within 10 s: docs/field.md)
   Progress progress = {};  ///< told after every candidate (empty: nobody listens)
+  /// Asked before every candidate starts and before the chosen design's final analysis: once it
+  /// answers true, no further candidate starts, and the search throws `Stopped` when the
+  /// running ones are done (at most one candidate's time later). The studio uses it to drop a
+  /// superseded search instead of finishing it.
+  StopRequest stop = {};
 };
 
 /// A candidate as judged.

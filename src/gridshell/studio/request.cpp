@@ -112,7 +112,7 @@ DesignOptions design_options(const StudioRequest& r) {
 }
 
 StudioDesign design_request(const Surface& surface, const StudioRequest& request,
-                            const Progress& progress) {
+                            const StopRequest& stop) {
   const auto start = std::chrono::steady_clock::now();
   StudioDesign d;
   d.request = request;
@@ -120,10 +120,15 @@ StudioDesign design_request(const Surface& surface, const StudioRequest& request
   if (request.objective) {
     ObjectiveOptions search;
     search.objective = *request.objective;
+    search.stop = stop;
     d.search = design_for_objective(surface, options, search);
     d.result = std::move(d.search->design);
   } else {
-    options.frame_analysis.arc.progress = progress;  // (listening changes no result)
+    // The path's listener stops it at its next step (listening changes no result).
+    if (stop)
+      options.frame_analysis.arc.progress = [&stop](std::string_view, double, std::string_view) {
+        if (stop()) throw Stopped{};
+      };
     d.result = run_design(surface, options);
   }
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

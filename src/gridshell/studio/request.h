@@ -64,13 +64,12 @@ struct StudioDesign {
   double seconds = 0;
 };
 
-/// Designs a request on a loaded surface (run_design, or design_for_objective). `progress` is
-/// told after every step of the non-linear path of a single design (not of an objective search);
-/// it may throw to stop the design there (the server does when a newer request came in). Not
-/// given to the objective search: its listener is called from inside parallel rounds, where an
-/// exception would cancel the candidates' own nested parallel loops half done.
+/// Designs a request on a loaded surface (run_design, or design_for_objective). When `stop`
+/// answers true the design stops and throws `Stopped` (the server asks it whether a newer
+/// request came in): a single design's non-linear path at its next step, an objective search
+/// before its next candidate (its candidates of one round run in parallel and each finishes).
 StudioDesign design_request(const Surface& surface, const StudioRequest& request,
-                            const Progress& progress = {});
+                            const StopRequest& stop = {});
 
 /// config.json for `gridshell design --config` (`surface_arg`: the positional argument, e.g. the
 /// built-in's name or the uploaded file's name).

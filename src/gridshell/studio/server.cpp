@@ -32,9 +32,6 @@ struct NamedSurface {
   Surface surface;
 };
 
-/// Thrown by a design's progress listener when a newer request came in.
-struct Superseded {};
-
 /// The CLI's line for an Error.
 std::string error_line(const Error& e) {
   return "gridshell: error: " + e.message() + "\n";
@@ -124,14 +121,11 @@ struct Server::State {
     const std::string query = request_query(request);
     if (!last || last_query != query) {
       last.reset();
-      // A newer request stops a long non-linear path at its next step (request.h).
-      const Progress stop_when_stale = [this, generation](std::string_view, double,
-                                                          std::string_view) {
-        if (generation != latest) throw Superseded{};
-      };
+      // A newer request stops the design at its next step or candidate (request.h).
       try {
-        last = design_request(surface_ptr->surface, request, stop_when_stale);
-      } catch (const Superseded&) {
+        last = design_request(surface_ptr->surface, request,
+                              [this, generation] { return generation != latest; });
+      } catch (const Stopped&) {
         return std::nullopt;
       }
       last_query = query;

@@ -20,8 +20,8 @@
 /// One design at a time (a mutex). Each /api/design request takes a generation number; a
 /// request that is no longer the newest when its turn comes, or when its design ends, is
 /// answered HTTP 409 `superseded` without (further) work, so fast slider changes never build a
-/// queue of stale designs; a running non-linear path stops at its next step when a newer request
-/// arrives (request.h). The last design is kept, so that an export of it costs only the
+/// queue of stale designs; a running design stops when a newer request arrives — a non-linear
+/// path at its next step, an objective search before its next candidate (request.h). The last design is kept, so that an export of it costs only the
 /// files.
 
 #include <memory>
