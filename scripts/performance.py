@@ -1,0 +1,159 @@
+#!/usr/bin/env python3
+"""Measures every speed goal of docs/performance.md and prints its table.
+
+    python3 scripts/performance.py [--build build] [--only NAME,...] [--repeats N] [--long]
+                                   [--work /tmp/gridshell_performance]
+
+Each goal is a whole command (`gridshell ...`, wall time and peak memory of the process from
+/usr/bin/time) or one case of a Google Benchmark program in bench/ (its own real-time figure).
+Whole commands run --repeats times (default 3; goals marked long run once) and report the
+median; the machine is noisy (docs/STATUS.md), so compare binaries by alternating runs in one
+sitting, not across days. Goals marked long (sweeps, docs/results.md) run only with --long.
+Needs ../shared/data for the shared surfaces; goals that need it are skipped without it.
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+DATA = ROOT.parent / "shared" / "data"
+SURF = DATA / "surfaces"
+
+
+def goals(work):
+    """(name, what, goal seconds, goal GB or None, anchor text, anchor seconds or None, kind,
+    spec, long). kind "cmd": spec is a list of argument lists (setup commands first, the last one
+    timed). kind "bench": spec is (program, benchmark name)."""
+    aq = str(SURF / "aquadom_Vouga.ply")
+    aq22 = str(work / "aquadom_22")
+    return [
+        ("default-design", "`gridshell design` on the built-in default surface (objective search "
+         "+ non-linear analysis)", 10, None, "paper: 1–10 min per design", 60, "cmd",
+         [["design", "-o", str(work / "default"), "--quiet"]], False),
+        ("aquadom-design", "Aquadom design, D = A = 3, --length 3898, no analysis", 6, None,
+         "paper: 1–10 min per design", 60, "cmd",
+         [["design", aq, "-D", "3", "-A", "3", "--length", "3898", "--analyze", "none",
+           "--figures", "none", "-o", str(work / "aquadom_33"), "--quiet"]], False),
+        ("aquadom-lba", "Aquadom triangulation as a frame (11 748 bars), linear + LBA, 5 modes",
+         1.5, None, "CalculiX *BUCKLE, same frame", 42, "cmd",
+         [["analyze", aq, "--analyze", "buckling", "--figures", "none", "-o",
+           str(work / "aquadom_lba"), "--quiet"]], False),
+        ("aquadom-nonlinear", "non-linear path of the Aquadom design D = A = 2, --length 6000 "
+         "(8188 beams), perfect structure", 30, None,
+         "paper: over a day per non-linear analysis", 86400, "cmd",
+         [["design", aq, "-D", "2", "-A", "2", "--length", "6000", "--analyze", "none",
+           "--figures", "none", "-o", aq22, "--quiet"],
+          ["analyze", aq22 + "/gridshell.obj", "--analyze", "nonlinear", "--single-path",
+           "--figures", "none", "-o", str(work / "aquadom_22_nl"), "--quiet"]], False),
+        ("fine-input", "design of a 250 K-triangle input (builtin:paraboloid:res=354), 1000 "
+         "cells, linear analysis", 10, 1.0, None, None, "cmd",
+         [["design", "builtin:paraboloid:res=354", "--cells", "1000", "--analyze", "linear",
+           "--figures", "none", "-o", str(work / "fine"), "--quiet"]], False),
+        ("studio-300", "studio /api/design, 300 cells, linear + LBA (median of 7)", 1, None,
+         None, None, "bench", ("studio_bench", "BM_StudioDesign/300"), False),
+        ("studio-1000", "studio /api/design, 1000 cells, linear + LBA (median of 7)", 3, None,
+         None, None, "bench", ("studio_bench", "BM_StudioDesign/1000"), False),
+        ("objective-botanic", "objective search on Botanic (16 designs, linear + LBA)", 60,
+         None, None, None, "bench", ("objective_bench", "BM_ObjectiveBotanic"), False),
+        ("sweep-shell", "sweep Shell, D, A in 1..4, 3 repeats, --length 415, non-linear "
+         "(48 designs)", 180, None, "paper: 1–10 min per design, over a day per non-linear "
+         "analysis", None, "cmd",
+         [["sweep", str(SURF / "Shell.ply"), "--D", "1:4", "--A", "1:4", "--repeats", "3",
+           "--length", "415", "--analyze", "nonlinear", "-o", str(work / "sweep_shell"),
+           "--quiet"]], True),
+        ("sweep-botanic", "the same sweep on Botanic, --length 2018", 240, None, None, None,
+         "cmd",
+         [["sweep", str(SURF / "Botanic.ply"), "--D", "1:4", "--A", "1:4", "--repeats", "3",
+           "--length", "2018", "--analyze", "nonlinear", "-o", str(work / "sweep_botanic"),
+           "--quiet"]], True),
+    ]
+
+
+def run_timed(exe, args):
+    """Wall seconds and peak RSS in GB of one process; raises on failure."""
+    with tempfile.NamedTemporaryFile("r", suffix=".time") as t:
+        cmd = ["/usr/bin/time", "-f", "%e %M", "-o", t.name, str(exe)] + args
+        t0 = time.monotonic()
+        p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        wall = time.monotonic() - t0
+        if p.returncode != 0:
+            raise RuntimeError(f"{' '.join(args)} failed: {p.stderr.strip()[-300:]}")
+        fields = Path(t.name).read_text().split()
+        return wall, int(fields[-1]) / 1e6
+
+
+def run_bench(build, program, name):
+    p = subprocess.run([str(build / program), f"--benchmark_filter=^{name}",
+                        "--benchmark_format=json"], capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(f"{program} failed: {p.stderr.strip()[-300:]}")
+    rows = json.loads(p.stdout)["benchmarks"]
+    median = [r for r in rows if r.get("aggregate_name") == "median"]
+    rows = median or [r for r in rows if r.get("run_type") == "iteration"]
+    r = rows[0]
+    scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[r["time_unit"]]
+    return r["real_time"] * scale
+
+
+def needs_data(spec):
+    return any(str(DATA) in a for args in spec for a in args) if isinstance(spec, list) else \
+        spec[0] in ("objective_bench",)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=str(ROOT / "build"))
+    ap.add_argument("--only", default="")
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--long", action="store_true", help="also the sweeps (several minutes)")
+    ap.add_argument("--work", default=os.path.join(tempfile.gettempdir(),
+                                                   "gridshell_performance"))
+    a = ap.parse_args()
+    build, work = Path(a.build), Path(a.work)
+    work.mkdir(parents=True, exist_ok=True)
+    exe = build / "gridshell"
+    only = {s for s in a.only.split(",") if s}
+    print(f"load average before: {os.getloadavg()[0]:.2f}", file=sys.stderr)
+    print("| goal | what | ours (median) | peak | goal | anchor | anchor / ours |")
+    print("|---|---|---|---|---|---|---|")
+    for (name, what, goal_s, goal_gb, anchor, anchor_s, kind, spec, long) in goals(work):
+        if only and name not in only:
+            continue
+        if long and not a.long and name not in only:
+            continue
+        if needs_data(spec) and not DATA.is_dir():
+            print(f"| {name} | {what} | skipped: no ../shared/data | | | | |")
+            continue
+        peak = ""
+        try:
+            if kind == "cmd":
+                for setup in spec[:-1]:
+                    run_timed(exe, setup)
+                runs = [run_timed(exe, spec[-1]) for _ in range(1 if long else a.repeats)]
+                ours = statistics.median(w for w, _ in runs)
+                gb = max(m for _, m in runs)
+                peak = f"{gb:.2f} GB" + (" ✗" if goal_gb and gb > goal_gb else "")
+                detail = " / ".join(f"{w:.2f}" for w, _ in runs)
+            else:
+                ours = run_bench(build, *spec)
+                detail = "bench"
+        except RuntimeError as e:
+            print(f"| {name} | {what} | failed: {e} | | | | |")
+            continue
+        mark = "" if ours <= goal_s else " ✗"
+        goal = f"≤ {goal_s:g} s" + (f", ≤ {goal_gb:g} GB" if goal_gb else "")
+        ratio = f"{anchor_s / ours:.0f}×" if anchor_s else ""
+        print(f"| {name} | {what} | {ours:.2f} s{mark} ({detail}) | {peak} | {goal} | "
+              f"{anchor or ''} | {ratio} |", flush=True)
+    print(f"load average after: {os.getloadavg()[0]:.2f}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
