@@ -486,14 +486,22 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
       throw Error("metric", fmt::format("edges of M' still exceed q = {} after {} rounds "
                                         "(longest {})",
                                         o.max_edge, out.rounds, longest));
+    // Split until no edge of the current M′ exceeds split_ratio·q (an edge over 2·split_ratio·q
+    // needs several halvings), then re-solve once: one factorisation per round instead of one per
+    // halving.
     std::vector<int> parent;
     const int edges_before = out.rest.num_faces() * 3 / 2;
-    const int split = split_long_edges(out.rest, out.deformed, o.split_ratio * o.max_edge, parent);
-    if (out.rest.num_faces() > o.max_faces)
-      throw Error("metric", fmt::format("refinement exceeds {} faces (q = {} too small for the "
-                                        "surface)",
-                                        o.max_faces, o.max_edge));
-    out.field = children_field(out.field, parent, out.parent_face);
+    int split = 0;
+    for (int pass = 0; pass < 32; ++pass) {
+      const int n = split_long_edges(out.rest, out.deformed, o.split_ratio * o.max_edge, parent);
+      if (n == 0) break;
+      split += n;
+      if (out.rest.num_faces() > o.max_faces)
+        throw Error("metric", fmt::format("refinement exceeds {} faces (q = {} too small for the "
+                                          "surface)",
+                                          o.max_faces, o.max_edge));
+      out.field = children_field(out.field, parent, out.parent_face);
+    }
     ++out.rounds;
     // Midpoint splits keep M′ the same piecewise-linear map and the children carry the parent's
     // target, so the residual is unchanged: a round that split only a few edges is not worth a
