@@ -163,26 +163,6 @@ TEST(Metric, RefinementBringsEveryEdgeBelowQ) {
   }
 }
 
-TEST(Metric, EdgesNeedingSeveralHalvingsCostOneRound) {
-  // A constant density d = 4 is realised exactly by M′ = 4 M (compatible metric), so the
-  // re-solve after a refinement does not move the edges. The 1 m grid edges become 4 m (5.7 m
-  // diagonals) on M′; with q = 0.8 m every edge needs three or four halvings. They are all done
-  // before one re-solve: one round, one factorisation, refine_iterations per halving (four, for
-  // the diagonals) run on the final level (before: one round and one re-solve per halving).
-  const TriMesh m = grid(4, 4, 4.0, 4.0);
-  const Field fd = test::synthetic_field(
-      m, [](const Vec3&) { return 4.0; }, [](const Vec3&) { return 1.0; });
-  DeformOptions o;
-  o.max_edge = 0.8;
-  const Deformed r = deform_metric(m, fd, o);
-  EXPECT_EQ(r.rounds, 1);
-  EXPECT_EQ(r.iterations, o.iterations + 4 * o.refine_iterations);
-  EXPECT_LE(r.max_edge, o.max_edge);
-  EXPECT_GT(r.max_edge, 0.5 * o.split_ratio * o.max_edge);  // not split further than needed
-  EXPECT_LT(r.residual, 1e-8);
-  EXPECT_NEAR(surface_area(r.deformed), 16 * surface_area(m), 1e-6 * surface_area(r.deformed));
-}
-
 TEST(Metric, SplitLongEdgesIsConformingAndKeepsArea) {
   TriMesh rest = grid(3, 3, 3, 3);
   TriMesh def = rest;

@@ -486,24 +486,14 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
       throw Error("metric", fmt::format("edges of M' still exceed q = {} after {} rounds "
                                         "(longest {})",
                                         o.max_edge, out.rounds, longest));
-    // Split until no edge of the current M′ exceeds split_ratio·q (an edge over 2·split_ratio·q
-    // needs several halvings), then re-solve once: one factorisation per round instead of one per
-    // halving, with refine_iterations per halving (as many iterations as before, the
-    // factorisations of the intermediate levels saved; 8 for two halvings left M′ less converged:
-    // funicular D = A = 3, residual 0.0073 against 0.0061).
     std::vector<int> parent;
     const int edges_before = out.rest.num_faces() * 3 / 2;
-    int split = 0, halvings = 0;
-    for (; halvings < 32; ++halvings) {
-      const int n = split_long_edges(out.rest, out.deformed, o.split_ratio * o.max_edge, parent);
-      if (n == 0) break;
-      split += n;
-      if (out.rest.num_faces() > o.max_faces)
-        throw Error("metric", fmt::format("refinement exceeds {} faces (q = {} too small for the "
-                                          "surface)",
-                                          o.max_faces, o.max_edge));
-      out.field = children_field(out.field, parent, out.parent_face);
-    }
+    const int split = split_long_edges(out.rest, out.deformed, o.split_ratio * o.max_edge, parent);
+    if (out.rest.num_faces() > o.max_faces)
+      throw Error("metric", fmt::format("refinement exceeds {} faces (q = {} too small for the "
+                                        "surface)",
+                                        o.max_faces, o.max_edge));
+    out.field = children_field(out.field, parent, out.parent_face);
     ++out.rounds;
     // Midpoint splits keep M′ the same piecewise-linear map and the children carry the parent's
     // target, so the residual is unchanged: a round that split only a few edges is not worth a
@@ -511,8 +501,8 @@ Deformed deform_metric(const TriMesh& mesh, const Field& field, const DeformOpti
     if (split < o.resolve_fraction * edges_before) continue;
     build_level(lv, out.rest, out.field, o.bending, bending_length);
     set_reference(lv, out.deformed.V);
-    out.residual = iterate(lv, out.rest, out.deformed.V, halvings * o.refine_iterations);
-    out.iterations += halvings * o.refine_iterations;
+    out.residual = iterate(lv, out.rest, out.deformed.V, o.refine_iterations);
+    out.iterations += o.refine_iterations;
     spdlog::debug("metric: round {}: {} faces, residual {:.3g}", out.rounds, out.rest.num_faces(),
                   out.residual);
   }
