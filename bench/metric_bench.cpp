@@ -137,7 +137,8 @@ BENCHMARK(BM_CurvedVaultBlk)->Unit(benchmark::kMillisecond);
 
 /// Aquadom with a synthetic field (not a shell analysis): u along the steepest slope, density and
 /// anisotropy growing with the slope; D = A = 3; R chosen for ~1200 cells on M′ (hexagon area
-/// ≈ 0.866 R²), q = R/5. Field + deformation + refinement time.
+/// ≈ 0.866 R²), q = R / range(0): 5 is the paper's q, 1 what `design` uses since session 5
+/// (metric_edge = 1). Field + deformation + refinement time.
 void BM_AquadomSynthetic(benchmark::State& state) {
   const std::filesystem::path file =
       std::filesystem::path(GRIDSHELL_SHARED_DIR) / "data" / "surfaces" / "aquadom_Vouga.ply";
@@ -165,7 +166,7 @@ void BM_AquadomSynthetic(benchmark::State& state) {
     for (int f = 0; f < m.num_faces(); ++f) area += fr.area[f] * fd.d[f] * fd.d[f] / fd.a[f];
     R = std::sqrt(area / (1200 * 0.866));
     DeformOptions o;
-    o.max_edge = R / 5;
+    o.max_edge = R / static_cast<double>(state.range(0));
     r = deform_metric(m, fd, o);
   }
   state.counters["R"] = R;
@@ -175,7 +176,7 @@ void BM_AquadomSynthetic(benchmark::State& state) {
   state.counters["residual"] = r.residual;
   stretch_counters(state, r);
 }
-BENCHMARK(BM_AquadomSynthetic)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AquadomSynthetic)->Arg(5)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

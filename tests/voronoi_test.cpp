@@ -229,6 +229,22 @@ TEST(Tessellation, LengthTargetWithinFivePercent) {
   expect_invariants(s, T, "funicular length");
 }
 
+TEST(Tessellation, LengthModelMeetsTheTargetInOneRunUnderAnAnisotropicMetric) {
+  // M′ = M stretched 2× along x: the cells are half as long along x on M as on M′. The length
+  // model (mean stretch of M′ → M per triangle, boundary on M) must hit the target in the first
+  // run; a first guess from the area of M′ alone is ≈ 20 % long here and needs a second run.
+  const Surface s = make_builtin("funicular");
+  TriMesh stretched = s.mesh;
+  stretched.V.col(0) *= 2.0;
+  for (double length : {300.0, 600.0}) {
+    TessellationOptions o;
+    o.length = length;
+    const Tessellation T = tessellate(s.mesh, stretched, s.supports, o);
+    EXPECT_EQ(T.length_runs, 1) << length;
+    EXPECT_NEAR(T.quality.total_length / length, 1.0, 0.4 * o.length_tolerance) << length;
+  }
+}
+
 TEST(Tessellation, RadiusGivesCellsOfThatSize) {
   const Surface s = make_builtin("paraboloid");
   TessellationOptions o;

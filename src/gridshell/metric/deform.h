@@ -21,8 +21,8 @@
 /// local/global iterations: local = per-triangle polar decomposition (closed-form 2×2 eigen
 /// solve, SVD fallback, TBB-parallel), global = one sparse SPD system (cotangent Laplacian of M
 /// plus the bending matrix) with one vertex per connected component fixed, factorised once per
-/// refinement level (CHOLMOD simplicial LLᵀ) and re-solved with three right-hand sides per
-/// iteration. Initial guess (and bending reference x_ref): the membrane-only Poisson solve with
+/// refinement level (CHOLMOD supernodal LLᵀ, converted to a simplicial factor for the solves) and
+/// re-solved with three right-hand sides per iteration. Initial guess (and bending reference x_ref): the membrane-only Poisson solve with
 /// R_t = (u, u⊥), i.e. the target Jacobians integrated in place; on refined levels x_ref is the
 /// warm start.
 ///

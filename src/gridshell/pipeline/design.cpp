@@ -488,12 +488,14 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
   // Length control. --length is met on the raw tessellation (within 0.4 of the tolerance);
   // regularization shortens the beams by 0.5–3 %, planarization may lengthen them. When the
   // finishing step has moved the total by more than 0.9 of the tolerance, tessellate once more
-  // with the target corrected by the measured change (stress and field do not depend on it).
+  // with the target corrected by the measured change (stress and field do not depend on it):
+  // the finishing step scaled the raw length R to F, so a raw length of L·R/F ends at L.
   const double tolerance = 0.9 * o.tessellation.length_tolerance;
   if (L > 0 && r.metrics.total_length > 0 && std::abs(r.metrics.total_length / L - 1) > tolerance) {
     spdlog::info("[length] {:.5g} m of beams for {:.5g} m: tessellating again",
                  r.metrics.total_length, L);
-    const double first = r.metrics.total_length, target = L * L / first;
+    const double first = r.metrics.total_length;
+    const double target = L * r.raw_metrics.total_length / first;
     const double first_seconds = r.timings.sum();
     r.timings.clear();
     r.timings.add("length_first_pass", first_seconds);

@@ -50,32 +50,33 @@ std::array<int, 2> midpoint_origin(const std::array<int, 2>& a, const std::array
 int refine_support_mesh(SupportMesh& m, const std::function<bool(int, int)>& split,
                         std::vector<int>* source) {
   const int nf = m.rest.num_faces();
-  // The edges to split, sorted by key (the midpoints are numbered in that order). Only those are
-  // sorted: a pass that splits few edges (the extraction's border refinement) stays cheap.
-  std::vector<std::uint64_t> keys;
+  // The edges to split, sorted by key (the midpoints are numbered in that order), each with the
+  // face sides (3 f + k) it is on, so that every side finds its midpoint without a search (a
+  // binary search per side was half of this function). Only the split edges are sorted: a pass
+  // that splits few edges (the extraction's border refinement) stays cheap.
+  std::vector<std::pair<std::uint64_t, int>> sides;
   for (int f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
       int a = m.rest.F(f, k), b = m.rest.F(f, (k + 1) % 3);
       if (a > b) std::swap(a, b);
-      if (split(a, b)) keys.push_back(edge_key(a, b));
+      if (split(a, b)) sides.emplace_back(edge_key(a, b), 3 * f + k);
     }
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::sort(sides.begin(), sides.end());
+  std::vector<int> side_mid(sides.empty() ? 0 : 3 * static_cast<std::size_t>(nf), -1);
   std::vector<Vec3> new_rest, new_def;
   int nv = m.rest.num_vertices();
   const int nv0 = nv;
-  for (const std::uint64_t key : keys) {
-    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xFFFFFFFFu);
-    ++nv;
-    new_rest.push_back(0.5 * (m.rest.vertex(a) + m.rest.vertex(b)));
-    new_def.push_back(0.5 * (m.deformed.vertex(a) + m.deformed.vertex(b)));
-    m.origin.push_back(midpoint_origin(m.origin[a], m.origin[b]));
+  for (std::size_t i = 0; i < sides.size(); ++i) {
+    const std::uint64_t key = sides[i].first;
+    if (i == 0 || key != sides[i - 1].first) {
+      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xFFFFFFFFu);
+      ++nv;
+      new_rest.push_back(0.5 * (m.rest.vertex(a) + m.rest.vertex(b)));
+      new_def.push_back(0.5 * (m.deformed.vertex(a) + m.deformed.vertex(b)));
+      m.origin.push_back(midpoint_origin(m.origin[a], m.origin[b]));
+    }
+    side_mid[sides[i].second] = nv - 1;
   }
-  auto mid_lookup = [&](int a, int b) {
-    const std::uint64_t key = edge_key(a, b);
-    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
-    return it != keys.end() && *it == key ? nv0 + static_cast<int>(it - keys.begin()) : -1;
-  };
   const int added = nv - nv0;
   if (added == 0) {
     if (source) {
@@ -104,7 +105,7 @@ int refine_support_mesh(SupportMesh& m, const std::function<bool(int, int)>& spl
     }
     int marked = 0;
     for (int k = 0; k < 3; ++k) {
-      id[3 + k] = mid_lookup(id[k], id[(k + 1) % 3]);
+      id[3 + k] = side_mid[3 * static_cast<std::size_t>(f) + k];
       bary[3 + k] = 0.5 * (bary[k] + bary[(k + 1) % 3]);
       if (id[3 + k] >= 0) ++marked;
     }

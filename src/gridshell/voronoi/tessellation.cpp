@@ -77,6 +77,69 @@ double length_on_planes(const PolyMesh& mesh, const TessellationOptions& o) {
   return sum;
 }
 
+/// The closed-form length of a tessellation of cell size R (issue 20: meet --length in one run):
+/// a hexagonal tiling of M′ has 3/(kHexArea R) metres of edges per square metre of M′ and the
+/// boundary seeds sit on a lattice row, so cutting the tiling along the boundary adds the
+/// boundary itself: ℓ′ = 3 A′/(kHexArea R) + P′. The output lives on M: an edge of M′ with
+/// direction w comes back with length |F w| (F the map M′ → M of its triangle), and over the
+/// edge directions of a hexagonal cell that averages to the perimeter of the ellipse F(unit
+/// circle) over 2π. So ℓ(R) = 3/(kHexArea R) · Σ_t A′_t m_t + P, m_t that mean stretch and P
+/// the boundary length on M (edges on an excluded plane left out, as in the count).
+struct LengthModel {
+  double interior = 0;  ///< Σ_t A′_t m_t (m²)
+  double boundary = 0;  ///< P (m)
+  double length(double R) const { return 3 * interior / (kHexArea * R) + boundary; }
+  /// The R with length(R) = L; 0 when the boundary alone is as long as L.
+  double radius(double L) const {
+    return L > boundary ? 3 * interior / (kHexArea * (L - boundary)) : 0.0;
+  }
+};
+
+/// Mean of |F w| over unit directions w for a 2×2 map with singular values s1, s2: the perimeter
+/// of the ellipse with those half-axes over 2π (Ramanujan's second approximation, 1e-5 relative
+/// up to an aspect ratio of 5).
+double mean_stretch(double s1, double s2) {
+  const double sum = s1 + s2;
+  if (!(sum > 0)) return 0.0;
+  const double h = (s1 - s2) * (s1 - s2) / (sum * sum);
+  return 0.5 * sum * (1 + 3 * h / (10 + std::sqrt(4 - 3 * h)));
+}
+
+LengthModel length_model(const Input& in, const TessellationOptions& o) {
+  LengthModel m;
+  const TriMesh &M = in.rest, &D = in.deformed;
+  for (int f = 0; f < M.num_faces(); ++f) {
+    const Vec3 a = M.vertex(M.F(f, 1)) - M.vertex(M.F(f, 0)),
+               b = M.vertex(M.F(f, 2)) - M.vertex(M.F(f, 0));
+    const Vec3 ad = D.vertex(D.F(f, 1)) - D.vertex(D.F(f, 0)),
+               bd = D.vertex(D.F(f, 2)) - D.vertex(D.F(f, 0));
+    Eigen::Matrix2d g, gd;  // Gram matrices of the edges on M and on M′
+    g << a.dot(a), a.dot(b), a.dot(b), b.dot(b);
+    gd << ad.dot(ad), ad.dot(bd), ad.dot(bd), bd.dot(bd);
+    const double area_d = 0.5 * std::sqrt(std::max(0.0, gd.determinant()));
+    if (!(area_d > 0)) continue;
+    // FᵀF is similar to g gd⁻¹: its eigenvalues are the squared singular values of F.
+    const Eigen::Matrix2d c = g * gd.inverse();
+    const double tr = c.trace(), det = std::max(0.0, c.determinant());
+    const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+    const double l1 = std::max(0.0, 0.5 * tr + disc), l2 = std::max(0.0, 0.5 * tr - disc);
+    m.interior += area_d * mean_stretch(std::sqrt(l1), std::sqrt(l2));
+  }
+  const double tol = 1e-6 * bbox_diagonal(M.V);
+  auto on_plane = [&](const Vec3& p, const Vec3& q) {
+    for (const Plane& plane : o.length_excluded_planes)
+      if (std::abs(plane.signed_distance(p)) <= tol && std::abs(plane.signed_distance(q)) <= tol)
+        return true;
+    return false;
+  };
+  for (const auto& loop : in.boundary_loops)
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const Vec3 p = M.vertex(loop[k]), q = M.vertex(loop[(k + 1) % loop.size()]);
+      if (!on_plane(p, q)) m.boundary += (p - q).norm();
+    }
+  return m;
+}
+
 /// One tessellation at cell size R (and exactly `cells` cells when > 0): the stages of engine.h
 /// in order.
 Tessellation run_once(const Input& in, double R, int cells, const TessellationOptions& o) {
@@ -100,10 +163,14 @@ Tessellation run_once(const Input& in, double R, int cells, const TessellationOp
   return T;
 }
 
-/// --length: total length ≈ 3 R per cell ⇒ ℓ(R) ≈ 3 area / (kHexArea R) to start, then a secant
-/// in log R / log ℓ; at most 8 runs, the best kept.
+/// --length: R from the closed-form length model (LengthModel), then, when the run misses by
+/// more than 0.4 of the tolerance, a secant in log R / log ℓ (first slope from the model); at most
+/// 8 runs, the best kept.
 Tessellation tessellate_to_length(const Input& in, double area, const TessellationOptions& o) {
-  double R = checked_radius(3 * area / (kHexArea * o.length), area, "--length");
+  const LengthModel model = length_model(in, o);
+  double R = model.radius(o.length);
+  if (!(R > 0)) R = 3 * area / (kHexArea * o.length);  // boundary longer than L: tiny cells
+  R = checked_radius(R, area, "--length");
   Tessellation best;
   double best_err = std::numeric_limits<double>::infinity();
   double lr_prev = 0, ll_prev = 0;
@@ -113,15 +180,17 @@ Tessellation tessellate_to_length(const Input& in, double area, const Tessellati
     Tessellation t = run_once(in, checked_radius(R, area, "--length"), 0, o);
     const double len = t.quality.total_length - length_on_planes(t.mesh, o);
     const double err = std::abs(len / o.length - 1);
-    spdlog::info("tessellation: R = {:.4g} m gives total length {:.5g} m (target {:.5g})", R, len,
-                 o.length);
+    spdlog::info("tessellation: R = {:.4g} m gives total length {:.5g} m (target {:.5g}, model "
+                 "{:.5g})",
+                 R, len, o.length, model.length(R));
     if (err < best_err) {
       best_err = err;
       best = std::move(t);
     }
     if (err <= 0.4 * o.length_tolerance) break;
     const double lr = std::log(R), ll = std::log(len);
-    double slope = -1;
+    // d log ℓ / d log R of the model: the interior term's share, negated.
+    double slope = -std::clamp(1 - model.boundary / model.length(R), 0.3, 1.0);
     if (have_prev && std::abs(lr - lr_prev) > 1e-9) {
       slope = (ll - ll_prev) / (lr - lr_prev);
       if (!(slope < -0.3 && slope > -3)) slope = -1;
