@@ -48,7 +48,11 @@ struct QuadAnisoOptions {
   int max_fits = 8;                ///< extractions tried by the fit before Error
   double resolution = 2;           ///< M′ refined to edges ≤ h / resolution
   int orientation_iterations = 20;
-  int position_iterations = 40;
+  int position_iterations = 40;  ///< per level of the hierarchy
+  /// The hierarchy (Jakob et al. 2015) pairs neighbouring vertices of M′ level by level down to
+  /// at most this many; both fields are solved on the coarsest level first, then refined level
+  /// by level. 0: a single level (M′ only).
+  int coarsest = 64;
   /// Weight of the data term of the cross-field smoothing, per unit coherence, relative to the
   /// sum of the neighbours (≥ 0): high keeps the field's directions where they are well defined.
   double alignment = 4;
