@@ -103,8 +103,8 @@ TEST(QuadAniso, PlaneWithConstantFieldFollowsDirectionAndAspect) {
   EXPECT_GT(max_x, 40 - 1e-6);
 }
 
-// d rising from 1 to 2 along x: quads half as big where d = 2. (The aspect comes out lower
-// than a where d varies — 1.5 instead of 2 here, docs/quad_aniso.md — so only ≥ 1.4 is asked.)
+// d rising from 1 to 2 along x: quads half as big where d = 2, still stretched a = 2-fold
+// (the single-level position field of session 6 gave 1.5 here; the hierarchy gives 1.9).
 TEST(QuadAniso, PlaneWithGradedDensityHasSizesInverseToD) {
   const Surface s = plane(40, 20, 80, 40);
   Field field;
@@ -115,7 +115,7 @@ TEST(QuadAniso, PlaneWithGradedDensityHasSizesInverseToD) {
   so.strong_a = 2, so.aspect_a = 1.5;
   const QuadMeshStats st = quad_mesh_stats(g, s.mesh, field, so);
   expect_valid_quads(st);
-  EXPECT_GE(st.median_aspect, 1.4);
+  EXPECT_NEAR(st.median_aspect, 2.0, 0.3);
   const double sparse = mean_beam(g, 0, 5), dense = mean_beam(g, 35, 40);
   ASSERT_GT(dense, 0);
   EXPECT_NEAR(sparse / dense, 2.0, 0.4);
@@ -145,7 +145,7 @@ TEST(QuadAniso, PlaneWithTurningFieldMeetsTheTargets) {
   EXPECT_GT(st.aspect_quads, 20);
   EXPECT_GE(st.median_aspect, 1.5);
   // And the stretch is about the a asked for.
-  EXPECT_NEAR(st.median_aspect, 3.0, 1.0);
+  EXPECT_NEAR(st.median_aspect, 3.0, 0.5);
 }
 
 // The acceptance on the surface it names: Botanic at (3, 3) with the design's stress
