@@ -1016,6 +1016,7 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   PolyMesh best;
   double best_error = std::numeric_limits<double>::infinity();
   const int fits = o.length > 0 ? o.max_fits : 1;
+  double h_long = 0, h_short = std::numeric_limits<double>::infinity();  // see the bracket below
   for (int k = 0; k < fits; ++k) {
     PolyMesh grid = build(h);
     ++r.fits;
@@ -1029,11 +1030,23 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
       r.spacing = h;
     }
     if (best_error <= o.length_tolerance) break;
-    h *= length / o.length;
+    // L(h) is a step function (whole cells) and jumps with the lattice's start, so the secant on
+    // L ∝ 1/h can oscillate about the target on a small grid: once h is bracketed (one grid too
+    // long, one too short) a step that leaves the bracket is replaced by its geometric middle.
+    if (length > o.length)
+      h_long = std::max(h_long, h);
+    else
+      h_short = std::min(h_short, h);
+    double next = h * length / o.length;
+    if (h_long > 0 && std::isfinite(h_short) && h_long < h_short &&
+        !(next > h_long && next < h_short))
+      next = std::sqrt(h_long * h_short);
+    h = next;
   }
-  if (o.length > 0 && best_error > o.length_tolerance)
+  if (o.length > 0 && best_error > std::max(o.length_tolerance, o.length_limit))
     throw Error("quad-aniso", fmt::format("total length not within {:.0f}% of {} m after {} fits",
-                                          100 * o.length_tolerance, o.length, r.fits));
+                                          100 * std::max(o.length_tolerance, o.length_limit),
+                                          o.length, r.fits));
   r.grid.mesh = std::move(best);
   r.grid.supports = transfer_supports(r.grid.mesh.V, surface, tol);
   return r;

@@ -49,8 +49,11 @@ namespace gridshell {
 struct QuadAnisoOptions {
   double spacing = 0;  ///< h: quad size on M′ (m); ignored when `length` > 0
   double length = 0;   ///< total beam length wanted (m): h is fitted (secant on L ∝ 1/h)
-  double length_tolerance = 0.03;  ///< relative, for the fit
-  int max_fits = 8;                ///< extractions tried by the fit before Error
+  double length_tolerance = 0.03;  ///< relative: the fit stops at the first grid this close
+  /// Relative: when no grid came within `length_tolerance` after `max_fits` extractions, the
+  /// closest is kept if within this (the issue's ±5 %), else Error.
+  double length_limit = 0.05;
+  int max_fits = 8;  ///< extractions tried by the fit
   double resolution = 2;           ///< M′ refined to edges ≤ h / resolution
   int orientation_iterations = 20;
   int position_iterations = 40;  ///< per level of the hierarchy
