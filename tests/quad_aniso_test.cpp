@@ -12,6 +12,7 @@
 #include "gridshell/grids/baseline_kind.h"
 #include "gridshell/grids/quad_aniso.h"
 #include "gridshell/grids/recover_quads.h"
+#include "gridshell/pipeline/baseline_field.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/builtin.h"
 #include "gridshell/surfaces/load.h"
@@ -102,8 +103,8 @@ TEST(QuadAniso, PlaneWithConstantFieldFollowsDirectionAndAspect) {
   EXPECT_GT(max_x, 40 - 1e-6);
 }
 
-// d rising from 1 to 2 along x: quads half as big where d = 2. (The aspect comes out lower
-// than a where d varies — 1.5 instead of 2 here, docs/quad_aniso.md — so only ≥ 1.4 is asked.)
+// d rising from 1 to 2 along x: quads half as big where d = 2, still stretched a = 2-fold
+// (the single-level position field of session 6 gave 1.5 here; the hierarchy gives 1.9).
 TEST(QuadAniso, PlaneWithGradedDensityHasSizesInverseToD) {
   const Surface s = plane(40, 20, 80, 40);
   Field field;
@@ -114,10 +115,62 @@ TEST(QuadAniso, PlaneWithGradedDensityHasSizesInverseToD) {
   so.strong_a = 2, so.aspect_a = 1.5;
   const QuadMeshStats st = quad_mesh_stats(g, s.mesh, field, so);
   expect_valid_quads(st);
-  EXPECT_GE(st.median_aspect, 1.4);
+  EXPECT_NEAR(st.median_aspect, 2.0, 0.3);
   const double sparse = mean_beam(g, 0, 5), dense = mean_beam(g, 35, 40);
   ASSERT_GT(dense, 0);
   EXPECT_NEAR(sparse / dense, 2.0, 0.4);
+}
+
+// The direction turns by 60° across the plane and a = 3: M′ is curved, so the lattice needs
+// defects; the targets hold all the same (valence 4 and quads ≥ 85 %, ≥ 70 % of beams
+// within 15° of u or u⊥, median aspect ≥ 1.5 where a ≥ 2.5).
+TEST(QuadAniso, PlaneWithTurningFieldMeetsTheTargets) {
+  const Surface s = plane(40, 20, 80, 40);
+  Field field = test::synthetic_field(
+      s.mesh, [](const Vec3&) { return 1.0; }, [](const Vec3&) { return 3.0; });
+  for (int f = 0; f < s.mesh.num_faces(); ++f) {
+    const double theta = kPi / 3 * test::centroid(s.mesh, f).x() / 40;
+    field.u[f] = Vec3(std::cos(theta), std::sin(theta), 0);
+  }
+  QuadAnisoOptions o;
+  o.spacing = 1.5;
+  const QuadAnisoResult r = quad_aniso(s, field, o);
+  const QuadMeshStats st = quad_mesh_stats(r.grid.mesh, s.mesh, field);
+  EXPECT_GT(st.interior_joints, 60);
+  EXPECT_GE(st.valence4_share, 0.85);
+  EXPECT_GE(st.quad_share, 0.85);
+  EXPECT_EQ(st.non_simple_faces, 0);
+  EXPECT_GE(st.min_edge_ratio, 0.1);
+  EXPECT_GE(st.aligned_share, 0.7);
+  EXPECT_GT(st.aspect_quads, 20);
+  EXPECT_GE(st.median_aspect, 1.5);
+  // And the stretch is about the a asked for.
+  EXPECT_NEAR(st.median_aspect, 3.0, 0.5);
+}
+
+// The acceptance on the surface it names: Botanic at (3, 3) with the design's stress
+// field, at the paper's 2018 m.
+TEST(QuadAniso, BotanicAt33MeetsTheTargets) {
+  SKIP_WITHOUT_SHARED_DATA();
+  const Surface s = load_surface(test::shared_file("surfaces/Botanic.ply").string(), {});
+  DesignOptions d;
+  d.D = d.A = 3;
+  const Field field = baseline_field(s, d);
+  QuadAnisoOptions o;
+  o.length = 2018;
+  const QuadAnisoResult r = quad_aniso(s, field, o);
+  EXPECT_NEAR(total_edge_length(r.grid.mesh) / 2018, 1.0, 0.05);
+  const QuadMeshStats st = quad_mesh_stats(r.grid.mesh, s.mesh, field);
+  EXPECT_GT(st.interior_joints, 500);
+  EXPECT_GE(st.valence4_share, 0.85);
+  EXPECT_GE(st.quad_share, 0.85);
+  EXPECT_EQ(st.non_simple_faces, 0);
+  EXPECT_GE(st.min_edge_ratio, 0.1);
+  EXPECT_GT(st.strong_beams, 100);
+  EXPECT_GE(st.aligned_share, 0.7);
+  EXPECT_GT(st.aspect_quads, 20);
+  EXPECT_GE(st.median_aspect, 1.5);
+  EXPECT_FALSE(r.grid.supports.empty());
 }
 
 TEST(QuadAniso, LengthIsFittedAndTheRunIsDeterministic) {

@@ -8,6 +8,7 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -192,6 +193,199 @@ void absorb_lone_triangles(std::vector<std::vector<int>>& faces, const std::vect
               faces.end());
 }
 
+/// Badness of the quad (a, b, c, d) on M′ about the normal n: Σ cos² of its corner angles (0 for
+/// a rectangle); infinite when a corner is not convex (turns the wrong way about n).
+double quad_badness(const std::array<Vec3, 4>& p, const Vec3& n) {
+  double bad = 0;
+  for (int k = 0; k < 4; ++k) {
+    const Vec3 e0 = p[k] - p[(k + 3) % 4], e1 = p[(k + 1) % 4] - p[k];
+    if (e0.cross(e1).dot(n) <= 0) return std::numeric_limits<double>::infinity();
+    const double c = e0.dot(e1) / (e0.norm() * e1.norm());
+    bad += c * c;
+  }
+  return bad;
+}
+
+/// The best split of the polygon `poly` (an even number of corners, counter-clockwise about n)
+/// into quads by diagonals (i, i + 3): the lowest Σ badness + `valence_weight` × Σ over the
+/// diagonals' ends of the change in |valence − 4| + Σ over the diagonals of (length / h − 1)²
+/// (a new beam should be one lattice step long, not a cell's diagonal). Diagonals that are beams
+/// already are not used. Returns the cost (infinite when there is no admissible split) and fills `quads`.
+double best_quad_split(const std::vector<int>& poly, const std::vector<Vec3>& p, const Vec3& n,
+                       std::map<int, int>& degree, const std::set<std::pair<int, int>>& beams,
+                       double valence_weight, double h, std::vector<std::array<int, 4>>& quads) {
+  const int m = static_cast<int>(poly.size());
+  if (m == 4) {
+    quads = {{poly[0], poly[1], poly[2], poly[3]}};
+    return quad_badness({p[poly[0]], p[poly[1]], p[poly[2]], p[poly[3]]}, n);
+  }
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < m; ++i) {
+    const int a = poly[i], b = poly[(i + 1) % m], c = poly[(i + 2) % m], d = poly[(i + 3) % m];
+    if (beams.count({std::min(a, d), std::max(a, d)})) continue;
+    const double q = quad_badness({p[a], p[b], p[c], p[d]}, n);
+    if (!std::isfinite(q) || q >= best) continue;
+    auto change = [&](int v) { return std::abs(degree[v] + 1 - 4) - std::abs(degree[v] - 4); };
+    const double stretch = (p[a] - p[d]).norm() / h - 1;
+    const double val = valence_weight * (change(a) + change(d)) + stretch * stretch;
+    ++degree[a], ++degree[d];
+    std::vector<int> rest;
+    for (int k = 0; k < m; ++k)
+      if (k != (i + 1) % m && k != (i + 2) % m) rest.push_back(poly[k]);
+    std::vector<std::array<int, 4>> sub;
+    const double r = best_quad_split(rest, p, n, degree, beams, valence_weight, h, sub);
+    --degree[a], --degree[d];
+    if (q + val + r < best) {
+      best = q + val + r;
+      quads = {{a, b, c, d}};
+      quads.insert(quads.end(), sub.begin(), sub.end());
+    }
+  }
+  return best;
+}
+
+/// `poly` joined with `face` across their common beam e (poly walks it one way, face the other):
+/// the boundary of the union, or empty when e is not on both or a joint would appear twice.
+std::vector<int> join_across(const std::vector<int>& poly, const std::vector<int>& face,
+                             const std::pair<int, int>& e) {
+  const int m = static_cast<int>(poly.size()), mg = static_cast<int>(face.size());
+  int i = 0;
+  while (i < m && !((poly[i] == e.first && poly[(i + 1) % m] == e.second) ||
+                    (poly[i] == e.second && poly[(i + 1) % m] == e.first)))
+    ++i;
+  if (i == m) return {};
+  const int a = poly[i], b = poly[(i + 1) % m];
+  std::vector<int> out;
+  for (int k = 0; k < m; ++k) out.push_back(poly[(i + 1 + k) % m]);  // b … a
+  int j = 0;
+  while (j < mg && face[j] != a) ++j;
+  if (j == mg || face[(j + mg - 1) % mg] != b) return {};  // face does not walk b → a
+  for (int k = 1; k + 1 < mg; ++k) out.push_back(face[(j + k) % mg]);  // after a … before b
+  std::vector<int> sorted = out;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return {};
+  return out;
+}
+
+/// Quad-dominant clean-up on M′. Where the position field has a seam (a row of cells that starts
+/// or ends, a half-step shift between two lattices) the extraction leaves faces of an odd number
+/// of sides: two triangles (a quad cut by its diagonal), a triangle and a pentagon (a
+/// T-junction), a wedge-shaped triangle where a row of cells begins. Two odd faces joined by a
+/// path of at most `max_quads_between` quads (sharing one beam each step) make a polygon of an
+/// even number of sides (≤ 10); it is re-split into quads by diagonals chosen for the squarest
+/// quads and valences nearest 4 (faces of 6 or 8 sides alone likewise). Cheapest first, each
+/// face used once; a split whose quads are far from square (badness > 4 × 0.4² per quad: a
+/// corner outside about 50°–130°) is not made.
+void pair_odd_faces(std::vector<std::vector<int>>& faces, const std::vector<Vec3>& p,
+                    const std::vector<Vec3>& normal, double h, int max_quads_between = 2) {
+  const int nf = static_cast<int>(faces.size());
+  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+  std::map<int, int> degree;
+  std::set<std::pair<int, int>> beams;
+  for (int f = 0; f < nf; ++f) {
+    const int m = static_cast<int>(faces[f].size());
+    for (int k = 0; k < m; ++k) {
+      const int a = faces[f][k], b = faces[f][(k + 1) % m];
+      const std::pair<int, int> e{std::min(a, b), std::max(a, b)};
+      if (beams.insert(e).second) ++degree[a], ++degree[b];
+      edge_faces[e].push_back(f);
+    }
+  }
+  // Face adjacency through interior beams: (neighbour, shared beam).
+  std::vector<std::vector<std::pair<int, std::pair<int, int>>>> adjacent(nf);
+  for (const auto& [e, fs] : edge_faces)
+    if (fs.size() == 2 && fs[0] != fs[1]) {
+      adjacent[fs[0]].push_back({fs[1], e});
+      adjacent[fs[1]].push_back({fs[0], e});
+    }
+  const double max_badness = 4 * 0.4 * 0.4;
+  constexpr double kValenceWeight = 0.3;
+  constexpr int kMaxSides = 10;
+  struct Candidate {
+    double cost;
+    std::vector<int> faces;
+    std::vector<std::array<int, 4>> quads;
+  };
+  std::vector<Candidate> cands;
+  auto face_normal = [&](const std::vector<int>& poly) {
+    Vec3 s = Vec3::Zero();
+    for (int v : poly) s += normal[v];
+    return Vec3(s.normalized());
+  };
+  // Evaluates the union `poly` of `path` (whose interior beams `removed` are taken out).
+  auto consider = [&](const std::vector<int>& poly, const std::vector<int>& path,
+                      const std::vector<std::pair<int, int>>& removed) {
+    for (const auto& e : removed) --degree[e.first], --degree[e.second], beams.erase(e);
+    std::vector<std::array<int, 4>> quads;
+    const double c =
+        best_quad_split(poly, p, face_normal(poly), degree, beams, kValenceWeight, h, quads);
+    for (const auto& e : removed) ++degree[e.first], ++degree[e.second], beams.insert(e);
+    const int nq = static_cast<int>(poly.size() - 2) / 2;
+    if (c <= max_badness * nq) cands.push_back({c / nq, path, quads});
+  };
+  for (int f = 0; f < nf; ++f) {
+    const int m = static_cast<int>(faces[f].size());
+    if (m == 6 || m == 8) consider(faces[f], {f}, {});
+    if (m % 2 == 0) continue;
+    // Depth-first over paths f, quad, …, quad, g with g odd (g > f: each pair once).
+    struct State {
+      std::vector<int> path, poly;
+      std::vector<std::pair<int, int>> removed;
+    };
+    std::vector<State> stack{{{f}, faces[f], {}}};
+    while (!stack.empty()) {
+      const State s = stack.back();
+      stack.pop_back();
+      for (const auto& [g, e] : adjacent[s.path.back()]) {
+        if (std::find(s.path.begin(), s.path.end(), g) != s.path.end()) continue;
+        const int mg = static_cast<int>(faces[g].size());
+        if (mg % 2 == 0 && mg != 4) continue;
+        if (static_cast<int>(s.poly.size()) + mg - 2 > kMaxSides) continue;
+        State t{s.path, join_across(s.poly, faces[g], e), s.removed};
+        if (t.poly.empty()) continue;
+        t.path.push_back(g);
+        t.removed.push_back(e);
+        if (mg % 2 == 1) {
+          if (g > f) consider(t.poly, t.path, t.removed);
+        } else if (static_cast<int>(t.path.size()) <= max_quads_between) {
+          stack.push_back(std::move(t));
+        }
+      }
+    }
+  }
+  std::stable_sort(cands.begin(), cands.end(),
+                   [](const Candidate& x, const Candidate& y) { return x.cost < y.cost; });
+  std::vector<char> used(nf, 0);
+  std::vector<std::vector<int>> added;
+  for (const Candidate& c : cands) {
+    bool free = true;
+    for (int f : c.faces) free = free && !used[f];
+    if (!free) continue;
+    // A diagonal chosen by an earlier candidate may coincide with one of this candidate's.
+    bool clash = false;
+    for (const auto& q : c.quads)
+      for (int k = 0; k < 4; ++k) {
+        const int u = q[k], v = q[(k + 1) % 4];
+        const std::pair<int, int> e{std::min(u, v), std::max(u, v)};
+        if (!edge_faces.count(e) && beams.count(e)) clash = true;
+      }
+    if (clash) continue;
+    for (int f : c.faces) used[f] = 1;
+    for (const auto& q : c.quads) {
+      added.push_back({q[0], q[1], q[2], q[3]});
+      for (int k = 0; k < 4; ++k) {
+        const int u = q[k], v = q[(k + 1) % 4];
+        beams.insert({std::min(u, v), std::max(u, v)});
+      }
+    }
+  }
+  std::vector<std::vector<int>> out;
+  for (int f = 0; f < nf; ++f)
+    if (!used[f]) out.push_back(std::move(faces[f]));
+  for (auto& q : added) out.push_back(std::move(q));
+  faces = std::move(out);
+}
+
 }  // namespace
 
 namespace {
@@ -201,18 +395,119 @@ struct CrossField {
   std::vector<Vec3> n, q, t;
 };
 
-/// Step 1: the 4-fold average of J u per vertex, then smoothing with it as the data term.
-CrossField cross_field(const TriMesh& rest, const TriMesh& def, const Field& field,
-                       const Topology& topo, const QuadAnisoOptions& o) {
+/// One level of the multiresolution hierarchy on M′ (level 0: M′'s vertices; each coarser level
+/// pairs neighbouring vertices of the finer one, as Jakob et al. 2015 do): position, normal,
+/// area, neighbours, and per vertex its parent on the next coarser level.
+struct Level {
+  std::vector<Vec3> p, n;
+  std::vector<double> area;
+  std::vector<std::vector<int>> nbr;
+  std::vector<int> parent;
+  int size() const { return static_cast<int>(p.size()); }
+};
+
+/// Levels from M′ down to ≤ `coarsest` vertices (or until pairing stops shrinking the level):
+/// neighbours are paired greedily, most similar first (normals alike, areas alike); a vertex left
+/// without a partner goes up alone. Deterministic (ties broken by vertex ids).
+std::vector<Level> build_hierarchy(const TriMesh& def, const Topology& topo, int coarsest) {
+  std::vector<Level> levels(1);
+  {
+    Level& l = levels[0];
+    const int nv = def.num_vertices();
+    l.p.resize(nv);
+    for (int v = 0; v < nv; ++v) l.p[v] = def.vertex(v);
+    l.n = vertex_normals(def);
+    l.area.assign(nv, 0);
+    for (int f = 0; f < def.num_faces(); ++f) {
+      const double a = triangle_area(def.vertex(def.F(f, 0)), def.vertex(def.F(f, 1)),
+                                     def.vertex(def.F(f, 2)));
+      for (int k = 0; k < 3; ++k) l.area[def.F(f, k)] += a / 3;
+    }
+    for (double& a : l.area) a = std::max(a, 1e-300);
+    l.nbr = topo.vertex_neighbors;
+  }
+  while (coarsest > 0 && levels.back().size() > coarsest && levels.size() < 40) {
+    const Level& f = levels.back();
+    const int nv = f.size();
+    std::vector<std::tuple<double, int, int>> pairs;
+    for (int i = 0; i < nv; ++i)
+      for (int j : f.nbr[i])
+        if (i < j)
+          pairs.emplace_back(-f.n[i].dot(f.n[j]) * std::min(f.area[i] / f.area[j],
+                                                            f.area[j] / f.area[i]),
+                             i, j);
+    std::sort(pairs.begin(), pairs.end());
+    std::vector<int> parent(nv, -1);
+    int count = 0;
+    for (const auto& [score, i, j] : pairs)
+      if (parent[i] < 0 && parent[j] < 0) parent[i] = parent[j] = count++;
+    for (int v = 0; v < nv; ++v)
+      if (parent[v] < 0) parent[v] = count++;
+    if (count > 0.95 * nv) break;  // nothing left to pair (e.g. isolated vertices)
+    Level c;
+    c.p.assign(count, Vec3::Zero());
+    c.n.assign(count, Vec3::Zero());
+    c.area.assign(count, 0);
+    c.nbr.resize(count);
+    std::vector<std::set<int>> nbr(count);
+    for (int v = 0; v < nv; ++v) {
+      const int P = parent[v];
+      c.p[P] += f.area[v] * f.p[v];
+      c.n[P] += f.area[v] * f.n[v];
+      c.area[P] += f.area[v];
+      for (int j : f.nbr[v])
+        if (parent[j] != P) nbr[P].insert(parent[j]);
+    }
+    for (int P = 0; P < count; ++P) {
+      c.p[P] /= c.area[P];
+      c.n[P] = c.n[P].norm() > 0 ? Vec3(c.n[P].normalized()) : Vec3(Vec3::UnitZ());
+      c.nbr[P].assign(nbr[P].begin(), nbr[P].end());
+    }
+    levels.back().parent = std::move(parent);
+    levels.push_back(std::move(c));
+  }
+  return levels;
+}
+
+/// Gauss–Seidel sweeps of the cross field on one level, with the data term q_data weighted by
+/// λ × the vertex's neighbour count.
+void smooth_cross(const Level& l, const std::vector<Vec3>& q_data, const std::vector<double>& lambda,
+                  std::vector<Vec3>& q, int iterations) {
+  for (int it = 0; it < iterations; ++it) {
+    for (int v = 0; v < l.size(); ++v) {
+      const auto& nb = l.nbr[v];
+      Vec3 sum = lambda[v] * static_cast<double>(nb.size()) * match_cross(q_data[v], l.n[v], q[v]);
+      for (int j : nb) sum += match_cross(q[j], l.n[j], q[v]);
+      sum -= l.n[v] * l.n[v].dot(sum);
+      if (sum.norm() > 1e-12) q[v] = sum.normalized();
+    }
+  }
+}
+
+/// `x` in the tangent plane of normal n, unit; any perpendicular of n when x is along n.
+Vec3 tangent_unit(const Vec3& x, const Vec3& n) {
+  const Vec3 y = x - n * n.dot(x);
+  return y.norm() > 1e-12 ? Vec3(y.normalized()) : any_perpendicular(n);
+}
+
+/// Step 1: the 4-fold average of J u per vertex of M′ (the data), carried down the hierarchy
+/// (area × coherence weighted), solved on the coarsest level and refined level by level with the
+/// data term on each: where the stress field has a clear direction the data holds, where it
+/// cancels (a singularity of the stress directions) the coarse levels fill in a smooth cross.
+/// Returns the cross field of every level.
+std::vector<CrossField> cross_field(const TriMesh& rest, const TriMesh& def, const Field& field,
+                                    const Topology& topo, const std::vector<Level>& levels,
+                                    const QuadAnisoOptions& o) {
   const int nv = def.num_vertices();
-  CrossField cf;
-  cf.n = vertex_normals(def);
-  const std::vector<Vec3>& n = cf.n;
+  const std::vector<Vec3>& n = levels[0].n;
   std::vector<Vec3> w;
   std::vector<double> warea;
   pushed_directions(rest, def, field, w, warea);
-  std::vector<Vec3> q(nv), q_data(nv);
-  std::vector<double> lambda(nv, 0);
+  const int nl = static_cast<int>(levels.size());
+  std::vector<std::vector<Vec3>> q_data(nl);
+  std::vector<std::vector<double>> lambda(nl);
+  q_data[0].resize(nv);
+  lambda[0].assign(nv, 0);
   for (int v = 0; v < nv; ++v) {
     const Vec3 r = any_perpendicular(n[v]), s = n[v].cross(r);
     std::complex<double> z = 0;
@@ -223,56 +518,55 @@ CrossField cross_field(const TriMesh& rest, const TriMesh& def, const Field& fie
       total += warea[f];
     }
     const double phi = std::abs(z) > 0 ? std::arg(z) / 4 : 0;
-    q[v] = q_data[v] = std::cos(phi) * r + std::sin(phi) * s;
-    lambda[v] = total > 0 ? o.alignment * std::abs(z) / total : 0;
+    q_data[0][v] = std::cos(phi) * r + std::sin(phi) * s;
+    lambda[0][v] = total > 0 ? o.alignment * std::abs(z) / total : 0;
   }
-  for (int it = 0; it < o.orientation_iterations; ++it) {
-    for (int v = 0; v < nv; ++v) {
-      const auto& nb = topo.vertex_neighbors[v];
-      Vec3 sum = lambda[v] * static_cast<double>(nb.size()) * match_cross(q_data[v], n[v], q[v]);
-      for (int j : nb) sum += match_cross(q[j], n[j], q[v]);
-      sum -= n[v] * n[v].dot(sum);
-      if (sum.norm() > 1e-12) q[v] = sum.normalized();
+  for (int k = 0; k + 1 < nl; ++k) {  // restriction: weighted sums of the crosses matched
+    const Level &f = levels[k], &c = levels[k + 1];
+    std::vector<Vec3> sum(c.size(), Vec3::Zero()), ref(c.size(), Vec3::Zero());
+    std::vector<double> weight(c.size(), 0);
+    for (int v = 0; v < f.size(); ++v) {
+      const int P = f.parent[v];
+      const double wv = f.area[v] * lambda[k][v];
+      if (ref[P].squaredNorm() == 0) ref[P] = q_data[k][v];
+      sum[P] += wv * match_cross(q_data[k][v], f.n[v], ref[P]);
+      weight[P] += f.area[v];
+    }
+    q_data[k + 1].resize(c.size());
+    lambda[k + 1].resize(c.size());
+    for (int P = 0; P < c.size(); ++P) {
+      q_data[k + 1][P] = tangent_unit(sum[P], c.n[P]);
+      lambda[k + 1][P] = sum[P].norm() / weight[P];
     }
   }
-  cf.t.resize(nv);
-  for (int v = 0; v < nv; ++v) cf.t[v] = n[v].cross(q[v]);
-  cf.q = std::move(q);
+  std::vector<CrossField> cf(nl);
+  for (int k = nl - 1; k >= 0; --k) {
+    const Level& l = levels[k];
+    std::vector<Vec3> q(l.size());
+    if (k == nl - 1)
+      q = q_data[k];
+    else
+      for (int v = 0; v < l.size(); ++v) q[v] = tangent_unit(cf[k + 1].q[l.parent[v]], l.n[v]);
+    smooth_cross(l, q_data[k], lambda[k], q, o.orientation_iterations);
+    cf[k].n = l.n;
+    cf[k].t.resize(l.size());
+    for (int v = 0; v < l.size(); ++v) cf[k].t[v] = l.n[v].cross(q[v]);
+    cf[k].q = std::move(q);
+  }
   return cf;
 }
 
-/// Step 2: the position field (a lattice origin per vertex): one lattice propagated
-/// breadth-first from a seeded random origin, then Gauss–Seidel smoothing.
-std::vector<Vec3> position_field(const std::vector<Vec3>& pos, const Topology& topo,
-                                 const CrossField& cf, double h, const QuadAnisoOptions& o) {
-  const int nv = static_cast<int>(pos.size());
-  const std::vector<Vec3>&n = cf.n, &q = cf.q, &t = cf.t;
-  std::vector<Vec3> org(nv);
-  std::vector<char> seen(nv, 0);
-  Rng rng(o.seed);
-  for (int root = 0; root < nv; ++root) {
-    if (seen[root]) continue;
-    org[root] =
-        pos[root] + h * (rng.uniform(-0.5, 0.5) * q[root] + rng.uniform(-0.5, 0.5) * t[root]);
-    seen[root] = 1;
-    std::deque<int> queue{root};
-    while (!queue.empty()) {
-      const int i = queue.front();
-      queue.pop_front();
-      for (int j : topo.vertex_neighbors[i]) {
-        if (seen[j]) continue;
-        seen[j] = 1;
-        Vec3 oj = org[i] - n[j] * n[j].dot(org[i] - pos[j]);
-        org[j] = lattice_round(oj, q[j], t[j], pos[j], h);
-        queue.push_back(j);
-      }
-    }
-  }
-  for (int it = 0; it < o.position_iterations; ++it) {
-    for (int i = 0; i < nv; ++i) {
+/// Gauss–Seidel sweeps of the position field on one level: each vertex's lattice origin is the
+/// average of its neighbours' lattices compared at the edges' middles, rounded back to the
+/// lattice point nearest the vertex.
+void smooth_position(const Level& l, const CrossField& cf, double h, std::vector<Vec3>& org,
+                     int iterations) {
+  const std::vector<Vec3>&n = cf.n, &q = cf.q, &t = cf.t, &pos = l.p;
+  for (int it = 0; it < iterations; ++it) {
+    for (int i = 0; i < l.size(); ++i) {
       Vec3 sum = org[i];
       double weight = 0;
-      for (int j : topo.vertex_neighbors[i]) {
+      for (int j : l.nbr[i]) {
         const Vec3 qj = match_cross(q[j], n[j], q[i]), tj = n[j].cross(qj);
         const auto [a, b] = compat_position(pos[i], q[i], t[i], sum, pos[j], qj, tj, org[j], h);
         sum = (a * weight + b) / (weight + 1);
@@ -281,6 +575,51 @@ std::vector<Vec3> position_field(const std::vector<Vec3>& pos, const Topology& t
       }
       org[i] = lattice_round(sum, q[i], t[i], pos[i], h);
     }
+  }
+}
+
+/// Step 2: the position field (a lattice origin per vertex): on the coarsest level one lattice
+/// propagated breadth-first from a seeded random origin, then smoothing; each finer level starts
+/// from its parents' origins (brought into its tangent plane, rounded) and is smoothed again.
+/// Returns level 0's origins.
+std::vector<Vec3> position_field(const std::vector<Level>& levels,
+                                 const std::vector<CrossField>& cfs, double h,
+                                 const QuadAnisoOptions& o) {
+  const int nl = static_cast<int>(levels.size());
+  std::vector<Vec3> org;
+  for (int k = nl - 1; k >= 0; --k) {
+    const Level& l = levels[k];
+    const std::vector<Vec3>&n = cfs[k].n, &q = cfs[k].q, &t = cfs[k].t, &pos = l.p;
+    std::vector<Vec3> next(l.size());
+    if (k == nl - 1) {
+      std::vector<char> seen(l.size(), 0);
+      Rng rng(o.seed);
+      for (int root = 0; root < l.size(); ++root) {
+        if (seen[root]) continue;
+        next[root] =
+            pos[root] + h * (rng.uniform(-0.5, 0.5) * q[root] + rng.uniform(-0.5, 0.5) * t[root]);
+        seen[root] = 1;
+        std::deque<int> queue{root};
+        while (!queue.empty()) {
+          const int i = queue.front();
+          queue.pop_front();
+          for (int j : l.nbr[i]) {
+            if (seen[j]) continue;
+            seen[j] = 1;
+            const Vec3 oj = next[i] - n[j] * n[j].dot(next[i] - pos[j]);
+            next[j] = lattice_round(oj, q[j], t[j], pos[j], h);
+            queue.push_back(j);
+          }
+        }
+      }
+    } else {
+      for (int v = 0; v < l.size(); ++v) {
+        const Vec3& op = org[l.parent[v]];
+        next[v] = lattice_round(op - n[v] * n[v].dot(op - pos[v]), q[v], t[v], pos[v], h);
+      }
+    }
+    org = std::move(next);
+    smooth_position(l, cfs[k], h, org, o.position_iterations);
   }
   return org;
 }
@@ -480,11 +819,14 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
   const Topology topo = build_topology(def);
   std::vector<Vec3> pos(def.num_vertices());
   for (int v = 0; v < def.num_vertices(); ++v) pos[v] = def.vertex(v);
-  const CrossField cf = cross_field(rest, def, field, topo, o);
-  const std::vector<Vec3> org = position_field(pos, topo, cf, h, o);
+  const std::vector<Level> levels = build_hierarchy(def, topo, o.coarsest);
+  const std::vector<CrossField> cfs = cross_field(rest, def, field, topo, levels, o);
+  const CrossField& cf = cfs[0];
+  const std::vector<Vec3> org = position_field(levels, cfs, h, o);
   const LatticeJoints joints = collapse_to_joints(pos, topo, cf, org, h);
   std::vector<std::vector<int>> faces = trace_faces(joint_rings(joints), joints, o.max_face_sides);
   if (faces.empty()) throw Error("quad-aniso", "extraction found no faces (spacing too large?)");
+  pair_odd_faces(faces, joints.pos, joints.normal, h);
   merge_triangle_pairs(faces, joints.pos);
   absorb_lone_triangles(faces, joints.pos);
   return joints_on_surface(rest, def, topo, org, joints, std::move(faces));
@@ -674,6 +1016,7 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   PolyMesh best;
   double best_error = std::numeric_limits<double>::infinity();
   const int fits = o.length > 0 ? o.max_fits : 1;
+  double h_long = 0, h_short = std::numeric_limits<double>::infinity();  // see the bracket below
   for (int k = 0; k < fits; ++k) {
     PolyMesh grid = build(h);
     ++r.fits;
@@ -687,11 +1030,23 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
       r.spacing = h;
     }
     if (best_error <= o.length_tolerance) break;
-    h *= length / o.length;
+    // L(h) is a step function (whole cells) and jumps with the lattice's start, so the secant on
+    // L ∝ 1/h can oscillate about the target on a small grid: once h is bracketed (one grid too
+    // long, one too short) a step that leaves the bracket is replaced by its geometric middle.
+    if (length > o.length)
+      h_long = std::max(h_long, h);
+    else
+      h_short = std::min(h_short, h);
+    double next = h * length / o.length;
+    if (h_long > 0 && std::isfinite(h_short) && h_long < h_short &&
+        !(next > h_long && next < h_short))
+      next = std::sqrt(h_long * h_short);
+    h = next;
   }
-  if (o.length > 0 && best_error > o.length_tolerance)
+  if (o.length > 0 && best_error > std::max(o.length_tolerance, o.length_limit))
     throw Error("quad-aniso", fmt::format("total length not within {:.0f}% of {} m after {} fits",
-                                          100 * o.length_tolerance, o.length, r.fits));
+                                          100 * std::max(o.length_tolerance, o.length_limit),
+                                          o.length, r.fits));
   r.grid.mesh = std::move(best);
   r.grid.supports = transfer_supports(r.grid.mesh.V, surface, tol);
   return r;

@@ -8,28 +8,33 @@
 /// is Euclidean, so an isotropic quad mesh of M′ with spacing h, aligned with the image J u of
 /// the field's direction, is — mapped back through the piecewise-linear map M′ → M — the
 /// anisotropic, density-graded quad mesh wanted on M. On M′ (refined to edges ≤ h / resolution):
-///   1. orientation: per vertex a 4-direction (cross) field, the area-weighted 4-fold average of
-///      J u over the incident triangles, then Gauss–Seidel smoothing sweeps with that average as
-///      a data term weighted by its coherence (strong where the field is, free where it cancels);
+///   0. hierarchy: M′'s vertices paired with a neighbour level by level down to `coarsest`
+///      vertices (Jakob et al. 2015); steps 1 and 2 solve on the coarsest level first and refine
+///      level by level, each finer level starting from its parents' values;
+///   1. orientation: per vertex a 4-direction (cross) field; the data is the area-weighted 4-fold
+///      average of J u over the incident triangles (carried down the hierarchy), and every level
+///      is smoothed by Gauss–Seidel sweeps with the data as a term weighted by its coherence
+///      (strong where the field is, free where it cancels);
 ///   2. position: per vertex a lattice origin o_i in its tangent plane (spacing h, axes of the
-///      cross), started by propagating one lattice over the mesh breadth-first from a seeded
-///      random offset, then Gauss–Seidel sweeps that average the neighbours' lattices brought to
-///      the edge's middle (the 4 nearest lattice points of each side compared) and round the
+///      cross): on the coarsest level one lattice propagated breadth-first from a seeded random
+///      offset; on every level Gauss–Seidel sweeps that average the neighbours' lattices brought
+///      to the edge's middle (the 4 nearest lattice points of each side compared) and round the
 ///      result back to the lattice point nearest the vertex (the extrinsic smoothing of Jakob et
-///      al. 2015, "Instant field-aligned meshes"; here single-level, in vertex order:
-///      deterministic);
+///      al. 2015, "Instant field-aligned meshes"; in vertex order: deterministic);
 ///   3. extraction: an edge whose ends carry the same lattice point is collapsed, one whose ends
 ///      differ by one lattice step along an axis becomes a beam; joints of degree ≤ 1 are pruned;
 ///      faces are walked with the beams ordered by angle around each joint; faces that are not
-///      simple, turn the wrong way or have more than `max_face_sides` sides are left out;
+///      simple, turn the wrong way or have more than `max_face_sides` sides are left out; two
+///      faces of odd sides joined through ≤ 2 quads are re-split into quads (squarest quads,
+///      valences nearest 4, new beams nearest h), remaining triangle pairs become quads;
 ///   4. mapping: each joint goes back to M through the affine map of an incident triangle, is
 ///      projected onto M, and joints on the grid's outer boundary within `boundary_snap` × the
 ///      local beam length of M's boundary are moved onto it (so the boundary supports catch them).
 /// Supports: transfer_supports (grids/supports.h), as the other baselines.
 ///
-/// Cost: O(V · (orientation + position sweeps)) on M′ plus O(n log n) for the extraction, times
-/// `starts` (seeded lattice starts, the most regular grid kept); the length fit repeats steps
-/// 1–4 (M′ is computed once).
+/// Cost: O(V · (orientation + position sweeps)) on M′ (the coarser levels add about as much again)
+/// plus O(n log n) for the extraction, times `starts` (seeded lattice starts, the most regular
+/// grid kept); the length fit repeats steps 0–4 (M′ is computed once).
 
 #include <cstdint>
 #include <vector>
@@ -44,11 +49,18 @@ namespace gridshell {
 struct QuadAnisoOptions {
   double spacing = 0;  ///< h: quad size on M′ (m); ignored when `length` > 0
   double length = 0;   ///< total beam length wanted (m): h is fitted (secant on L ∝ 1/h)
-  double length_tolerance = 0.03;  ///< relative, for the fit
-  int max_fits = 8;                ///< extractions tried by the fit before Error
+  double length_tolerance = 0.03;  ///< relative: the fit stops at the first grid this close
+  /// Relative: when no grid came within `length_tolerance` after `max_fits` extractions, the
+  /// closest is kept if within this (the issue's ±5 %), else Error.
+  double length_limit = 0.05;
+  int max_fits = 8;  ///< extractions tried by the fit
   double resolution = 2;           ///< M′ refined to edges ≤ h / resolution
   int orientation_iterations = 20;
-  int position_iterations = 40;
+  int position_iterations = 40;  ///< per level of the hierarchy
+  /// The hierarchy (Jakob et al. 2015) pairs neighbouring vertices of M′ level by level down to
+  /// at most this many; both fields are solved on the coarsest level first, then refined level
+  /// by level. 0: a single level (M′ only).
+  int coarsest = 64;
   /// Weight of the data term of the cross-field smoothing, per unit coherence, relative to the
   /// sum of the neighbours (≥ 0): high keeps the field's directions where they are well defined.
   double alignment = 4;
