@@ -38,7 +38,9 @@ struct AnalyzeArgs {
   bool imperfection = false;
   double imperfection_amplitude = 0;
   double nonlinear_static = 0;
-  int max_steps = 300;
+  int max_steps = 0;               ///< 0: MODEL.json's analysis.max_steps, else 300
+  double stop_displacement = 0;     ///< 0: MODEL.json's, else automatic
+  double stop_lambda = 0;           ///< 0: MODEL.json's, else automatic
   double displacement_limit = 0;
   std::string sheet = "2.5x1.25";
   std::string steel = "S355";
@@ -65,7 +67,11 @@ void check_analyze_args(const AnalyzeArgs& a) {
   if (a.modes < 1 || a.modes > 100) throw Error("--modes", "must be in 1..100");
   if (a.nonlinear_static < 0 || !std::isfinite(a.nonlinear_static))
     throw Error("--nonlinear-static", "must be > 0");
-  if (a.max_steps < 1) throw Error("--max-steps", "must be >= 1");
+  if (a.max_steps < 0 || a.max_steps > 100000) throw Error("--max-steps", "must be in 1..100000");
+  if (!(a.stop_displacement >= 0) || !std::isfinite(a.stop_displacement))
+    throw Error("--stop-displacement", "must be a length > 0 (model units)");
+  if (!(a.stop_lambda >= 0) || !std::isfinite(a.stop_lambda))
+    throw Error("--stop-lambda", "must be a load factor > 0");
   if (!(a.displacement_limit >= 0) || !std::isfinite(a.displacement_limit))
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
   fabrication::parse_sheet(a.sheet);
@@ -167,7 +173,18 @@ analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a,
   o.imperfection_amplitude = a.imperfection_amplitude;
   o.nonlinear_static =
       a.nonlinear_static > 0 ? a.nonlinear_static : request.nonlinear_static.value_or(0);
-  o.arc.max_steps = a.max_steps;
+  // The path's stop rule: the command line, else MODEL.json's analysis keys, else automatic
+  // (a general frame is followed to its first critical point: FrameAnalysisOptions::path_reach).
+  const bool general = lower_ext(a.input) == ".json";
+  o.arc.max_steps =
+      a.max_steps > 0
+          ? a.max_steps
+          : request.max_steps.value_or(
+                general ? analysis::FrameAnalysisOptions::kGeneralMaxSteps : 300);
+  o.arc.max_displacement =
+      a.stop_displacement > 0 ? a.stop_displacement : request.stop_displacement.value_or(0);
+  o.arc.max_lambda = a.stop_lambda > 0 ? a.stop_lambda : request.stop_lambda.value_or(1e9);
+  if (general) o.path_reach = analysis::FrameAnalysisOptions::kGeneralPathReach;
   o.displacement_limit = a.displacement_limit;
   o.checks.fy = checks::yield_strength(checks::parse_steel_grade(a.steel));
   o.deflection_limit_divisor = a.deflection_limit;
@@ -269,7 +286,19 @@ void register_analyze(CLI::App& app, Action& action) {
   sub->add_option("--nonlinear-static", a->nonlinear_static,
                   "also solve the non-linear equilibrium at this load factor (nodes_nonlinear.csv)")
       ->default_str("0");
-  sub->add_option("--max-steps", a->max_steps, "arc-length step limit")->default_str("300");
+  sub->add_option("--max-steps", a->max_steps,
+                  "non-linear path: arc-length step limit (default: MODEL.json's "
+                  "analysis.max_steps, else 1000 for MODEL.json, 300 for grid-shell meshes)")
+      ->default_str("0");
+  sub->add_option("--stop-displacement", a->stop_displacement,
+                  "non-linear path: stop when the largest displacement reaches this (model "
+                  "units; default: MODEL.json's analysis.stop_displacement, else 3 × the model's "
+                  "size for MODEL.json, span/5 for grid-shell meshes)")
+      ->default_str("0");
+  sub->add_option("--stop-lambda", a->stop_lambda,
+                  "non-linear path: stop when the load factor reaches this (default: MODEL.json's "
+                  "analysis.stop_lambda, else 20 × lambda_LBA)")
+      ->default_str("0");
   sub->add_option("--displacement-limit", a->displacement_limit,
                   "report lambda_displacement_limit: the load factor at which the non-linear "
                   "path's largest displacement reaches this many metres (0 = span / 100)")

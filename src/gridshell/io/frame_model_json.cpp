@@ -242,7 +242,8 @@ void read_loads(const json& j, const std::string& subject, fem::FrameModel& m) {
     if (F[v].squaredNorm() > 0 || M[v].squaredNorm() > 0) m.loads.push_back({v, F[v], M[v]});
 }
 
-/// "analysis": {"linear", "buckling", "nonlinear": true/false, "nonlinear_static": factor}.
+/// "analysis": {"linear", "buckling", "nonlinear": true/false, "nonlinear_static": factor,
+/// "stop_displacement", "stop_lambda", "max_steps"}.
 void read_analysis(const json& a, const std::string& subject, ModelAnalysisRequest& out) {
   if (!a.is_object()) throw Error(subject, "'analysis' must be an object");
   auto flag = [&](const char* key, std::optional<bool>& dst) {
@@ -258,6 +259,18 @@ void read_analysis(const json& a, const std::string& subject, ModelAnalysisReque
     const double f = num(a["nonlinear_static"], "analysis.nonlinear_static", subject);
     if (!(f > 0)) throw Error(subject, "analysis.nonlinear_static must be > 0");
     out.nonlinear_static = f;
+  }
+  for (const auto& [key, dst] : {std::pair{"stop_displacement", &out.stop_displacement},
+                                 std::pair{"stop_lambda", &out.stop_lambda}}) {
+    if (!a.contains(key)) continue;
+    const double v = num(a[key], fmt::format("analysis.{}", key), subject);
+    if (!(v > 0)) throw Error(subject, fmt::format("analysis.{} must be > 0", key));
+    *dst = v;
+  }
+  if (a.contains("max_steps")) {
+    const int n = index(a["max_steps"], "analysis.max_steps", subject);
+    if (n < 1 || n > 100000) throw Error(subject, "analysis.max_steps must be in 1..100000");
+    out.max_steps = n;
   }
 }
 

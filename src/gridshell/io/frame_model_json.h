@@ -16,10 +16,15 @@
 
 namespace gridshell::io {
 
-/// What MODEL.json's "analysis" block asks for (absent keys stay empty).
+/// What MODEL.json's "analysis" block asks for (absent keys stay empty). The non-linear path's
+/// stop rule: "stop_displacement" (largest nodal displacement, model units, > 0),
+/// "stop_lambda" (load factor, > 0), "max_steps" (arc-length steps, 1..100000); without them
+/// the path runs to its first critical point within the automatic caps (docs/frame.md).
 struct ModelAnalysisRequest {
   std::optional<bool> linear, buckling, nonlinear;
   std::optional<double> nonlinear_static;
+  std::optional<double> stop_displacement, stop_lambda;
+  std::optional<int> max_steps;
 };
 
 struct FrameModelFile {
