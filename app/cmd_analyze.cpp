@@ -97,6 +97,7 @@ struct LoadedFrame {
   fem::FrameModel model;
   std::vector<int> supports;
   io::ModelAnalysisRequest request;
+  std::vector<io::ModelCombination> combinations;  ///< MODEL.json's; primary first
 };
 
 /// The grid-shell frame options the arguments ask for.
@@ -118,6 +119,7 @@ LoadedFrame load_frame(const AnalyzeArgs& a) {
     io::FrameModelFile file = io::read_frame_model(a.input, 1);
     f.model = std::move(file.model);
     f.request = file.analysis;
+    f.combinations = std::move(file.combinations);
     if (a.area_load > 0) {
       if (f.model.faces.empty()) throw Error("--area-load", "the model has no faces to carry it");
       PolyMesh pm;
@@ -193,6 +195,37 @@ analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a,
   return o;
 }
 
+/// report.json's `structure.combinations` for a MODEL.json: without load cases {"model": the
+/// analysis}; with them one block per combination with its factors, the primary from `primary`,
+/// the others from a linear analysis each (δ, its limit, the member checks), as `design`'s SLS.
+nlohmann::json model_combinations(const LoadedFrame& f, analysis::FrameAnalysisOptions options,
+                                  const analysis::FrameResult& primary) {
+  nlohmann::json block;
+  const auto with_factors = [](nlohmann::json c, const io::ModelCombination* comb) {
+    c.erase("gamma_G");
+    c.erase("gamma_Q");
+    if (comb)
+      for (const auto& [name, factor] : comb->factors) c["factors"][name] = factor;
+    return c;
+  };
+  if (f.combinations.empty()) {
+    block["model"] = with_factors(combination_block(primary, 1, 1), nullptr);
+    return block;
+  }
+  block[f.combinations.front().name] =
+      with_factors(combination_block(primary, 1, 1), &f.combinations.front());
+  options = analysis::at_level(options, analysis::AnalysisLevel::linear);
+  options.nonlinear_static = 0;
+  for (std::size_t k = 1; k < f.combinations.size(); ++k) {
+    fem::FrameModel model = f.model;
+    model.loads = f.combinations[k].loads;
+    spdlog::info("[analysis] {} combination: linear", f.combinations[k].name);
+    block[f.combinations[k].name] = with_factors(
+        combination_block(analysis::analyze_frame(model, options), 1, 1), &f.combinations[k]);
+  }
+  return block;
+}
+
 int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   const auto guard = apply_run_options(a.run);
   check_analyze_args(a);
@@ -213,8 +246,12 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["steel"] = a.steel;
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
-  st["loads"] = a.loads;
-  if (lower_ext(a.input) != ".json")
+  st["loads"] = lower_ext(a.input) != ".json" ? a.loads
+                 : f.combinations.empty()    ? "model"
+                                             : "load_cases";
+  if (lower_ext(a.input) == ".json")
+    st["combinations"] = model_combinations(f, analysis_options(a, level, f.request), r);
+  else
     st["combinations"] =
         combinations_block(PolyMesh{f.model.nodes, f.model.faces}, f.supports, frame_options(a),
                            analysis_options(a, level, f.request), r);

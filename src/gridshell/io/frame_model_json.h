@@ -6,10 +6,16 @@
 /// Loads of type "surface" (per unit surface area), "projected" (per unit plan area, xy) and
 /// "self_weight" (the members' weight at their ends) are turned into nodal forces here; surface
 /// and projected loads need "faces" (or "triangles") and give each corner 1/n of the face's load.
+///
+/// Instead of "loads" a model may give named "load_cases" ({NAME: {"type": "permanent" |
+/// "variable", "loads": [...]}}) and "combinations" ({NAME: {CASE: factor}}; absent: EN 1990
+/// ULS = 1.35 Σ permanent + 1.5 Σ variable and SLS = Σ all, as `design --loads eurocode`).
+/// Materials may give "fy" [Pa] for the member checks.
 
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gridshell/fem/frame_model.h"
@@ -27,9 +33,26 @@ struct ModelAnalysisRequest {
   std::optional<int> max_steps;
 };
 
+/// A load combination of MODEL.json's load cases: factor × case, summed into nodal loads.
+struct ModelCombination {
+  std::string name;
+  std::vector<std::pair<std::string, double>> factors;  ///< (load case, factor)
+  std::vector<fem::NodalLoad> loads;
+};
+
+/// A named load case and its type ("permanent" or "variable").
+struct ModelLoadCase {
+  std::string name, type;
+};
+
+/// A parsed MODEL.json. With "load_cases", `model.loads` are those of the primary combination
+/// (`combinations.front()`: "ULS" when there is one, else the first by name); without them
+/// `combinations` is empty and `model.loads` are the "loads".
 struct FrameModelFile {
   fem::FrameModel model;
   ModelAnalysisRequest analysis;
+  std::vector<ModelLoadCase> load_cases;
+  std::vector<ModelCombination> combinations;
 };
 
 /// Parses MODEL.json text; `subject` names the file in errors. Members without "elements" get

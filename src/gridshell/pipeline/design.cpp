@@ -435,7 +435,6 @@ void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
   st["lambda_y_linear"] = optional_number(r.lambda_yield_linear);
 }
 
-namespace {
 nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_G, double gamma_Q) {
   nlohmann::json all = nlohmann::json::object();
   add_checks_block(all, r);
@@ -451,7 +450,6 @@ nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_G,
     c[key] = all[key];
   return c;
 }
-}  // namespace
 
 nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
                                   const analysis::GridshellFrameOptions& frame,
