@@ -43,10 +43,7 @@ struct AnalyzeArgs {
   double stop_lambda = 0;           ///< 0: MODEL.json's, else automatic
   double displacement_limit = 0;
   std::string sheet = "2.5x1.25";
-  std::string steel = "S355";
-  std::string loads = "paper";
-  double glass = 0.4, snow = 1.0;
-  double deflection_limit = 300;
+  LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit
   bool single_path = false;
 };
 
@@ -75,16 +72,11 @@ void check_analyze_args(const AnalyzeArgs& a) {
   if (!(a.displacement_limit >= 0) || !std::isfinite(a.displacement_limit))
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
   fabrication::parse_sheet(a.sheet);
-  checks::parse_steel_grade(a.steel);
-  if (analysis::parse_load_model(a.loads) == analysis::LoadModel::eurocode &&
-      lower_ext(a.input) == ".json")
+  analysis::GridshellFrameOptions frame;
+  analysis::FrameAnalysisOptions options;
+  apply_load_check_options(a.checks, frame, options);
+  if (frame.loads == analysis::LoadModel::eurocode && lower_ext(a.input) == ".json")
     throw Error("--loads", "eurocode load cases need a grid-shell mesh (MODEL.json has its loads)");
-  if (!(a.glass >= 0) || !std::isfinite(a.glass))
-    throw Error("--glass", "must be a load >= 0 (kN/m²)");
-  if (!(a.snow >= 0) || !std::isfinite(a.snow))
-    throw Error("--snow", "must be a load >= 0 (kN/m²)");
-  if (!(a.deflection_limit > 0) || !std::isfinite(a.deflection_limit))
-    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
   if (a.analyze != "auto") {
     if (analysis::parse_analysis_level(a.analyze) == analysis::AnalysisLevel::none)
       throw Error("--analyze", "must be linear, buckling or nonlinear");
@@ -107,9 +99,8 @@ analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a) {
   go.elements = a.elements;
   go.self_weight_at_bars = a.self_weight == "at-bars";
   go.area_load_kN_m2 = a.area_load;
-  go.loads = analysis::parse_load_model(a.loads);
-  go.glass_kN_m2 = a.glass;
-  go.snow_kN_m2 = a.snow;
+  analysis::FrameAnalysisOptions unused;
+  apply_load_check_options(a.checks, go, unused);
   return go;
 }
 
@@ -188,8 +179,8 @@ analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a,
   o.arc.max_lambda = a.stop_lambda > 0 ? a.stop_lambda : request.stop_lambda.value_or(1e9);
   if (general) o.path_reach = analysis::FrameAnalysisOptions::kGeneralPathReach;
   o.displacement_limit = a.displacement_limit;
-  o.checks.fy = checks::yield_strength(checks::parse_steel_grade(a.steel));
-  o.deflection_limit_divisor = a.deflection_limit;
+  analysis::GridshellFrameOptions unused;
+  apply_load_check_options(a.checks, unused, o);
   o.stability = !a.single_path;
   if (o.imperfection && !o.buckling) o.buckling = true;
   return o;
@@ -243,10 +234,10 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["members"] = f.model.members.size();
   st["supports"] = f.supports.size();
   st["analysis"] = to_string(level);
-  st["steel"] = a.steel;
+  st["steel"] = a.checks.steel;
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
-  st["loads"] = lower_ext(a.input) != ".json" ? a.loads
+  st["loads"] = lower_ext(a.input) != ".json" ? a.checks.loads
                  : f.combinations.empty()    ? "model"
                                              : "load_cases";
   if (lower_ext(a.input) == ".json")
@@ -340,23 +331,7 @@ void register_analyze(CLI::App& app, Action& action) {
                   "report lambda_displacement_limit: the load factor at which the non-linear "
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
-  sub->add_option("--steel", a->steel, "member checks: steel grade S235 | S275 | S355")
-      ->default_str("S355");
-  sub->add_option("--loads", a->loads,
-                  "grid-shell meshes: paper (the bars' weight spread over the surface, + "
-                  "--area-load) | eurocode (G1 bars, G2 --glass, Q --snow; structure = ULS 1.35 G "
-                  "+ 1.5 Q, combinations adds SLS G + Q)")
-      ->default_str("paper");
-  sub->add_option("--glass", a->glass, "--loads eurocode: glass and cladding in kN/m² of surface")
-      ->default_str("0.4");
-  sub->add_option("--snow", a->snow,
-                  "--loads eurocode: characteristic snow s_k in kN/m² of plan (times the shape "
-                  "factor of the roof slope)")
-      ->default_str("1.0");
-  sub->add_option("--deflection-limit", a->deflection_limit,
-                  "serviceability: delta passes when at most span / this (span = largest plan "
-                  "extent)")
-      ->default_str("300");
+  add_load_check_options(sub, a->checks);
   sub->add_flag("--single-path", a->single_path,
                 "non-linear analysis: follow only the path asked for (perfect, or imperfect with "
                 "--imperfection), not also the other");
