@@ -38,9 +38,9 @@ struct AnalyzeArgs {
   bool imperfection = false;
   double imperfection_amplitude = 0;
   double nonlinear_static = 0;
-  int max_steps = 0;               ///< 0: MODEL.json's analysis.max_steps, else 300
-  double stop_displacement = 0;     ///< 0: MODEL.json's, else automatic
-  double stop_lambda = 0;           ///< 0: MODEL.json's, else automatic
+  int max_steps = 0;             ///< 0: MODEL.json's analysis.max_steps, else 300
+  double stop_displacement = 0;  ///< 0: MODEL.json's, else automatic
+  double stop_lambda = 0;        ///< 0: MODEL.json's, else automatic
   double displacement_limit = 0;
   std::string sheet = "2.5x1.25";
   LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit
@@ -169,11 +169,10 @@ analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a,
   // The path's stop rule: the command line, else MODEL.json's analysis keys, else automatic
   // (a general frame is followed to its first critical point: FrameAnalysisOptions::path_reach).
   const bool general = lower_ext(a.input) == ".json";
-  o.arc.max_steps =
-      a.max_steps > 0
-          ? a.max_steps
-          : request.max_steps.value_or(
-                general ? analysis::FrameAnalysisOptions::kGeneralMaxSteps : 300);
+  o.arc.max_steps = a.max_steps > 0
+                        ? a.max_steps
+                        : request.max_steps.value_or(
+                              general ? analysis::FrameAnalysisOptions::kGeneralMaxSteps : 300);
   o.arc.max_displacement =
       a.stop_displacement > 0 ? a.stop_displacement : request.stop_displacement.value_or(0);
   o.arc.max_lambda = a.stop_lambda > 0 ? a.stop_lambda : request.stop_lambda.value_or(1e9);
@@ -238,8 +237,8 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
   st["loads"] = lower_ext(a.input) != ".json" ? a.checks.loads
-                 : f.combinations.empty()    ? "model"
-                                             : "load_cases";
+                : f.combinations.empty()      ? "model"
+                                              : "load_cases";
   if (lower_ext(a.input) == ".json")
     st["combinations"] = model_combinations(f, analysis_options(a, level, f.request), r);
   else

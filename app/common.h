@@ -37,10 +37,10 @@ void add_figure_option(CLI::App* sub, RunOptions& options);
 /// The load model and member-check options of the commands that analyse a grid-shell (design,
 /// analyze, baseline): --steel, --loads, --glass, --snow, --deflection-limit (docs/checks.md).
 struct LoadCheckOptions {
-  std::string steel = "S355";   ///< S235 | S275 | S355
-  std::string loads = "paper";  ///< paper | eurocode
-  double glass = 0.4;           ///< eurocode G2 [kN/m² of surface]
-  double snow = 1.0;            ///< eurocode Q: s_k [kN/m² of plan]
+  std::string steel = "S355";     ///< S235 | S275 | S355
+  std::string loads = "paper";    ///< paper | eurocode
+  double glass = 0.4;             ///< eurocode G2 [kN/m² of surface]
+  double snow = 1.0;              ///< eurocode Q: s_k [kN/m² of plan]
   double deflection_limit = 300;  ///< δ passes when at most span / this
 };
 void add_load_check_options(CLI::App* sub, LoadCheckOptions& options);

@@ -47,9 +47,9 @@ struct Outcome {
 Outcome analyze(const std::string& name, const json& model) {
   const auto dir = test::temp_dir("bench_" + name);
   io::write_file_atomic(dir / "model.json", model.dump());
-  const auto r = test::run_gridshell(fmt::format("analyze '{}' -o '{}' --quiet --figures none",
-                                                 (dir / "model.json").string(),
-                                                 (dir / "out").string()));
+  const auto r =
+      test::run_gridshell(fmt::format("analyze '{}' -o '{}' --quiet --figures none",
+                                      (dir / "model.json").string(), (dir / "out").string()));
   EXPECT_EQ(r.status, 0) << r.err;
   if (r.status != 0) return {};
   const json s = json::parse(io::read_file(dir / "out" / "report.json"))["structure"];

@@ -170,8 +170,7 @@ TEST(LoadCases, BaselineTakesTheLoadAndSteelOptions) {
                                                    "--quiet -o ") +
                                        test::temp_dir("load_cases_bad").string() + " " + bad);
     EXPECT_EQ(r.status, 2) << bad;
-    EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))),
-              std::string::npos)
+    EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos)
         << r.err;
   }
 }

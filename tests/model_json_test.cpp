@@ -120,9 +120,9 @@ TEST(ModelJson, LoadCaseErrors) {
 TEST(ModelJsonCli, CombinationsMatchClosedForms) {
   const auto dir = test::temp_dir("model_combinations");
   io::write_file_atomic(dir / "m.json", cantilever(kCases).dump());
-  const auto r = test::run_gridshell(fmt::format("analyze '{}' -o '{}' --quiet --figures none",
-                                                 (dir / "m.json").string(),
-                                                 (dir / "out").string()));
+  const auto r =
+      test::run_gridshell(fmt::format("analyze '{}' -o '{}' --quiet --figures none",
+                                      (dir / "m.json").string(), (dir / "out").string()));
   ASSERT_EQ(r.status, 0) << r.err;
   const json s = json::parse(io::read_file(dir / "out" / "report.json"))["structure"];
   const double L = 2, d = 0.1, fy = 235e6, E = 210e9, pi = std::numbers::pi;
@@ -135,8 +135,7 @@ TEST(ModelJsonCli, CombinationsMatchClosedForms) {
   EXPECT_NEAR(c["SLS"]["utilisation_max"].get<double>() / (3000 * L / (W * fy)), 1, 0.005);
   EXPECT_NEAR(c["SLS"]["delta_max_m"].get<double>() / (3000 * L * L * L / (3 * E * I)), 1, 0.005);
   EXPECT_EQ(c["SLS"]["delta_pass"], false);  // 7.8 mm > 2 m / 300
-  EXPECT_NEAR(s["utilisation_max"].get<double>(), c["ULS"]["utilisation_max"].get<double>(),
-              1e-12);
+  EXPECT_NEAR(s["utilisation_max"].get<double>(), c["ULS"]["utilisation_max"].get<double>(), 1e-12);
 }
 
 // The stop rule from MODEL.json's analysis keys and from the command line (which wins).
@@ -161,12 +160,10 @@ TEST(ModelJsonCli, StopRuleEndsThePath) {
   s = report("--stop-lambda 1e6 --max-steps 3");
   EXPECT_EQ(s["nonlinear_stop_reason"], "maximum number of steps");
   for (const char* bad : {"--stop-lambda -1", "--stop-displacement nan", "--max-steps -2"}) {
-    const auto r = test::run_gridshell(fmt::format("analyze '{}' -o '{}' --quiet {}",
-                                                   (dir / "m.json").string(),
-                                                   (dir / "bad").string(), bad));
+    const auto r = test::run_gridshell(fmt::format(
+        "analyze '{}' -o '{}' --quiet {}", (dir / "m.json").string(), (dir / "bad").string(), bad));
     EXPECT_EQ(r.status, 2) << bad;
-    EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))),
-              std::string::npos)
+    EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos)
         << r.err;
   }
 }

@@ -119,9 +119,8 @@ double max_section_utilisation(const fem::FrameModel& model,
   check_inputs(model, forces, o);
   double u = 0;
   for (size_t m = 0; m < forces.size(); ++m)
-    u = std::max(
-        u, section_utilisation(capacity(model, model.members[m].section), forces[m],
-                               member_fy(model, model.members[m], o)));
+    u = std::max(u, section_utilisation(capacity(model, model.members[m].section), forces[m],
+                                        member_fy(model, model.members[m], o)));
   return u;
 }
 

@@ -301,9 +301,10 @@ void read_load_cases(const json& j, const std::string& subject, const fem::Frame
     for (const auto& [case_name, f] : factors.items()) {
       const auto it = cases.find(case_name);
       if (it == cases.end())
-        throw Error(subject, what + ": unknown load case '" + case_name + "'");
-      const double factor = num(f, what + "." + case_name, subject);
-      if (!(factor >= 0)) throw Error(subject, what + "." + case_name + " must be >= 0");
+        throw Error(subject, fmt::format("{}: unknown load case '{}'", what, case_name));
+      const std::string key = fmt::format("{}.{}", what, case_name);
+      const double factor = num(f, key, subject);
+      if (!(factor >= 0)) throw Error(subject, key + " must be >= 0");
       c.factors.emplace_back(case_name, factor);
       for (int v = 0; v < n; ++v) {
         sum.F[v] += factor * it->second.F[v];

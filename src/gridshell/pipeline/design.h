@@ -106,7 +106,7 @@ void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r);
 
 /// One combination's block of `structure.combinations`: gamma_G, gamma_Q, δ and its limit and
 /// pass/fail, the member checks and the stability figures of `r` (add_checks_block's keys).
-nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_G, double gamma_Q);
+nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g, double gamma_q);
 
 /// report.json's `structure.combinations`: one block per load combination with δ, its limit and
 /// pass/fail, the member checks and the stability figures (add_checks_block's keys that apply).
