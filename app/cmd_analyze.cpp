@@ -112,6 +112,8 @@ LoadedFrame load_frame(const AnalyzeArgs& a) {
     f.request = file.analysis;
     f.combinations = std::move(file.combinations);
     if (a.area_load > 0) {
+      if (!f.combinations.empty())
+        throw Error("--area-load", "the model has load cases: give it as a surface load in one");
       if (f.model.faces.empty()) throw Error("--area-load", "the model has no faces to carry it");
       PolyMesh pm;
       pm.V = f.model.nodes;

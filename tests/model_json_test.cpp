@@ -159,7 +159,9 @@ TEST(ModelJsonCli, StopRuleEndsThePath) {
   EXPECT_EQ(s["nonlinear_stop_reason"], "maximum displacement reached");
   s = report("--stop-lambda 1e6 --max-steps 3");
   EXPECT_EQ(s["nonlinear_stop_reason"], "maximum number of steps");
-  for (const char* bad : {"--stop-lambda -1", "--stop-displacement nan", "--max-steps -2"}) {
+  for (const char* bad :
+       {"--stop-lambda -1", "--stop-displacement nan", "--max-steps -2", "--area-load 1"}) {
+    // (--area-load: the model has load cases, the area load belongs in one of them)
     const auto r = test::run_gridshell(fmt::format(
         "analyze '{}' -o '{}' --quiet {}", (dir / "m.json").string(), (dir / "bad").string(), bad));
     EXPECT_EQ(r.status, 2) << bad;
