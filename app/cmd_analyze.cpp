@@ -38,13 +38,12 @@ struct AnalyzeArgs {
   bool imperfection = false;
   double imperfection_amplitude = 0;
   double nonlinear_static = 0;
-  int max_steps = 300;
+  int max_steps = 0;             ///< 0: MODEL.json's analysis.max_steps, else 300
+  double stop_displacement = 0;  ///< 0: MODEL.json's, else automatic
+  double stop_lambda = 0;        ///< 0: MODEL.json's, else automatic
   double displacement_limit = 0;
   std::string sheet = "2.5x1.25";
-  std::string steel = "S355";
-  std::string loads = "paper";
-  double glass = 0.4, snow = 1.0;
-  double deflection_limit = 300;
+  LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit
   bool single_path = false;
 };
 
@@ -65,20 +64,19 @@ void check_analyze_args(const AnalyzeArgs& a) {
   if (a.modes < 1 || a.modes > 100) throw Error("--modes", "must be in 1..100");
   if (a.nonlinear_static < 0 || !std::isfinite(a.nonlinear_static))
     throw Error("--nonlinear-static", "must be > 0");
-  if (a.max_steps < 1) throw Error("--max-steps", "must be >= 1");
+  if (a.max_steps < 0 || a.max_steps > 100000) throw Error("--max-steps", "must be in 1..100000");
+  if (!(a.stop_displacement >= 0) || !std::isfinite(a.stop_displacement))
+    throw Error("--stop-displacement", "must be a length > 0 (model units)");
+  if (!(a.stop_lambda >= 0) || !std::isfinite(a.stop_lambda))
+    throw Error("--stop-lambda", "must be a load factor > 0");
   if (!(a.displacement_limit >= 0) || !std::isfinite(a.displacement_limit))
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
   fabrication::parse_sheet(a.sheet);
-  checks::parse_steel_grade(a.steel);
-  if (analysis::parse_load_model(a.loads) == analysis::LoadModel::eurocode &&
-      lower_ext(a.input) == ".json")
+  analysis::GridshellFrameOptions frame;
+  analysis::FrameAnalysisOptions options;
+  apply_load_check_options(a.checks, frame, options);
+  if (frame.loads == analysis::LoadModel::eurocode && lower_ext(a.input) == ".json")
     throw Error("--loads", "eurocode load cases need a grid-shell mesh (MODEL.json has its loads)");
-  if (!(a.glass >= 0) || !std::isfinite(a.glass))
-    throw Error("--glass", "must be a load >= 0 (kN/m²)");
-  if (!(a.snow >= 0) || !std::isfinite(a.snow))
-    throw Error("--snow", "must be a load >= 0 (kN/m²)");
-  if (!(a.deflection_limit > 0) || !std::isfinite(a.deflection_limit))
-    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
   if (a.analyze != "auto") {
     if (analysis::parse_analysis_level(a.analyze) == analysis::AnalysisLevel::none)
       throw Error("--analyze", "must be linear, buckling or nonlinear");
@@ -91,6 +89,7 @@ struct LoadedFrame {
   fem::FrameModel model;
   std::vector<int> supports;
   io::ModelAnalysisRequest request;
+  std::vector<io::ModelCombination> combinations;  ///< MODEL.json's; primary first
 };
 
 /// The grid-shell frame options the arguments ask for.
@@ -100,9 +99,8 @@ analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a) {
   go.elements = a.elements;
   go.self_weight_at_bars = a.self_weight == "at-bars";
   go.area_load_kN_m2 = a.area_load;
-  go.loads = analysis::parse_load_model(a.loads);
-  go.glass_kN_m2 = a.glass;
-  go.snow_kN_m2 = a.snow;
+  analysis::FrameAnalysisOptions unused;
+  apply_load_check_options(a.checks, go, unused);
   return go;
 }
 
@@ -112,7 +110,10 @@ LoadedFrame load_frame(const AnalyzeArgs& a) {
     io::FrameModelFile file = io::read_frame_model(a.input, 1);
     f.model = std::move(file.model);
     f.request = file.analysis;
+    f.combinations = std::move(file.combinations);
     if (a.area_load > 0) {
+      if (!f.combinations.empty())
+        throw Error("--area-load", "the model has load cases: give it as a surface load in one");
       if (f.model.faces.empty()) throw Error("--area-load", "the model has no faces to carry it");
       PolyMesh pm;
       pm.V = f.model.nodes;
@@ -167,13 +168,54 @@ analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a,
   o.imperfection_amplitude = a.imperfection_amplitude;
   o.nonlinear_static =
       a.nonlinear_static > 0 ? a.nonlinear_static : request.nonlinear_static.value_or(0);
-  o.arc.max_steps = a.max_steps;
+  // The path's stop rule: the command line, else MODEL.json's analysis keys, else automatic
+  // (a general frame is followed to its first critical point: FrameAnalysisOptions::path_reach).
+  const bool general = lower_ext(a.input) == ".json";
+  o.arc.max_steps = a.max_steps > 0
+                        ? a.max_steps
+                        : request.max_steps.value_or(
+                              general ? analysis::FrameAnalysisOptions::kGeneralMaxSteps : 300);
+  o.arc.max_displacement =
+      a.stop_displacement > 0 ? a.stop_displacement : request.stop_displacement.value_or(0);
+  o.arc.max_lambda = a.stop_lambda > 0 ? a.stop_lambda : request.stop_lambda.value_or(1e9);
+  if (general) o.path_reach = analysis::FrameAnalysisOptions::kGeneralPathReach;
   o.displacement_limit = a.displacement_limit;
-  o.checks.fy = checks::yield_strength(checks::parse_steel_grade(a.steel));
-  o.deflection_limit_divisor = a.deflection_limit;
+  analysis::GridshellFrameOptions unused;
+  apply_load_check_options(a.checks, unused, o);
   o.stability = !a.single_path;
   if (o.imperfection && !o.buckling) o.buckling = true;
   return o;
+}
+
+/// report.json's `structure.combinations` for a MODEL.json: without load cases {"model": the
+/// analysis}; with them one block per combination with its factors, the primary from `primary`,
+/// the others from a linear analysis each (δ, its limit, the member checks), as `design`'s SLS.
+nlohmann::json model_combinations(const LoadedFrame& f, analysis::FrameAnalysisOptions options,
+                                  const analysis::FrameResult& primary) {
+  nlohmann::json block;
+  const auto with_factors = [](nlohmann::json c, const io::ModelCombination* comb) {
+    c.erase("gamma_G");
+    c.erase("gamma_Q");
+    if (comb)
+      for (const auto& [name, factor] : comb->factors) c["factors"][name] = factor;
+    return c;
+  };
+  if (f.combinations.empty()) {
+    block["model"] = with_factors(combination_block(primary, 1, 1), nullptr);
+    return block;
+  }
+  block[f.combinations.front().name] =
+      with_factors(combination_block(primary, 1, 1), &f.combinations.front());
+  options = analysis::at_level(options, analysis::AnalysisLevel::linear);
+  options.nonlinear_static = 0;
+  for (std::size_t k = 1; k < f.combinations.size(); ++k) {
+    fem::FrameModel model = f.model;
+    model.loads = f.combinations[k].loads;
+    spdlog::info("[analysis] {} combination: linear", f.combinations[k].name);
+    block[f.combinations[k].name] = with_factors(
+        combination_block(analysis::analyze_frame(model, options), 1, 1), &f.combinations[k]);
+  }
+  return block;
 }
 
 int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
@@ -193,11 +235,15 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["members"] = f.model.members.size();
   st["supports"] = f.supports.size();
   st["analysis"] = to_string(level);
-  st["steel"] = a.steel;
+  st["steel"] = a.checks.steel;
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
-  st["loads"] = a.loads;
-  if (lower_ext(a.input) != ".json")
+  st["loads"] = lower_ext(a.input) != ".json" ? a.checks.loads
+                : f.combinations.empty()      ? "model"
+                                              : "load_cases";
+  if (lower_ext(a.input) == ".json")
+    st["combinations"] = model_combinations(f, analysis_options(a, level, f.request), r);
+  else
     st["combinations"] =
         combinations_block(PolyMesh{f.model.nodes, f.model.faces}, f.supports, frame_options(a),
                            analysis_options(a, level, f.request), r);
@@ -269,28 +315,24 @@ void register_analyze(CLI::App& app, Action& action) {
   sub->add_option("--nonlinear-static", a->nonlinear_static,
                   "also solve the non-linear equilibrium at this load factor (nodes_nonlinear.csv)")
       ->default_str("0");
-  sub->add_option("--max-steps", a->max_steps, "arc-length step limit")->default_str("300");
+  sub->add_option("--max-steps", a->max_steps,
+                  "non-linear path: arc-length step limit (default: MODEL.json's "
+                  "analysis.max_steps, else 1000 for MODEL.json, 300 for grid-shell meshes)")
+      ->default_str("0");
+  sub->add_option("--stop-displacement", a->stop_displacement,
+                  "non-linear path: stop when the largest displacement reaches this (model "
+                  "units; default: MODEL.json's analysis.stop_displacement, else 3 × the model's "
+                  "size for MODEL.json, span/5 for grid-shell meshes)")
+      ->default_str("0");
+  sub->add_option("--stop-lambda", a->stop_lambda,
+                  "non-linear path: stop when the load factor reaches this (default: MODEL.json's "
+                  "analysis.stop_lambda, else 20 × lambda_LBA)")
+      ->default_str("0");
   sub->add_option("--displacement-limit", a->displacement_limit,
                   "report lambda_displacement_limit: the load factor at which the non-linear "
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
-  sub->add_option("--steel", a->steel, "member checks: steel grade S235 | S275 | S355")
-      ->default_str("S355");
-  sub->add_option("--loads", a->loads,
-                  "grid-shell meshes: paper (the bars' weight spread over the surface, + "
-                  "--area-load) | eurocode (G1 bars, G2 --glass, Q --snow; structure = ULS 1.35 G "
-                  "+ 1.5 Q, combinations adds SLS G + Q)")
-      ->default_str("paper");
-  sub->add_option("--glass", a->glass, "--loads eurocode: glass and cladding in kN/m² of surface")
-      ->default_str("0.4");
-  sub->add_option("--snow", a->snow,
-                  "--loads eurocode: characteristic snow s_k in kN/m² of plan (times the shape "
-                  "factor of the roof slope)")
-      ->default_str("1.0");
-  sub->add_option("--deflection-limit", a->deflection_limit,
-                  "serviceability: delta passes when at most span / this (span = largest plan "
-                  "extent)")
-      ->default_str("300");
+  add_load_check_options(sub, a->checks);
   sub->add_flag("--single-path", a->single_path,
                 "non-linear analysis: follow only the path asked for (perfect, or imperfect with "
                 "--imperfection), not also the other");

@@ -41,6 +41,7 @@ struct BaselineArgs {
   std::string field = "stress", measure = "magnitude", stretch = "along", density = "rising";
   SurfaceOptions surface_options;
   RunOptions run;
+  LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit (as design)
 };
 
 int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
@@ -54,6 +55,9 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   const analysis::AnalysisLevel level = analysis::parse_analysis_level(a.analyze);
   const fabrication::SheetOptions sheet = fabrication::parse_sheet(a.sheet);
   const BaselineKind kind = parse_baseline_kind(a.kind);
+  analysis::GridshellFrameOptions frame;
+  analysis::FrameAnalysisOptions options;
+  apply_load_check_options(a.checks, frame, options);
   DesignOptions field_options;  // quad-aniso: the design's field
   field_options.field = parse_field_input(a.field, &field_options.field_file);
   field_options.D = a.D, field_options.A = a.A;
@@ -151,9 +155,8 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   if (level != analysis::AnalysisLevel::none) {
     const auto t2 = Clock::now();
     spdlog::info("[analysis] {} frame: {} joints", a.analyze, out.mesh.num_vertices());
-    analysis::FrameAnalysisOptions options;
     options.arc.progress = guard.progress;
-    structure = analyze_gridshell(out.mesh, out.supports, level, {}, options);
+    structure = analyze_gridshell(out.mesh, out.supports, level, frame, options);
     lap("analysis", t2);
   }
   if (structure) add_structure(out, *structure);
@@ -169,7 +172,13 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     report["mesh"]["target_length_m"] = a.length;
     report["mesh"]["length_error"] = report["mesh"]["total_length_m"].get<double>() / a.length - 1;
   }
-  if (structure) report["structure"] = structure_block(*structure);
+  if (structure) {
+    report["structure"] = structure_block(*structure);
+    report["structure"]["steel"] = a.checks.steel;
+    report["structure"]["loads"] = a.checks.loads;
+    report["structure"]["combinations"] =
+        combinations_block(out.mesh, out.supports, frame, options, *structure);
+  }
   if (!quad_stats.is_null()) report["quad_aniso"] = quad_stats;
   const auto t3 = Clock::now();
   report["figures"] = figures::write_figures(
@@ -234,6 +243,7 @@ void register_baseline(CLI::App& app, Action& action) {
       "gridshell.obj, gridshell.ply, gridshell.vtp, cells.csv, joints.csv, beams.csv,\n"
       "panels.csv, panels.svg, figures/*.png (docs/figures.md), report.json, config.json\n"
       "and report.html (open it first: the 3D view, key figures and figures, offline).");
+  add_load_check_options(sub, a->checks);
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   add_figure_option(sub, a->run);

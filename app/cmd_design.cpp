@@ -35,8 +35,7 @@ struct DesignArgs {
   std::string measure = "magnitude", stretch = "along", density = "rising";
   std::string field = "stress", analyze = "nonlinear", symmetry = "none";
   std::string sheet = "2.5x1.25";  ///< fabrication: panels nested on sheets of W x H m
-  std::string steel = "S355";      ///< member checks: steel grade
-  std::string loads = "paper";     ///< paper | eurocode
+  LoadCheckOptions checks;         ///< --steel, --loads, --glass, --snow, --deflection-limit
   bool single_path = false;        ///< non-linear: skip the second (imperfect) path
   bool search = true;  ///< no -D/-A/convention/--field given: search for the objective
 };
@@ -67,9 +66,8 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const std::optional<FieldSource> response = parse_frame_source(a.field);
   if (!response) options.field = parse_field_input(a.field, &options.field_file);
   options.analyze = analysis::parse_analysis_level(a.analyze);
-  options.frame_analysis.checks.fy = checks::yield_strength(checks::parse_steel_grade(a.steel));
+  apply_load_check_options(a.checks, options.frame, options.frame_analysis);
   options.frame_analysis.stability = !a.single_path;
-  options.frame.loads = analysis::parse_load_model(a.loads);
   options.symmetry = parse_symmetry(a.symmetry);
   options.field_options.measure = parse_stress_measure(a.measure);
   options.field_options.stretch = parse_stretch_axis(a.stretch);
@@ -115,8 +113,8 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   report["fabrication"] = bom;
   report["figures"] = figure_files;
   if (r.structure) {
-    report["structure"]["steel"] = a.steel;
-    report["structure"]["loads"] = a.loads;
+    report["structure"]["steel"] = a.checks.steel;
+    report["structure"]["loads"] = a.checks.loads;
     report["structure"]["combinations"] =
         combinations_block(r.mesh, r.supports, options.frame, options.frame_analysis, *r.structure);
     write_buckling_modes(dir, *r.structure);
@@ -221,24 +219,7 @@ void register_design(CLI::App& app, Action& action) {
                   "analysis: lambda_displacement_limit is the load factor at which the non-linear "
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
-  sub->add_option("--steel", a->steel, "member checks: steel grade S235 | S275 | S355")
-      ->default_str("S355");
-  sub->add_option("--loads", a->loads,
-                  "analysis: paper (the bars' weight spread over the surface, + --area-load) | "
-                  "eurocode (G1 bars, G2 --glass, Q --snow; structure = ULS 1.35 G + 1.5 Q, "
-                  "combinations adds SLS G + Q)")
-      ->default_str("paper");
-  sub->add_option("--glass", a->design.frame.glass_kN_m2,
-                  "--loads eurocode: glass and cladding in kN/m² of surface")
-      ->default_str("0.4");
-  sub->add_option("--snow", a->design.frame.snow_kN_m2,
-                  "--loads eurocode: characteristic snow s_k in kN/m² of plan (times the shape "
-                  "factor of the roof slope)")
-      ->default_str("1.0");
-  sub->add_option("--deflection-limit", a->design.frame_analysis.deflection_limit_divisor,
-                  "serviceability: delta passes when at most span / this (span = largest plan "
-                  "extent)")
-      ->default_str("300");
+  add_load_check_options(sub, a->checks);
   sub->add_flag("--single-path", a->single_path,
                 "non-linear analysis: follow only the perfect path (no lambda_imperfect; half "
                 "the cost)");

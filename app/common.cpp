@@ -1,5 +1,6 @@
 #include "common.h"
 
+#include <cmath>
 #include <filesystem>
 #include <thread>
 
@@ -9,6 +10,7 @@
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 
+#include "gridshell/checks/member_checks.h"
 #include "gridshell/core/error.h"
 #include "gridshell/core/progress_display.h"
 #include "gridshell/figures/figures.h"
@@ -39,6 +41,41 @@ void add_figure_option(CLI::App* sub, RunOptions& o) {
   sub->add_option("--figures", o.figures,
                   "size WxH in pixels of the PNG figures in DIR/figures/, or none")
       ->default_str(o.figures);
+}
+
+void add_load_check_options(CLI::App* sub, LoadCheckOptions& o) {
+  sub->add_option("--steel", o.steel, "member checks: steel grade S235 | S275 | S355")
+      ->default_str("S355");
+  sub->add_option("--loads", o.loads,
+                  "grid-shell analysis: paper (the bars' weight spread over the surface, + "
+                  "--area-load) | eurocode (G1 bars, G2 --glass, Q --snow; structure = ULS "
+                  "1.35 G + 1.5 Q, combinations adds SLS G + Q)")
+      ->default_str("paper");
+  sub->add_option("--glass", o.glass, "--loads eurocode: glass and cladding in kN/m² of surface")
+      ->default_str("0.4");
+  sub->add_option("--snow", o.snow,
+                  "--loads eurocode: characteristic snow s_k in kN/m² of plan (times the shape "
+                  "factor of the roof slope)")
+      ->default_str("1.0");
+  sub->add_option("--deflection-limit", o.deflection_limit,
+                  "serviceability: delta passes when at most span / this (span = largest plan "
+                  "extent)")
+      ->default_str("300");
+}
+
+void apply_load_check_options(const LoadCheckOptions& o, analysis::GridshellFrameOptions& frame,
+                              analysis::FrameAnalysisOptions& analysis) {
+  analysis.checks.fy = checks::yield_strength(checks::parse_steel_grade(o.steel));
+  frame.loads = analysis::parse_load_model(o.loads);
+  if (!(o.glass >= 0) || !std::isfinite(o.glass))
+    throw Error("--glass", "must be a load >= 0 (kN/m²)");
+  if (!(o.snow >= 0) || !std::isfinite(o.snow))
+    throw Error("--snow", "must be a load >= 0 (kN/m²)");
+  if (!(o.deflection_limit > 0) || !std::isfinite(o.deflection_limit))
+    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
+  frame.glass_kN_m2 = o.glass;
+  frame.snow_kN_m2 = o.snow;
+  analysis.deflection_limit_divisor = o.deflection_limit;
 }
 
 RunGuard apply_run_options(const RunOptions& o) {

@@ -9,6 +9,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "gridshell/analysis/frame_analysis.h"
+#include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/progress.h"
 #include "gridshell/report/report_html.h"
 #include "gridshell/surfaces/load.h"
@@ -31,6 +33,22 @@ void add_surface_options(CLI::App* sub, SurfaceOptions& options);
 void add_run_options(CLI::App* sub, RunOptions& options);
 /// --figures WxH|none: the size of the PNGs in DIR/figures/ (checked by apply_run_options).
 void add_figure_option(CLI::App* sub, RunOptions& options);
+
+/// The load model and member-check options of the commands that analyse a grid-shell (design,
+/// analyze, baseline): --steel, --loads, --glass, --snow, --deflection-limit (docs/checks.md).
+struct LoadCheckOptions {
+  std::string steel = "S355";     ///< S235 | S275 | S355
+  std::string loads = "paper";    ///< paper | eurocode
+  double glass = 0.4;             ///< eurocode G2 [kN/m² of surface]
+  double snow = 1.0;              ///< eurocode Q: s_k [kN/m² of plan]
+  double deflection_limit = 300;  ///< δ passes when at most span / this
+};
+void add_load_check_options(CLI::App* sub, LoadCheckOptions& options);
+/// Parses and checks them (Error naming the option) and sets `frame`'s load model, glass and
+/// snow, and `analysis`'s fy and deflection limit.
+void apply_load_check_options(const LoadCheckOptions& options,
+                              analysis::GridshellFrameOptions& frame,
+                              analysis::FrameAnalysisOptions& analysis);
 
 /// What a run holds while it works: the thread limit, and the progress display on stderr.
 struct RunGuard {

@@ -89,6 +89,13 @@ frame={"nodes":nodes,
           {"type":"projected","q":[0,0,-100]},{"type":"self_weight","g":9.81}],
  "analysis":{"linear":True,"buckling":True,"nonlinear":False,"nonlinear_static":1.5}}
 w("model/frame.json",json.dumps(frame,indent=1))
+cases=dict(frame); del cases["loads"]
+cases["materials"]={"steel":{"E":2.1e11,"density":7850,"fy":3.55e8}}
+cases["load_cases"]={"G":{"type":"permanent","loads":[{"type":"self_weight"},{"type":"surface","q":[0,0,-400]}]},
+                     "S":{"type":"variable","loads":[{"type":"projected","q":[0,0,-1000]},{"node":1,"force":[0,0,-1]}]}}
+cases["combinations"]={"ULS":{"G":1.35,"S":1.5},"SLS":{"G":1,"S":1}}
+cases["analysis"]={"nonlinear":True,"stop_displacement":0.5,"stop_lambda":10,"max_steps":20}
+w("model/frame_load_cases.json",json.dumps(cases,indent=1))
 shell={"nodes":nodes,"triangles":[[0,1,2],[0,2,3]],"thickness":0.05,"material":"concrete",
  "materials":{"concrete":{"E":3e10,"nu":0.2,"density":2400},"steel":{"E":2.1e11}},
  "supports":[{"node":0,"fix":"clamped"},{"node":1,"fix":["ux","uy","uz"]},{"node":3}],

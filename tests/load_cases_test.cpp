@@ -139,3 +139,38 @@ TEST(LoadCases, CommandLineWritesOneBlockPerCombination) {
   EXPECT_EQ(wind.status, 2);
   EXPECT_NE(wind.err.find("--loads"), std::string::npos) << wind.err;
 }
+
+// `baseline` takes design's load and check options (registered once, app/common.h): with the
+// same grid and loads, utilisation scales with 1/fy (S235 against S355), the eurocode blocks
+// are there, and a bad word or value exits 2.
+TEST(LoadCases, BaselineTakesTheLoadAndSteelOptions) {
+  namespace fs = std::filesystem;
+  const auto run = [](const std::string& steel) {
+    const fs::path d = test::temp_dir("load_cases_baseline_" + steel);
+    const auto r = test::run_gridshell(
+        "baseline builtin:dome --kind quad --spacing 2 --analyze linear --loads eurocode "
+        "--snow 0.8 --glass 0.5 --deflection-limit 200 --figures none --quiet --steel " +
+        steel + " -o " + d.string());
+    EXPECT_EQ(r.status, 0) << r.err;
+    std::ifstream in(d / "report.json");
+    return nlohmann::json::parse(in).at("structure");
+  };
+  const auto s235 = run("S235"), s355 = run("S355");
+  EXPECT_EQ(s235.at("steel"), "S235");
+  EXPECT_EQ(s235.at("loads"), "eurocode");
+  const auto& uls = s235.at("combinations").at("ULS");
+  EXPECT_NEAR(uls.at("utilisation_max").get<double>() /
+                  s355.at("combinations").at("ULS").at("utilisation_max").get<double>(),
+              355.0 / 235.0, 1e-9);
+  EXPECT_NEAR(uls.at("delta_limit_m").get<double>(), s235.at("span_m").get<double>() / 200, 1e-12);
+  EXPECT_LT(s235.at("combinations").at("SLS").at("delta_max_m").get<double>(),
+            uls.at("delta_max_m").get<double>());
+  for (const char* bad : {"--steel S999", "--loads wind", "--snow -1", "--glass nan"}) {
+    const auto r = test::run_gridshell(std::string("baseline builtin:dome --kind quad --spacing 2 "
+                                                   "--quiet -o ") +
+                                       test::temp_dir("load_cases_bad").string() + " " + bad);
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos)
+        << r.err;
+  }
+}

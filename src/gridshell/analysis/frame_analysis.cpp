@@ -21,6 +21,12 @@ double plan_span(const Points& X) {
   return s > 0 ? s : (hi - lo).norm();
 }
 
+/// The automatic displacement stop of the path (FrameAnalysisOptions::path_reach).
+double automatic_stop(const Points& X, double span, double path_reach) {
+  if (!(path_reach > 0)) return span / 5;
+  return path_reach * (X.colwise().maxCoeff() - X.colwise().minCoeff()).maxCoeff();
+}
+
 /// λ where the path's displacement first reaches `limit` (linear between path points).
 std::optional<double> lambda_at_displacement(const std::vector<PathPoint>& path, double limit) {
   for (std::size_t i = 1; i < path.size(); ++i) {
@@ -183,7 +189,7 @@ PathRun follow_path(const FrameModel& model, const FrameMesh& mesh, const FrameA
                             ? *res.lambda_linear_buckling / 10
                             : span / 2000 / std::max(res.delta_max_m, 1e-300);
   }
-  if (!(ao.max_displacement > 0)) ao.max_displacement = span / 5;
+  if (!(ao.max_displacement > 0)) ao.max_displacement = automatic_stop(mesh.X, span, o.path_reach);
   if (res.lambda_linear_buckling && ao.max_lambda >= 1e9)
     ao.max_lambda = 20 * *res.lambda_linear_buckling;
   PathRun run;

@@ -42,9 +42,22 @@ struct FrameAnalysisOptions {
   int buckling_modes = 5;
   bool imperfection = false;          ///< perturb the geometry by the first LBA mode for the path
   double imperfection_amplitude = 0;  ///< [m]; 0 = span / 300 (span = largest plan extent)
-  /// Arc-length settings; initial_lambda ≤ 0 = automatic (λ_LBA / 10, or the factor giving a
-  /// linear displacement of span / 2000); max_displacement ≤ 0 = span / 5.
+  /// Arc-length settings and the path's stop rule: initial_lambda ≤ 0 = automatic (λ_LBA / 10,
+  /// or the factor giving a linear displacement of span / 2000); max_displacement ≤ 0 = the
+  /// automatic stop of `path_reach`; max_lambda ≥ 1e9 = 20 λ_LBA (when there is one); max_steps
+  /// as set.
   fem::ArcLengthOptions arc = automatic_arc();
+  /// The automatic displacement stop. 0: span / 5 (span = largest plan extent), for grid-shells,
+  /// whose path may stiffen into membrane action far beyond any useful λ. > 0: this multiple of
+  /// the model's size (the largest extent of its bounding box in any direction), for general
+  /// frames (`analyze MODEL.json`: `kGeneralPathReach`), whose first critical point can lie at
+  /// displacements of the order of their size (Lee's frame: 0.5 L; a deep arch: about R).
+  double path_reach = 0;
+  static constexpr double kGeneralPathReach = 3;
+  /// The step cap of a general frame's path (`analyze MODEL.json`): stiff members (large EA L²/
+  /// EI) make the corotational corrector take small steps on long paths (the deep arch of
+  /// docs/frame.md, R / r = 1000: 907 steps to its limit point). Grid-shells: 300.
+  static constexpr int kGeneralMaxSteps = 1000;
   /// Displacement limit [m] for λ_δ (FrameResult::lambda_displacement_limit); 0 = span / 100.
   double displacement_limit = 0;
   /// Member checks (checks/member_checks.h): fy and the buckling curve. The linear solution's

@@ -65,6 +65,13 @@ double section_utilisation(const SectionCapacity& c, const fem::MemberForces& f,
   return N / (c.A * fy) + bending / fy;
 }
 
+/// The member's fy: its material's when set (MODEL.json), else the options'.
+double member_fy(const fem::FrameModel& model, const fem::FrameMember& mb,
+                 const MemberCheckOptions& o) {
+  const double fy = model.materials[mb.material].fy;
+  return fy > 0 ? fy : o.fy;
+}
+
 void check_inputs(const fem::FrameModel& model, const std::vector<fem::MemberForces>& forces,
                   const MemberCheckOptions& o) {
   if (forces.size() != model.members.size())
@@ -85,14 +92,15 @@ MemberChecks check_members(const fem::FrameModel& model,
     const fem::FrameMember& mb = model.members[m];
     const SectionCapacity c = capacity(model, mb.section);
     MemberCheck& r = out.members[m];
-    r.section = section_utilisation(c, forces[m], o.fy);
+    const double fy = member_fy(model, mb, o);
+    r.section = section_utilisation(c, forces[m], fy);
     const double E = model.materials[mb.material].E;
     const double L = o.buckling_length_factor * fem::member_length(model, static_cast<int>(m));
     const double Ncr = std::numbers::pi * std::numbers::pi * E * c.Imin / (L * L);
-    r.slenderness = Ncr > 0 ? std::sqrt(c.A * o.fy / Ncr) : 0;
+    r.slenderness = Ncr > 0 ? std::sqrt(c.A * fy / Ncr) : 0;
     r.chi = buckling_reduction(r.slenderness, o.alpha);
     const double compression = std::max(0.0, -forces[m].N_min);
-    r.buckling = compression / (r.chi * c.A * o.fy);
+    r.buckling = compression / (r.chi * c.A * fy);
     if (out.section_worst < 0 || r.section > out.section_max) {
       out.section_max = r.section;
       out.section_worst = static_cast<int>(m);
@@ -111,8 +119,8 @@ double max_section_utilisation(const fem::FrameModel& model,
   check_inputs(model, forces, o);
   double u = 0;
   for (size_t m = 0; m < forces.size(); ++m)
-    u = std::max(
-        u, section_utilisation(capacity(model, model.members[m].section), forces[m], o.fy));
+    u = std::max(u, section_utilisation(capacity(model, model.members[m].section), forces[m],
+                                        member_fy(model, model.members[m], o)));
   return u;
 }
 

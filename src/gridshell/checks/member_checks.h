@@ -44,7 +44,7 @@ inline constexpr double kCurveCAlpha = 0.49;
 double buckling_reduction(double slenderness, double alpha = kCurveCAlpha);
 
 struct MemberCheckOptions {
-  double fy = 355e6;                  ///< yield strength [Pa]
+  double fy = 355e6;  ///< yield strength [Pa] of members whose material has none (fy = 0)
   double alpha = kCurveCAlpha;        ///< buckling curve imperfection factor
   double buckling_length_factor = 1;  ///< L_cr = factor × member length
 };

@@ -166,8 +166,9 @@ namespace {
 /// |φ·v| / |v| for the tangent's softest mode φ (inverse iteration from a seeded random start)
 /// and the load tangent v = K⁻¹f at the last stable point. Near a limit point v is dominated by
 /// φ (φᵀf ≠ 0); at a bifurcation φ ⟂ f and v has no large component along φ.
-double critical_mode_alignment(const TangentSolver& stable, const Eigen::VectorXd& v, int dofs) {
-  Eigen::VectorXd phi(dofs);
+double critical_mode_alignment(const TangentSolver& stable, const Eigen::VectorXd& v, int dofs,
+                               Eigen::VectorXd& phi) {
+  phi.resize(dofs);
   Rng rng(12345);
   for (int i = 0; i < phi.size(); ++i) phi(i) = rng.uniform(-1, 1);
   phi.normalize();
@@ -213,19 +214,42 @@ bool count_negative(const FrameAssembler& asmb, int base_negative, TangentSolver
   return true;
 }
 
-// A bracketed event, classified with the tangent at the last stable point `cur`: near a limit
-// point the load tangent v = K⁻¹f is dominated by the critical mode φ (φᵀf ≠ 0); at a
-// bifurcation φ ⟂ f and v has no large component along φ. Sets res's alignment and limit type;
-// returns the critical load factor.
+// |φ·d| / (|φ| |d|) over the free translations: d = the displacement of `state` from the
+// reference, φ's rotations left out.
+double path_alignment(const FrameMesh& mesh, const FrameState& state, const Eigen::VectorXd& phi) {
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(mesh.num_dofs);
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(mesh.num_dofs);
+  for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v)
+    for (int c = 0; c < 3; ++c)
+      if (mesh.dof[v][c] >= 0) {
+        d(mesh.dof[v][c]) = state.x(v, c) - mesh.X(v, c);
+        p(mesh.dof[v][c]) = phi(mesh.dof[v][c]);
+      }
+  const double nd = d.norm(), np = p.norm();
+  return nd > 0 && np > 0 ? std::abs(p.dot(d)) / (nd * np) : 0.0;
+}
+
+// A bracketed event, classified with the tangent at the last stable point `cur` and its softest
+// mode φ. At a new negative pivot: near a limit point the load tangent v = K⁻¹f is dominated by φ
+// (φᵀf ≠ 0); at a bifurcation φ ⟂ f and v has no large component along φ. At a fall of λ
+// without a new pivot the corrector may already have slipped onto a buckled branch through a
+// bifurcation whose pivot change it never saw (a perfect portal frame's sway; φ is no longer
+// ⟂ f there): it is a limit point only if the path's displacement so far lies mostly along φ
+// (a limit point's softening mode grows with the load: Lee's frame 0.76, the deep arch 0.75,
+// the star dome 1.0; the portal frame 0.31). Sets res's alignment and limit type; returns the
+// critical load factor (the bracket's middle at a pivot bifurcation, else the largest λ).
 double classify_critical(const FrameMesh& mesh, const TangentSolver& solver,
                          const Eigen::VectorXd& ut, const Converged& cur, const Converged& next,
                          double lam_max, int base_negative, ArcLengthResult& res) {
-  const double along = critical_mode_alignment(solver, ut, mesh.num_dofs);
+  Eigen::VectorXd phi;
+  const double along = critical_mode_alignment(solver, ut, mesh.num_dofs, phi);
   res.critical_mode_alignment = along;
-  const bool bifurcation = along < 0.5 && next.negative > base_negative;
+  const bool pivot = next.negative > base_negative;
+  const bool bifurcation =
+      pivot ? along < 0.5 : along < 0.5 || path_alignment(mesh, cur.state, phi) < 0.5;
   res.limit_type = bifurcation ? "bifurcation" : "limit point";
-  return bifurcation ? 0.5 * (cur.lambda + next.lambda)
-                     : std::max({cur.lambda, next.lambda, lam_max});
+  return bifurcation && pivot ? 0.5 * (cur.lambda + next.lambda)
+                              : std::max({cur.lambda, next.lambda, lam_max});
 }
 
 // The next arc-length radius: scaled so that the corrector would take about the desired number

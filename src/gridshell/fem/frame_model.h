@@ -36,6 +36,7 @@ struct FrameMaterial {
   double E = 0;        ///< Young's modulus [Pa]
   double nu = 0.3;     ///< Poisson's ratio (G = E / (2(1 + nu)))
   double density = 0;  ///< [kg/m³]
+  double fy = 0;       ///< yield strength for the member checks [Pa]; 0 = the checks' default
 };
 
 enum class MemberType { beam, truss };

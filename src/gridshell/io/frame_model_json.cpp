@@ -1,5 +1,6 @@
 #include "gridshell/io/frame_model_json.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <limits>
@@ -100,7 +101,7 @@ NameIndex read_sections(const json& j, const std::string& subject, fem::FrameMod
   return sections;
 }
 
-/// "materials": {NAME: {"E", "nu" (0.3), "density" (0)}}.
+/// "materials": {NAME: {"E", "nu" (0.3), "density" (0), "fy" (Pa; absent: --steel's)}}.
 NameIndex read_materials(const json& j, const std::string& subject, fem::FrameModel& m) {
   NameIndex materials;
   if (!j.contains("materials") || !j["materials"].is_object())
@@ -113,6 +114,10 @@ NameIndex read_materials(const json& j, const std::string& subject, fem::FrameMo
     mat.E = num(s["E"], what + ".E", subject);
     mat.nu = s.contains("nu") ? num(s["nu"], what + ".nu", subject) : 0.3;
     mat.density = s.contains("density") ? num(s["density"], what + ".density", subject) : 0.0;
+    if (s.contains("fy")) {
+      mat.fy = num(s["fy"], what + ".fy", subject);
+      if (!(mat.fy > 0)) throw Error(subject, what + ".fy must be a yield strength > 0 (Pa)");
+    }
     materials[name] = static_cast<int>(m.materials.size());
     m.materials.push_back(mat);
   }
@@ -211,13 +216,20 @@ void add_self_weight(const fem::FrameModel& m, double g, std::vector<Vec3>& F) {
   }
 }
 
-/// "loads": nodal, surface, projected and self_weight loads, summed into one nodal load per
-/// loaded node (needs validated references: faces, sections, materials).
-void read_loads(const json& j, const std::string& subject, fem::FrameModel& m) {
+/// Nodal forces and moments per node (a load case before it becomes FrameModel::loads).
+struct NodalSums {
+  std::vector<Vec3> F, M;
+};
+
+/// A list of nodal, surface, projected and self_weight loads (MODEL.json's "loads" or a load
+/// case's), summed per node (needs validated references: faces, sections, materials).
+NodalSums sum_loads(const json& list, const std::string& what, const std::string& subject,
+                    const fem::FrameModel& m) {
   const int n = m.num_nodes();
-  if (!j["loads"].is_array()) throw Error(subject, "'loads' must be a list");
-  std::vector<Vec3> F(n, Vec3::Zero()), M(n, Vec3::Zero());
-  for (const auto& lj : j["loads"]) {
+  if (!list.is_array()) throw Error(subject, fmt::format("'{}' must be a list", what));
+  NodalSums out{std::vector<Vec3>(n, Vec3::Zero()), std::vector<Vec3>(n, Vec3::Zero())};
+  std::vector<Vec3>&F = out.F, &M = out.M;
+  for (const auto& lj : list) {
     if (!lj.is_object()) throw Error(subject, "a load must be an object");
     const std::string type = lj.contains("type") && lj["type"].is_string()
                                  ? lj["type"].get<std::string>()
@@ -238,11 +250,78 @@ void read_loads(const json& j, const std::string& subject, fem::FrameModel& m) {
       throw Error(subject, "unknown load type '" + type + "'");
     }
   }
-  for (int v = 0; v < n; ++v)
-    if (F[v].squaredNorm() > 0 || M[v].squaredNorm() > 0) m.loads.push_back({v, F[v], M[v]});
+  return out;
 }
 
-/// "analysis": {"linear", "buckling", "nonlinear": true/false, "nonlinear_static": factor}.
+/// The model's nodal loads from per-node sums (only loaded nodes).
+std::vector<fem::NodalLoad> nodal_loads(const NodalSums& s) {
+  std::vector<fem::NodalLoad> out;
+  for (int v = 0; v < static_cast<int>(s.F.size()); ++v)
+    if (s.F[v].squaredNorm() > 0 || s.M[v].squaredNorm() > 0) out.push_back({v, s.F[v], s.M[v]});
+  return out;
+}
+
+/// "load_cases": {NAME: {"type": "permanent" | "variable", "loads": [...]}} and "combinations":
+/// {NAME: {CASE: factor}} (absent: ULS = 1.35 Σ permanent + 1.5 Σ variable, SLS = Σ all, as
+/// `design --loads eurocode`). Fills `out`'s combinations, each with its nodal loads.
+void read_load_cases(const json& j, const std::string& subject, const fem::FrameModel& m,
+                     FrameModelFile& out) {
+  const json& cj = j["load_cases"];
+  if (!cj.is_object() || cj.empty())
+    throw Error(subject, "'load_cases' must be an object of named load cases");
+  std::map<std::string, NodalSums> cases;
+  std::map<std::string, bool> permanent;
+  for (const auto& [name, c] : cj.items()) {
+    const std::string what = "load_cases." + name;
+    if (!c.is_object() || !c.contains("loads") || !c.contains("type"))
+      throw Error(subject, what + " needs 'type' (permanent | variable) and 'loads'");
+    if (c["type"] != "permanent" && c["type"] != "variable")
+      throw Error(subject, what + ".type must be 'permanent' or 'variable'");
+    permanent[name] = c["type"] == "permanent";
+    cases[name] = sum_loads(c["loads"], what + ".loads", subject, m);
+    out.load_cases.push_back({name, permanent[name] ? "permanent" : "variable"});
+  }
+  json comb = j.contains("combinations") ? j["combinations"] : json();
+  if (comb.is_null()) {
+    for (const auto& [name, p] : permanent) {
+      comb["ULS"][name] = p ? 1.35 : 1.5;
+      comb["SLS"][name] = 1.0;
+    }
+  }
+  if (!comb.is_object() || comb.empty())
+    throw Error(subject, "'combinations' must be an object of named combinations");
+  const int n = m.num_nodes();
+  for (const auto& [name, factors] : comb.items()) {
+    const std::string what = "combinations." + name;
+    if (!factors.is_object() || factors.empty())
+      throw Error(subject, what + " must be an object {load case: factor}");
+    ModelCombination c;
+    c.name = name;
+    NodalSums sum{std::vector<Vec3>(n, Vec3::Zero()), std::vector<Vec3>(n, Vec3::Zero())};
+    for (const auto& [case_name, f] : factors.items()) {
+      const auto it = cases.find(case_name);
+      if (it == cases.end())
+        throw Error(subject, fmt::format("{}: unknown load case '{}'", what, case_name));
+      const std::string key = fmt::format("{}.{}", what, case_name);
+      const double factor = num(f, key, subject);
+      if (!(factor >= 0)) throw Error(subject, key + " must be >= 0");
+      c.factors.emplace_back(case_name, factor);
+      for (int v = 0; v < n; ++v) {
+        sum.F[v] += factor * it->second.F[v];
+        sum.M[v] += factor * it->second.M[v];
+      }
+    }
+    c.loads = nodal_loads(sum);
+    if (c.loads.empty()) throw Error(subject, what + " has no load");
+    out.combinations.push_back(std::move(c));
+  }
+  // The primary combination (the model's loads, the one analysed in full): ULS, else the first.
+  std::stable_partition(out.combinations.begin(), out.combinations.end(),
+                        [](const ModelCombination& c) { return c.name == "ULS"; });
+}
+
+/// "analysis": {"linear", "buckling", "nonlinear": true/false, "nonlinear_static": factor,
+/// "stop_displacement", "stop_lambda", "max_steps"}.
 void read_analysis(const json& a, const std::string& subject, ModelAnalysisRequest& out) {
   if (!a.is_object()) throw Error(subject, "'analysis' must be an object");
   auto flag = [&](const char* key, std::optional<bool>& dst) {
@@ -258,6 +337,18 @@ void read_analysis(const json& a, const std::string& subject, ModelAnalysisReque
     const double f = num(a["nonlinear_static"], "analysis.nonlinear_static", subject);
     if (!(f > 0)) throw Error(subject, "analysis.nonlinear_static must be > 0");
     out.nonlinear_static = f;
+  }
+  for (const auto& [key, dst] : {std::pair{"stop_displacement", &out.stop_displacement},
+                                 std::pair{"stop_lambda", &out.stop_lambda}}) {
+    if (!a.contains(key)) continue;
+    const double v = num(a[key], fmt::format("analysis.{}", key), subject);
+    if (!(v > 0)) throw Error(subject, fmt::format("analysis.{} must be > 0", key));
+    *dst = v;
+  }
+  if (a.contains("max_steps")) {
+    const int n = index(a["max_steps"], "analysis.max_steps", subject);
+    if (n < 1 || n > 100000) throw Error(subject, "analysis.max_steps must be in 1..100000");
+    out.max_steps = n;
   }
 }
 
@@ -285,7 +376,15 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
   // Validate references before the derived loads use them.
   fem::FrameModel check = m;
   fem::validate(check, subject);
-  if (j.contains("loads")) read_loads(j, subject, m);
+  if (j.contains("loads") && j.contains("load_cases"))
+    throw Error(subject, "give either 'loads' or 'load_cases' (with 'combinations')");
+  if (j.contains("combinations") && !j.contains("load_cases"))
+    throw Error(subject, "'combinations' need 'load_cases'");
+  if (j.contains("loads")) m.loads = nodal_loads(sum_loads(j["loads"], "loads", subject, m));
+  if (j.contains("load_cases")) {
+    read_load_cases(j, subject, m, out);
+    m.loads = out.combinations.front().loads;
+  }
   if (j.contains("analysis")) read_analysis(j["analysis"], subject, out.analysis);
   fem::validate(m, subject);
   return out;

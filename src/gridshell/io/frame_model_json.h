@@ -6,25 +6,53 @@
 /// Loads of type "surface" (per unit surface area), "projected" (per unit plan area, xy) and
 /// "self_weight" (the members' weight at their ends) are turned into nodal forces here; surface
 /// and projected loads need "faces" (or "triangles") and give each corner 1/n of the face's load.
+///
+/// Instead of "loads" a model may give named "load_cases" ({NAME: {"type": "permanent" |
+/// "variable", "loads": [...]}}) and "combinations" ({NAME: {CASE: factor}}; absent: EN 1990
+/// ULS = 1.35 Σ permanent + 1.5 Σ variable and SLS = Σ all, as `design --loads eurocode`).
+/// Materials may give "fy" [Pa] for the member checks.
 
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gridshell/fem/frame_model.h"
 
 namespace gridshell::io {
 
-/// What MODEL.json's "analysis" block asks for (absent keys stay empty).
+/// What MODEL.json's "analysis" block asks for (absent keys stay empty). The non-linear path's
+/// stop rule: "stop_displacement" (largest nodal displacement, model units, > 0),
+/// "stop_lambda" (load factor, > 0), "max_steps" (arc-length steps, 1..100000); without them
+/// the path runs to its first critical point within the automatic caps (docs/frame.md).
 struct ModelAnalysisRequest {
   std::optional<bool> linear, buckling, nonlinear;
   std::optional<double> nonlinear_static;
+  std::optional<double> stop_displacement, stop_lambda;
+  std::optional<int> max_steps;
 };
 
+/// A load combination of MODEL.json's load cases: factor × case, summed into nodal loads.
+struct ModelCombination {
+  std::string name;
+  std::vector<std::pair<std::string, double>> factors;  ///< (load case, factor)
+  std::vector<fem::NodalLoad> loads;
+};
+
+/// A named load case and its type ("permanent" or "variable").
+struct ModelLoadCase {
+  std::string name, type;
+};
+
+/// A parsed MODEL.json. With "load_cases", `model.loads` are those of the primary combination
+/// (`combinations.front()`: "ULS" when there is one, else the first by name); without them
+/// `combinations` is empty and `model.loads` are the "loads".
 struct FrameModelFile {
   fem::FrameModel model;
   ModelAnalysisRequest analysis;
+  std::vector<ModelLoadCase> load_cases;
+  std::vector<ModelCombination> combinations;
 };
 
 /// Parses MODEL.json text; `subject` names the file in errors. Members without "elements" get

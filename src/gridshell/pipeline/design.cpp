@@ -435,13 +435,12 @@ void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
   st["lambda_y_linear"] = optional_number(r.lambda_yield_linear);
 }
 
-namespace {
-nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_G, double gamma_Q) {
+nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g, double gamma_q) {
   nlohmann::json all = nlohmann::json::object();
   add_checks_block(all, r);
   nlohmann::json c;
-  c["gamma_G"] = gamma_G;
-  c["gamma_Q"] = gamma_Q;
+  c["gamma_G"] = gamma_g;
+  c["gamma_Q"] = gamma_q;
   c["delta_max_m"] = r.delta_max_m;
   for (const char* key :
        {"delta_limit_m", "delta_pass", "utilisation_max", "utilisation_beam",
@@ -451,7 +450,6 @@ nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_G,
     c[key] = all[key];
   return c;
 }
-}  // namespace
 
 nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
                                   const analysis::GridshellFrameOptions& frame,

@@ -104,6 +104,10 @@ nlohmann::json structure_block(const analysis::FrameResult& r);
 /// lambda_y_path, lambda_y_linear (1 / utilisation_max). Called by structure_block.
 void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r);
 
+/// One combination's block of `structure.combinations`: gamma_G, gamma_Q, δ and its limit and
+/// pass/fail, the member checks and the stability figures of `r` (add_checks_block's keys).
+nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g, double gamma_q);
+
 /// report.json's `structure.combinations`: one block per load combination with δ, its limit and
 /// pass/fail, the member checks and the stability figures (add_checks_block's keys that apply).
 /// paper load: {"paper": from `primary`}; eurocode: {"ULS": from `primary` (analysed with
