@@ -289,9 +289,8 @@ SpMat FrameAssembler::tangent(const FrameState& state, Eigen::VectorXd* f_int_fu
       K = truss_to12(truss_tangent(e.beam.s.EA, e.beam.l0, s.xi, s.xj));
       forces[k] = truss_f12(truss_force(e.beam.s.EA, e.beam.l0, s.xi, s.xj, &N[k]));
     } else {
-      K = corot_tangent(e.beam, s, &forces[k], symmetric);
-      Vec7 d, f;
-      corot_local(e.beam, s, d, f);
+      Vec7 f;
+      K = corot_tangent(e.beam, s, &forces[k], symmetric, &f);
       N[k] = f(0);
     }
     store(K, vals.data() + static_cast<size_t>(k) * 144);
