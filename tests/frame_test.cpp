@@ -259,6 +259,30 @@ TEST(FrameNonlinear, LambdaAtADisplacementLimitOnTheElastica) {
   EXPECT_NEAR(*d.lambda_displacement_limit * d.delta_max_m / (L / 100), 1.0, 0.01);
 }
 
+// Asking only for λ_δ stops the path at the displacement limit: the same λ_δ (the same points
+// up to there), a shorter path, and no λ (the path never reached a critical point).
+TEST(FrameNonlinear, PathStopsWhenOnlyLambdaAtTheDisplacementLimitIsAsked) {
+  const double L = 1, EI = 1;
+  FrameModel m = cantilever(L, 16, EI);
+  m.loads = {{1, Vec3(0, EI / (L * L), 0), Vec3::Zero()}};
+  analysis::FrameAnalysisOptions o;
+  o.buckling = false;
+  o.arc.max_displacement = 0.6 * L;
+  o.displacement_limit = std::hypot(0.05643, 0.30172) * L;
+  const analysis::FrameResult full = analysis::analyze_frame(m, o);
+  o.path_goal = analysis::PathGoal::displacement_limit;
+  const analysis::FrameResult cut = analysis::analyze_frame(m, o);
+  ASSERT_TRUE(full.lambda_displacement_limit && cut.lambda_displacement_limit);
+  std::printf("elastica: lambda_delta %.6f in %zu points (full path %zu points)\n",
+              *cut.lambda_displacement_limit, cut.path.size(), full.path.size());
+  EXPECT_DOUBLE_EQ(*cut.lambda_displacement_limit, *full.lambda_displacement_limit);
+  EXPECT_LT(cut.path.size() + 2, full.path.size());
+  EXPECT_GE(cut.path.back().displacement, o.displacement_limit);
+  EXPECT_TRUE(full.lambda_nonlinear.has_value());
+  EXPECT_FALSE(cut.lambda_nonlinear.has_value());
+  EXPECT_EQ(cut.nonlinear_stop_reason, "maximum displacement reached");
+}
+
 // A cantilever under an end moment M = 2π EI / L rolls up into a full circle.
 TEST(FrameNonlinear, EndMomentRollsIntoCircle) {
   const double L = 2, EI = 5;
