@@ -7,7 +7,8 @@
 # two binaries run alternately, REPEATS times each; the script prints wall and CPU seconds per
 # run, λ, λ_LBA and the stage timings of report.json, and the median ratio B/A per case.
 #
-# Usage: bench/frame_speed.sh BUILD_A [BUILD_B] [REPEATS] [OUT_DIR]   (from the repository root)
+# Usage: [CASES="lba nonlinear"] bench/frame_speed.sh BUILD_A [BUILD_B] [REPEATS] [OUT_DIR]
+# (from the repository root)
 # e.g.   bench/frame_speed.sh /tmp/old_build build 3
 set -euo pipefail
 a=${1:?give a build directory}
@@ -43,7 +44,7 @@ print(f"{case:9s} {label}: wall {wall:7.2f} s, cpu {user + sys_:7.2f} s, "
 PY
 }
 
-for case in lba nonlinear; do
+for case in ${CASES:-lba nonlinear}; do
   for r in $(seq 1 "$repeats"); do
     run A "$a" "$case" "$r"
     [ "$b" != "$a" ] && run B "$b" "$case" "$r"
