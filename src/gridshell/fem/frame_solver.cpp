@@ -409,12 +409,13 @@ bool TangentSolver::factorize(const SpMat& K) {
     const int* pi = static_cast<const int*>(L->pi);
     const int* px = static_cast<const int*>(L->px);
     min_ratio_ = 1e300;
+    const Eigen::VectorXd diagonal = K.diagonal();
     for (size_t k = 0; k < L->nsuper; ++k) {
       const int ncols = super[k + 1] - super[k], nrows = pi[k + 1] - pi[k];
       for (int j = 0; j < ncols; ++j) {
         const double l = x[px[k] + j * (nrows + 1)];
         const int eq = perm ? perm[super[k] + j] : super[k] + j;
-        const double ratio = l * l / std::abs(K.coeff(eq, eq));
+        const double ratio = l * l / std::abs(diagonal(eq));
         if (ratio < min_ratio_) {
           min_ratio_ = ratio;
           min_eq_ = eq;
