@@ -283,7 +283,7 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
   res.timings["setup"] = t.seconds();
 
   t = Stopwatch();
-  const LinearResult lin = linear_static(mesh, assembler, o.subject);
+  LinearResult lin = linear_static(mesh, assembler, o.subject);
   res.timings["linear"] = t.seconds();
   record_linear(mesh, assembler, lin, res);
   record_checks(model, mesh, assembler, lin, o, res);
@@ -297,6 +297,7 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
     res.timings["buckling"] = t.seconds();
     record_buckling(mesh, assembler, lba, res);
   }
+  lin.stiffness.reset();  // K's factor (tens of MB on large frames) is not needed any more
   if (o.nonlinear) {
     t = Stopwatch();
     run_path(model, mesh, o, lba, res);
