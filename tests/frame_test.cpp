@@ -12,6 +12,7 @@
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/error.h"
+#include "gridshell/core/rng.h"
 #include "gridshell/fem/frame_arclength.h"
 #include "gridshell/fem/frame_element.h"
 #include "gridshell/fem/frame_solver.h"
@@ -85,6 +86,88 @@ TEST(FrameElement, RigidRotationGivesNoForces) {
   const Vec3 t(5, -3, 1);
   CorotState st{Q * xi + t, Q * xj + t, Q, Q};
   EXPECT_LT(corot_force(b, st).norm(), 1e-9 * b.s.EA);
+}
+
+namespace {
+// |A − B| / |B| after scaling rows and columns by 1/√diag(K_lin): translations and rotations,
+// axial and bending terms weigh alike (unscaled, the axial EA/L would hide the rest).
+double scaled_difference(const Mat12& A, const Mat12& B, const Mat12& Klin) {
+  const Eigen::Matrix<double, 12, 1> s = Klin.diagonal().cwiseSqrt().cwiseInverse();
+  return (s.asDiagonal() * (A - B) * s.asDiagonal()).norm() /
+         (s.asDiagonal() * B * s.asDiagonal()).norm();
+}
+
+// A random deformed state of a random element: rotations up to ~1 rad, stretch of a few 1e-3.
+std::pair<CorotBeam, CorotState> random_corot_state(Rng& rng, double rotation) {
+  const auto rvec = [&](double a) {
+    return Vec3(rng.uniform(-a, a), rng.uniform(-a, a), rng.uniform(-a, a));
+  };
+  const FrameSection sec = circle_section(0.037);
+  const double E = 2.1e11, G = E / 2.6;
+  CorotBeam b;
+  b.s = {E * sec.A, E * sec.Iy, E * 1.5 * sec.Iz, G * sec.J};
+  b.l0 = rng.uniform(0.3, 2.0);
+  const Vec3 xi = rvec(5), xj = xi + rvec(1).normalized() * b.l0;
+  b.R0 = element_frame(xi, xj, rvec(1));
+  // A rigid motion, then small relative rotations and a stretch (a beam's working range), plus
+  // a large common part: the element frame's own rotation.
+  const Mat3 Q = rotation_exp(rvec(rotation));
+  CorotState st;
+  st.xi = Q * xi + rvec(1);
+  st.xj = st.xi + Q * (xj - xi) * (1 + rng.uniform(-3e-3, 3e-3)) + rvec(0.02 * b.l0);
+  st.Ri = rotation_exp(rvec(0.1)) * Q;
+  st.Rj = rotation_exp(rvec(0.1)) * Q;
+  return {b, st};
+}
+}  // namespace
+
+// The analytical corotational tangent is the exact derivative of the internal forces: against
+// the central-difference Jacobian (an independent evaluation of corot_force only) on random
+// deformed states, unsymmetrised and symmetrised.
+TEST(FrameElement, AnalyticalTangentMatchesFiniteDifferences) {
+  Rng rng(20);
+  double worst = 0, worst_sym = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const auto [b, st] = random_corot_state(rng, trial < 100 ? 1.0 : 3.0);
+    const Mat12 Klin = beam_linear_stiffness(b.s, b.l0, b.R0);
+    Vec12 f;
+    Vec7 local, local_ref;
+    const Mat12 K = corot_tangent(b, st, &f, false, &local);
+    const Vec12 f_ref = corot_force(b, st, &local_ref);
+    EXPECT_EQ(f, f_ref);
+    EXPECT_EQ(local, local_ref);
+    ASSERT_GT(f.norm(), 1e-3 * Klin.norm() * 1e-3);  // a loaded state, not the rest state
+    worst = std::max(worst,
+                     scaled_difference(K, corot_tangent_finite_difference(b, st, false), Klin));
+    worst_sym = std::max(worst_sym, scaled_difference(corot_tangent(b, st),
+                                                      corot_tangent_finite_difference(b, st), Klin));
+  }
+  std::printf("analytical vs finite-difference tangent: worst %.3g (symmetrised %.3g)\n", worst,
+              worst_sym);
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_LT(worst_sym, 1e-6);
+}
+
+// Where no end moment acts (a stretched element, rigidly rotated) the spin tangent is
+// symmetric; with end moments its skew part is what the symmetrised tangent drops.
+TEST(FrameElement, AnalyticalTangentIsSymmetricWithoutEndMoments) {
+  CorotBeam b;
+  b.s = {1e6, 2e3, 3e3, 1e3};
+  b.l0 = 1.5;
+  const Vec3 xi(0.2, -0.1, 0.4), xj = xi + Vec3(0.6, 0.8, 0.0) * 1.5;
+  b.R0 = element_frame(xi, xj, Vec3::Zero());
+  const Mat3 Q = rotation_exp(Vec3(0.7, -0.4, 1.1));
+  const CorotState st{Q * xi, Q * (xi + (xj - xi) * 1.002), Q, Q};
+  Vec7 local;
+  const Mat12 K = corot_tangent(b, st, nullptr, false, &local);
+  EXPECT_NEAR(local(0), b.s.EA * 0.002, 1e-9 * b.s.EA);
+  EXPECT_LT(local.tail<6>().norm(), 1e-9 * b.s.EA);
+  EXPECT_LT((K - K.transpose()).norm(), 1e-12 * K.norm());
+  // With end moments (relative rotations of the nodes) it is not.
+  CorotState bent = st;
+  bent.Rj = rotation_exp(Vec3(0.0, 0.05, 0.08)) * Q;
+  const Mat12 Kb = corot_tangent(b, bent, nullptr, false);
+  EXPECT_GT((Kb - Kb.transpose()).norm(), 1e-8 * Kb.norm());
 }
 
 // Euler column, pin–pin, solid Ø37 steel, L = 1.5 m: P_cr = π² E I / L² = 84.74 kN.
@@ -174,6 +257,30 @@ TEST(FrameNonlinear, LambdaAtADisplacementLimitOnTheElastica) {
   ASSERT_TRUE(d.lambda_displacement_limit.has_value());
   EXPECT_DOUBLE_EQ(d.displacement_limit_m, L / 100);
   EXPECT_NEAR(*d.lambda_displacement_limit * d.delta_max_m / (L / 100), 1.0, 0.01);
+}
+
+// Asking only for λ_δ stops the path at the displacement limit: the same λ_δ (the same points
+// up to there), a shorter path, and no λ (the path never reached a critical point).
+TEST(FrameNonlinear, PathStopsWhenOnlyLambdaAtTheDisplacementLimitIsAsked) {
+  const double L = 1, EI = 1;
+  FrameModel m = cantilever(L, 16, EI);
+  m.loads = {{1, Vec3(0, EI / (L * L), 0), Vec3::Zero()}};
+  analysis::FrameAnalysisOptions o;
+  o.buckling = false;
+  o.arc.max_displacement = 0.6 * L;
+  o.displacement_limit = std::hypot(0.05643, 0.30172) * L;
+  const analysis::FrameResult full = analysis::analyze_frame(m, o);
+  o.path_goal = analysis::PathGoal::displacement_limit;
+  const analysis::FrameResult cut = analysis::analyze_frame(m, o);
+  ASSERT_TRUE(full.lambda_displacement_limit && cut.lambda_displacement_limit);
+  std::printf("elastica: lambda_delta %.6f in %zu points (full path %zu points)\n",
+              *cut.lambda_displacement_limit, cut.path.size(), full.path.size());
+  EXPECT_DOUBLE_EQ(*cut.lambda_displacement_limit, *full.lambda_displacement_limit);
+  EXPECT_LT(cut.path.size() + 2, full.path.size());
+  EXPECT_GE(cut.path.back().displacement, o.displacement_limit);
+  EXPECT_TRUE(full.lambda_nonlinear.has_value());
+  EXPECT_FALSE(cut.lambda_nonlinear.has_value());
+  EXPECT_EQ(cut.nonlinear_stop_reason, "maximum displacement reached");
 }
 
 // A cantilever under an end moment M = 2π EI / L rolls up into a full circle.

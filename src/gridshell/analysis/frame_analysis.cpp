@@ -190,6 +190,9 @@ PathRun follow_path(const FrameModel& model, const FrameMesh& mesh, const FrameA
                             : span / 2000 / std::max(res.delta_max_m, 1e-300);
   }
   if (!(ao.max_displacement > 0)) ao.max_displacement = automatic_stop(mesh.X, span, o.path_reach);
+  // Only λ_δ asked: nothing beyond the displacement limit changes it.
+  if (o.path_goal == PathGoal::displacement_limit)
+    ao.max_displacement = std::min(ao.max_displacement, res.displacement_limit_m);
   if (res.lambda_linear_buckling && ao.max_lambda >= 1e9)
     ao.max_lambda = 20 * *res.lambda_linear_buckling;
   PathRun run;
@@ -209,11 +212,17 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   const double span = plan_span(mesh.X);
   res.imperfection_amplitude_m =
       o.imperfection_amplitude > 0 ? o.imperfection_amplitude : span / 300;
+  res.displacement_limit_m = o.displacement_limit > 0 ? o.displacement_limit : span / 100;
+  // λ of a path that stopped at the displacement limit is not its critical λ.
+  const auto critical_lambda = [&](const ArcLengthResult& a) -> std::optional<double> {
+    if (o.path_goal == PathGoal::displacement_limit && a.limit_type == "none") return std::nullopt;
+    return a.lambda_critical;
+  };
   const bool can_perturb = !lba.modes.empty();
   const PathRun main = follow_path(model, mesh, o, lba, res, o.imperfection && can_perturb);
   const ArcLengthResult& al = main.al;
   const bool main_imperfect = o.imperfection && can_perturb;
-  (main_imperfect ? res.lambda_imperfect : res.lambda_perfect) = al.lambda_critical;
+  (main_imperfect ? res.lambda_imperfect : res.lambda_perfect) = critical_lambda(al);
   const auto largest = [](const std::vector<double>& u) {
     return u.empty() ? 0.0 : *std::max_element(u.begin(), u.end());
   };
@@ -223,7 +232,7 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   if (!main_imperfect) res.lambda_yield_perfect = res.lambda_yield;
   if (o.stability && can_perturb) {
     const PathRun other = follow_path(model, mesh, o, lba, res, !main_imperfect);
-    (main_imperfect ? res.lambda_perfect : res.lambda_imperfect) = other.al.lambda_critical;
+    (main_imperfect ? res.lambda_perfect : res.lambda_imperfect) = critical_lambda(other.al);
     const std::optional<double> other_yield =
         lambda_at_utilisation(other.lambdas, other.utilisation);
     if (main_imperfect) {
@@ -237,13 +246,12 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
                  other.al.lambda_critical, other.al.limit_type);
   }
   res.path = al.path;
-  res.lambda_nonlinear = al.lambda_critical;
+  res.lambda_nonlinear = critical_lambda(al);
   res.limit_type = al.limit_type;
   res.nonlinear_stop_reason = al.stop_reason;
   res.nonlinear_steps = al.steps;
   res.nonlinear_iterations = al.iterations;
   res.nonlinear_factorizations = al.factorizations;
-  res.displacement_limit_m = o.displacement_limit > 0 ? o.displacement_limit : span / 100;
   res.lambda_displacement_limit = lambda_at_displacement(al.path, res.displacement_limit_m);
   if (!res.lambda_displacement_limit && al.limit_type != "none")
     res.lambda_displacement_limit = al.lambda_critical;
@@ -281,7 +289,7 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
   res.timings["setup"] = t.seconds();
 
   t = Stopwatch();
-  const LinearResult lin = linear_static(mesh, assembler, o.subject);
+  LinearResult lin = linear_static(mesh, assembler, o.subject);
   res.timings["linear"] = t.seconds();
   record_linear(mesh, assembler, lin, res);
   record_checks(model, mesh, assembler, lin, o, res);
@@ -295,6 +303,7 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
     res.timings["buckling"] = t.seconds();
     record_buckling(mesh, assembler, lba, res);
   }
+  lin.stiffness.reset();  // K's factor (tens of MB on large frames) is not needed any more
   if (o.nonlinear) {
     t = Stopwatch();
     run_path(model, mesh, o, lba, res);

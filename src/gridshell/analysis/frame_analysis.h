@@ -27,6 +27,13 @@ enum class AnalysisLevel { none, linear, buckling, nonlinear };
 AnalysisLevel parse_analysis_level(const std::string& word);  ///< throws Error("--analyze")
 const char* to_string(AnalysisLevel level);
 
+/// How far a non-linear path must go to fix the figures asked for. `critical`: to its first
+/// critical point (λ, λ_δ, λ_y, the stability block). `displacement_limit`: only λ_δ (and λ_y
+/// below it) is asked — e.g. a sweep ranking by λ_δ — so each path stops at its first point past
+/// the displacement limit, or at a critical point that comes first; λ (and λ_perfect,
+/// λ_imperfect) are then reported only when a critical point came first.
+enum class PathGoal { critical, displacement_limit };
+
 /// Arc-length options with initial_lambda = 0 (automatic).
 inline fem::ArcLengthOptions automatic_arc() {
   fem::ArcLengthOptions a;
@@ -60,6 +67,8 @@ struct FrameAnalysisOptions {
   static constexpr int kGeneralMaxSteps = 1000;
   /// Displacement limit [m] for λ_δ (FrameResult::lambda_displacement_limit); 0 = span / 100.
   double displacement_limit = 0;
+  /// Which figures the paths must fix (the path stops as soon as they are known).
+  PathGoal path_goal = PathGoal::critical;
   /// Member checks (checks/member_checks.h): fy and the buckling curve. The linear solution's
   /// section forces are always checked; along the non-linear path they give λ_y.
   checks::MemberCheckOptions checks{};

@@ -20,7 +20,7 @@
 /// * `nonlinear_static`: Newton–Raphson with adaptive load steps up to a given factor.
 ///
 /// Cost: per corrector iteration one internal-force evaluation (~1 µs per element) and one
-/// solve; per converged step one tangent assembly (~15 µs per element) and factorisation, plus
+/// solve; per converged step one tangent assembly (~2 µs per element) and factorisation, plus
 /// the refreshes (typically one per step on a strongly non-linear path).
 
 #include <functional>

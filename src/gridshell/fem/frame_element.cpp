@@ -169,20 +169,35 @@ void corot_local(const CorotBeam& b, const CorotState& st, Vec7& d, Vec7& f) {
   local_forces(b, d, f);
 }
 
-Vec12 corot_force(const CorotBeam& b, const CorotState& st, Vec7* local) {
-  const CorotKinematics k = kinematics(b, st);
-  Vec7 d, f;
-  d(0) = k.ln - b.l0;
-  d.segment<3>(1) = k.th1;
-  d.segment<3>(4) = k.th2;
-  local_forces(b, d, f);
-  if (local) *local = f;
+namespace {
 
+using Mat3x12 = Eigen::Matrix<double, 3, 12>;
+using Row12 = Eigen::Matrix<double, 1, 12>;
+
+// One evaluation of the corotational element: the kinematics, the local deformations and
+// forces, and the pieces of the B matrix (local coordinates of the element frame Rr).
+struct CorotEval {
+  CorotKinematics k;
+  Vec7 d, f;
+  Mat3x12 Gt;      // spin of Rr (local components) per local dof variation
+  Mat3x12 P1, P2;  // left spins of the local nodal rotations: P_i = I_i − Gᵀ
+  Mat3 A1, A2;     // T_s⁻¹(θ̄_i)
+  Vec12 fl;        // internal force, local components
+};
+
+CorotEval evaluate(const CorotBeam& b, const CorotState& st) {
+  CorotEval e;
+  const CorotKinematics& k = e.k = kinematics(b, st);
+  e.d(0) = k.ln - b.l0;
+  e.d.segment<3>(1) = k.th1;
+  e.d.segment<3>(4) = k.th2;
+  local_forces(b, e.d, e.f);
   // G^T: spin of the element frame (local components) per local dof [u1 w1 u2 w2].
   const double ln = k.ln, q2n = k.q(1);
   const double eta = k.q(0) / q2n, e11 = k.q1(0) / q2n, e12 = k.q1(1) / q2n, e21 = k.q2(0) / q2n,
                e22 = k.q2(1) / q2n;
-  Eigen::Matrix<double, 3, 12> Gt = Eigen::Matrix<double, 3, 12>::Zero();
+  Mat3x12& Gt = e.Gt;
+  Gt.setZero();
   Gt(0, 2) = eta / ln;
   Gt(0, 3) = e12 / 2;
   Gt(0, 4) = -e11 / 2;
@@ -193,41 +208,163 @@ Vec12 corot_force(const CorotBeam& b, const CorotState& st, Vec7* local) {
   Gt(1, 8) = -1 / ln;
   Gt(2, 1) = -1 / ln;
   Gt(2, 7) = 1 / ln;
-  Eigen::Matrix<double, 3, 12> P1 = -Gt, P2 = -Gt;
-  P1.block<3, 3>(0, 3) += Mat3::Identity();
-  P2.block<3, 3>(0, 9) += Mat3::Identity();
-  const Eigen::Matrix<double, 3, 12> B1 = inverse_left_jacobian(k.th1) * P1;
-  const Eigen::Matrix<double, 3, 12> B2 = inverse_left_jacobian(k.th2) * P2;
-  Vec12 fl = B1.transpose() * f.segment<3>(1) + B2.transpose() * f.segment<3>(4);
-  fl(0) -= f(0);
-  fl(6) += f(0);
-  Vec12 fg;
-  for (int a = 0; a < 4; ++a) fg.segment<3>(3 * a) = k.Rr * fl.segment<3>(3 * a);
-  return fg;
+  e.P1 = -Gt;
+  e.P2 = -Gt;
+  e.P1.block<3, 3>(0, 3) += Mat3::Identity();
+  e.P2.block<3, 3>(0, 9) += Mat3::Identity();
+  e.A1 = inverse_left_jacobian(k.th1);
+  e.A2 = inverse_left_jacobian(k.th2);
+  e.fl = e.P1.transpose() * (e.A1.transpose() * e.f.segment<3>(1)) +
+         e.P2.transpose() * (e.A2.transpose() * e.f.segment<3>(4));
+  e.fl(0) -= e.f(0);
+  e.fl(6) += e.f(0);
+  return e;
 }
 
-Mat12 corot_tangent(const CorotBeam& b, const CorotState& st, Vec12* force, bool symmetric) {
+// Local coordinates → global: every 3-block of v rotated by R.
+Vec12 rotate_blocks(const Mat3& R, const Vec12& v) {
+  Vec12 g;
+  for (int a = 0; a < 4; ++a) g.segment<3>(3 * a) = R * v.segment<3>(3 * a);
+  return g;
+}
+
+// k_l = ∂f/∂d of local_forces (symmetric: f is the gradient of the local strain energy).
+Eigen::Matrix<double, 7, 7> local_stiffness(const CorotBeam& b, const Vec7& d, double N) {
+  const double l0 = b.l0;
+  const double t1y = d(2), t1z = d(3), t2y = d(5), t2z = d(6);
+  Vec7 g;  // ∂ε/∂d
+  g << 1 / l0, 0, (4 * t1y - t2y) / 30, (4 * t1z - t2z) / 30, 0, (-t1y + 4 * t2y) / 30,
+      (-t1z + 4 * t2z) / 30;
+  Eigen::Matrix<double, 7, 7> k = (b.s.EA * l0) * g * g.transpose();
+  const double gj = b.s.GJ / l0;
+  k(1, 1) += gj;
+  k(4, 4) += gj;
+  k(1, 4) -= gj;
+  k(4, 1) -= gj;
+  // Bending in the two planes: (θ1, θ2) at (2, 5) and (3, 6).
+  const double EI[2] = {b.s.EIy, b.s.EIz};
+  for (int p = 0; p < 2; ++p) {
+    const int i = 2 + p, j = 5 + p;
+    const double c = EI[p] / l0, n = N * l0 / 30;
+    k(i, i) += 4 * c + 4 * n;
+    k(j, j) += 4 * c + 4 * n;
+    k(i, j) += 2 * c - n;
+    k(j, i) += 2 * c - n;
+  }
+  return k;
+}
+
+// ∂(T_s⁻ᵀ(θ) m)/∂θ, with T_s⁻ᵀ(θ) m = m + ½ θ×m + c(t) θ×(θ×m), t = |θ|.
+Mat3 inverse_jacobian_transpose_derivative(const Vec3& theta, const Vec3& m) {
+  const double t = theta.norm();
+  double c, dc;  // c(t) as in inverse_left_jacobian, dc = c′(t) / t
+  if (t < 1e-4) {
+    c = 1.0 / 12 + t * t / 720;
+  } else {
+    c = (1 - (t / 2) / std::tan(t / 2)) / (t * t);
+  }
+  if (t < 5e-2) {
+    dc = 1.0 / 360 + t * t / 7560 + t * t * t * t / 201600;
+  } else {
+    const double s = std::sin(t / 2);
+    dc = -2 / (t * t * t * t) + 1 / (2 * t * t * t * std::tan(t / 2)) + 1 / (4 * t * t * s * s);
+  }
+  const Vec3 ttm = theta.cross(theta.cross(m));
+  return -0.5 * skew(m) +
+         c * (theta * m.transpose() + theta.dot(m) * Mat3::Identity() - 2 * m * theta.transpose()) +
+         dc * ttm * theta.transpose();
+}
+
+// ∂(Gᵀ s)/∂d_local for a fixed 3-vector s: the variation of the frame's spin matrix through the
+// chord length and the local components of p, p1, p2 (δq_i = −skew(q_i) P_i δd).
+Mat12 spin_matrix_derivative(const CorotEval& e, const Vec3& s) {
+  const CorotKinematics& k = e.k;
+  const double ln = k.ln, Q = k.q(1);
+  const double eta = k.q(0) / Q, e11 = k.q1(0) / Q, e12 = k.q1(1) / Q, e21 = k.q2(0) / Q,
+               e22 = k.q2(1) / Q;
+  const Mat3x12 dq1 = -skew(k.q1) * e.P1, dq2 = -skew(k.q2) * e.P2;
+  const Mat3x12 dq = 0.5 * (dq1 + dq2);
+  const Row12 dQ = dq.row(1);
+  Row12 dln = Row12::Zero();
+  dln(0) = -1;
+  dln(6) = 1;
+  const Row12 deta = (dq.row(0) - eta * dQ) / Q;
+  const Row12 de11 = (dq1.row(0) - e11 * dQ) / Q, de12 = (dq1.row(1) - e12 * dQ) / Q;
+  const Row12 de21 = (dq2.row(0) - e21 * dQ) / Q, de22 = (dq2.row(1) - e22 * dQ) / Q;
+  Mat12 D = Mat12::Zero();
+  D.row(2) = s(0) / ln * deta - (eta * s(0) + s(1)) / (ln * ln) * dln;
+  D.row(8) = -D.row(2);
+  D.row(3) = 0.5 * s(0) * de12;
+  D.row(4) = -0.5 * s(0) * de11;
+  D.row(9) = 0.5 * s(0) * de22;
+  D.row(10) = -0.5 * s(0) * de21;
+  D.row(1) = s(2) / (ln * ln) * dln;
+  D.row(7) = -D.row(1);
+  return D;
+}
+
+}  // namespace
+
+Vec12 corot_force(const CorotBeam& b, const CorotState& st, Vec7* local) {
+  const CorotEval e = evaluate(b, st);
+  if (local) *local = e.f;
+  return rotate_blocks(e.k.Rr, e.fl);
+}
+
+Mat12 corot_tangent(const CorotBeam& b, const CorotState& st, Vec12* force, bool symmetric,
+                    Vec7* local) {
+  const CorotEval e = evaluate(b, st);
+  if (force) *force = rotate_blocks(e.k.Rr, e.fl);
+  if (local) *local = e.f;
+  // f_g = E f_l with f_l = rᵀN + Σ P_iᵀ A_iᵀ m_i; in local components (δd_l = Eᵀ δd):
+  //   δf_l = Bᵀ k_l B δd_l + Σ P_iᵀ ∂(A_iᵀ m_i)/∂θ_i B_i δd_l − ∂(Gᵀ s)/∂d_l δd_l,
+  //   δE f_l = E (−skew(f_l,a))_a Gᵀ δd_l (the frame's spin), s = Σ A_iᵀ m_i.
+  const Vec3 m1 = e.f.segment<3>(1), m2 = e.f.segment<3>(4);
+  const Mat3x12 B1 = e.A1 * e.P1, B2 = e.A2 * e.P2;
+  Eigen::Matrix<double, 7, 12> B;
+  B.row(0).setZero();
+  B(0, 0) = -1;
+  B(0, 6) = 1;
+  B.middleRows<3>(1) = B1;
+  B.middleRows<3>(4) = B2;
+  Mat12 k = B.transpose() * local_stiffness(b, e.d, e.f(0)) * B;
+  k.noalias() += e.P1.transpose() * (inverse_jacobian_transpose_derivative(e.k.th1, m1) * B1);
+  k.noalias() += e.P2.transpose() * (inverse_jacobian_transpose_derivative(e.k.th2, m2) * B2);
+  k -= spin_matrix_derivative(e, e.A1.transpose() * m1 + e.A2.transpose() * m2);
+  for (int a = 0; a < 4; ++a) k.middleRows<3>(3 * a) -= skew(e.fl.segment<3>(3 * a)) * e.Gt;
+  // To global components: K = E k Eᵀ.
+  const Mat3& R = e.k.Rr;
+  Mat12 K;
+  for (int a = 0; a < 4; ++a)
+    for (int c = 0; c < 4; ++c)
+      K.block<3, 3>(3 * a, 3 * c) = R * k.block<3, 3>(3 * a, 3 * c) * R.transpose();
+  if (!symmetric) return K;
+  return 0.5 * (K + K.transpose());
+}
+
+Mat12 corot_tangent_finite_difference(const CorotBeam& b, const CorotState& st, bool symmetric) {
   // Translation invariance: work with xi = 0 so that perturbations are relative to the length.
   CorotState s0 = st;
   s0.xj = st.xj - st.xi;
   s0.xi.setZero();
-  const Vec12 f0 = corot_force(b, s0);
-  if (force) *force = f0;
-  const double ht = 1e-7 * b.l0, hr = 1e-7;
+  const double ht = 1e-5 * b.l0, hr = 1e-5;
   Mat12 K;
   for (int c = 0; c < 12; ++c) {
-    CorotState s = s0;
     const int node = c / 6, comp = c % 6;
-    double h;
-    if (comp < 3) {
-      h = ht;
-      (node == 0 ? s.xi : s.xj)(comp) += h;
-    } else {
-      h = hr;
-      Mat3& R = node == 0 ? s.Ri : s.Rj;
-      R = rotation_exp(h * Vec3::Unit(comp - 3)) * R;
+    const double h = comp < 3 ? ht : hr;
+    Vec12 f[2];
+    for (int side = 0; side < 2; ++side) {
+      CorotState s = s0;
+      const double step = side == 0 ? h : -h;
+      if (comp < 3) {
+        (node == 0 ? s.xi : s.xj)(comp) += step;
+      } else {
+        Mat3& R = node == 0 ? s.Ri : s.Rj;
+        R = rotation_exp(step * Vec3::Unit(comp - 3)) * R;
+      }
+      f[side] = corot_force(b, s);
     }
-    K.col(c) = (corot_force(b, s) - f0) / h;
+    K.col(c) = (f[0] - f[1]) / (2 * h);
   }
   if (!symmetric) return K;
   return 0.5 * (K + K.transpose());

@@ -6,6 +6,7 @@
 
 #include <Spectra/SymEigsSolver.h>
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
@@ -289,9 +290,8 @@ SpMat FrameAssembler::tangent(const FrameState& state, Eigen::VectorXd* f_int_fu
       K = truss_to12(truss_tangent(e.beam.s.EA, e.beam.l0, s.xi, s.xj));
       forces[k] = truss_f12(truss_force(e.beam.s.EA, e.beam.l0, s.xi, s.xj, &N[k]));
     } else {
-      K = corot_tangent(e.beam, s, &forces[k], symmetric);
-      Vec7 d, f;
-      corot_local(e.beam, s, d, f);
+      Vec7 f;
+      K = corot_tangent(e.beam, s, &forces[k], symmetric, &f);
       N[k] = f(0);
     }
     store(K, vals.data() + static_cast<size_t>(k) * 144);
@@ -373,21 +373,6 @@ class Ldlt : public Eigen::CholmodSimplicialLDLT<SpMat, Eigen::Lower> {
   const cholmod_factor* factor() const { return m_cholmodFactor; }
 };
 
-// Applies a CHOLMOD solve stage (CHOLMOD_L, _Lt, _P, _Pt) to x.
-Eigen::VectorXd cholmod_stage(const Llt& llt, int sys, const Eigen::VectorXd& x) {
-  cholmod_dense b;
-  b.nrow = b.nzmax = b.d = static_cast<size_t>(x.size());
-  b.ncol = 1;
-  b.x = const_cast<double*>(x.data());
-  b.z = nullptr;
-  b.xtype = CHOLMOD_REAL;
-  b.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* r = cholmod_solve(sys, llt.factor(), &b, llt.common());
-  if (!r) throw std::runtime_error("CHOLMOD solve failed");
-  Eigen::VectorXd y = Eigen::Map<Eigen::VectorXd>(static_cast<double*>(r->x), x.size());
-  cholmod_free_dense(&r, llt.common());
-  return y;
-}
 }  // namespace
 
 struct TangentSolver::Impl {
@@ -424,12 +409,13 @@ bool TangentSolver::factorize(const SpMat& K) {
     const int* pi = static_cast<const int*>(L->pi);
     const int* px = static_cast<const int*>(L->px);
     min_ratio_ = 1e300;
+    const Eigen::VectorXd diagonal = K.diagonal();
     for (size_t k = 0; k < L->nsuper; ++k) {
       const int ncols = super[k + 1] - super[k], nrows = pi[k + 1] - pi[k];
       for (int j = 0; j < ncols; ++j) {
         const double l = x[px[k] + j * (nrows + 1)];
         const int eq = perm ? perm[super[k] + j] : super[k] + j;
-        const double ratio = l * l / std::abs(K.coeff(eq, eq));
+        const double ratio = l * l / std::abs(diagonal(eq));
         if (ratio < min_ratio_) {
           min_ratio_ = ratio;
           min_eq_ = eq;
@@ -515,10 +501,11 @@ void factorize_or_explain(TangentSolver& solver, const SpMat& K, const FrameMesh
 LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assembler,
                            const std::string& subject) {
   const SpMat K = assembler.linear_stiffness();
-  TangentSolver solver;
-  factorize_or_explain(solver, K, mesh, subject);
+  auto solver = std::make_shared<TangentSolver>();
+  factorize_or_explain(*solver, K, mesh, subject);
   LinearResult r;
-  r.u = solver.solve(mesh.load);
+  r.u = solver->solve(mesh.load);
+  r.stiffness = std::move(solver);
   if (!r.u.allFinite()) throw Error(subject, "the linear solve produced non-finite values");
   const Eigen::VectorXd full = assembler.expand(r.u);
   const int n = static_cast<int>(mesh.X.rows());
@@ -565,28 +552,71 @@ std::vector<double> element_strain_energy(const FrameMesh& mesh, const FrameAsse
 
 namespace {
 // y = L⁻¹ P B Pᵀ L⁻ᵀ x for K = Pᵀ L Lᵀ P: a symmetric operator whose eigenvalues are 1/λ.
+// The permutations are applied directly and the triangular solves reuse CHOLMOD's workspaces
+// (cholmod_solve2), so an application allocates nothing.
 class BucklingOp {
  public:
   using Scalar = double;
-  BucklingOp(const Llt& llt, const SpMat& B) : llt_(llt), B_(B) {}
+  BucklingOp(const Llt& llt, const SpMat& B)
+      : llt_(llt),
+        B_(B),
+        perm_(static_cast<const int*>(llt.factor()->Perm)),
+        a_(B.rows()),
+        b_(B.rows()) {}
+  ~BucklingOp() {
+    cholmod_common* c = llt_.common();
+    cholmod_free_dense(&x_, c);
+    cholmod_free_dense(&y_, c);
+    cholmod_free_dense(&e_, c);
+  }
+  BucklingOp(const BucklingOp&) = delete;
+  BucklingOp& operator=(const BucklingOp&) = delete;
   Eigen::Index rows() const { return B_.rows(); }
   Eigen::Index cols() const { return B_.cols(); }
   void perform_op(const double* x_in, double* y_out) const {
-    Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(x_in, rows());
-    x = cholmod_stage(llt_, CHOLMOD_Lt, x);
-    x = cholmod_stage(llt_, CHOLMOD_Pt, x);
-    x = B_ * x;
-    x = cholmod_stage(llt_, CHOLMOD_P, x);
-    x = cholmod_stage(llt_, CHOLMOD_L, x);
-    Eigen::Map<Eigen::VectorXd>(y_out, rows()) = x;
+    const Eigen::Index n = rows();
+    a_ = Eigen::Map<const Eigen::VectorXd>(x_in, n);
+    triangular(CHOLMOD_Lt, a_);  // a = L⁻ᵀ x
+    unpermute(a_, b_);           // b = Pᵀ a
+    a_.noalias() = B_ * b_;      // a = B b
+    permute(a_, b_);             // b = P a
+    triangular(CHOLMOD_L, b_);   // b = L⁻¹ b
+    Eigen::Map<Eigen::VectorXd>(y_out, n) = b_;
   }
   Eigen::VectorXd back(const Eigen::VectorXd& y) const {
-    return cholmod_stage(llt_, CHOLMOD_Pt, cholmod_stage(llt_, CHOLMOD_Lt, y));
+    a_ = y;
+    triangular(CHOLMOD_Lt, a_);
+    Eigen::VectorXd out(rows());
+    unpermute(a_, out);
+    return out;
   }
 
  private:
+  // (P v)_k = v_perm[k]; (Pᵀ v)_perm[k] = v_k.
+  void permute(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
+    for (Eigen::Index k = 0; k < v.size(); ++k) out(k) = perm_ ? v(perm_[k]) : v(k);
+  }
+  void unpermute(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
+    for (Eigen::Index k = 0; k < v.size(); ++k) out(perm_ ? perm_[k] : k) = v(k);
+  }
+  // v = L⁻¹ v or L⁻ᵀ v in place.
+  void triangular(int sys, Eigen::VectorXd& v) const {
+    cholmod_dense b;
+    b.nrow = b.nzmax = b.d = static_cast<size_t>(v.size());
+    b.ncol = 1;
+    b.x = v.data();
+    b.z = nullptr;
+    b.xtype = CHOLMOD_REAL;
+    b.dtype = CHOLMOD_DOUBLE;
+    if (!cholmod_solve2(sys, llt_.factor(), &b, nullptr, &x_, nullptr, &y_, &e_, llt_.common()))
+      throw std::runtime_error("CHOLMOD solve failed");
+    v = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(x_->x), v.size());
+  }
   const Llt& llt_;
   const SpMat& B_;
+  const int* perm_;
+  mutable Eigen::VectorXd a_, b_;
+  mutable cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;
 };
 
 double max_translation(const FrameMesh& mesh, const Eigen::VectorXd& v) {
@@ -607,12 +637,11 @@ BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& asse
   double nmax = 0;
   for (double N : linear.axial) nmax = std::max(nmax, std::abs(N));
   if (nmax == 0) return out;
-  const SpMat K = assembler.linear_stiffness();
   const SpMat B = -assembler.geometric_stiffness(linear.axial);
   const int n = mesh.num_dofs;
   std::vector<std::pair<double, Eigen::VectorXd>> found;
   if (n <= 300) {
-    const Eigen::MatrixXd Kd(K), Bd(B);
+    const Eigen::MatrixXd Kd(assembler.linear_stiffness()), Bd(B);
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(Bd, Kd);
     if (es.info() != Eigen::Success) return out;
     for (int i = n - 1; i >= 0; --i) {
@@ -622,12 +651,15 @@ BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& asse
       if (static_cast<int>(found.size()) >= options.modes) break;
     }
   } else {
-    Llt llt;
-    {
-      const SerialOpenMpScope serial_openmp;
-      compute_factorization(llt, K);
+    // The factorised K of the linear analysis, or a fresh one when it was not kept.
+    std::shared_ptr<const TangentSolver> stiffness = linear.stiffness;
+    if (!stiffness) {
+      auto fresh = std::make_shared<TangentSolver>();
+      fresh->factorize(assembler.linear_stiffness());
+      stiffness = std::move(fresh);
     }
-    if (llt.info() != Eigen::Success) return out;
+    if (!stiffness->positive_definite()) return out;
+    const Llt& llt = stiffness->impl().llt;
     BucklingOp op(llt, B);
     const int nev = std::min(options.modes, n - 2);
     const int ncv = std::min(n, std::max(2 * nev + 1, 24));
@@ -635,6 +667,8 @@ BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& asse
     eigs.init();
     eigs.compute(Spectra::SortRule::LargestAlge, 2000, 1e-9);
     if (eigs.info() != Spectra::CompInfo::Successful) return out;
+    spdlog::debug("linear buckling: {} Lanczos operations, {} restarts", eigs.num_operations(),
+                  eigs.num_iterations());
     const Eigen::VectorXd mu = eigs.eigenvalues();
     const Eigen::MatrixXd Y = eigs.eigenvectors();
     for (int i = 0; i < mu.size(); ++i)

@@ -112,6 +112,8 @@ class TangentSolver {
   int min_pivot_equation() const { return min_eq_; }
 
   struct Impl;
+  /// The factorisations (for the solver's own translation unit: the buckling operator).
+  const Impl& impl() const { return *impl_; }
 
  private:
   std::unique_ptr<Impl> impl_;
@@ -134,6 +136,9 @@ void factorize_or_explain(TangentSolver& solver, const SpMat& K, const FrameMesh
 
 /// Linear static analysis.
 struct LinearResult {
+  /// The factorised linear stiffness K (positive definite): linear_buckling reuses it instead of
+  /// analysing and factorising K again.
+  std::shared_ptr<const TangentSolver> stiffness;
   Eigen::VectorXd u;          ///< free dofs
   Points displacement;        ///< per node, n×3
   std::vector<double> axial;  ///< per element, tension positive
@@ -175,7 +180,9 @@ struct MemberForces {
 std::vector<MemberForces> member_forces(const FrameMesh& mesh,
                                         const std::vector<ElementSectionForces>& elements);
 
-/// Linearised buckling: K φ = λ (−K_G(N_linear)) φ; the smallest positive λ first.
+/// Linearised buckling: K φ = λ (−K_G(N_linear)) φ; the smallest positive λ first. Uses the
+/// factorised K of `linear` (Lanczos on L⁻¹(−K_G)L⁻ᵀ: each step one forward and one back
+/// substitution).
 struct BucklingResult {
   std::vector<double> lambdas;         ///< ascending, positive only
   std::vector<Eigen::VectorXd> modes;  ///< free-dof vectors, max |translation| = 1
