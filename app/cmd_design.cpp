@@ -37,6 +37,7 @@ struct DesignArgs {
   std::string sheet = "2.5x1.25";  ///< fabrication: panels nested on sheets of W x H m
   std::string steel = "S355";      ///< member checks: steel grade
   std::string loads = "paper";     ///< paper | eurocode
+  std::string resolution = "cells";  ///< analysis resolution: cells | input
   bool single_path = false;        ///< non-linear: skip the second (imperfect) path
   bool search = true;  ///< no -D/-A/convention/--field given: search for the objective
 };
@@ -71,6 +72,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   options.frame_analysis.stability = !a.single_path;
   options.frame.loads = analysis::parse_load_model(a.loads);
   options.symmetry = parse_symmetry(a.symmetry);
+  options.analysis_resolution = parse_analysis_resolution(a.resolution);
   options.field_options.measure = parse_stress_measure(a.measure);
   options.field_options.stretch = parse_stretch_axis(a.stretch);
   options.field_options.density = parse_density_trend(a.density);
@@ -194,6 +196,10 @@ void register_design(CLI::App& app, Action& action) {
   cells->excludes(length);
   sub->add_option("--symmetry", a->symmetry,
                   "x | y | xy: exact mirror symmetry about the bounding-box mid-planes");
+  sub->add_option("--analysis-resolution", a->resolution,
+                  "cells (stress, field, metric and tessellation on a coarsened copy when the "
+                  "input is much finer than the cells need; the joints on the input) | input")
+      ->default_str("cells");
   sub->add_flag("--no-regularize", a->no_regularize, "keep the raw tessellation");
   sub->add_flag("--planarize", a->design.planarize,
                 "ShapeUp planarity projection instead of regularization");
