@@ -75,4 +75,19 @@ Field transfer_field(const TriMesh& from, const Field& field, const TriMesh& to)
   return out;
 }
 
+StressField transfer_stress(const TriMesh& from, const StressField& stress, const TriMesh& to) {
+  if (static_cast<int>(stress.size()) != from.num_faces())
+    throw Error("field transfer", "the stress does not match the source mesh");
+  const std::vector<int> source = nearest_faces(from, to);
+  StressField out(source.size());
+  for (int f = 0; f < to.num_faces(); ++f) {
+    out[f] = stress[source[f]];
+    out[f].d1 = onto_face(out[f].d1, to, f);
+    const Vec3 a = to.vertex(to.F(f, 0)), b = to.vertex(to.F(f, 1)), c = to.vertex(to.F(f, 2));
+    const Vec3 n = (b - a).cross(c - a);
+    if (n.norm() > 0) out[f].d2 = n.normalized().cross(out[f].d1);
+  }
+  return out;
+}
+
 }  // namespace gridshell

@@ -91,12 +91,10 @@ double predicted_deformed_area(const TriMesh& mesh, const Field& field) {
 
 /// Stage 0: the surface the stages before the finishing step run on — a coarsened copy of the
 /// input when it is much finer than the cells need (DesignOptions::analysis_resolution), else
-/// none (the input itself). Not with a given stress or a field file: those are per input
-/// triangle.
+/// none (the input itself).
 std::optional<Surface> analysis_surface(const Surface& surface, const DesignOptions& o,
-                                        bool given, DesignResult& r) {
-  if (o.analysis_resolution != AnalysisResolution::cells || given || o.field == FieldInput::file)
-    return std::nullopt;
+                                        DesignResult& r) {
+  if (o.analysis_resolution != AnalysisResolution::cells) return std::nullopt;
   auto t = Clock::now();
   const double area = surface_area(surface.mesh);
   const int faces = surface.mesh.num_faces();
@@ -642,26 +640,42 @@ struct Prepared {
   const std::optional<Surface>* coarse = &own_surface;
   const StressField* stress = &own_stress;
 };
+/// The stress on the analysis surface `S`: design_stress there, or a stress per input triangle
+/// (given, or read from a file) carried over to the coarsened copy.
+StressField analysis_stress(const Surface& input, const std::optional<Surface>& coarse,
+                            const DesignOptions& o, const StressField* given, DesignResult& r) {
+  if (!coarse || is_isotropic(o)) return design_stress(coarse ? *coarse : input, o, given, r);
+  if (!given && o.field == FieldInput::stress) return design_stress(*coarse, o, nullptr, r);
+  const StressField on_input = design_stress(input, o, given, r);
+  auto t = Clock::now();
+  StressField out = transfer_stress(input.mesh, on_input, coarse->mesh);
+  lap(r.timings, "coarsen", t);
+  return out;
+}
+
 void prepare(const Surface& surface, const DesignOptions& o, const StressField* given,
              DesignCache::Impl* cache, Prepared& p, DesignResult& r) {
   if (!cache) {
-    p.own_surface = analysis_surface(surface, o, given != nullptr, r);
-    p.own_stress = design_stress(p.own_surface ? *p.own_surface : surface, o, given, r);
+    p.own_surface = analysis_surface(surface, o, r);
+    p.own_stress = analysis_stress(surface, p.own_surface, o, given, r);
     return;
   }
   auto t = Clock::now();
   const auto& s = cache->surface.get(0, [&] {
     DesignResult scratch;
-    std::optional<Surface> coarse = analysis_surface(surface, o, false, scratch);
+    std::optional<Surface> coarse = analysis_surface(surface, o, scratch);
     return Staged<std::optional<Surface>>{std::move(coarse), std::move(scratch.details)};
   });
   p.coarse = &s.value;
   add_details(r, s.details);
   if (*p.coarse) lap(r.timings, "coarsen", t);
-  if (is_isotropic(o)) return;
+  if (given || is_isotropic(o)) {  // a given stress is not shared
+    p.own_stress = analysis_stress(surface, s.value, o, given, r);
+    return;
+  }
   const auto& stress = cache->stress.get(0, [&] {
     DesignResult scratch;
-    StressField field = design_stress(s.value ? *s.value : surface, o, nullptr, scratch);
+    StressField field = analysis_stress(surface, s.value, o, nullptr, scratch);
     return Staged<StressField>{std::move(field), std::move(scratch.details)};
   });
   p.stress = &stress.value;
@@ -680,7 +694,8 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
   const StressField& stress = *prepared.stress;
   const std::vector<Plane> planes = mirror_planes(surface.mesh, o.symmetry, r);
   const double L = o.tessellation.length;
-  build_grid(S, surface.mesh, stress, o, planes, L, given != nullptr, cache, r);
+  DesignCache::Impl* shared = given ? nullptr : cache;  // fields of a given stress: not shared
+  build_grid(S, surface.mesh, stress, o, planes, L, given != nullptr, shared, r);
 
   // Length control. --length is met on the raw tessellation (within 0.4 of the tolerance);
   // regularization shortens the beams by 0.5–3 %, planarization may lengthen them. When the
@@ -695,7 +710,7 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
     r.timings.clear();
     r.timings.add("length_first_pass", first_seconds);
     r.details.erase("tessellation_seed_retries");
-    build_grid(S, surface.mesh, stress, o, planes, target, given != nullptr, cache, r);
+    build_grid(S, surface.mesh, stress, o, planes, target, given != nullptr, shared, r);
     r.details["length_retry"] = {{"first_length_m", first}, {"tessellation_target_m", target}};
   }
   if (coarse) on_input_surface(S.mesh, surface.mesh, o, r);
@@ -733,6 +748,14 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o, const St
     throw Error("field", fmt::format("{} stresses for {} triangles", stress.size(),
                                      surface.mesh.num_faces()));
   return design(surface, o, &stress, nullptr);
+}
+
+DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress,
+                        DesignCache& cache) {
+  if (static_cast<int>(stress.size()) != surface.mesh.num_faces())
+    throw Error("field", fmt::format("{} stresses for {} triangles", stress.size(),
+                                     surface.mesh.num_faces()));
+  return design(surface, o, &stress, &cache.impl());
 }
 
 }  // namespace gridshell

@@ -128,6 +128,10 @@ class DesignCache {
 };
 /// run_design(surface, options) with what `cache` holds from earlier designs of `surface`.
 DesignResult run_design(const Surface& surface, const DesignOptions& options, DesignCache& cache);
+/// The same with a given stress (shares only the analysis surface: fields of a given stress are
+/// not kept).
+DesignResult run_design(const Surface& surface, const DesignOptions& options,
+                        const StressField& stress, DesignCache& cache);
 
 /// Analyses a grid-shell as the paper's steel frame at `level` (linear | buckling | nonlinear).
 analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,

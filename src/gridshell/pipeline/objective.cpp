@@ -68,7 +68,8 @@ Evaluated evaluate(const Surface& surface, const DesignOptions& base, const Fiel
     const DesignOptions o = candidate_options(base, s, length);
     const bool response = s.source == FieldSource::frame_mode ||
                           s.source == FieldSource::frame_energy;
-    DesignResult r = response ? run_design(surface, o, *stress) : run_design(surface, o, cache);
+    DesignResult r =
+        response ? run_design(surface, o, *stress, cache) : run_design(surface, o, cache);
     ev.candidate.length = r.metrics.total_length;
     ev.candidate.cells = r.mesh.num_faces();
     if (r.structure) {
