@@ -2,6 +2,8 @@
 /// \file design.h
 /// `gridshell design`: the paper's pipeline, stage by stage, each timed.
 ///
+///   coarsen  (a fine input) a copy at the resolution the cells need, on which
+///            the stages up to the tessellation run (analysis_resolution)  mesh/coarsen.h
 ///   stress   shell FEM of the surface (uniform plan load, pinned supports)  fem/shell_solver.h
 ///   field    direction u, density d ∈ [1, D], anisotropy a ∈ [1, A]        field/field.h
 ///   sector   (with --symmetry) the surface cut to one symmetric sector       grids/plane_cut.h
