@@ -37,8 +37,9 @@ struct DesignArgs {
   std::string sheet = "2.5x1.25";  ///< fabrication: panels nested on sheets of W x H m
   std::string steel = "S355";      ///< member checks: steel grade
   std::string loads = "paper";     ///< paper | eurocode
-  std::string resolution = "cells";  ///< analysis resolution: cells | input
   bool single_path = false;        ///< non-linear: skip the second (imperfect) path
+  /// --analysis-resolution: cells | input
+  std::string resolution = "cells";
   bool search = true;  ///< no -D/-A/convention/--field given: search for the objective
 };
 

@@ -87,7 +87,8 @@ TEST(Coarsen, InteriorSupportStaysPut) {
   const CoarseSurface c = coarsen_surface(s, {.edge_length = 2.0});
   int found = 0;
   for (int v : c.surface.supports)
-    if (c.source_vertex[v] == centre && (c.surface.mesh.vertex(v) - s.mesh.vertex(centre)).norm() == 0)
+    if (c.source_vertex[v] == centre &&
+        (c.surface.mesh.vertex(v) - s.mesh.vertex(centre)).norm() == 0)
       ++found;
   EXPECT_EQ(found, 1);
   EXPECT_LT(c.surface.mesh.num_faces(), s.mesh.num_faces() / 10);

@@ -16,7 +16,9 @@ using Triangle = Kernel::Triangle_3;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
-Point point(const TriMesh& m, int v) { return Point(m.V(v, 0), m.V(v, 1), m.V(v, 2)); }
+Point point(const TriMesh& m, int v) {
+  return Point(m.V(v, 0), m.V(v, 1), m.V(v, 2));
+}
 
 /// u projected onto the plane of face f of `to`, normalised (unchanged if it vanishes).
 Vec3 onto_face(const Vec3& u, const TriMesh& to, int f) {

@@ -86,8 +86,10 @@ struct KeepingVisitor : SMS::Edge_collapse_visitor_base<SurfaceMesh> {
   template <typename Profile>
   void OnCollapsing(const Profile& p, const boost::optional<Point>& placement) {
     from = VertexIndex();  // null: a midpoint
-    if (placement && *placement == p.p0()) from = p.v0();
-    else if (placement && *placement == p.p1()) from = p.v1();
+    if (placement && *placement == p.p0())
+      from = p.v0();
+    else if (placement && *placement == p.p1())
+      from = p.v1();
     if (from != VertexIndex() && maps.role[p.v0()] == kInterior && maps.role[p.v1()] == kInterior)
       from = VertexIndex();  // two interior vertices always meet at their midpoint
   }
@@ -110,8 +112,8 @@ std::vector<std::uint8_t> vertex_roles(const Surface& s, double corner_angle_deg
   const Topology topo = build_topology(s.mesh);
   std::vector<char> support(s.mesh.num_vertices(), 0);
   for (int v : s.supports) support[v] = 1;
-  const std::vector<char> corner = boundary_corners(s.mesh.V, topo.boundary_loops,
-                                                    corner_angle_deg);
+  const std::vector<char> corner =
+      boundary_corners(s.mesh.V, topo.boundary_loops, corner_angle_deg);
   std::vector<std::uint8_t> role(s.mesh.num_vertices(), kInterior);
   for (int v = 0; v < s.mesh.num_vertices(); ++v) {
     if (topo.on_boundary[v]) role[v] = kBoundary;
@@ -129,7 +131,8 @@ std::vector<std::uint8_t> vertex_roles(const Surface& s, double corner_angle_deg
 
 /// Moves each interior vertex of `mesh` onto the closest point of `surface`.
 void project_interior(TriMesh& mesh, const std::vector<int>& source, const TriMesh& surface) {
-  using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Kernel::Triangle_3>::const_iterator>;
+  using Primitive =
+      CGAL::AABB_triangle_primitive<Kernel, std::vector<Kernel::Triangle_3>::const_iterator>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
   std::vector<Kernel::Triangle_3> triangles;
   triangles.reserve(surface.num_faces());
@@ -172,7 +175,8 @@ CoarseSurface coarsen_surface(const Surface& surface, const CoarsenOptions& opti
             sm.add_property_map<VertexIndex, int>("v:source", -1).first,
             sm.add_property_map<VertexIndex, std::uint8_t>("v:support", 0).first};
   const std::vector<std::uint8_t> role = vertex_roles(surface, options.corner_angle_deg);
-  for (int v = 0; v < in.num_vertices(); ++v) maps.role[vertex[v]] = role[v], maps.source[vertex[v]] = v;
+  for (int v = 0; v < in.num_vertices(); ++v)
+    maps.role[vertex[v]] = role[v], maps.source[vertex[v]] = v;
   for (int v : surface.supports) maps.support[vertex[v]] = 1;
 
   SMS::Edge_length_stop_predicate<double> stop(options.edge_length);

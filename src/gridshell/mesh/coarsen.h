@@ -23,8 +23,8 @@
 namespace gridshell {
 
 struct CoarsenOptions {
-  double edge_length = 0;         ///< collapse edges shorter than this (m); ≤ 0 = copy as is
-  double corner_angle_deg = 30;   ///< boundary corners kept: turning angle above this
+  double edge_length = 0;        ///< collapse edges shorter than this (m); ≤ 0 = copy as is
+  double corner_angle_deg = 30;  ///< boundary corners kept: turning angle above this
 };
 
 struct CoarseSurface {

@@ -100,8 +100,7 @@ std::optional<Surface> analysis_surface(const Surface& surface, const DesignOpti
   const int faces = surface.mesh.num_faces();
   // The edge of an equilateral triangle of the input's mean triangle area.
   const double input_edge = std::sqrt(4 * area / (std::sqrt(3.0) * std::max(1, faces)));
-  const double edge =
-      estimate_radius(o.tessellation, area, area, 1) / o.analysis_edges_per_radius;
+  const double edge = estimate_radius(o.tessellation, area, area, 1) / o.analysis_edges_per_radius;
   if (!(edge > 2 * input_edge)) return std::nullopt;
   spdlog::info("[coarsen] {} triangles to edges of {:.3g} m for the analysis", faces, edge);
   CoarseSurface coarse = coarsen_surface(surface, {.edge_length = edge});
@@ -334,13 +333,12 @@ Tessellated tessellate_with_retries(const Surface& surface, const StressField& s
     lap(r.timings, "field", t);
     Metric m;
     if (cache && strength != 0.0) {
-      const Staged<Metric>& cached =
-          cache->metric.get({field_key(o, D, A), length, sectors}, [&] {
-            DesignResult scratch;
-            const Sector sector = cut_sector(surface, r.field, planes);
-            Metric metric = deform_sector(sector, o, length, sectors, false, scratch);
-            return Staged<Metric>{std::move(metric), std::move(scratch.details)};
-          });
+      const Staged<Metric>& cached = cache->metric.get({field_key(o, D, A), length, sectors}, [&] {
+        DesignResult scratch;
+        const Sector sector = cut_sector(surface, r.field, planes);
+        Metric metric = deform_sector(sector, o, length, sectors, false, scratch);
+        return Staged<Metric>{std::move(metric), std::move(scratch.details)};
+      });
       m = cached.value;
       add_details(r, cached.details);
     } else {
@@ -451,8 +449,8 @@ void finish(const TriMesh& M, const DesignOptions& o, const std::vector<Plane>& 
 /// analysis, tessellated on `surface` (the analysis surface) and finished on `M` (the input).
 /// `r` keeps what the earlier stages put there.
 void build_grid(const Surface& surface, const TriMesh& M, const StressField& stress,
-                const DesignOptions& o, const std::vector<Plane>& planes, double length,
-                bool given, DesignCache::Impl* cache, DesignResult& r) {
+                const DesignOptions& o, const std::vector<Plane>& planes, double length, bool given,
+                DesignCache::Impl* cache, DesignResult& r) {
   Tessellated t = tessellate_with_retries(surface, stress, o, planes, length, given, cache, r);
   spdlog::info("[tessellation] {} cells, R = {:.4g} m, {} Lloyd iterations{}, hexagons {:.1f}%",
                t.tess.mesh.num_faces(), t.tess.radius, t.tess.iterations,

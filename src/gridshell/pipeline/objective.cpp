@@ -156,11 +156,10 @@ struct SearchProgress {
   }
 };
 
-std::vector<Evaluated> evaluate_all(const Surface& surface, const DesignOptions& base,
-                                    const std::vector<std::pair<FieldSetting, const StressField*>>&
-                                        settings,
-                                    DesignCache& cache, double length, int round,
-                                    SearchProgress& progress) {
+std::vector<Evaluated> evaluate_all(
+    const Surface& surface, const DesignOptions& base,
+    const std::vector<std::pair<FieldSetting, const StressField*>>& settings, DesignCache& cache,
+    double length, int round, SearchProgress& progress) {
   std::vector<Evaluated> out(settings.size());
   tbb::parallel_for(0, static_cast<int>(settings.size()), [&](int i) {
     out[i] = evaluate(surface, base, settings[i].first, settings[i].second, cache, length, round);
@@ -411,9 +410,9 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
       base.tessellation.length > 0 ? base.tessellation.length : all[0].candidate.length;
   const StressField shell;  // stands for the shell stress, which `cache` computes once
   std::deque<StressField> responses;
-  for (Evaluated& e : evaluate_all(surface, base,
-                                   first_round(surface, *all[0].design, shell, responses), cache,
-                                   length, 1, progress))
+  for (Evaluated& e :
+       evaluate_all(surface, base, first_round(surface, *all[0].design, shell, responses), cache,
+                    length, 1, progress))
     all.push_back(std::move(e));
   std::vector<std::string> explored;
   for (int round = 2; round <= options.rounds; ++round) {
