@@ -37,6 +37,8 @@ struct DesignArgs {
   std::string sheet = "2.5x1.25";  ///< fabrication: panels nested on sheets of W x H m
   LoadCheckOptions checks;         ///< --steel, --loads, --glass, --snow, --deflection-limit
   bool single_path = false;        ///< non-linear: skip the second (imperfect) path
+  /// --analysis-resolution: cells | input
+  std::string resolution = "cells";
   bool search = true;  ///< no -D/-A/convention/--field given: search for the objective
 };
 
@@ -69,6 +71,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   apply_load_check_options(a.checks, options.frame, options.frame_analysis);
   options.frame_analysis.stability = !a.single_path;
   options.symmetry = parse_symmetry(a.symmetry);
+  options.analysis_resolution = parse_analysis_resolution(a.resolution);
   options.field_options.measure = parse_stress_measure(a.measure);
   options.field_options.stretch = parse_stretch_axis(a.stretch);
   options.field_options.density = parse_density_trend(a.density);
@@ -192,6 +195,10 @@ void register_design(CLI::App& app, Action& action) {
   cells->excludes(length);
   sub->add_option("--symmetry", a->symmetry,
                   "x | y | xy: exact mirror symmetry about the bounding-box mid-planes");
+  sub->add_option("--analysis-resolution", a->resolution,
+                  "cells (stress, field, metric and tessellation on a coarsened copy when the "
+                  "input is much finer than the cells need; the joints on the input) | input")
+      ->default_str("cells");
   sub->add_flag("--no-regularize", a->no_regularize, "keep the raw tessellation");
   sub->add_flag("--planarize", a->design.planarize,
                 "ShapeUp planarity projection instead of regularization");

@@ -28,6 +28,7 @@ struct SweepArgs {
   std::string surface = kDefaultSurface;
   std::string D = "1:4", A = "1:4", shard, analyze = "nonlinear", field = "stress";
   std::string measure = "magnitude", stretch = "along", density = "rising";
+  std::string resolution = "cells";
   int repeats = 3;
   double length = 0;
   int cells = 0;
@@ -45,17 +46,17 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   std::string field_file;
   const FieldInput field = parse_field_input(a.field, &field_file);
   const analysis::AnalysisLevel level = analysis::parse_analysis_level(a.analyze);
+  const AnalysisResolution resolution = parse_analysis_resolution(a.resolution);
   FieldOptions conventions;
   conventions.measure = parse_stress_measure(a.measure);
   conventions.stretch = parse_stretch_axis(a.stretch);
   conventions.density = parse_density_trend(a.density);
   const Surface surface = load_surface(a.surface, a.surface_options);
-  // The stress is the same for every case: computed (or read) once.
+  // What does not change between cases is computed once: the analysis surface and the stress
+  // (or the file's), and per (D, A) the field and M′ (the repeats differ only in the seed).
+  DesignCache cache;
   StressField stress;
-  if (field == FieldInput::stress)
-    stress = fem::analyze_surface_stress(surface, fem::ShellDefaults{}).stress;
-  else if (field == FieldInput::file)
-    stress = read_field_file(field_file, surface.mesh);
+  if (field == FieldInput::file) stress = read_field_file(field_file, surface.mesh);
   std::vector<SweepCase> cases =
       sweep_cases(parse_range(a.D, "--D"), parse_range(a.A, "--A"), a.repeats, a.run.seed);
   const std::size_t all = cases.size();
@@ -84,8 +85,9 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
     o.tessellation.seed = c.seed;
     o.tessellation.length = a.length;
     o.tessellation.cells = a.length > 0 ? 0 : a.cells;
-    const DesignResult r =
-        field == FieldInput::uniform ? run_design(surface, o) : run_design(surface, o, stress);
+    o.analysis_resolution = resolution;
+    const DesignResult r = field == FieldInput::file ? run_design(surface, o, stress, cache)
+                                                     : run_design(surface, o, cache);
     SweepRow row;
     row.c = c;
     row.cells = r.mesh.num_faces();
@@ -177,6 +179,8 @@ void register_sweep(CLI::App& app, Action& action) {
       ->default_str("rising");
   sub->add_option("--analyze", a->analyze, "linear | buckling | nonlinear")
       ->default_str("nonlinear");
+  sub->add_option("--analysis-resolution", a->resolution, "cells | input (as in design)")
+      ->default_str("cells");
   sub->footer(
       "Writes sweep.csv (D,A,repeat,seed,cells,total_length,lambda,delta), lambda.svg,\n"
       "delta.svg, figures/lambda_heatmap.png, figures/delta_heatmap.png, report.json and\n"

@@ -2,16 +2,26 @@
 
 #include <chrono>
 #include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <tbb/task_arena.h>
 
+#include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
 #include "gridshell/field/field_io.h"
+#include "gridshell/field/transfer.h"
 #include "gridshell/grids/plane_cut.h"
 #include "gridshell/grids/supports.h"
+#include "gridshell/mesh/coarsen.h"
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
+#include "gridshell/optimize/projector.h"
 
 namespace gridshell {
 
@@ -78,6 +88,31 @@ double predicted_deformed_area(const TriMesh& mesh, const Field& field) {
 // ---------------------------------------------------------------------------------------------
 // The stages. Each takes what it needs and returns its value; `r` collects report details and
 // timings.
+
+/// Stage 0: the surface the stages before the finishing step run on — a coarsened copy of the
+/// input when it is much finer than the cells need (DesignOptions::analysis_resolution), else
+/// none (the input itself).
+std::optional<Surface> analysis_surface(const Surface& surface, const DesignOptions& o,
+                                        DesignResult& r) {
+  if (o.analysis_resolution != AnalysisResolution::cells) return std::nullopt;
+  auto t = Clock::now();
+  const double area = surface_area(surface.mesh);
+  const int faces = surface.mesh.num_faces();
+  // The edge of an equilateral triangle of the input's mean triangle area.
+  const double input_edge = std::sqrt(4 * area / (std::sqrt(3.0) * std::max(1, faces)));
+  const double edge = estimate_radius(o.tessellation, area, area, 1) / o.analysis_edges_per_radius;
+  if (!(edge > 2 * input_edge)) return std::nullopt;
+  spdlog::info("[coarsen] {} triangles to edges of {:.3g} m for the analysis", faces, edge);
+  CoarseSurface coarse = coarsen_surface(surface, {.edge_length = edge});
+  r.details["analysis_surface"] = {{"resolution", "cells"},
+                                   {"edge_length_m", edge},
+                                   {"input_triangles", faces},
+                                   {"triangles", coarse.surface.mesh.num_faces()},
+                                   {"supports", coarse.surface.supports.size()}};
+  lap(r.timings, "coarsen", t);
+  if (coarse.surface.mesh.num_faces() == faces) return std::nullopt;  // refused (non-manifold)
+  return std::move(coarse.surface);
+}
 
 /// Stage 1: the stress that drives the field (empty for an isotropic design).
 StressField design_stress(const Surface& surface, const DesignOptions& o,
@@ -184,6 +219,71 @@ Metric deform_sector(const Sector& sector, const DesignOptions& o, double length
   return m;
 }
 
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// What designs of one surface share (DesignCache): each value is computed once, by the first
+// design that asks, inside an isolated TBB region (a design waiting for a nested parallel loop
+// must not pick up another design that waits for the same value); the others wait for it.
+
+namespace {
+/// A value with the report details its stage wrote.
+template <class T>
+struct Staged {
+  T value;
+  nlohmann::json details;
+};
+/// Values computed once per key, thread-safe.
+template <class Key, class Value>
+class OnceMap {
+ public:
+  template <class Make>
+  const Value& get(const Key& key, Make&& make) {
+    std::shared_ptr<Slot> slot;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      std::shared_ptr<Slot>& s = slots_[key];
+      if (!s) s = std::make_shared<Slot>();
+      slot = s;
+    }
+    std::call_once(slot->once,
+                   [&] { tbb::this_task_arena::isolate([&] { slot->value = make(); }); });
+    return slot->value;
+  }
+
+ private:
+  struct Slot {
+    std::once_flag once;
+    Value value;
+  };
+  std::mutex mutex_;
+  std::map<Key, std::shared_ptr<Slot>> slots_;
+};
+/// (D, A, measure, stretch, density) of a field.
+using FieldKey = std::tuple<double, double, int, int, int>;
+/// A field's key, the length target and the number of sectors of a metric.
+using MetricKey = std::tuple<FieldKey, double, int>;
+}  // namespace
+
+struct DesignCache::Impl {
+  OnceMap<int, Staged<std::optional<Surface>>> surface;
+  OnceMap<int, Staged<StressField>> stress;
+  OnceMap<FieldKey, Staged<Field>> field;
+  OnceMap<MetricKey, Staged<Metric>> metric;
+};
+DesignCache::DesignCache() : impl_(std::make_unique<Impl>()) {}
+DesignCache::~DesignCache() = default;
+
+namespace {
+/// The details a cached stage wrote, added to `r`'s.
+void add_details(DesignResult& r, const nlohmann::json& details) {
+  for (const auto& [key, value] : details.items()) r.details[key] = value;
+}
+FieldKey field_key(const DesignOptions& o, double D, double A) {
+  return {D, A, static_cast<int>(o.field_options.measure),
+          static_cast<int>(o.field_options.stretch), static_cast<int>(o.field_options.density)};
+}
+
 /// The tessellation options of one sector: the size split between the sectors, and the mirror
 /// planes' edges left out of the length (they vanish when the sectors are welded).
 TessellationOptions sector_tessellation(const TessellationOptions& whole, double length,
@@ -209,20 +309,43 @@ struct Tessellated {
 };
 Tessellated tessellate_with_retries(const Surface& surface, const StressField& stress,
                                     const DesignOptions& o, const std::vector<Plane>& planes,
-                                    double length, bool given, DesignResult& r) {
+                                    double length, bool given, DesignCache::Impl* cache,
+                                    DesignResult& r) {
   const bool isotropic = is_isotropic(o);
   const int sectors = 1 << static_cast<int>(planes.size());
   const TessellationOptions topt = sector_tessellation(o.tessellation, length, planes);
   std::string last_error;
   for (double strength : isotropic ? std::vector<double>{0.0} : std::vector<double>{1.0, 0.5, 0.0}) {
     auto t = Clock::now();
-    r.field = design_field(surface.mesh, stress, o, 1 + strength * (o.D - 1),
-                           1 + strength * (o.A - 1), given, r);
+    const double D = 1 + strength * (o.D - 1), A = 1 + strength * (o.A - 1);
+    if (cache) {  // the field and M′ do not depend on the seed: shared between designs
+      const Staged<Field>& f = cache->field.get(field_key(o, D, A), [&] {
+        DesignResult scratch;
+        Field field = design_field(surface.mesh, stress, o, D, A, given, scratch);
+        return Staged<Field>{std::move(field), std::move(scratch.details)};
+      });
+      r.field = f.value;
+      add_details(r, f.details);
+    } else {
+      r.field = design_field(surface.mesh, stress, o, D, A, given, r);
+    }
     if (strength != 1.0 && !isotropic) r.details["field"]["softened_from"] = {o.D, o.A};
     lap(r.timings, "field", t);
-    const Sector sector = cut_sector(surface, r.field, planes);
-    if (!planes.empty()) lap(r.timings, "sector", t);
-    Metric m = deform_sector(sector, o, length, sectors, strength == 0.0, r);
+    Metric m;
+    if (cache && strength != 0.0) {
+      const Staged<Metric>& cached = cache->metric.get({field_key(o, D, A), length, sectors}, [&] {
+        DesignResult scratch;
+        const Sector sector = cut_sector(surface, r.field, planes);
+        Metric metric = deform_sector(sector, o, length, sectors, false, scratch);
+        return Staged<Metric>{std::move(metric), std::move(scratch.details)};
+      });
+      m = cached.value;
+      add_details(r, cached.details);
+    } else {
+      const Sector sector = cut_sector(surface, r.field, planes);
+      if (!planes.empty()) lap(r.timings, "sector", t);
+      m = deform_sector(sector, o, length, sectors, strength == 0.0, r);
+    }
     if (strength != 0.0) lap(r.timings, "metric", t);
     const int attempts = strength == 0.0 ? 3 : 2;
     for (int attempt = 0; attempt < attempts; ++attempt) {
@@ -323,10 +446,12 @@ void finish(const TriMesh& M, const DesignOptions& o, const std::vector<Plane>& 
 }
 
 /// Stages 2–6 for one length target (0 = the size options decide): the grid-shell before
-/// analysis. `r` keeps what the earlier stages put there.
-void build_grid(const Surface& surface, const StressField& stress, const DesignOptions& o,
-                const std::vector<Plane>& planes, double length, bool given, DesignResult& r) {
-  Tessellated t = tessellate_with_retries(surface, stress, o, planes, length, given, r);
+/// analysis, tessellated on `surface` (the analysis surface) and finished on `M` (the input).
+/// `r` keeps what the earlier stages put there.
+void build_grid(const Surface& surface, const TriMesh& M, const StressField& stress,
+                const DesignOptions& o, const std::vector<Plane>& planes, double length, bool given,
+                DesignCache::Impl* cache, DesignResult& r) {
+  Tessellated t = tessellate_with_retries(surface, stress, o, planes, length, given, cache, r);
   spdlog::info("[tessellation] {} cells, R = {:.4g} m, {} Lloyd iterations{}, hexagons {:.1f}%",
                t.tess.mesh.num_faces(), t.tess.radius, t.tess.iterations,
                t.tess.converged ? "" : " (not converged)",
@@ -336,11 +461,37 @@ void build_grid(const Surface& surface, const StressField& stress, const DesignO
   const std::vector<std::vector<int>> mirror = assemble_raw(t, planes, r, constraints);
   if (!planes.empty()) lap(r.timings, "symmetry", clock);
   r.tessellation = std::move(t.tess);
-  finish(surface.mesh, o, planes, mirror, constraints, r);
+  finish(M, o, planes, mirror, constraints, r);
   lap(r.timings, "regularization", clock);
 }
 
+/// After a design on the coarsened analysis surface `coarse`: the field carried over to the
+/// input's triangles, and the joints onto the input surface `M` (the finishing step has put them
+/// there already unless it is off).
+void on_input_surface(const TriMesh& coarse, const TriMesh& M, const DesignOptions& o,
+                      DesignResult& r) {
+  auto t = Clock::now();
+  r.field = transfer_field(coarse, r.field, M);
+  if (!o.planarize && !o.regularize) {
+    const SurfaceProjector projector(M);
+    for (int v = 0; v < r.mesh.num_vertices(); ++v)
+      r.mesh.V.row(v) = projector.closest_point(r.mesh.vertex(v)).transpose();
+    r.metrics = mesh_metrics(r.mesh);
+  }
+  lap(r.timings, "coarsen", t);
+}
+
+constexpr EnumWords<AnalysisResolution, 2> kAnalysisResolutionWords{
+    {{"cells", AnalysisResolution::cells}, {"input", AnalysisResolution::input}}};
+
 }  // namespace
+
+AnalysisResolution parse_analysis_resolution(const std::string& word) {
+  return parse_word(word, "--analysis-resolution", kAnalysisResolutionWords);
+}
+const char* to_string(AnalysisResolution resolution) {
+  return word_of(resolution, kAnalysisResolutionWords);
+}
 
 FieldInput parse_field_input(const std::string& word, std::string* file) {
   if (word == "stress") return FieldInput::stress;
@@ -371,6 +522,8 @@ void check_design_options(const DesignOptions& o) {
   }
   if (o.field == FieldInput::file && o.field_file.empty())
     throw Error("--field", "no field file given");
+  if (!(o.analysis_edges_per_radius > 0) || !std::isfinite(o.analysis_edges_per_radius))
+    throw Error("analysis resolution", "edges per cell radius must be a number > 0");
   check_tessellation_options(o.tessellation);
 }
 
@@ -475,13 +628,70 @@ nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& 
 }
 
 namespace {
-DesignResult design(const Surface& surface, const DesignOptions& o, const StressField* given) {
+/// Stages 0 and 1, shared through `cache` when there is one: the analysis surface (none: the
+/// input) and the stress on it.
+struct Prepared {
+  std::optional<Surface> own_surface;
+  StressField own_stress;
+  const std::optional<Surface>* coarse = &own_surface;
+  const StressField* stress = &own_stress;
+};
+/// The stress on the analysis surface `S`: design_stress there, or a stress per input triangle
+/// (given, or read from a file) carried over to the coarsened copy.
+StressField analysis_stress(const Surface& input, const std::optional<Surface>& coarse,
+                            const DesignOptions& o, const StressField* given, DesignResult& r) {
+  if (!coarse || is_isotropic(o)) return design_stress(coarse ? *coarse : input, o, given, r);
+  if (!given && o.field == FieldInput::stress) return design_stress(*coarse, o, nullptr, r);
+  const StressField on_input = design_stress(input, o, given, r);
+  auto t = Clock::now();
+  StressField out = transfer_stress(input.mesh, on_input, coarse->mesh);
+  lap(r.timings, "coarsen", t);
+  return out;
+}
+
+void prepare(const Surface& surface, const DesignOptions& o, const StressField* given,
+             DesignCache::Impl* cache, Prepared& p, DesignResult& r) {
+  if (!cache) {
+    p.own_surface = analysis_surface(surface, o, r);
+    p.own_stress = analysis_stress(surface, p.own_surface, o, given, r);
+    return;
+  }
+  auto t = Clock::now();
+  const auto& s = cache->surface.get(0, [&] {
+    DesignResult scratch;
+    std::optional<Surface> coarse = analysis_surface(surface, o, scratch);
+    return Staged<std::optional<Surface>>{std::move(coarse), std::move(scratch.details)};
+  });
+  p.coarse = &s.value;
+  add_details(r, s.details);
+  if (*p.coarse) lap(r.timings, "coarsen", t);
+  if (given || is_isotropic(o)) {  // a given stress is not shared
+    p.own_stress = analysis_stress(surface, s.value, o, given, r);
+    return;
+  }
+  const auto& stress = cache->stress.get(0, [&] {
+    DesignResult scratch;
+    StressField field = analysis_stress(surface, s.value, o, nullptr, scratch);
+    return Staged<StressField>{std::move(field), std::move(scratch.details)};
+  });
+  p.stress = &stress.value;
+  add_details(r, stress.details);
+  lap(r.timings, "stress", t);
+}
+
+DesignResult design(const Surface& surface, const DesignOptions& o, const StressField* given,
+                    DesignCache::Impl* cache) {
   check_design_options(o);
   DesignResult r;
-  const StressField stress = design_stress(surface, o, given, r);
+  Prepared prepared;
+  prepare(surface, o, given, cache, prepared, r);
+  const std::optional<Surface>& coarse = *prepared.coarse;
+  const Surface& S = coarse ? *coarse : surface;  // what the stages before finishing run on
+  const StressField& stress = *prepared.stress;
   const std::vector<Plane> planes = mirror_planes(surface.mesh, o.symmetry, r);
   const double L = o.tessellation.length;
-  build_grid(surface, stress, o, planes, L, given != nullptr, r);
+  DesignCache::Impl* shared = given ? nullptr : cache;  // fields of a given stress: not shared
+  build_grid(S, surface.mesh, stress, o, planes, L, given != nullptr, shared, r);
 
   // Length control. --length is met on the raw tessellation (within 0.4 of the tolerance);
   // regularization shortens the beams by 0.5–3 %, planarization may lengthen them. When the
@@ -498,9 +708,10 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
     r.timings.clear();
     r.timings.add("length_first_pass", first_seconds);
     r.details.erase("tessellation_seed_retries");
-    build_grid(surface, stress, o, planes, target, given != nullptr, r);
+    build_grid(S, surface.mesh, stress, o, planes, target, given != nullptr, shared, r);
     r.details["length_retry"] = {{"first_length_m", first}, {"tessellation_target_m", target}};
   }
+  if (coarse) on_input_surface(S.mesh, surface.mesh, o, r);
 
   // Stage 7: the steel frame.
   if (o.analyze != analysis::AnalysisLevel::none) {
@@ -523,14 +734,26 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
 }  // namespace
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o) {
-  return design(surface, o, nullptr);
+  return design(surface, o, nullptr, nullptr);
+}
+
+DesignResult run_design(const Surface& surface, const DesignOptions& o, DesignCache& cache) {
+  return design(surface, o, nullptr, &cache.impl());
 }
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress) {
   if (static_cast<int>(stress.size()) != surface.mesh.num_faces())
     throw Error("field", fmt::format("{} stresses for {} triangles", stress.size(),
                                      surface.mesh.num_faces()));
-  return design(surface, o, &stress);
+  return design(surface, o, &stress, nullptr);
+}
+
+DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress,
+                        DesignCache& cache) {
+  if (static_cast<int>(stress.size()) != surface.mesh.num_faces())
+    throw Error("field", fmt::format("{} stresses for {} triangles", stress.size(),
+                                     surface.mesh.num_faces()));
+  return design(surface, o, &stress, &cache.impl());
 }
 
 }  // namespace gridshell

@@ -2,6 +2,8 @@
 /// \file design.h
 /// `gridshell design`: the paper's pipeline, stage by stage, each timed.
 ///
+///   coarsen  (a fine input) a copy at the resolution the cells need, on which
+///            the stages up to the tessellation run (analysis_resolution)  mesh/coarsen.h
 ///   stress   shell FEM of the surface (uniform plan load, pinned supports)  fem/shell_solver.h
 ///   field    direction u, density d ∈ [1, D], anisotropy a ∈ [1, A]        field/field.h
 ///   sector   (with --symmetry) the surface cut to one symmetric sector       grids/plane_cut.h
@@ -13,6 +15,7 @@
 ///
 /// With D = A = 1 (or `--field uniform`) the stress analysis is skipped and M′ = M.
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -42,6 +45,15 @@ enum class FieldInput {
 /// "stress", "uniform", or anything else = a file (with `file` set to the word).
 FieldInput parse_field_input(const std::string& word, std::string* file);
 
+/// Which mesh the stress, field, metric and tessellation stages run on (docs/shell.md
+/// "Analysis resolution"). The grid-shell lies on the input surface either way.
+enum class AnalysisResolution {
+  cells,  ///< a coarsened copy (mesh/coarsen.h) when the input is much finer than the cells need
+  input,  ///< the input mesh as it is
+};
+AnalysisResolution parse_analysis_resolution(const std::string& word);
+const char* to_string(AnalysisResolution resolution);
+
 struct DesignOptions {
   FieldInput field = FieldInput::stress;
   std::string field_file;  ///< with FieldInput::file
@@ -59,6 +71,14 @@ struct DesignOptions {
   /// refines M and M′ together to its support-mesh size (≤ R/5 on M′) where the diagram needs it.
   /// Deforming the coarser mesh is much cheaper and the field has the input's resolution anyway.
   double metric_edge = 1.0;
+  /// With AnalysisResolution::cells the stages before the finishing step run on a copy of the
+  /// surface coarsened to edges of R / analysis_edges_per_radius (R: the cell radius the size
+  /// request gives, as for metric_edge), when the input's edges are shorter than half of that
+  /// (≥ 4× the triangles needed); the field is then carried back to the input's triangles and the
+  /// joints are projected onto the input. Not with a given stress or a field file (per input
+  /// triangle). Measured in docs/shell.md "Analysis resolution".
+  AnalysisResolution analysis_resolution = AnalysisResolution::cells;
+  double analysis_edges_per_radius = 3;
   RegularizeOptions regularize_options;
   analysis::GridshellFrameOptions frame;
   analysis::FrameAnalysisOptions frame_analysis;  ///< linear/buckling/nonlinear set from analyze
@@ -88,6 +108,32 @@ DesignResult run_design(const Surface& surface, const DesignOptions& options);
 /// `uniform`, which still means isotropic cells).
 DesignResult run_design(const Surface& surface, const DesignOptions& options,
                         const StressField& stress);
+
+/// What designs of one surface share when they differ only in D, A, the field's conventions
+/// (measure, stretch, density) and the seed — a sweep, the objective search: the analysis
+/// surface, the shell stress, and per (D, A, conventions) the field and per length target the
+/// deformed surface M′ (neither depends on the seed). One cache per surface and per set of the
+/// other options. Thread-safe: designs running in parallel share it, and each value is computed
+/// once (a design that needs a value being computed waits for it). A design from a cache equals
+/// the same design without one.
+class DesignCache {
+ public:
+  DesignCache();
+  ~DesignCache();
+  DesignCache(const DesignCache&) = delete;
+  DesignCache& operator=(const DesignCache&) = delete;
+  struct Impl;
+  Impl& impl() { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+/// run_design(surface, options) with what `cache` holds from earlier designs of `surface`.
+DesignResult run_design(const Surface& surface, const DesignOptions& options, DesignCache& cache);
+/// The same with a given stress (shares only the analysis surface: fields of a given stress are
+/// not kept).
+DesignResult run_design(const Surface& surface, const DesignOptions& options,
+                        const StressField& stress, DesignCache& cache);
 
 /// Analyses a grid-shell as the paper's steel frame at `level` (linear | buckling | nonlinear).
 analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,

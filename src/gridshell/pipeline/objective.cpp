@@ -54,8 +54,11 @@ constexpr double kMaxRatio = 4;
 
 /// Designs and judges one candidate. A failure marks the candidate failed, unless `rethrow`
 /// (the reference: its failure is the user's — a bad size or surface).
+/// Shell-stress and uniform candidates share the analysis surface, the shell stress, their
+/// fields and M′ through `cache`; a frame response is a stress per input triangle.
 Evaluated evaluate(const Surface& surface, const DesignOptions& base, const FieldSetting& s,
-                   const StressField* stress, double length, int round, bool rethrow = false) {
+                   const StressField* stress, DesignCache& cache, double length, int round,
+                   bool rethrow = false) {
   const auto t = Clock::now();
   Evaluated ev;
   ev.field = stress;
@@ -63,7 +66,10 @@ Evaluated evaluate(const Surface& surface, const DesignOptions& base, const Fiel
   ev.candidate.round = round;
   try {
     const DesignOptions o = candidate_options(base, s, length);
-    DesignResult r = stress ? run_design(surface, o, *stress) : run_design(surface, o);
+    const bool response = s.source == FieldSource::frame_mode ||
+                          s.source == FieldSource::frame_energy;
+    DesignResult r =
+        response ? run_design(surface, o, *stress, cache) : run_design(surface, o, cache);
     ev.candidate.length = r.metrics.total_length;
     ev.candidate.cells = r.mesh.num_faces();
     if (r.structure) {
@@ -150,14 +156,14 @@ struct SearchProgress {
   }
 };
 
-std::vector<Evaluated> evaluate_all(const Surface& surface, const DesignOptions& base,
-                                    const std::vector<std::pair<FieldSetting, const StressField*>>&
-                                        settings,
-                                    double length, int round, SearchProgress& progress) {
+std::vector<Evaluated> evaluate_all(
+    const Surface& surface, const DesignOptions& base,
+    const std::vector<std::pair<FieldSetting, const StressField*>>& settings, DesignCache& cache,
+    double length, int round, SearchProgress& progress) {
   std::vector<Evaluated> out(settings.size());
   tbb::parallel_for(0, static_cast<int>(settings.size()), [&](int i) {
     if (stop_requested(progress.options.stop)) return;
-    out[i] = evaluate(surface, base, settings[i].first, settings[i].second, length, round);
+    out[i] = evaluate(surface, base, settings[i].first, settings[i].second, cache, length, round);
     progress.one_more();
   });
   if (stop_requested(progress.options.stop)) throw Stopped{};
@@ -399,22 +405,23 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   SearchProgress progress{options};
   report_progress(options.progress, "objective search", 0, "the isotropic reference");
   std::vector<Evaluated> all;
-  all.push_back(evaluate(surface, base, FieldSetting{}, nullptr, 0, 1, true));
+  DesignCache cache;
+  all.push_back(evaluate(surface, base, FieldSetting{}, nullptr, cache, 0, 1, true));
   progress.one_more();
   if (stop_requested(options.stop)) throw Stopped{};
   const double length =
       base.tessellation.length > 0 ? base.tessellation.length : all[0].candidate.length;
-  const StressField shell = fem::analyze_surface_stress(surface, base.shell).stress;
+  const StressField shell;  // stands for the shell stress, which `cache` computes once
   std::deque<StressField> responses;
-  for (Evaluated& e : evaluate_all(surface, base,
-                                   first_round(surface, *all[0].design, shell, responses),
-                                   length, 1, progress))
+  for (Evaluated& e :
+       evaluate_all(surface, base, first_round(surface, *all[0].design, shell, responses), cache,
+                    length, 1, progress))
     all.push_back(std::move(e));
   std::vector<std::string> explored;
   for (int round = 2; round <= options.rounds; ++round) {
     const Pending next = local_round(all, options, explored);
     if (next.empty()) break;
-    for (Evaluated& e : evaluate_all(surface, base, next, length, round, progress))
+    for (Evaluated& e : evaluate_all(surface, base, next, cache, length, round, progress))
       all.push_back(std::move(e));
   }
   report_progress(options.progress, "objective search", 1,

@@ -1,0 +1,95 @@
+#include "gridshell/field/transfer.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include "gridshell/core/error.h"
+
+namespace gridshell {
+
+namespace {
+using Kernel = CGAL::Simple_cartesian<double>;
+using Point = Kernel::Point_3;
+using Triangle = Kernel::Triangle_3;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+Point point(const TriMesh& m, int v) {
+  return Point(m.V(v, 0), m.V(v, 1), m.V(v, 2));
+}
+
+/// u projected onto the plane of face f of `to`, normalised (unchanged if it vanishes).
+Vec3 onto_face(const Vec3& u, const TriMesh& to, int f) {
+  const Vec3 a = to.vertex(to.F(f, 0)), b = to.vertex(to.F(f, 1)), c = to.vertex(to.F(f, 2));
+  const Vec3 n = (b - a).cross(c - a);
+  if (n.norm() == 0) return u;
+  const Vec3 t = u - u.dot(n) / n.squaredNorm() * n;
+  return t.norm() > 1e-12 * u.norm() ? Vec3(t.normalized()) : u;
+}
+}  // namespace
+
+std::vector<int> nearest_faces(const TriMesh& from, const TriMesh& to) {
+  std::vector<Triangle> triangles;
+  std::vector<int> face;
+  triangles.reserve(from.num_faces());
+  for (int f = 0; f < from.num_faces(); ++f) {
+    const Triangle t(point(from, from.F(f, 0)), point(from, from.F(f, 1)),
+                     point(from, from.F(f, 2)));
+    if (t.is_degenerate()) continue;
+    triangles.push_back(t);
+    face.push_back(f);
+  }
+  if (triangles.empty()) throw Error("field transfer", "the source mesh has no triangle");
+  Tree tree(triangles.cbegin(), triangles.cend());
+  tree.accelerate_distance_queries();
+  std::vector<int> out(to.num_faces());
+  for (int f = 0; f < to.num_faces(); ++f) {
+    const Vec3 c = (to.vertex(to.F(f, 0)) + to.vertex(to.F(f, 1)) + to.vertex(to.F(f, 2))) / 3;
+    const auto hit = tree.closest_point_and_primitive(Point(c.x(), c.y(), c.z()));
+    out[f] = face[hit.second - triangles.cbegin()];
+  }
+  return out;
+}
+
+Field transfer_field(const TriMesh& from, const Field& field, const TriMesh& to) {
+  if (field.size() != from.num_faces())
+    throw Error("field transfer", "the field does not match the source mesh");
+  const std::vector<int> source = nearest_faces(from, to);
+  Field out;
+  auto carry = [&](const auto& in, auto& dst) {
+    if (in.empty()) return;
+    dst.reserve(source.size());
+    for (int s : source) dst.push_back(in[s]);
+  };
+  carry(field.u, out.u);
+  carry(field.d, out.d);
+  carry(field.a, out.a);
+  carry(field.u_raw, out.u_raw);
+  carry(field.d_raw, out.d_raw);
+  carry(field.a_raw, out.a_raw);
+  carry(field.coherence, out.coherence);
+  for (int f = 0; f < to.num_faces(); ++f) {
+    out.u[f] = onto_face(out.u[f], to, f);
+    if (!out.u_raw.empty()) out.u_raw[f] = onto_face(out.u_raw[f], to, f);
+  }
+  return out;
+}
+
+StressField transfer_stress(const TriMesh& from, const StressField& stress, const TriMesh& to) {
+  if (static_cast<int>(stress.size()) != from.num_faces())
+    throw Error("field transfer", "the stress does not match the source mesh");
+  const std::vector<int> source = nearest_faces(from, to);
+  StressField out(source.size());
+  for (int f = 0; f < to.num_faces(); ++f) {
+    out[f] = stress[source[f]];
+    out[f].d1 = onto_face(out[f].d1, to, f);
+    const Vec3 a = to.vertex(to.F(f, 0)), b = to.vertex(to.F(f, 1)), c = to.vertex(to.F(f, 2));
+    const Vec3 n = (b - a).cross(c - a);
+    if (n.norm() > 0) out[f].d2 = n.normalized().cross(out[f].d1);
+  }
+  return out;
+}
+
+}  // namespace gridshell
