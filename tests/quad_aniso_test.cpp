@@ -121,6 +121,20 @@ TEST(QuadAniso, PlaneWithGradedDensityHasSizesInverseToD) {
   EXPECT_NEAR(sparse / dense, 2.0, 0.4);
 }
 
+namespace {
+/// Issue 16's targets for a strongly anisotropic field (a ≥ 2.5 asked): regular, simple, no
+/// stub beams, beams along the field, quads stretched.
+void expect_issue_targets(const QuadMeshStats& st) {
+  EXPECT_GE(st.valence4_share, 0.85);
+  EXPECT_GE(st.quad_share, 0.85);
+  EXPECT_EQ(st.non_simple_faces, 0);
+  EXPECT_GE(st.min_edge_ratio, 0.1);
+  EXPECT_GE(st.aligned_share, 0.7);
+  EXPECT_GT(st.aspect_quads, 20);
+  EXPECT_GE(st.median_aspect, 1.5);
+}
+}  // namespace
+
 // The direction turns by 60° across the plane and a = 3: M′ is curved, so the lattice needs
 // defects; the issue's targets hold all the same (valence 4 and quads ≥ 85 %, ≥ 70 % of beams
 // within 15° of u or u⊥, median aspect ≥ 1.5 where a ≥ 2.5).
@@ -137,13 +151,7 @@ TEST(QuadAniso, PlaneWithTurningFieldMeetsTheTargets) {
   const QuadAnisoResult r = quad_aniso(s, field, o);
   const QuadMeshStats st = quad_mesh_stats(r.grid.mesh, s.mesh, field);
   EXPECT_GT(st.interior_joints, 60);
-  EXPECT_GE(st.valence4_share, 0.85);
-  EXPECT_GE(st.quad_share, 0.85);
-  EXPECT_EQ(st.non_simple_faces, 0);
-  EXPECT_GE(st.min_edge_ratio, 0.1);
-  EXPECT_GE(st.aligned_share, 0.7);
-  EXPECT_GT(st.aspect_quads, 20);
-  EXPECT_GE(st.median_aspect, 1.5);
+  expect_issue_targets(st);
   // And the stretch is about the a asked for.
   EXPECT_NEAR(st.median_aspect, 3.0, 0.5);
 }
@@ -162,14 +170,8 @@ TEST(QuadAniso, BotanicAt33MeetsTheTargets) {
   EXPECT_NEAR(total_edge_length(r.grid.mesh) / 2018, 1.0, 0.05);
   const QuadMeshStats st = quad_mesh_stats(r.grid.mesh, s.mesh, field);
   EXPECT_GT(st.interior_joints, 500);
-  EXPECT_GE(st.valence4_share, 0.85);
-  EXPECT_GE(st.quad_share, 0.85);
-  EXPECT_EQ(st.non_simple_faces, 0);
-  EXPECT_GE(st.min_edge_ratio, 0.1);
   EXPECT_GT(st.strong_beams, 100);
-  EXPECT_GE(st.aligned_share, 0.7);
-  EXPECT_GT(st.aspect_quads, 20);
-  EXPECT_GE(st.median_aspect, 1.5);
+  expect_issue_targets(st);
   EXPECT_FALSE(r.grid.supports.empty());
 }
 
