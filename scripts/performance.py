@@ -56,10 +56,24 @@ def goals(work):
          "cells, linear analysis", 10, 1.0, None, None, "cmd",
          [["design", "builtin:paraboloid:res=354", "--cells", "1000", "--analyze", "linear",
            "--figures", "none", "-o", str(work / "fine"), "--quiet"]], False),
+        ("fine-input-one", "the same input, one design (-D 3 -A 3) instead of the default "
+         "objective search", 10, 1.0, None, None, "cmd",
+         [["design", "builtin:paraboloid:res=354", "--cells", "1000", "-D", "3", "-A", "3",
+           "--analyze", "linear", "--figures", "none", "-o", str(work / "fine_one"),
+           "--quiet"]], False),
         ("studio-300", "studio /api/design, 300 cells, linear + LBA (median of 7)", 1, None,
          None, None, "bench", ("studio_bench", "BM_StudioDesign/300"), False),
         ("studio-1000", "studio /api/design, 1000 cells, linear + LBA (median of 7)", 3, None,
          None, None, "bench", ("studio_bench", "BM_StudioDesign/1000"), False),
+        ("shell-50k", "shell stress FEM, 50 K triangles (split factorisation)", 2, None,
+         None, None, "bench", ("shell_bench", "BM_Shell50K/160/1"), False),
+        ("tessellation-aquadom", "Aquadom tessellation, 1200 cells, all threads", 3, None, None,
+         None, "bench", ("voronoi_bench", "BM_TessellateAquadom/0"), False),
+        ("frame-linear", "Aquadom triangulation as a frame, linear (3 runs)", 1, None,
+         "CalculiX, same frame, linear", 18, "bench", ("frame_bench", "BM_AquadomLinear"),
+         False),
+        ("lilium-nonlinear", "non-linear path of the Lilium triangulation (7547 bars)", 60, None,
+         None, None, "bench", ("frame_bench", "BM_LiliumNonlinear"), False),
         ("objective-botanic", "objective search on Botanic (16 designs, linear + LBA)", 60,
          None, None, None, "bench", ("objective_bench", "BM_ObjectiveBotanic"), False),
         ("sweep-shell", "sweep Shell, D, A in 1..4, 3 repeats, --length 415, non-linear "
@@ -77,16 +91,17 @@ def goals(work):
 
 
 def run_timed(exe, args):
-    """Wall seconds and peak RSS in GB of one process; raises on failure."""
+    """Wall seconds, peak RSS in GB and CPU seconds (user + system, all threads) of one process;
+    raises on failure."""
     with tempfile.NamedTemporaryFile("r", suffix=".time") as t:
-        cmd = ["/usr/bin/time", "-f", "%e %M", "-o", t.name, str(exe)] + args
+        cmd = ["/usr/bin/time", "-f", "%e %M %U %S", "-o", t.name, str(exe)] + args
         t0 = time.monotonic()
         p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         wall = time.monotonic() - t0
         if p.returncode != 0:
             raise RuntimeError(f"{' '.join(args)} failed: {p.stderr.strip()[-300:]}")
         fields = Path(t.name).read_text().split()
-        return wall, int(fields[-1]) / 1e6
+        return wall, int(fields[-3]) / 1e6, float(fields[-2]) + float(fields[-1])
 
 
 def run_bench(build, program, name):
@@ -104,7 +119,7 @@ def run_bench(build, program, name):
 
 def needs_data(spec):
     return any(str(DATA) in a for args in spec for a in args) if isinstance(spec, list) else \
-        spec[0] in ("objective_bench",)
+        spec[0] in ("objective_bench", "voronoi_bench", "frame_bench")
 
 
 def main():
@@ -121,36 +136,37 @@ def main():
     exe = build / "gridshell"
     only = {s for s in a.only.split(",") if s}
     print(f"load average before: {os.getloadavg()[0]:.2f}", file=sys.stderr)
-    print("| goal | what | ours (median) | peak | goal | anchor | anchor / ours |")
-    print("|---|---|---|---|---|---|---|")
+    print("| goal | what | ours: wall (median; runs) | CPU | peak | goal | anchor | anchor / ours |")
+    print("|---|---|---|---|---|---|---|---|")
     for (name, what, goal_s, goal_gb, anchor, anchor_s, kind, spec, long) in goals(work):
         if only and name not in only:
             continue
         if long and not a.long and name not in only:
             continue
         if needs_data(spec) and not DATA.is_dir():
-            print(f"| {name} | {what} | skipped: no ../shared/data | | | | |")
+            print(f"| {name} | {what} | skipped: no ../shared/data | | | | | |")
             continue
-        peak = ""
+        peak = cpu = ""
         try:
             if kind == "cmd":
                 for setup in spec[:-1]:
                     run_timed(exe, setup)
                 runs = [run_timed(exe, spec[-1]) for _ in range(1 if long else a.repeats)]
-                ours = statistics.median(w for w, _ in runs)
-                gb = max(m for _, m in runs)
+                ours = statistics.median(w for w, _, _ in runs)
+                cpu = f"{statistics.median(c for _, _, c in runs):.2f} s"
+                gb = max(m for _, m, _ in runs)
                 peak = f"{gb:.2f} GB" + (" ✗" if goal_gb and gb > goal_gb else "")
-                detail = " / ".join(f"{w:.2f}" for w, _ in runs)
+                detail = " / ".join(f"{w:.2f}" for w, _, _ in runs)
             else:
                 ours = run_bench(build, *spec)
                 detail = "bench"
         except RuntimeError as e:
-            print(f"| {name} | {what} | failed: {e} | | | | |")
+            print(f"| {name} | {what} | failed: {e} | | | | | |")
             continue
         mark = "" if ours <= goal_s else " ✗"
         goal = f"≤ {goal_s:g} s" + (f", ≤ {goal_gb:g} GB" if goal_gb else "")
         ratio = f"{anchor_s / ours:.0f}×" if anchor_s else ""
-        print(f"| {name} | {what} | {ours:.2f} s{mark} ({detail}) | {peak} | {goal} | "
+        print(f"| {name} | {what} | {ours:.2f} s{mark} ({detail}) | {cpu} | {peak} | {goal} | "
               f"{anchor or ''} | {ratio} |", flush=True)
     print(f"load average after: {os.getloadavg()[0]:.2f}", file=sys.stderr)
 
