@@ -82,6 +82,12 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
     o.field_options.density = conventions.density;
     o.D = c.D, o.A = c.A;
     o.analyze = level;
+    // The table reads δ and λ only: with `nonlinear` that is the perfect path to its first
+    // critical point (no imperfect path, no steps past it: arc_length stops there), so the
+    // stability block's second path is not asked for.
+    o.frame_analysis.stability = false;
+    o.frame_analysis.imperfection = false;
+    o.frame_analysis.path_goal = analysis::PathGoal::critical;
     o.tessellation.seed = c.seed;
     o.tessellation.length = a.length;
     o.tessellation.cells = a.length > 0 ? 0 : a.cells;

@@ -52,11 +52,15 @@ bool factorize_tangent(const FrameAssembler& asmb, const FrameState& st, Tangent
 constexpr double kRefreshIterations = 20;
 constexpr double kPolish = 1e-2;
 constexpr int kMaxRefreshes = 3;  // per attempt
+// arc_step's result when the iterate went past a critical point of a stable path and the last
+// stable tangent no longer contracts the residual: the radius reaches beyond the critical point.
+constexpr int kCrossed = -2;
 
 // One arc-length step from `from` with radius ds. `start` holds the factorised tangent at the
 // start point and ut0 = K⁻¹f; neither is modified, so a failed or refined step needs no
 // refactorisation. Refreshed tangents go into `work`. On success fills `to` (without factorising
-// its tangent) and returns the number of iterations, else −1.
+// its tangent) and returns the number of iterations, else −1 (kCrossed: the step crosses a
+// critical point).
 int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::VectorXd& W,
              const ArcLengthOptions& opt, const TangentSolver& start, const Eigen::VectorXd& ut0,
              TangentSolver& work, const Converged& from, double ds, bool first,
@@ -107,6 +111,13 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
     fresh = false;
     if (it >= 2) {
       growing = rho >= 1 ? growing + 1 : 0;
+      // Past a critical point with the last stable tangent and no contraction: the step
+      // crosses the critical point and would only iterate to max_iterations; a shorter one is
+      // cheaper (kCrossed tells the caller).
+      if (stable_only && rho >= 1) {
+        spdlog::debug("  crossing a critical point at iteration {}", it);
+        return kCrossed;
+      }
       // Diverging: the residual keeps growing, or grows with a fresh tangent after the
       // refreshes an attempt may spend (the step is too long: a shorter one is cheaper).
       if (growing >= 4 || (refreshes >= kMaxRefreshes && rho >= 1)) {
@@ -131,6 +142,10 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
           fresh = true;
         } else {
           stable_only = true;  // past a critical point: no further refreshes in this step
+          if (rho >= 1) {
+            spdlog::debug("  crossing a critical point at iteration {}", it);
+            return kCrossed;
+          }
         }
       }
     }
@@ -295,6 +310,7 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
   const int base_negative = cur.negative;
   FrameState stable_state = start;
   bool bracketing = false;
+  double ceiling = ds_max;  // lowered after a step that crossed into the unstable region
 
   // A failed step halves the arc length; false (with the reason set) once it is below ds_min.
   const auto cut_back = [&] {
@@ -309,6 +325,16 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
     const int its = arc_step(mesh, asmb, W, opt, *solver_cur, ut_cur, *solver_work, cur, ds, first,
                              base_negative != 0, next, res.factorizations);
     res.iterations += std::max(its, 0);
+    if (its == kCrossed) {
+      // The iterate went into the unstable region (often the predictor overshooting a stiff
+      // bend, not the critical point itself): retry a little shorter and keep the radius below
+      // this one for a while, instead of halving and growing back into the same failure.
+      ++res.cutbacks;
+      ceiling = ds = 0.7 * ds;
+      if (ds >= ds_min) continue;
+      res.stop_reason = "the arc-length step could not converge";
+      break;
+    }
     if (its < 0) {
       if (!cut_back()) break;
       continue;
@@ -366,7 +392,10 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
       break;
     }
     stable_state = cur.state;
-    if (!bracketing) ds = next_radius(ds, its, opt.desired_iterations, ds_max);
+    if (!bracketing) {
+      ds = std::min(next_radius(ds, its, opt.desired_iterations, ds_max), ceiling);
+      ceiling *= 1.05;
+    }
     spdlog::debug("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} factorisations",
                   res.steps, cur.lambda, umax, its, res.factorizations);
     report_path_progress(opt, res.steps, umax, cur.lambda);

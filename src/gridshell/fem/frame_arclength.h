@@ -9,7 +9,9 @@
 ///   contracts and refreshed only when the contraction predicts more iterations than a
 ///   factorisation costs; an indefinite refreshed tangent on a still-stable path is not used;
 ///   iterations go to 1e-2 × tolerance (a stale tangent stops just below it). Adaptive steps
-///   (Δs ∝ √(desired / used iterations), cut-backs on failure). After every converged step the
+///   (Δs ∝ √(desired / used iterations), cut-backs on failure; an attempt whose iterate went
+///   into the unstable region and stopped contracting fails at once, is retried at 0.7× and
+///   caps the following radii, the cap rising 5 % a step). After every converged step the
 ///   factorised tangent is inspected: loss of positive definiteness (or, when the start was
 ///   already indefinite, a change of the LDLᵀ negative-pivot count), or a fall of λ, marks a
 ///   critical point. The step is then
