@@ -105,11 +105,14 @@ def run_timed(exe, args):
 
 
 def run_bench(build, program, name):
-    p = subprocess.run([str(build / program), f"--benchmark_filter=^{name}",
-                        "--benchmark_format=json"], capture_output=True, text=True)
-    if p.returncode != 0:
-        raise RuntimeError(f"{program} failed: {p.stderr.strip()[-300:]}")
-    rows = json.loads(p.stdout)["benchmarks"]
+    # The JSON goes to a file: some programs log to stdout.
+    with tempfile.NamedTemporaryFile("r", suffix=".json") as out:
+        p = subprocess.run([str(build / program), f"--benchmark_filter=^{name}",
+                            f"--benchmark_out={out.name}", "--benchmark_out_format=json"],
+                           capture_output=True, text=True)
+        if p.returncode != 0:
+            raise RuntimeError(f"{program} failed: {p.stderr.strip()[-300:]}")
+        rows = json.loads(Path(out.name).read_text())["benchmarks"]
     median = [r for r in rows if r.get("aggregate_name") == "median"]
     rows = median or [r for r in rows if r.get("run_type") == "iteration"]
     r = rows[0]
