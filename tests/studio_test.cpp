@@ -289,72 +289,73 @@ TEST_F(StudioServerTest, RapidRequestsAreSupersededAndTheLastOneAnswers) {
   RecordProperty("burst_seconds", std::to_string(burst_s));
 }
 
-TEST_F(StudioServerTest, ANewerRequestStopsANonlinearAnalysisEarly) {
-  using Clock = std::chrono::steady_clock;
-  const std::string slow_q = "/api/design?surface=builtin:dome&D=1&A=1&cells=150&analyze=nonlinear";
-  // The whole design, for reference.
-  auto c = client();
-  auto t0 = Clock::now();
-  const auto full = c.Get(slow_q + "&seed=5");
-  const double full_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  ASSERT_TRUE(full);
-  ASSERT_EQ(full->status, 200) << full->body;
-  const double analysis_s =
-      nlohmann::json::parse(full->body)["report"]["timings_s"]["analysis"].get<double>();
-  // The same (another seed), and a quick request while its non-linear path runs.
+namespace {
+
+/// A slow request (`slow_q` + another seed) superseded by a quick one after `delay` seconds:
+/// the slow one's status and how long it took to answer.
+struct Superseded {
   int status = 0;
-  double stopped_s = 0;
-  t0 = Clock::now();
-  std::thread slow([&] {
-    auto cs = client();
-    const auto r = cs.Get(slow_q + "&seed=6");
-    status = r ? r->status : -1;
-    stopped_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  });
-  std::this_thread::sleep_for(std::chrono::duration<double>(full_s - 0.7 * analysis_s));
-  const auto quick = c.Get("/api/design?surface=builtin:dome&D=1&A=1&cells=60&analyze=linear");
-  slow.join();
-  ASSERT_TRUE(quick);
-  EXPECT_EQ(quick->status, 200);
-  EXPECT_EQ(status, 409);
+  double seconds = 0;
+};
+
+}  // namespace
+
+class StudioSupersedeTest : public StudioServerTest {
+ protected:
+  Superseded supersede(const std::string& slow_q, double delay) {
+    Superseded out;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::thread slow([&] {
+      auto cs = client();
+      const auto r = cs.Get(slow_q + "&seed=6");
+      out.status = r ? r->status : -1;
+      out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    });
+    std::this_thread::sleep_for(std::chrono::duration<double>(delay));
+    auto c = client();
+    const auto quick = c.Get("/api/design?surface=builtin:dome&D=1&A=1&cells=60&analyze=linear");
+    slow.join();
+    EXPECT_TRUE(quick && quick->status == 200);
+    return out;
+  }
+  /// The whole request `q` (seed 5): its answer and wall time.
+  std::pair<nlohmann::json, double> whole(const std::string& q) {
+    auto c = client();
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = c.Get(q + "&seed=5");
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_TRUE(r && r->status == 200);
+    return {r && r->status == 200 ? nlohmann::json::parse(r->body) : nlohmann::json{}, s};
+  }
+};
+
+TEST_F(StudioSupersedeTest, ANewerRequestStopsANonlinearAnalysisEarly) {
+  const std::string slow_q = "/api/design?surface=builtin:dome&D=1&A=1&cells=150&analyze=nonlinear";
+  const auto [full, full_s] = whole(slow_q);
+  ASSERT_TRUE(full.contains("report"));
+  const double analysis_s = full["report"]["timings_s"]["analysis"].get<double>();
+  // The same (another seed), and a quick request while its non-linear path runs.
+  const Superseded r = supersede(slow_q, full_s - 0.7 * analysis_s);
+  EXPECT_EQ(r.status, 409);
   // Stopped at the next arc-length step, well before the path would have ended.
-  EXPECT_LT(stopped_s, full_s - 0.3 * analysis_s)
+  EXPECT_LT(r.seconds, full_s - 0.3 * analysis_s)
       << "full design " << full_s << " s, of which analysis " << analysis_s << " s";
   RecordProperty("full_design_s", std::to_string(full_s));
-  RecordProperty("stopped_s", std::to_string(stopped_s));
+  RecordProperty("stopped_s", std::to_string(r.seconds));
 }
 
-TEST_F(StudioServerTest, ANewerRequestStopsAnObjectiveSearchEarly) {
-  using Clock = std::chrono::steady_clock;
+TEST_F(StudioSupersedeTest, ANewerRequestStopsAnObjectiveSearchEarly) {
   const std::string search_q = "/api/design?surface=builtin:dome&cells=100&objective=lambda";
-  auto c = client();
-  auto t0 = Clock::now();
-  const auto full = c.Get(search_q + "&seed=5");
-  const double full_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  ASSERT_TRUE(full);
-  ASSERT_EQ(full->status, 200) << full->body;
-  const auto candidates = nlohmann::json::parse(full->body)["report"]["objective"]["candidates"];
-  ASSERT_GE(candidates.size(), 7u);
+  const auto [full, full_s] = whole(search_q);
+  ASSERT_TRUE(full.contains("report"));
+  ASSERT_GE(full["report"]["objective"]["candidates"].size(), 7u);
   // The same search (another seed), superseded by a quick request a quarter of the way in.
-  int status = 0;
-  double stopped_s = 0;
-  t0 = Clock::now();
-  std::thread slow([&] {
-    auto cs = client();
-    const auto r = cs.Get(search_q + "&seed=6");
-    status = r ? r->status : -1;
-    stopped_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  });
-  std::this_thread::sleep_for(std::chrono::duration<double>(0.25 * full_s));
-  const auto quick = c.Get("/api/design?surface=builtin:dome&D=1&A=1&cells=60&analyze=linear");
-  slow.join();
-  ASSERT_TRUE(quick);
-  EXPECT_EQ(quick->status, 200);
-  EXPECT_EQ(status, 409);
+  const Superseded r = supersede(search_q, 0.25 * full_s);
+  EXPECT_EQ(r.status, 409);
   // It stopped before its next candidate, not at the end of the search.
-  EXPECT_LT(stopped_s, 0.75 * full_s) << "full search " << full_s << " s";
+  EXPECT_LT(r.seconds, 0.75 * full_s) << "full search " << full_s << " s";
   RecordProperty("full_search_s", std::to_string(full_s));
-  RecordProperty("stopped_s", std::to_string(stopped_s));
+  RecordProperty("stopped_s", std::to_string(r.seconds));
 }
 
 // ---------------------------------------------------------------------------------------------
