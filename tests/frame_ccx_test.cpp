@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 
@@ -32,23 +33,32 @@ bool have_ccx() {
   return std::system("command -v ccx > /dev/null 2>&1") == 0;
 }
 
-// Displacements per node id from a ccx .dat file.
-std::map<int, Vec3> read_ccx_displacements(const std::filesystem::path& dat) {
+// Calls `row` with every line of a ccx .dat file after the first one containing `header`, until
+// `row` returns false.
+void for_each_line_after(const std::filesystem::path& dat, const std::string& header,
+                         const std::function<bool(const std::string& line)>& row) {
   std::ifstream in(dat);
-  std::map<int, Vec3> u;
   std::string line;
   bool in_block = false;
   while (std::getline(in, line)) {
-    if (line.find("displacements") != std::string::npos) {
-      in_block = true;
+    if (!in_block) {
+      in_block = line.find(header) != std::string::npos;
       continue;
     }
-    if (!in_block) continue;
+    if (!row(line)) return;
+  }
+}
+
+// Displacements per node id from a ccx .dat file.
+std::map<int, Vec3> read_ccx_displacements(const std::filesystem::path& dat) {
+  std::map<int, Vec3> u;
+  for_each_line_after(dat, "displacements", [&](const std::string& line) {
     std::istringstream ss(line);
     int id;
     double x, y, z;
     if (ss >> id >> x >> y >> z) u[id] = Vec3(x, y, z);
-  }
+    return true;
+  });
   return u;
 }
 }  // namespace
@@ -137,22 +147,15 @@ std::filesystem::path run_ccx(const std::string& name, const std::string& deck) 
 
 // The buckling factors of a ccx .dat file (the table after "B U C K L I N G   F A C T O R").
 std::vector<double> read_ccx_buckling_factors(const std::filesystem::path& dat) {
-  std::ifstream in(dat);
   std::vector<double> out;
-  std::string line;
-  bool in_block = false;
-  while (std::getline(in, line)) {
-    if (line.find("B U C K L I N G") != std::string::npos) {
-      in_block = true;
-      continue;
-    }
-    if (!in_block) continue;
-    if (line.find("displacements") != std::string::npos) break;
+  for_each_line_after(dat, "B U C K L I N G", [&](const std::string& line) {
+    if (line.find("displacements") != std::string::npos) return false;
     std::istringstream ss(line);
     int mode;
     double factor;
     if (ss >> mode >> factor) out.push_back(factor);
-  }
+    return true;
+  });
   return out;
 }
 
@@ -223,26 +226,19 @@ namespace {
 // load F gives F (L − x) (b / 2√3) / I at x = (1 ∓ 1/√3) l / 2 to 5 digits).
 std::map<int, double> read_ccx_max_axial_stress(const std::filesystem::path& dat,
                                                 const std::map<int, Vec3>& axis) {
-  std::ifstream in(dat);
   std::map<int, double> out;
-  std::string line;
-  bool in_block = false;
-  while (std::getline(in, line)) {
-    if (line.find("stresses") != std::string::npos) {
-      in_block = true;
-      continue;
-    }
-    if (!in_block) continue;
+  for_each_line_after(dat, "stresses", [&](const std::string& line) {
     std::istringstream ss(line);
     int e, ip;
     double s[6];
-    if (!(ss >> e >> ip >> s[0] >> s[1] >> s[2] >> s[3] >> s[4] >> s[5])) continue;
-    if (ip > 8) continue;  // 1–8: the brick's 2 × 2 × 2 Gauss points; then ccx's section points
+    if (!(ss >> e >> ip >> s[0] >> s[1] >> s[2] >> s[3] >> s[4] >> s[5])) return true;
+    if (ip > 8) return true;  // 1–8: the brick's 2 × 2 × 2 Gauss points; then section points
     fem::Mat3 S;
     S << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
     const Vec3& a = axis.at(e);
     out[e] = std::max(out[e], std::abs(a.dot(S * a)));
-  }
+    return true;
+  });
   return out;
 }
 }  // namespace
