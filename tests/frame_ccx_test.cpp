@@ -72,9 +72,9 @@ struct ShellFrame {
   std::vector<int> supports;
   double b = 0.032;
 };
-ShellFrame shell_frame() {
+// A grid-shell as the frame both solvers analyse: 2 elements per bar, the solid square section.
+ShellFrame square_section_frame(const PolySurface& s) {
   ShellFrame f;
-  const PolySurface s = load_poly_surface(test::shared_file("surfaces/Shell.ply").string());
   analysis::GridshellFrameOptions go;
   go.elements = 2;
   f.model = analysis::gridshell_frame(s.mesh, s.supports, go);
@@ -84,6 +84,10 @@ ShellFrame shell_frame() {
   sec.Iy = sec.Iz = f.b * f.b * f.b * f.b / 12;
   sec.J = 0.1406 * f.b * f.b * f.b * f.b;
   return f;
+}
+ShellFrame shell_frame() {
+  return square_section_frame(
+      load_poly_surface(test::shared_file("surfaces/Shell.ply").string()));
 }
 
 // CalculiX deck of the frame: per member 4 B32R elements, one ELSET and section card each; the
@@ -261,15 +265,7 @@ TEST(FrameCcx, GridshellSectionForcesMatchCalculixStresses) {
   PolySurface s = load_poly_surface(obj.string());
   s.supports = io::read_obj_supports_comment(obj);
   ASSERT_FALSE(s.supports.empty());
-  ShellFrame f;
-  analysis::GridshellFrameOptions go;
-  go.elements = 2;
-  f.model = analysis::gridshell_frame(s.mesh, s.supports, go);
-  f.supports = s.supports;
-  auto& sec = f.model.sections[0];
-  sec.A = f.b * f.b;
-  sec.Iy = sec.Iz = f.b * f.b * f.b * f.b / 12;
-  sec.J = 0.1406 * f.b * f.b * f.b * f.b;
+  const ShellFrame f = square_section_frame(s);
   const fem::FrameModel& m = f.model;
   const int members = static_cast<int>(m.members.size());
 
@@ -278,6 +274,7 @@ TEST(FrameCcx, GridshellSectionForcesMatchCalculixStresses) {
   const fem::FrameAssembler assembler(mesh);
   const fem::LinearResult lin = fem::linear_static(mesh, assembler);
   const auto forces = fem::element_section_forces(mesh, assembler, lin.u);
+  const fem::FrameSection& sec = m.sections[0];
   const double c = f.b / (2 * std::sqrt(3.0)), A = sec.A, I = sec.Iy;
   // Largest |σ| over the section points at position t ∈ [0, 1] along member k.
   const auto ours_at = [&](int k, double t) {
