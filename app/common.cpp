@@ -1,6 +1,7 @@
 #include "common.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <thread>
 
@@ -90,6 +91,7 @@ RunGuard apply_run_options(const RunOptions& o) {
   auto logger = std::make_shared<spdlog::logger>("gridshell", log_sink(display));
   logger->set_pattern("%v");
   logger->set_level(o.quiet ? spdlog::level::warn : spdlog::level::info);
+  if (std::getenv("GRIDSHELL_DEBUG_LOG") != nullptr) logger->set_level(spdlog::level::debug);
   spdlog::set_default_logger(logger);
   if (!o.quiet) guard.progress = ProgressDisplay::callback(display);
   return guard;

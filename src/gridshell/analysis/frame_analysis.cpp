@@ -27,16 +27,38 @@ double automatic_stop(const Points& X, double span, double path_reach) {
   return path_reach * (X.colwise().maxCoeff() - X.colwise().minCoeff()).maxCoeff();
 }
 
-/// λ where the path's displacement first reaches `limit` (linear between path points).
-std::optional<double> lambda_at_displacement(const std::vector<PathPoint>& path, double limit) {
-  for (std::size_t i = 1; i < path.size(); ++i) {
-    const PathPoint &a = path[i - 1], &b = path[i];
-    if (b.displacement < limit) continue;
-    const double span = b.displacement - a.displacement;
-    const double t = span > 0 ? (limit - a.displacement) / span : 1.0;
-    return a.lambda + std::clamp(t, 0.0, 1.0) * (b.lambda - a.lambda);
+/// λ where the path quantity x (one value per path point, λ = 0 first) first reaches `level`:
+/// the quadratic through the crossing pair and the point before it, when x rises through the
+/// three (the arc-length steps are long, and λ(x) bends: linear interpolation between two points
+/// is off by the bend), else linear; never outside the three points' λ.
+std::optional<double> lambda_at_level(const std::vector<double>& x,
+                                      const std::vector<double>& lambdas, double level) {
+  for (std::size_t i = 1; i < x.size(); ++i) {
+    if (x[i] < level) continue;
+    const double x0 = x[i - 1], x1 = x[i], l0 = lambdas[i - 1], l1 = lambdas[i];
+    if (i >= 2 && x[i - 2] < x0 && x0 < x1) {
+      const double xm = x[i - 2], lm = lambdas[i - 2];
+      const double t = level;
+      const double q = lm * (t - x0) * (t - x1) / ((xm - x0) * (xm - x1)) +
+                       l0 * (t - xm) * (t - x1) / ((x0 - xm) * (x0 - x1)) +
+                       l1 * (t - xm) * (t - x0) / ((x1 - xm) * (x1 - x0));
+      return std::clamp(q, std::min({lm, l0, l1}), std::max({lm, l0, l1}));
+    }
+    const double rise = x1 - x0;
+    const double t = rise > 0 ? (level - x0) / rise : 1.0;
+    return l0 + std::clamp(t, 0.0, 1.0) * (l1 - l0);
   }
   return std::nullopt;
+}
+
+/// λ where the path's displacement first reaches `limit`.
+std::optional<double> lambda_at_displacement(const std::vector<PathPoint>& path, double limit) {
+  std::vector<double> x, lambdas;
+  for (const PathPoint& p : path) {
+    x.push_back(p.displacement);
+    lambdas.push_back(p.lambda);
+  }
+  return lambda_at_level(x, lambdas, limit);
 }
 }  // namespace
 
@@ -158,16 +180,10 @@ void record_buckling(const FrameMesh& mesh, const FrameAssembler& assembler,
                lba.lambdas.empty() ? std::string("none") : std::to_string(lba.lambdas[0]));
 }
 
-/// λ where the utilisation along the path first reaches 1 (linear between path points).
+/// λ where the utilisation along the path first reaches 1.
 std::optional<double> lambda_at_utilisation(const std::vector<double>& lambdas,
                                             const std::vector<double>& utilisation) {
-  for (std::size_t i = 1; i < utilisation.size(); ++i) {
-    if (utilisation[i] < 1) continue;
-    const double rise = utilisation[i] - utilisation[i - 1];
-    const double t = rise > 0 ? (1 - utilisation[i - 1]) / rise : 1.0;
-    return lambdas[i - 1] + std::clamp(t, 0.0, 1.0) * (lambdas[i] - lambdas[i - 1]);
-  }
-  return std::nullopt;
+  return lambda_at_level(utilisation, lambdas, 1.0);
 }
 
 /// One non-linear path (of the geometry perturbed by the first mode when `imperfect`) to its

@@ -7,7 +7,9 @@
 ///   smallest angle with the previous increment; predictor direction by the sign of the previous
 ///   increment). Modified Newton corrector: the start tangent is kept while the residual
 ///   contracts and refreshed only when the contraction predicts more iterations than a
-///   factorisation costs; an indefinite refreshed tangent on a still-stable path is not used;
+///   factorisation costs (when that is seen after the first correction, the tangent is taken at
+///   the predicted point rather than at the iterate the stale tangent threw off the path); an
+///   indefinite refreshed tangent on a still-stable path is not used;
 ///   iterations go to 1e-2 × tolerance (a stale tangent stops just below it). Adaptive steps
 ///   (Δs ∝ √(desired / used iterations), cut-backs on failure; an attempt whose iterate went
 ///   into the unstable region and stopped contracting fails at once, is retried at 0.7× and
