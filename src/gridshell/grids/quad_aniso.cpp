@@ -60,17 +60,19 @@ std::pair<Vec3, Vec3> compat_position(const Vec3& v0, const Vec3& q0, const Vec3
                                       const Vec3& t1, const Vec3& o1, double h) {
   const Vec3 m = 0.5 * (v0 + v1);
   const Vec3 a = lattice_floor(o0, q0, t0, m, h), b = lattice_floor(o1, q1, t1, m, h);
-  std::pair<Vec3, Vec3> best{a, b};
-  double best_d = std::numeric_limits<double>::infinity();
+  std::array<Vec3, 4> as, bs;  // the 4 corners of the cell around m, on each side
   for (int i = 0; i < 4; ++i) {
-    const Vec3 ai = a + h * ((i & 1) * q0 + (i >> 1) * t0);
-    for (int j = 0; j < 4; ++j) {
-      const Vec3 bj = b + h * ((j & 1) * q1 + (j >> 1) * t1);
-      const double d = (ai - bj).squaredNorm();
-      if (d < best_d) best_d = d, best = {ai, bj};
-    }
+    as[i] = a + h * ((i & 1) * q0 + (i >> 1) * t0);
+    bs[i] = b + h * ((i & 1) * q1 + (i >> 1) * t1);
   }
-  return best;
+  int best_i = 0, best_j = 0;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const double d = (as[i] - bs[j]).squaredNorm();
+      if (d < best_d) best_d = d, best_i = i, best_j = j;
+    }
+  return {as[best_i], bs[best_j]};
 }
 
 /// Per vertex of M′: unit normal.
