@@ -649,7 +649,8 @@ std::vector<Vec3> position_field(const std::vector<Level>& levels,
       }
     }
     org = std::move(next);
-    smooth_position(l, cfs[k], matched[k], h, org, o.position_iterations);
+    smooth_position(l, cfs[k], matched[k], h, org,
+                    k == 0 ? o.position_iterations : o.coarse_position_iterations);
   }
   return org;
 }
