@@ -25,8 +25,6 @@ namespace gridshell {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// A unit vector perpendicular to n (deterministic).
 Vec3 any_perpendicular(const Vec3& n) {
   const Vec3 axis = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
