@@ -25,8 +25,6 @@ namespace gridshell {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// A unit vector perpendicular to n (deterministic).
 Vec3 any_perpendicular(const Vec3& n) {
   const Vec3 axis = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
@@ -60,17 +58,19 @@ std::pair<Vec3, Vec3> compat_position(const Vec3& v0, const Vec3& q0, const Vec3
                                       const Vec3& t1, const Vec3& o1, double h) {
   const Vec3 m = 0.5 * (v0 + v1);
   const Vec3 a = lattice_floor(o0, q0, t0, m, h), b = lattice_floor(o1, q1, t1, m, h);
-  std::pair<Vec3, Vec3> best{a, b};
-  double best_d = std::numeric_limits<double>::infinity();
+  std::array<Vec3, 4> as, bs;  // the 4 corners of the cell around m, on each side
   for (int i = 0; i < 4; ++i) {
-    const Vec3 ai = a + h * ((i & 1) * q0 + (i >> 1) * t0);
-    for (int j = 0; j < 4; ++j) {
-      const Vec3 bj = b + h * ((j & 1) * q1 + (j >> 1) * t1);
-      const double d = (ai - bj).squaredNorm();
-      if (d < best_d) best_d = d, best = {ai, bj};
-    }
+    as[i] = a + h * ((i & 1) * q0 + (i >> 1) * t0);
+    bs[i] = b + h * ((i & 1) * q1 + (i >> 1) * t1);
   }
-  return best;
+  int best_i = 0, best_j = 0;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const double d = (as[i] - bs[j]).squaredNorm();
+      if (d < best_d) best_d = d, best_i = i, best_j = j;
+    }
+  return {as[best_i], bs[best_j]};
 }
 
 /// Per vertex of M′: unit normal.
@@ -556,19 +556,46 @@ std::vector<CrossField> cross_field(const TriMesh& rest, const TriMesh& def, con
   return cf;
 }
 
+/// Per vertex of a level, per neighbour (in `nbr` order, flattened from `offset[v]`): the
+/// neighbour's cross arms matched to the vertex's. The cross field does not change while the
+/// position field is smoothed, so this is computed once per level and M′.
+struct MatchedFrames {
+  std::vector<int> offset;
+  std::vector<Vec3> q, t;
+};
+
+MatchedFrames matched_frames(const Level& l, const CrossField& cf) {
+  MatchedFrames m;
+  m.offset.assign(l.size() + 1, 0);
+  for (int i = 0; i < l.size(); ++i)
+    m.offset[i + 1] = m.offset[i] + static_cast<int>(l.nbr[i].size());
+  m.q.resize(m.offset.back());
+  m.t.resize(m.offset.back());
+  for (int i = 0; i < l.size(); ++i)
+    for (size_t k = 0; k < l.nbr[i].size(); ++k) {
+      const int j = l.nbr[i][k];
+      const Vec3 qj = match_cross(cf.q[j], cf.n[j], cf.q[i]);
+      m.q[m.offset[i] + k] = qj;
+      m.t[m.offset[i] + k] = cf.n[j].cross(qj);
+    }
+  return m;
+}
+
 /// Gauss–Seidel sweeps of the position field on one level: each vertex's lattice origin is the
 /// average of its neighbours' lattices compared at the edges' middles, rounded back to the
 /// lattice point nearest the vertex.
-void smooth_position(const Level& l, const CrossField& cf, double h, std::vector<Vec3>& org,
-                     int iterations) {
+void smooth_position(const Level& l, const CrossField& cf, const MatchedFrames& mf, double h,
+                     std::vector<Vec3>& org, int iterations) {
   const std::vector<Vec3>&n = cf.n, &q = cf.q, &t = cf.t, &pos = l.p;
   for (int it = 0; it < iterations; ++it) {
     for (int i = 0; i < l.size(); ++i) {
       Vec3 sum = org[i];
       double weight = 0;
-      for (int j : l.nbr[i]) {
-        const Vec3 qj = match_cross(q[j], n[j], q[i]), tj = n[j].cross(qj);
-        const auto [a, b] = compat_position(pos[i], q[i], t[i], sum, pos[j], qj, tj, org[j], h);
+      const int k0 = mf.offset[i];
+      for (size_t k = 0; k < l.nbr[i].size(); ++k) {
+        const int j = l.nbr[i][k];
+        const auto [a, b] = compat_position(pos[i], q[i], t[i], sum, pos[j], mf.q[k0 + k],
+                                            mf.t[k0 + k], org[j], h);
         sum = (a * weight + b) / (weight + 1);
         weight += 1;
         sum -= n[i] * n[i].dot(sum - pos[i]);
@@ -583,7 +610,8 @@ void smooth_position(const Level& l, const CrossField& cf, double h, std::vector
 /// from its parents' origins (brought into its tangent plane, rounded) and is smoothed again.
 /// Returns level 0's origins.
 std::vector<Vec3> position_field(const std::vector<Level>& levels,
-                                 const std::vector<CrossField>& cfs, double h,
+                                 const std::vector<CrossField>& cfs,
+                                 const std::vector<MatchedFrames>& matched, double h,
                                  const QuadAnisoOptions& o) {
   const int nl = static_cast<int>(levels.size());
   std::vector<Vec3> org;
@@ -619,7 +647,8 @@ std::vector<Vec3> position_field(const std::vector<Level>& levels,
       }
     }
     org = std::move(next);
-    smooth_position(l, cfs[k], h, org, o.position_iterations);
+    smooth_position(l, cfs[k], matched[k], h, org,
+                    k == 0 ? o.position_iterations : o.coarse_position_iterations);
   }
   return org;
 }
@@ -810,26 +839,55 @@ PolyMesh joints_on_surface(const TriMesh& rest, const TriMesh& def, const Topolo
 
 }  // namespace
 
-PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
-                             const QuadAnisoOptions& o) {
-  if (!(h > 0) || !std::isfinite(h)) throw Error("quad-aniso", "spacing must be positive");
+namespace {
+
+/// What does not depend on the spacing or the lattice's start, computed once per M′: topology,
+/// hierarchy, cross field per level and the matched neighbour frames of each level.
+struct MetricFrames {
+  Topology topo;
+  std::vector<Vec3> pos;
+  std::vector<Level> levels;
+  std::vector<CrossField> cfs;
+  std::vector<MatchedFrames> matched;
+};
+
+MetricFrames metric_frames(const TriMesh& rest, const TriMesh& def, const Field& field,
+                           const QuadAnisoOptions& o) {
   if (rest.num_faces() != def.num_faces() || rest.num_vertices() != def.num_vertices() ||
       field.size() != rest.num_faces())
     throw Error("quad-aniso", "M, M' and the field do not match");
-  const Topology topo = build_topology(def);
-  std::vector<Vec3> pos(def.num_vertices());
-  for (int v = 0; v < def.num_vertices(); ++v) pos[v] = def.vertex(v);
-  const std::vector<Level> levels = build_hierarchy(def, topo, o.coarsest);
-  const std::vector<CrossField> cfs = cross_field(rest, def, field, topo, levels, o);
-  const CrossField& cf = cfs[0];
-  const std::vector<Vec3> org = position_field(levels, cfs, h, o);
-  const LatticeJoints joints = collapse_to_joints(pos, topo, cf, org, h);
+  MetricFrames m;
+  m.topo = build_topology(def);
+  m.pos.resize(def.num_vertices());
+  for (int v = 0; v < def.num_vertices(); ++v) m.pos[v] = def.vertex(v);
+  m.levels = build_hierarchy(def, m.topo, o.coarsest);
+  m.cfs = cross_field(rest, def, field, m.topo, m.levels, o);
+  for (size_t k = 0; k < m.levels.size(); ++k)
+    m.matched.push_back(matched_frames(m.levels[k], m.cfs[k]));
+  return m;
+}
+
+/// Steps 2–4 for one spacing and one lattice start (o.seed).
+PolyMesh quad_mesh_from_frames(const MetricFrames& m, const TriMesh& rest, const TriMesh& def,
+                               double h, const QuadAnisoOptions& o) {
+  if (!(h > 0) || !std::isfinite(h)) throw Error("quad-aniso", "spacing must be positive");
+  const CrossField& cf = m.cfs[0];
+  const std::vector<Vec3> org = position_field(m.levels, m.cfs, m.matched, h, o);
+  const LatticeJoints joints = collapse_to_joints(m.pos, m.topo, cf, org, h);
   std::vector<std::vector<int>> faces = trace_faces(joint_rings(joints), joints, o.max_face_sides);
   if (faces.empty()) throw Error("quad-aniso", "extraction found no faces (spacing too large?)");
   pair_odd_faces(faces, joints.pos, joints.normal, h);
   merge_triangle_pairs(faces, joints.pos);
   absorb_lone_triangles(faces, joints.pos);
-  return joints_on_surface(rest, def, topo, org, joints, std::move(faces));
+  return joints_on_surface(rest, def, m.topo, org, joints, std::move(faces));
+}
+
+}  // namespace
+
+PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
+                             const QuadAnisoOptions& o) {
+  if (!(h > 0) || !std::isfinite(h)) throw Error("quad-aniso", "spacing must be positive");
+  return quad_mesh_from_frames(metric_frames(rest, def, field, o), rest, def, h, o);
 }
 
 namespace {
@@ -998,13 +1056,14 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   r.deformed_triangles = def.num_faces();
   const SurfaceProjector proj(mesh);
   const double tol = 1e-6 * bbox_diagonal(mesh.V);
+  const MetricFrames frames = metric_frames(rest, def, rest_field, o);
   auto build = [&](double spacing) {
     PolyMesh best_grid;
     double best_score = -1;
     for (int start = 0; start < std::max(1, o.starts); ++start) {
       QuadAnisoOptions so = o;
       so.seed = o.seed + 7919 * static_cast<std::uint64_t>(start);
-      PolyMesh grid = quad_mesh_on_metric(rest, def, rest_field, spacing, so);
+      PolyMesh grid = quad_mesh_from_frames(frames, rest, def, spacing, so);
       for (int v = 0; v < grid.num_vertices(); ++v)
         grid.V.row(v) = proj.closest_point(grid.vertex(v)).transpose();
       grid = snap_to_boundary(grid, proj, o.boundary_snap);
