@@ -130,16 +130,6 @@ StressField design_stress(const Surface& surface, const DesignOptions& o,
   return std::move(shell.stress);
 }
 
-/// The mirror planes of the requested symmetry (checked against the surface).
-std::vector<Plane> mirror_planes(const TriMesh& M, Symmetry symmetry, DesignResult& r) {
-  if (symmetry == Symmetry::none) return {};
-  const SymmetryReport report = detect_symmetry(M, 1e-6);
-  r.details["symmetry"] = {{"planes", to_string(symmetry)},
-                           {"x_deviation", report.x_deviation},
-                           {"y_deviation", report.y_deviation}};
-  return symmetry_planes(report, symmetry);
-}
-
 /// Stage 2: the field on the whole surface at contrast (D, A); isotropic for D = A = 1.
 Field design_field(const TriMesh& M, const StressField& stress, const DesignOptions& o, double D,
                    double A, bool given, DesignResult& r) {
@@ -270,6 +260,11 @@ struct DesignCache::Impl {
   OnceMap<int, Staged<StressField>> stress;
   OnceMap<FieldKey, Staged<Field>> field;
   OnceMap<MetricKey, Staged<Metric>> metric;
+  // Of the input surface M, for the finishing stages (InputSurface below): its projector, its
+  // symmetry, and the nearest-triangle maps between M and the analysis surface.
+  OnceMap<int, std::optional<SurfaceProjector>> projector;
+  OnceMap<int, SymmetryReport> symmetry;
+  OnceMap<int, std::vector<int>> to_input, to_analysis;
 };
 DesignCache::DesignCache() : impl_(std::make_unique<Impl>()) {}
 DesignCache::~DesignCache() = default;
@@ -278,6 +273,60 @@ namespace {
 /// The details a cached stage wrote, added to `r`'s.
 void add_details(DesignResult& r, const nlohmann::json& details) {
   for (const auto& [key, value] : details.items()) r.details[key] = value;
+}
+
+/// What the stages need of the input surface M beyond its mesh, each made when first asked:
+/// shared through the cache when there is one (on a 250 K-triangle input the projector and the
+/// maps cost a candidate of the objective search more than a second), else for this design
+/// only. The values depend on M (and the analysis surface) alone, so a design gets the same
+/// bits either way.
+class InputSurface {
+ public:
+  InputSurface(const TriMesh& M, DesignCache::Impl* cache) : M_(M), cache_(cache) {}
+  const TriMesh& mesh() const { return M_; }
+  /// Closest points on M (the finishing step's projection).
+  const SurfaceProjector& projector() {
+    auto make = [&] { return std::optional<SurfaceProjector>(std::in_place, M_); };
+    if (cache_) return *cache_->projector.get(0, make);
+    if (!own_projector_) own_projector_ = make();
+    return *own_projector_;
+  }
+  /// detect_symmetry of M.
+  SymmetryReport symmetry() {
+    auto make = [&] { return detect_symmetry(M_, 1e-6); };
+    return cache_ ? cache_->symmetry.get(0, make) : make();
+  }
+  /// nearest_faces(analysis, M): per triangle of M, the nearest of the analysis surface.
+  const std::vector<int>& to_input(const TriMesh& analysis) {
+    return map(cache_ ? &cache_->to_input : nullptr, own_to_input_, analysis, M_);
+  }
+  /// nearest_faces(M, analysis): per triangle of the analysis surface, the nearest of M.
+  const std::vector<int>& to_analysis(const TriMesh& analysis) {
+    return map(cache_ ? &cache_->to_analysis : nullptr, own_to_analysis_, M_, analysis);
+  }
+
+ private:
+  const std::vector<int>& map(OnceMap<int, std::vector<int>>* shared, std::vector<int>& own,
+                              const TriMesh& from, const TriMesh& to) {
+    auto make = [&] { return nearest_faces(from, to); };
+    if (shared) return shared->get(0, make);
+    if (own.empty()) own = make();
+    return own;
+  }
+  const TriMesh& M_;
+  DesignCache::Impl* cache_;
+  std::optional<SurfaceProjector> own_projector_;
+  std::vector<int> own_to_input_, own_to_analysis_;
+};
+
+/// The mirror planes of the requested symmetry (checked against the surface).
+std::vector<Plane> mirror_planes(InputSurface& M, Symmetry symmetry, DesignResult& r) {
+  if (symmetry == Symmetry::none) return {};
+  const SymmetryReport report = M.symmetry();
+  r.details["symmetry"] = {{"planes", to_string(symmetry)},
+                           {"x_deviation", report.x_deviation},
+                           {"y_deviation", report.y_deviation}};
+  return symmetry_planes(report, symmetry);
 }
 FieldKey field_key(const DesignOptions& o, double D, double A) {
   return {D, A, static_cast<int>(o.field_options.measure),
@@ -425,15 +474,16 @@ std::vector<std::vector<int>> assemble_raw(const Tessellated& t, const std::vect
 }
 
 /// Stage 6: regularization (or planarization) of the raw grid-shell, symmetry restored.
-void finish(const TriMesh& M, const DesignOptions& o, const std::vector<Plane>& planes,
+void finish(InputSurface& M, const DesignOptions& o, const std::vector<Plane>& planes,
             const std::vector<std::vector<int>>& mirror,
             const std::vector<VertexConstraint>& constraints, DesignResult& r) {
   r.raw_metrics = mesh_metrics(r.raw);
   if (o.planarize || o.regularize) {
     RegularizeStats stats;
     spdlog::info("[{}] {} faces", o.planarize ? "planarize" : "regularize", r.raw.num_faces());
-    r.mesh = o.planarize ? planarize(r.raw, M, constraints, planarize_options(), &stats)
-                         : regularize(r.raw, M, constraints, o.regularize_options, &stats);
+    r.mesh = o.planarize
+                 ? planarize(r.raw, M.mesh(), constraints, planarize_options(), &stats)
+                 : regularize(r.raw, M.projector(), constraints, o.regularize_options, &stats);
     if (!planes.empty()) enforce_symmetry(r.mesh, planes, mirror);
     r.details["regularization"] = {{"kind", o.planarize ? "planarize" : "regularize"},
                                    {"iterations", stats.iterations},
@@ -448,7 +498,7 @@ void finish(const TriMesh& M, const DesignOptions& o, const std::vector<Plane>& 
 /// Stages 2–6 for one length target (0 = the size options decide): the grid-shell before
 /// analysis, tessellated on `surface` (the analysis surface) and finished on `M` (the input).
 /// `r` keeps what the earlier stages put there.
-void build_grid(const Surface& surface, const TriMesh& M, const StressField& stress,
+void build_grid(const Surface& surface, InputSurface& M, const StressField& stress,
                 const DesignOptions& o, const std::vector<Plane>& planes, double length, bool given,
                 DesignCache::Impl* cache, DesignResult& r) {
   Tessellated t = tessellate_with_retries(surface, stress, o, planes, length, given, cache, r);
@@ -468,12 +518,14 @@ void build_grid(const Surface& surface, const TriMesh& M, const StressField& str
 /// After a design on the coarsened analysis surface `coarse`: the field carried over to the
 /// input's triangles, and the joints onto the input surface `M` (the finishing step has put them
 /// there already unless it is off).
-void on_input_surface(const TriMesh& coarse, const TriMesh& M, const DesignOptions& o,
+void on_input_surface(const TriMesh& coarse, InputSurface& M, const DesignOptions& o,
                       DesignResult& r) {
   auto t = Clock::now();
-  r.field = transfer_field(coarse, r.field, M);
+  if (r.field.size() != coarse.num_faces())
+    throw Error("field transfer", "the field does not match the analysis surface");
+  r.field = transfer_field(r.field, M.to_input(coarse), M.mesh());
   if (!o.planarize && !o.regularize) {
-    const SurfaceProjector projector(M);
+    const SurfaceProjector& projector = M.projector();
     for (int v = 0; v < r.mesh.num_vertices(); ++v)
       r.mesh.V.row(v) = projector.closest_point(r.mesh.vertex(v)).transpose();
     r.metrics = mesh_metrics(r.mesh);
@@ -639,21 +691,24 @@ struct Prepared {
 /// The stress on the analysis surface `S`: design_stress there, or a stress per input triangle
 /// (given, or read from a file) carried over to the coarsened copy.
 StressField analysis_stress(const Surface& input, const std::optional<Surface>& coarse,
-                            const DesignOptions& o, const StressField* given, DesignResult& r) {
+                            const DesignOptions& o, const StressField* given, InputSurface& M,
+                            DesignResult& r) {
   if (!coarse || is_isotropic(o)) return design_stress(coarse ? *coarse : input, o, given, r);
   if (!given && o.field == FieldInput::stress) return design_stress(*coarse, o, nullptr, r);
   const StressField on_input = design_stress(input, o, given, r);
   auto t = Clock::now();
-  StressField out = transfer_stress(input.mesh, on_input, coarse->mesh);
+  if (static_cast<int>(on_input.size()) != input.mesh.num_faces())
+    throw Error("field transfer", "the stress does not match the source mesh");
+  StressField out = transfer_stress(on_input, M.to_analysis(coarse->mesh), coarse->mesh);
   lap(r.timings, "coarsen", t);
   return out;
 }
 
 void prepare(const Surface& surface, const DesignOptions& o, const StressField* given,
-             DesignCache::Impl* cache, Prepared& p, DesignResult& r) {
+             DesignCache::Impl* cache, InputSurface& M, Prepared& p, DesignResult& r) {
   if (!cache) {
     p.own_surface = analysis_surface(surface, o, r);
-    p.own_stress = analysis_stress(surface, p.own_surface, o, given, r);
+    p.own_stress = analysis_stress(surface, p.own_surface, o, given, M, r);
     return;
   }
   auto t = Clock::now();
@@ -666,12 +721,12 @@ void prepare(const Surface& surface, const DesignOptions& o, const StressField* 
   add_details(r, s.details);
   if (*p.coarse) lap(r.timings, "coarsen", t);
   if (given || is_isotropic(o)) {  // a given stress is not shared
-    p.own_stress = analysis_stress(surface, s.value, o, given, r);
+    p.own_stress = analysis_stress(surface, s.value, o, given, M, r);
     return;
   }
   const auto& stress = cache->stress.get(0, [&] {
     DesignResult scratch;
-    StressField field = analysis_stress(surface, s.value, o, nullptr, scratch);
+    StressField field = analysis_stress(surface, s.value, o, nullptr, M, scratch);
     return Staged<StressField>{std::move(field), std::move(scratch.details)};
   });
   p.stress = &stress.value;
@@ -684,14 +739,15 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
   check_design_options(o);
   DesignResult r;
   Prepared prepared;
-  prepare(surface, o, given, cache, prepared, r);
+  InputSurface M(surface.mesh, cache);  // the input's projector and maps: shared via the cache
+  prepare(surface, o, given, cache, M, prepared, r);
   const std::optional<Surface>& coarse = *prepared.coarse;
   const Surface& S = coarse ? *coarse : surface;  // what the stages before finishing run on
   const StressField& stress = *prepared.stress;
-  const std::vector<Plane> planes = mirror_planes(surface.mesh, o.symmetry, r);
+  const std::vector<Plane> planes = mirror_planes(M, o.symmetry, r);
   const double L = o.tessellation.length;
   DesignCache::Impl* shared = given ? nullptr : cache;  // fields of a given stress: not shared
-  build_grid(S, surface.mesh, stress, o, planes, L, given != nullptr, shared, r);
+  build_grid(S, M, stress, o, planes, L, given != nullptr, shared, r);
 
   // Length control. --length is met on the raw tessellation (within 0.4 of the tolerance);
   // regularization shortens the beams by 0.5–3 %, planarization may lengthen them. When the
@@ -708,10 +764,10 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
     r.timings.clear();
     r.timings.add("length_first_pass", first_seconds);
     r.details.erase("tessellation_seed_retries");
-    build_grid(S, surface.mesh, stress, o, planes, target, given != nullptr, shared, r);
+    build_grid(S, M, stress, o, planes, target, given != nullptr, shared, r);
     r.details["length_retry"] = {{"first_length_m", first}, {"tessellation_target_m", target}};
   }
-  if (coarse) on_input_surface(S.mesh, surface.mesh, o, r);
+  if (coarse) on_input_surface(S.mesh, M, o, r);
 
   // Stage 7: the steel frame.
   if (o.analyze != analysis::AnalysisLevel::none) {
