@@ -734,6 +734,20 @@ void prepare(const Surface& surface, const DesignOptions& o, const StressField* 
   lap(r.timings, "stress", t);
 }
 
+/// What prepare_design_cache computes (see design.h).
+void warm_up(const Surface& surface, const DesignOptions& o, DesignCache::Impl* cache) {
+  InputSurface M(surface.mesh, cache);
+  if (!o.planarize && o.regularize) M.projector();  // needs only the input: first
+  if (o.symmetry != Symmetry::none) M.symmetry();
+  DesignResult scratch;
+  Prepared prepared;
+  prepare(surface, o, nullptr, cache, M, prepared, scratch);
+  if (const std::optional<Surface>& coarse = *prepared.coarse) {
+    M.to_input(coarse->mesh);
+    if (!o.planarize) M.projector();
+  }
+}
+
 DesignResult design(const Surface& surface, const DesignOptions& o, const StressField* given,
                     DesignCache::Impl* cache) {
   check_design_options(o);
@@ -795,6 +809,11 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o, DesignCache& cache) {
   return design(surface, o, nullptr, &cache.impl());
+}
+
+void prepare_design_cache(const Surface& surface, const DesignOptions& o, DesignCache& cache) {
+  check_design_options(o);
+  warm_up(surface, o, &cache.impl());
 }
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress) {

@@ -134,6 +134,14 @@ DesignResult run_design(const Surface& surface, const DesignOptions& options, De
 /// not kept).
 DesignResult run_design(const Surface& surface, const DesignOptions& options,
                         const StressField& stress, DesignCache& cache);
+/// Computes into `cache` now what designs of `surface` with `options` (D and A aside) take from
+/// it before their field: the analysis surface, the stress (for a stress or file field), and of
+/// the input surface the projector of the finishing step, its symmetry and the map from the
+/// analysis surface. A caller runs it beside other work so that the designs it starts later
+/// find them ready (the objective search: beside its isotropic reference, which needs no
+/// stress); designs never depend on who computed a value. Throws what the designs would.
+void prepare_design_cache(const Surface& surface, const DesignOptions& options,
+                          DesignCache& cache);
 
 /// Analyses a grid-shell as the paper's steel frame at `level` (linear | buckling | nonlinear).
 analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,

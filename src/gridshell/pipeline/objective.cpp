@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
@@ -155,6 +156,36 @@ struct SearchProgress {
                     fmt::format("{} designs", n));
   }
 };
+
+/// The isotropic reference (its failure is the user's: thrown), with what the shell-stress
+/// candidates share computed meanwhile on the other thread (prepare_design_cache: the stress,
+/// the input surface's projector and maps), which the reference, needing no stress, would
+/// otherwise leave idle for most of its time.
+Evaluated reference_beside_warm_up(const Surface& surface, const DesignOptions& base,
+                                   DesignCache& cache) {
+  FieldSetting shell;
+  shell.source = FieldSource::shell_stress;
+  shell.D = shell.A = 2;
+  const DesignOptions warm = candidate_options(base, shell, 0);
+  tbb::task_group group;
+  group.run([&] {
+    // A failure here is met again, and judged, by the candidate that needs the value (the
+    // cache keeps no failed value).
+    try {
+      prepare_design_cache(surface, warm, cache);
+    } catch (...) {
+    }
+  });
+  std::optional<Evaluated> reference;
+  try {
+    reference = evaluate(surface, base, FieldSetting{}, nullptr, cache, 0, 1, true);
+  } catch (...) {
+    group.wait();
+    throw;
+  }
+  group.wait();
+  return std::move(*reference);
+}
 
 std::vector<Evaluated> evaluate_all(
     const Surface& surface, const DesignOptions& base,
@@ -406,7 +437,7 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   report_progress(options.progress, "objective search", 0, "the isotropic reference");
   std::vector<Evaluated> all;
   DesignCache cache;
-  all.push_back(evaluate(surface, base, FieldSetting{}, nullptr, cache, 0, 1, true));
+  all.push_back(reference_beside_warm_up(surface, base, cache));
   progress.one_more();
   if (stop_requested(options.stop)) throw Stopped{};
   const double length =
