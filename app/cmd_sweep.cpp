@@ -97,6 +97,7 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
     o.tessellation.length = a.length;
     o.tessellation.cells = a.length > 0 ? 0 : a.cells;
     o.analysis_resolution = resolution;
+    const auto case_start = std::chrono::steady_clock::now();
     const DesignResult r = field == FieldInput::file ? run_design(surface, o, stress, cache)
                                                      : run_design(surface, o, cache);
     SweepRow row;
@@ -116,8 +117,10 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
           if (stage != "total") case_timings.add("cases_analysis_" + stage, seconds);
     }
     const int k = ++finished;
-    spdlog::info("[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m", k,
-                 cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta);
+    spdlog::info(
+        "[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m ({:.1f} s)", k,
+        cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - case_start).count());
     report_progress(guard.progress, "sweep", static_cast<double>(k) / cases.size(),
                     fmt::format("{}/{} cases", k, cases.size()));
     return row;
