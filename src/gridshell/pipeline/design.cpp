@@ -344,6 +344,17 @@ TessellationOptions sector_tessellation(const TessellationOptions& whole, double
   return t;
 }
 
+/// The field at contrast (D, A) from `cache` (computed there when first asked).
+const Staged<Field>& shared_field(DesignCache::Impl& cache, const TriMesh& S,
+                                  const StressField& stress, const DesignOptions& o, double D,
+                                  double A, bool given) {
+  return cache.field.get(field_key(o, D, A), [&] {
+    DesignResult scratch;
+    Field field = design_field(S, stress, o, D, A, given, scratch);
+    return Staged<Field>{std::move(field), std::move(scratch.details)};
+  });
+}
+
 /// Stages 2–4 with the retries, in one place. Where the metric cannot be realised without
 /// folds the engine may fail to extract valid cells (ExtractionError, nothing else): then
 /// another seed, and failing that the field's contrast halved (reported in report.json), down
@@ -364,11 +375,7 @@ Tessellated tessellate_with_retries(const Surface& surface, const StressField& s
     auto t = Clock::now();
     const double D = 1 + strength * (o.D - 1), A = 1 + strength * (o.A - 1);
     if (cache) {  // the field and M′ do not depend on the seed: shared between designs
-      const Staged<Field>& f = cache->field.get(field_key(o, D, A), [&] {
-        DesignResult scratch;
-        Field field = design_field(surface.mesh, stress, o, D, A, given, scratch);
-        return Staged<Field>{std::move(field), std::move(scratch.details)};
-      });
+      const Staged<Field>& f = shared_field(*cache, surface.mesh, stress, o, D, A, given);
       r.field = f.value;
       add_details(r, f.details);
     } else {
@@ -647,7 +654,11 @@ void warm_up(const Surface& surface, const DesignOptions& o, DesignCache::Impl* 
   DesignResult scratch;
   Prepared prepared;
   prepare(surface, o, nullptr, cache, M, prepared, scratch);
-  if (const std::optional<Surface>& coarse = *prepared.coarse) {
+  const std::optional<Surface>& coarse = *prepared.coarse;
+  if (!is_isotropic(o))
+    shared_field(*cache, coarse ? coarse->mesh : surface.mesh, *prepared.stress, o, o.D, o.A,
+                 false);
+  if (coarse) {
     M.to_input(coarse->mesh);
     if (!o.planarize) M.projector();
   }

@@ -134,8 +134,8 @@ DesignResult run_design(const Surface& surface, const DesignOptions& options, De
 /// not kept).
 DesignResult run_design(const Surface& surface, const DesignOptions& options,
                         const StressField& stress, DesignCache& cache);
-/// Computes into `cache` now what designs of `surface` with `options` (D and A aside) take from
-/// it before their field: the analysis surface, the stress (for a stress or file field), and of
+/// Computes into `cache` now what designs of `surface` with `options` take from it before their
+/// metric: the analysis surface, the stress and the field (for a stress or file field), and of
 /// the input surface the projector of the finishing step, its symmetry and the map from the
 /// analysis surface. A caller runs it beside other work so that the designs it starts later
 /// find them ready (the objective search: beside its isotropic reference, which needs no

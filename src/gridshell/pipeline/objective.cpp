@@ -53,6 +53,35 @@ DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s
 /// D and A beyond ~4 fold the deformed surface (docs/field.md): the search stays below.
 constexpr double kMaxRatio = 4;
 
+/// Round 1's shell-stress settings: the four conventions at D = A = 2.
+std::vector<FieldSetting> shell_settings() {
+  // (Across + falling, and frame-response fields with A = 2, were tried too and never came out
+  // best on the surfaces of docs/field.md: left out to keep the search affordable.)
+  struct Convention {
+    StressMeasure measure;
+    StretchAxis stretch;
+    DensityTrend density;
+  };
+  std::vector<FieldSetting> out;
+  for (const Convention& c : {Convention{StressMeasure::magnitude, StretchAxis::along,
+                                         DensityTrend::rising},
+                              Convention{StressMeasure::magnitude, StretchAxis::along,
+                                         DensityTrend::falling},
+                              Convention{StressMeasure::magnitude, StretchAxis::across,
+                                         DensityTrend::rising},
+                              Convention{StressMeasure::tension, StretchAxis::along,
+                                         DensityTrend::rising}}) {
+    FieldSetting s;
+    s.source = FieldSource::shell_stress;
+    s.D = s.A = 2;
+    s.measure = c.measure;
+    s.stretch = c.stretch;
+    s.density = c.density;
+    out.push_back(s);
+  }
+  return out;
+}
+
 /// Designs and judges one candidate. A failure marks the candidate failed, unless `rethrow`
 /// (the reference: its failure is the user's — a bad size or surface).
 /// Shell-stress and uniform candidates share the analysis surface, the shell stress, their
@@ -157,22 +186,19 @@ struct SearchProgress {
   }
 };
 
-/// The isotropic reference (its failure is the user's: thrown), with what the shell-stress
+/// The isotropic reference (its failure is the user's: thrown), with what round 1's shell-stress
 /// candidates share computed meanwhile on the other thread (prepare_design_cache: the stress,
-/// the input surface's projector and maps), which the reference, needing no stress, would
-/// otherwise leave idle for most of its time.
+/// their four fields, the input surface's projector and maps), which the reference, needing no
+/// stress, would otherwise leave idle for most of its time.
 Evaluated reference_beside_warm_up(const Surface& surface, const DesignOptions& base,
                                    DesignCache& cache) {
-  FieldSetting shell;
-  shell.source = FieldSource::shell_stress;
-  shell.D = shell.A = 2;
-  const DesignOptions warm = candidate_options(base, shell, 0);
   tbb::task_group group;
   group.run([&] {
     // A failure here is met again, and judged, by the candidate that needs the value (the
     // cache keeps no failed value).
     try {
-      prepare_design_cache(surface, warm, cache);
+      for (const FieldSetting& s : shell_settings())
+        prepare_design_cache(surface, candidate_options(base, s, 0), cache);
     } catch (...) {
     }
   });
@@ -313,29 +339,7 @@ using Pending = std::vector<std::pair<FieldSetting, const StressField*>>;
 Pending first_round(const Surface& surface, const DesignResult& reference,
                     const StressField& shell, std::deque<StressField>& responses) {
   Pending round;
-  // (Across + falling, and frame-response fields with A = 2, were tried too and never came out
-  // best on the surfaces of docs/field.md: left out to keep the search affordable.)
-  struct Convention {
-    StressMeasure measure;
-    StretchAxis stretch;
-    DensityTrend density;
-  };
-  for (const Convention& c : {Convention{StressMeasure::magnitude, StretchAxis::along,
-                                         DensityTrend::rising},
-                              Convention{StressMeasure::magnitude, StretchAxis::along,
-                                         DensityTrend::falling},
-                              Convention{StressMeasure::magnitude, StretchAxis::across,
-                                         DensityTrend::rising},
-                              Convention{StressMeasure::tension, StretchAxis::along,
-                                         DensityTrend::rising}}) {
-    FieldSetting s;
-    s.source = FieldSource::shell_stress;
-    s.D = s.A = 2;
-    s.measure = c.measure;
-    s.stretch = c.stretch;
-    s.density = c.density;
-    round.emplace_back(s, &shell);
-  }
+  for (const FieldSetting& s : shell_settings()) round.emplace_back(s, &shell);
   for (FieldSource src : {FieldSource::frame_mode, FieldSource::frame_energy}) {
     const std::vector<double>* values = response_values(reference, src);
     if (!values) continue;
