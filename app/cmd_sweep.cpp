@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <mutex>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -73,6 +74,10 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   for (const auto& c : cases)
     if (c.D < 1 || c.A < 1) throw Error("--D/--A", "values must be ≥ 1");
   std::atomic<int> finished{0};
+  // Seconds per stage summed over this process's cases (thread-seconds: cases run in parallel),
+  // the frame analysis split into its parts: where a sweep's time goes (docs/performance.md).
+  Timings case_timings;
+  std::mutex case_timings_mutex;
   const auto mine = run_sweep(cases, [&](const SweepCase& c) {
     DesignOptions o;
     o.field = field;
@@ -92,6 +97,7 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
     o.tessellation.length = a.length;
     o.tessellation.cells = a.length > 0 ? 0 : a.cells;
     o.analysis_resolution = resolution;
+    const auto case_start = std::chrono::steady_clock::now();
     const DesignResult r = field == FieldInput::file ? run_design(surface, o, stress, cache)
                                                      : run_design(surface, o, cache);
     SweepRow row;
@@ -103,9 +109,18 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
       row.lambda =
           r.structure->lambda_nonlinear.value_or(r.structure->lambda_linear_buckling.value_or(0.0));
     }
+    {
+      const std::lock_guard<std::mutex> lock(case_timings_mutex);
+      for (const auto& [stage, seconds] : r.timings) case_timings.add("cases_" + stage, seconds);
+      if (r.structure)
+        for (const auto& [stage, seconds] : r.structure->timings)
+          if (stage != "total") case_timings.add("cases_analysis_" + stage, seconds);
+    }
     const int k = ++finished;
-    spdlog::info("[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m", k,
-                 cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta);
+    spdlog::info(
+        "[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m ({:.1f} s)", k,
+        cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - case_start).count());
     report_progress(guard.progress, "sweep", static_cast<double>(k) / cases.size(),
                     fmt::format("{}/{} cases", k, cases.size()));
     return row;
@@ -138,9 +153,10 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   report["cases_total"] = all;
   report["shard"] = a.shard.empty() ? "1/1" : a.shard;
   report["mpi_ranks"] = mpi.size();
-  report["timings_s"] = {
-      {"figures", figures_s},
-      {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+  report["timings_s"] = case_timings;
+  report["timings_s"]["figures"] = figures_s;
+  report["timings_s"]["total"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
   return 0;

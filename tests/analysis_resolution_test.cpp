@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
+#include <utility>
 
 #include "gridshell/fem/shell_solver.h"
 #include "gridshell/field/transfer.h"
@@ -107,4 +109,41 @@ TEST(AnalysisResolution, CachedDesignsEqualUncachedOnes) {
     EXPECT_EQ(plain.field.d, cached.field.d);
     EXPECT_EQ(plain.details["metric"], cached.details["metric"]);
   }
+}
+
+// What an objective search or a sweep shares beyond that — the input's projector, symmetry and
+// nearest-triangle maps to and from the coarsened copy, and the stress computed ahead by
+// prepare_design_cache on another thread while the first design runs — gives the designs made
+// without a cache, bit for bit: on a fine input, symmetric, and with a given stress per input
+// triangle (carried to the copy through the shared map).
+TEST(AnalysisResolution, WarmedCacheGivesTheUncachedDesigns) {
+  const Surface s = paraboloid(96);
+  DesignOptions o;
+  o.D = o.A = 2;
+  o.symmetry = Symmetry::xy;
+  o.tessellation.cells = 48;
+  o.tessellation.seed = 5;
+  o.analyze = analysis::AnalysisLevel::none;
+  const StressField given = fem::analyze_surface_stress(s).stress;
+  const DesignResult plain = run_design(s, o);
+  const DesignResult plain_given = run_design(s, o, given);
+  ASSERT_TRUE(plain.details.contains("analysis_surface"));  // designed on a coarsened copy
+  ASSERT_TRUE(plain.details.contains("symmetry"));
+  DesignCache cache;
+  std::thread ahead([&] { prepare_design_cache(s, o, cache); });
+  const DesignResult cached = run_design(s, o, cache);
+  ahead.join();
+  const DesignResult cached_given = run_design(s, o, given, cache);
+  for (const auto& [a, b] : {std::pair{&plain, &cached}, std::pair{&plain_given, &cached_given}}) {
+    EXPECT_EQ(a->mesh.V, b->mesh.V);
+    EXPECT_EQ(a->mesh.faces, b->mesh.faces);
+    EXPECT_EQ(a->supports, b->supports);
+    EXPECT_EQ(a->field.d, b->field.d);
+    EXPECT_EQ(a->field.u, b->field.u);
+    EXPECT_EQ(a->details["metric"], b->details["metric"]);
+    EXPECT_EQ(a->details["symmetry"], b->details["symmetry"]);
+  }
+  // The given stress made another design.
+  EXPECT_FALSE(plain.mesh.V.rows() == plain_given.mesh.V.rows() &&
+               plain.mesh.V == plain_given.mesh.V);
 }

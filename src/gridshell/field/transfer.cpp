@@ -56,7 +56,15 @@ std::vector<int> nearest_faces(const TriMesh& from, const TriMesh& to) {
 Field transfer_field(const TriMesh& from, const Field& field, const TriMesh& to) {
   if (field.size() != from.num_faces())
     throw Error("field transfer", "the field does not match the source mesh");
-  const std::vector<int> source = nearest_faces(from, to);
+  return transfer_field(field, nearest_faces(from, to), to);
+}
+
+Field transfer_field(const Field& field, const std::vector<int>& source, const TriMesh& to) {
+  if (static_cast<int>(source.size()) != to.num_faces())
+    throw Error("field transfer", "the face map does not match the target mesh");
+  for (int s : source)
+    if (s < 0 || s >= field.size())
+      throw Error("field transfer", "the face map does not match the field");
   Field out;
   auto carry = [&](const auto& in, auto& dst) {
     if (in.empty()) return;
@@ -80,7 +88,16 @@ Field transfer_field(const TriMesh& from, const Field& field, const TriMesh& to)
 StressField transfer_stress(const TriMesh& from, const StressField& stress, const TriMesh& to) {
   if (static_cast<int>(stress.size()) != from.num_faces())
     throw Error("field transfer", "the stress does not match the source mesh");
-  const std::vector<int> source = nearest_faces(from, to);
+  return transfer_stress(stress, nearest_faces(from, to), to);
+}
+
+StressField transfer_stress(const StressField& stress, const std::vector<int>& source,
+                            const TriMesh& to) {
+  if (static_cast<int>(source.size()) != to.num_faces())
+    throw Error("field transfer", "the face map does not match the target mesh");
+  for (int s : source)
+    if (s < 0 || s >= static_cast<int>(stress.size()))
+      throw Error("field transfer", "the face map does not match the stress");
   StressField out(source.size());
   for (int f = 0; f < to.num_faces(); ++f) {
     out[f] = stress[source[f]];

@@ -20,10 +20,16 @@ std::vector<int> nearest_faces(const TriMesh& from, const TriMesh& to);
 /// that is filled is carried over; u and u_raw are projected and normalised (kept as they are
 /// where the projection vanishes).
 Field transfer_field(const TriMesh& from, const Field& field, const TriMesh& to);
+/// The same along `nearest = nearest_faces(from, to)`, for several fields carried between the
+/// same two meshes (the tree and the queries once): O(F_to).
+Field transfer_field(const Field& field, const std::vector<int>& nearest, const TriMesh& to);
 
 /// `stress` (per face of `from`) per face of `to`, the same way: each face of `to` takes the
 /// principal stresses of the face of `from` closest to its centroid, the directions projected
 /// onto its plane (d2 made perpendicular to d1 there).
 StressField transfer_stress(const TriMesh& from, const StressField& stress, const TriMesh& to);
+/// The same along `nearest = nearest_faces(from, to)`.
+StressField transfer_stress(const StressField& stress, const std::vector<int>& nearest,
+                            const TriMesh& to);
 
 }  // namespace gridshell

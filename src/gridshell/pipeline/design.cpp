@@ -35,10 +35,6 @@ void lap(Timings& timings, const char* stage, Clock::time_point& t) {
   t = now;
 }
 
-nlohmann::json optional_number(const std::optional<double>& v) {
-  return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
-}
-
 bool is_isotropic(const DesignOptions& o) {
   return o.field == FieldInput::uniform || (o.D == 1 && o.A == 1);
 }
@@ -128,16 +124,6 @@ StressField design_stress(const Surface& surface, const DesignOptions& o,
                          {"dofs", shell.dofs}};
   lap(r.timings, "stress", t);
   return std::move(shell.stress);
-}
-
-/// The mirror planes of the requested symmetry (checked against the surface).
-std::vector<Plane> mirror_planes(const TriMesh& M, Symmetry symmetry, DesignResult& r) {
-  if (symmetry == Symmetry::none) return {};
-  const SymmetryReport report = detect_symmetry(M, 1e-6);
-  r.details["symmetry"] = {{"planes", to_string(symmetry)},
-                           {"x_deviation", report.x_deviation},
-                           {"y_deviation", report.y_deviation}};
-  return symmetry_planes(report, symmetry);
 }
 
 /// Stage 2: the field on the whole surface at contrast (D, A); isotropic for D = A = 1.
@@ -270,6 +256,11 @@ struct DesignCache::Impl {
   OnceMap<int, Staged<StressField>> stress;
   OnceMap<FieldKey, Staged<Field>> field;
   OnceMap<MetricKey, Staged<Metric>> metric;
+  // Of the input surface M, for the finishing stages (InputSurface below): its projector, its
+  // symmetry, and the nearest-triangle maps between M and the analysis surface.
+  OnceMap<int, std::optional<SurfaceProjector>> projector;
+  OnceMap<int, SymmetryReport> symmetry;
+  OnceMap<int, std::vector<int>> to_input, to_analysis;
 };
 DesignCache::DesignCache() : impl_(std::make_unique<Impl>()) {}
 DesignCache::~DesignCache() = default;
@@ -278,6 +269,60 @@ namespace {
 /// The details a cached stage wrote, added to `r`'s.
 void add_details(DesignResult& r, const nlohmann::json& details) {
   for (const auto& [key, value] : details.items()) r.details[key] = value;
+}
+
+/// What the stages need of the input surface M beyond its mesh, each made when first asked:
+/// shared through the cache when there is one (on a 250 K-triangle input the projector and the
+/// maps cost a candidate of the objective search more than a second), else for this design
+/// only. The values depend on M (and the analysis surface) alone, so a design gets the same
+/// bits either way.
+class InputSurface {
+ public:
+  InputSurface(const TriMesh& M, DesignCache::Impl* cache) : M_(M), cache_(cache) {}
+  const TriMesh& mesh() const { return M_; }
+  /// Closest points on M (the finishing step's projection).
+  const SurfaceProjector& projector() {
+    auto make = [&] { return std::optional<SurfaceProjector>(std::in_place, M_); };
+    if (cache_) return *cache_->projector.get(0, make);
+    if (!own_projector_) own_projector_ = make();
+    return *own_projector_;
+  }
+  /// detect_symmetry of M.
+  SymmetryReport symmetry() {
+    auto make = [&] { return detect_symmetry(M_, 1e-6); };
+    return cache_ ? cache_->symmetry.get(0, make) : make();
+  }
+  /// nearest_faces(analysis, M): per triangle of M, the nearest of the analysis surface.
+  const std::vector<int>& to_input(const TriMesh& analysis) {
+    return map(cache_ ? &cache_->to_input : nullptr, own_to_input_, analysis, M_);
+  }
+  /// nearest_faces(M, analysis): per triangle of the analysis surface, the nearest of M.
+  const std::vector<int>& to_analysis(const TriMesh& analysis) {
+    return map(cache_ ? &cache_->to_analysis : nullptr, own_to_analysis_, M_, analysis);
+  }
+
+ private:
+  const std::vector<int>& map(OnceMap<int, std::vector<int>>* shared, std::vector<int>& own,
+                              const TriMesh& from, const TriMesh& to) {
+    auto make = [&] { return nearest_faces(from, to); };
+    if (shared) return shared->get(0, make);
+    if (own.empty()) own = make();
+    return own;
+  }
+  const TriMesh& M_;
+  DesignCache::Impl* cache_;
+  std::optional<SurfaceProjector> own_projector_;
+  std::vector<int> own_to_input_, own_to_analysis_;
+};
+
+/// The mirror planes of the requested symmetry (checked against the surface).
+std::vector<Plane> mirror_planes(InputSurface& M, Symmetry symmetry, DesignResult& r) {
+  if (symmetry == Symmetry::none) return {};
+  const SymmetryReport report = M.symmetry();
+  r.details["symmetry"] = {{"planes", to_string(symmetry)},
+                           {"x_deviation", report.x_deviation},
+                           {"y_deviation", report.y_deviation}};
+  return symmetry_planes(report, symmetry);
 }
 FieldKey field_key(const DesignOptions& o, double D, double A) {
   return {D, A, static_cast<int>(o.field_options.measure),
@@ -297,6 +342,17 @@ TessellationOptions sector_tessellation(const TessellationOptions& whole, double
     for (const Plane& p : planes) t.length_excluded_planes.push_back(p);
   }
   return t;
+}
+
+/// The field at contrast (D, A) from `cache` (computed there when first asked).
+const Staged<Field>& shared_field(DesignCache::Impl& cache, const TriMesh& S,
+                                  const StressField& stress, const DesignOptions& o, double D,
+                                  double A, bool given) {
+  return cache.field.get(field_key(o, D, A), [&] {
+    DesignResult scratch;
+    Field field = design_field(S, stress, o, D, A, given, scratch);
+    return Staged<Field>{std::move(field), std::move(scratch.details)};
+  });
 }
 
 /// Stages 2–4 with the retries, in one place. Where the metric cannot be realised without
@@ -319,11 +375,7 @@ Tessellated tessellate_with_retries(const Surface& surface, const StressField& s
     auto t = Clock::now();
     const double D = 1 + strength * (o.D - 1), A = 1 + strength * (o.A - 1);
     if (cache) {  // the field and M′ do not depend on the seed: shared between designs
-      const Staged<Field>& f = cache->field.get(field_key(o, D, A), [&] {
-        DesignResult scratch;
-        Field field = design_field(surface.mesh, stress, o, D, A, given, scratch);
-        return Staged<Field>{std::move(field), std::move(scratch.details)};
-      });
+      const Staged<Field>& f = shared_field(*cache, surface.mesh, stress, o, D, A, given);
       r.field = f.value;
       add_details(r, f.details);
     } else {
@@ -425,15 +477,16 @@ std::vector<std::vector<int>> assemble_raw(const Tessellated& t, const std::vect
 }
 
 /// Stage 6: regularization (or planarization) of the raw grid-shell, symmetry restored.
-void finish(const TriMesh& M, const DesignOptions& o, const std::vector<Plane>& planes,
+void finish(InputSurface& M, const DesignOptions& o, const std::vector<Plane>& planes,
             const std::vector<std::vector<int>>& mirror,
             const std::vector<VertexConstraint>& constraints, DesignResult& r) {
   r.raw_metrics = mesh_metrics(r.raw);
   if (o.planarize || o.regularize) {
     RegularizeStats stats;
     spdlog::info("[{}] {} faces", o.planarize ? "planarize" : "regularize", r.raw.num_faces());
-    r.mesh = o.planarize ? planarize(r.raw, M, constraints, planarize_options(), &stats)
-                         : regularize(r.raw, M, constraints, o.regularize_options, &stats);
+    r.mesh = o.planarize
+                 ? planarize(r.raw, M.mesh(), constraints, planarize_options(), &stats)
+                 : regularize(r.raw, M.projector(), constraints, o.regularize_options, &stats);
     if (!planes.empty()) enforce_symmetry(r.mesh, planes, mirror);
     r.details["regularization"] = {{"kind", o.planarize ? "planarize" : "regularize"},
                                    {"iterations", stats.iterations},
@@ -448,7 +501,7 @@ void finish(const TriMesh& M, const DesignOptions& o, const std::vector<Plane>& 
 /// Stages 2–6 for one length target (0 = the size options decide): the grid-shell before
 /// analysis, tessellated on `surface` (the analysis surface) and finished on `M` (the input).
 /// `r` keeps what the earlier stages put there.
-void build_grid(const Surface& surface, const TriMesh& M, const StressField& stress,
+void build_grid(const Surface& surface, InputSurface& M, const StressField& stress,
                 const DesignOptions& o, const std::vector<Plane>& planes, double length, bool given,
                 DesignCache::Impl* cache, DesignResult& r) {
   Tessellated t = tessellate_with_retries(surface, stress, o, planes, length, given, cache, r);
@@ -468,12 +521,14 @@ void build_grid(const Surface& surface, const TriMesh& M, const StressField& str
 /// After a design on the coarsened analysis surface `coarse`: the field carried over to the
 /// input's triangles, and the joints onto the input surface `M` (the finishing step has put them
 /// there already unless it is off).
-void on_input_surface(const TriMesh& coarse, const TriMesh& M, const DesignOptions& o,
+void on_input_surface(const TriMesh& coarse, InputSurface& M, const DesignOptions& o,
                       DesignResult& r) {
   auto t = Clock::now();
-  r.field = transfer_field(coarse, r.field, M);
+  if (r.field.size() != coarse.num_faces())
+    throw Error("field transfer", "the field does not match the analysis surface");
+  r.field = transfer_field(r.field, M.to_input(coarse), M.mesh());
   if (!o.planarize && !o.regularize) {
-    const SurfaceProjector projector(M);
+    const SurfaceProjector& projector = M.projector();
     for (int v = 0; v < r.mesh.num_vertices(); ++v)
       r.mesh.V.row(v) = projector.closest_point(r.mesh.vertex(v)).transpose();
     r.metrics = mesh_metrics(r.mesh);
@@ -536,97 +591,6 @@ analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<
   return analysis::analyze_frame(analysis::gridshell_frame(mesh, supports, frame), o);
 }
 
-nlohmann::json structure_block(const analysis::FrameResult& r) {
-  nlohmann::json st;
-  st["delta_max_m"] = r.delta_max_m;
-  st["lambda_linear_buckling"] = optional_number(r.lambda_linear_buckling);
-  st["lambda_nonlinear"] = optional_number(r.lambda_nonlinear);
-  st["limit_type"] = r.limit_type;
-  st["lambda_displacement_limit"] = optional_number(r.lambda_displacement_limit);
-  st["displacement_limit_m"] =
-      r.displacement_limit_m > 0 ? nlohmann::json(r.displacement_limit_m) : nlohmann::json();
-  st["mass_kg"] = r.mass_kg;
-  st["total_length_m"] = r.total_length_m;
-  st["buckling_lambdas"] = r.buckling_lambdas;
-  st["delta_node"] = r.delta_node;
-  st["equilibrium_error"] = r.equilibrium_error;
-  st["nonlinear_stop_reason"] = r.nonlinear_stop_reason;
-  st["elements"] = r.num_elements;
-  st["dofs"] = r.num_dofs;
-  st["timings_s"] = r.timings;
-  add_checks_block(st, r);
-  return st;
-}
-
-void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
-  // Serviceability.
-  st["span_m"] = r.span_m;
-  st["delta_limit_m"] = r.delta_limit_m;
-  st["delta_pass"] = r.delta_pass;
-  // Member checks (linear, λ = 1).
-  const checks::MemberChecks& c = r.checks;
-  st["utilisation_max"] = c.section_max;
-  st["utilisation_beam"] =
-      c.section_worst >= 0 ? nlohmann::json(c.section_worst) : nlohmann::json();
-  st["buckling_utilisation_max"] = c.buckling_max;
-  st["buckling_utilisation_beam"] =
-      c.buckling_worst >= 0 ? nlohmann::json(c.buckling_worst) : nlohmann::json();
-  // Stability: read together (λ_LBA alone overstates a grid-shell's capacity).
-  st["lambda_lba"] = optional_number(r.lambda_linear_buckling);
-  st["lambda_perfect"] = optional_number(r.lambda_perfect);
-  st["lambda_imperfect"] = optional_number(r.lambda_imperfect);
-  st["imperfection_sensitivity"] = r.lambda_perfect && r.lambda_imperfect && *r.lambda_perfect > 0
-                                       ? nlohmann::json(*r.lambda_imperfect / *r.lambda_perfect)
-                                       : nlohmann::json();
-  st["imperfection_amplitude_m"] =
-      r.lambda_imperfect ? nlohmann::json(r.imperfection_amplitude_m) : nlohmann::json();
-  st["lambda_y"] = optional_number(r.lambda_yield);
-  const bool path = !r.lambda_yield_path.empty();
-  st["lambda_y_path"] = path ? nlohmann::json(r.lambda_yield_path) : nlohmann::json();
-  st["path_utilisation_max"] = path ? nlohmann::json(r.path_utilisation_max) : nlohmann::json();
-  st["lambda_y_perfect"] = optional_number(r.lambda_yield_perfect);
-  st["lambda_y_linear"] = optional_number(r.lambda_yield_linear);
-}
-
-nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g, double gamma_q) {
-  nlohmann::json all = nlohmann::json::object();
-  add_checks_block(all, r);
-  nlohmann::json c;
-  c["gamma_G"] = gamma_g;
-  c["gamma_Q"] = gamma_q;
-  c["delta_max_m"] = r.delta_max_m;
-  for (const char* key :
-       {"delta_limit_m", "delta_pass", "utilisation_max", "utilisation_beam",
-        "buckling_utilisation_max", "buckling_utilisation_beam", "lambda_lba", "lambda_perfect",
-        "lambda_imperfect", "imperfection_sensitivity", "lambda_y", "lambda_y_path",
-        "path_utilisation_max", "lambda_y_perfect", "lambda_y_linear"})
-    c[key] = all[key];
-  return c;
-}
-
-nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
-                                  const analysis::GridshellFrameOptions& frame,
-                                  const analysis::FrameAnalysisOptions& options,
-                                  const analysis::FrameResult& primary) {
-  nlohmann::json block;
-  if (frame.loads == analysis::LoadModel::paper) {
-    block["paper"] = combination_block(primary, 1, 0);
-    block["paper"].erase("gamma_G");  // the paper's load: the structure's own weight, λ-scaled
-    block["paper"].erase("gamma_Q");
-    return block;
-  }
-  const auto [uG, uQ] = analysis::partial_factors(analysis::Combination::uls);
-  block["ULS"] = combination_block(primary, uG, uQ);
-  analysis::GridshellFrameOptions sls = frame;
-  sls.combination = analysis::Combination::sls;
-  spdlog::info("[analysis] SLS combination: linear");
-  const analysis::FrameResult r =
-      analyze_gridshell(mesh, supports, analysis::AnalysisLevel::linear, sls, options);
-  const auto [sG, sQ] = analysis::partial_factors(analysis::Combination::sls);
-  block["SLS"] = combination_block(r, sG, sQ);
-  return block;
-}
-
 namespace {
 /// Stages 0 and 1, shared through `cache` when there is one: the analysis surface (none: the
 /// input) and the stress on it.
@@ -639,21 +603,24 @@ struct Prepared {
 /// The stress on the analysis surface `S`: design_stress there, or a stress per input triangle
 /// (given, or read from a file) carried over to the coarsened copy.
 StressField analysis_stress(const Surface& input, const std::optional<Surface>& coarse,
-                            const DesignOptions& o, const StressField* given, DesignResult& r) {
+                            const DesignOptions& o, const StressField* given, InputSurface& M,
+                            DesignResult& r) {
   if (!coarse || is_isotropic(o)) return design_stress(coarse ? *coarse : input, o, given, r);
   if (!given && o.field == FieldInput::stress) return design_stress(*coarse, o, nullptr, r);
   const StressField on_input = design_stress(input, o, given, r);
   auto t = Clock::now();
-  StressField out = transfer_stress(input.mesh, on_input, coarse->mesh);
+  if (static_cast<int>(on_input.size()) != input.mesh.num_faces())
+    throw Error("field transfer", "the stress does not match the source mesh");
+  StressField out = transfer_stress(on_input, M.to_analysis(coarse->mesh), coarse->mesh);
   lap(r.timings, "coarsen", t);
   return out;
 }
 
 void prepare(const Surface& surface, const DesignOptions& o, const StressField* given,
-             DesignCache::Impl* cache, Prepared& p, DesignResult& r) {
+             DesignCache::Impl* cache, InputSurface& M, Prepared& p, DesignResult& r) {
   if (!cache) {
     p.own_surface = analysis_surface(surface, o, r);
-    p.own_stress = analysis_stress(surface, p.own_surface, o, given, r);
+    p.own_stress = analysis_stress(surface, p.own_surface, o, given, M, r);
     return;
   }
   auto t = Clock::now();
@@ -666,12 +633,12 @@ void prepare(const Surface& surface, const DesignOptions& o, const StressField* 
   add_details(r, s.details);
   if (*p.coarse) lap(r.timings, "coarsen", t);
   if (given || is_isotropic(o)) {  // a given stress is not shared
-    p.own_stress = analysis_stress(surface, s.value, o, given, r);
+    p.own_stress = analysis_stress(surface, s.value, o, given, M, r);
     return;
   }
   const auto& stress = cache->stress.get(0, [&] {
     DesignResult scratch;
-    StressField field = analysis_stress(surface, s.value, o, nullptr, scratch);
+    StressField field = analysis_stress(surface, s.value, o, nullptr, M, scratch);
     return Staged<StressField>{std::move(field), std::move(scratch.details)};
   });
   p.stress = &stress.value;
@@ -679,19 +646,38 @@ void prepare(const Surface& surface, const DesignOptions& o, const StressField* 
   lap(r.timings, "stress", t);
 }
 
+/// What prepare_design_cache computes (see design.h).
+void warm_up(const Surface& surface, const DesignOptions& o, DesignCache::Impl* cache) {
+  InputSurface M(surface.mesh, cache);
+  if (!o.planarize && o.regularize) M.projector();  // needs only the input: first
+  if (o.symmetry != Symmetry::none) M.symmetry();
+  DesignResult scratch;
+  Prepared prepared;
+  prepare(surface, o, nullptr, cache, M, prepared, scratch);
+  const std::optional<Surface>& coarse = *prepared.coarse;
+  if (!is_isotropic(o))
+    shared_field(*cache, coarse ? coarse->mesh : surface.mesh, *prepared.stress, o, o.D, o.A,
+                 false);
+  if (coarse) {
+    M.to_input(coarse->mesh);
+    if (!o.planarize) M.projector();
+  }
+}
+
 DesignResult design(const Surface& surface, const DesignOptions& o, const StressField* given,
                     DesignCache::Impl* cache) {
   check_design_options(o);
   DesignResult r;
   Prepared prepared;
-  prepare(surface, o, given, cache, prepared, r);
+  InputSurface M(surface.mesh, cache);  // the input's projector and maps: shared via the cache
+  prepare(surface, o, given, cache, M, prepared, r);
   const std::optional<Surface>& coarse = *prepared.coarse;
   const Surface& S = coarse ? *coarse : surface;  // what the stages before finishing run on
   const StressField& stress = *prepared.stress;
-  const std::vector<Plane> planes = mirror_planes(surface.mesh, o.symmetry, r);
+  const std::vector<Plane> planes = mirror_planes(M, o.symmetry, r);
   const double L = o.tessellation.length;
   DesignCache::Impl* shared = given ? nullptr : cache;  // fields of a given stress: not shared
-  build_grid(S, surface.mesh, stress, o, planes, L, given != nullptr, shared, r);
+  build_grid(S, M, stress, o, planes, L, given != nullptr, shared, r);
 
   // Length control. --length is met on the raw tessellation (within 0.4 of the tolerance);
   // regularization shortens the beams by 0.5–3 %, planarization may lengthen them. When the
@@ -708,10 +694,10 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
     r.timings.clear();
     r.timings.add("length_first_pass", first_seconds);
     r.details.erase("tessellation_seed_retries");
-    build_grid(S, surface.mesh, stress, o, planes, target, given != nullptr, shared, r);
+    build_grid(S, M, stress, o, planes, target, given != nullptr, shared, r);
     r.details["length_retry"] = {{"first_length_m", first}, {"tessellation_target_m", target}};
   }
-  if (coarse) on_input_surface(S.mesh, surface.mesh, o, r);
+  if (coarse) on_input_surface(S.mesh, M, o, r);
 
   // Stage 7: the steel frame.
   if (o.analyze != analysis::AnalysisLevel::none) {
@@ -739,6 +725,11 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o, DesignCache& cache) {
   return design(surface, o, nullptr, &cache.impl());
+}
+
+void prepare_design_cache(const Surface& surface, const DesignOptions& o, DesignCache& cache) {
+  check_design_options(o);
+  warm_up(surface, o, &cache.impl());
 }
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress) {

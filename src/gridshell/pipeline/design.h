@@ -112,10 +112,12 @@ DesignResult run_design(const Surface& surface, const DesignOptions& options,
 /// What designs of one surface share when they differ only in D, A, the field's conventions
 /// (measure, stretch, density) and the seed — a sweep, the objective search: the analysis
 /// surface, the shell stress, and per (D, A, conventions) the field and per length target the
-/// deformed surface M′ (neither depends on the seed). One cache per surface and per set of the
-/// other options. Thread-safe: designs running in parallel share it, and each value is computed
-/// once (a design that needs a value being computed waits for it). A design from a cache equals
-/// the same design without one.
+/// deformed surface M′ (neither depends on the seed); and of the input surface what the finishing
+/// step needs (its projector, its symmetry, the nearest-triangle maps to and from the analysis
+/// surface: on a 250 K-triangle input these cost a design over a second). One cache per surface
+/// and per set of the other options. Thread-safe: designs running in parallel share it, and each
+/// value is computed once (a design that needs a value being computed waits for it). A design
+/// from a cache equals the same design without one.
 class DesignCache {
  public:
   DesignCache();
@@ -134,6 +136,13 @@ DesignResult run_design(const Surface& surface, const DesignOptions& options, De
 /// not kept).
 DesignResult run_design(const Surface& surface, const DesignOptions& options,
                         const StressField& stress, DesignCache& cache);
+/// Computes into `cache` now what designs of `surface` with `options` take from it before their
+/// metric: the analysis surface, the stress and the field (for a stress or file field), and of
+/// the input surface the projector of the finishing step, its symmetry and the map from the
+/// analysis surface. A caller runs it beside other work so that the designs it starts later
+/// find them ready (the objective search: beside its isotropic reference, which needs no
+/// stress); designs never depend on who computed a value. Throws what the designs would.
+void prepare_design_cache(const Surface& surface, const DesignOptions& options, DesignCache& cache);
 
 /// Analyses a grid-shell as the paper's steel frame at `level` (linear | buckling | nonlinear).
 analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,

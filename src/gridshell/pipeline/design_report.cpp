@@ -1,8 +1,110 @@
 #include "gridshell/pipeline/design_report.h"
 
+#include <cmath>
+#include <optional>
+
+#include <spdlog/spdlog.h>
+
 #include "gridshell/fabrication/fabrication_files.h"
 
 namespace gridshell {
+
+namespace {
+nlohmann::json optional_number(const std::optional<double>& v) {
+  return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+}  // namespace
+
+nlohmann::json structure_block(const analysis::FrameResult& r) {
+  nlohmann::json st;
+  st["delta_max_m"] = r.delta_max_m;
+  st["lambda_linear_buckling"] = optional_number(r.lambda_linear_buckling);
+  st["lambda_nonlinear"] = optional_number(r.lambda_nonlinear);
+  st["limit_type"] = r.limit_type;
+  st["lambda_displacement_limit"] = optional_number(r.lambda_displacement_limit);
+  st["displacement_limit_m"] =
+      r.displacement_limit_m > 0 ? nlohmann::json(r.displacement_limit_m) : nlohmann::json();
+  st["mass_kg"] = r.mass_kg;
+  st["total_length_m"] = r.total_length_m;
+  st["buckling_lambdas"] = r.buckling_lambdas;
+  st["delta_node"] = r.delta_node;
+  st["equilibrium_error"] = r.equilibrium_error;
+  st["nonlinear_stop_reason"] = r.nonlinear_stop_reason;
+  st["elements"] = r.num_elements;
+  st["dofs"] = r.num_dofs;
+  st["timings_s"] = r.timings;
+  add_checks_block(st, r);
+  return st;
+}
+
+void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
+  // Serviceability.
+  st["span_m"] = r.span_m;
+  st["delta_limit_m"] = r.delta_limit_m;
+  st["delta_pass"] = r.delta_pass;
+  // Member checks (linear, λ = 1).
+  const checks::MemberChecks& c = r.checks;
+  st["utilisation_max"] = c.section_max;
+  st["utilisation_beam"] =
+      c.section_worst >= 0 ? nlohmann::json(c.section_worst) : nlohmann::json();
+  st["buckling_utilisation_max"] = c.buckling_max;
+  st["buckling_utilisation_beam"] =
+      c.buckling_worst >= 0 ? nlohmann::json(c.buckling_worst) : nlohmann::json();
+  // Stability: read together (λ_LBA alone overstates a grid-shell's capacity).
+  st["lambda_lba"] = optional_number(r.lambda_linear_buckling);
+  st["lambda_perfect"] = optional_number(r.lambda_perfect);
+  st["lambda_imperfect"] = optional_number(r.lambda_imperfect);
+  st["imperfection_sensitivity"] = r.lambda_perfect && r.lambda_imperfect && *r.lambda_perfect > 0
+                                       ? nlohmann::json(*r.lambda_imperfect / *r.lambda_perfect)
+                                       : nlohmann::json();
+  st["imperfection_amplitude_m"] =
+      r.lambda_imperfect ? nlohmann::json(r.imperfection_amplitude_m) : nlohmann::json();
+  st["lambda_y"] = optional_number(r.lambda_yield);
+  const bool path = !r.lambda_yield_path.empty();
+  st["lambda_y_path"] = path ? nlohmann::json(r.lambda_yield_path) : nlohmann::json();
+  st["path_utilisation_max"] = path ? nlohmann::json(r.path_utilisation_max) : nlohmann::json();
+  st["lambda_y_perfect"] = optional_number(r.lambda_yield_perfect);
+  st["lambda_y_linear"] = optional_number(r.lambda_yield_linear);
+}
+
+nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g, double gamma_q) {
+  nlohmann::json all = nlohmann::json::object();
+  add_checks_block(all, r);
+  nlohmann::json c;
+  c["gamma_G"] = gamma_g;
+  c["gamma_Q"] = gamma_q;
+  c["delta_max_m"] = r.delta_max_m;
+  for (const char* key :
+       {"delta_limit_m", "delta_pass", "utilisation_max", "utilisation_beam",
+        "buckling_utilisation_max", "buckling_utilisation_beam", "lambda_lba", "lambda_perfect",
+        "lambda_imperfect", "imperfection_sensitivity", "lambda_y", "lambda_y_path",
+        "path_utilisation_max", "lambda_y_perfect", "lambda_y_linear"})
+    c[key] = all[key];
+  return c;
+}
+
+nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
+                                  const analysis::GridshellFrameOptions& frame,
+                                  const analysis::FrameAnalysisOptions& options,
+                                  const analysis::FrameResult& primary) {
+  nlohmann::json block;
+  if (frame.loads == analysis::LoadModel::paper) {
+    block["paper"] = combination_block(primary, 1, 0);
+    block["paper"].erase("gamma_G");  // the paper's load: the structure's own weight, λ-scaled
+    block["paper"].erase("gamma_Q");
+    return block;
+  }
+  const auto [uG, uQ] = analysis::partial_factors(analysis::Combination::uls);
+  block["ULS"] = combination_block(primary, uG, uQ);
+  analysis::GridshellFrameOptions sls = frame;
+  sls.combination = analysis::Combination::sls;
+  spdlog::info("[analysis] SLS combination: linear");
+  const analysis::FrameResult r =
+      analyze_gridshell(mesh, supports, analysis::AnalysisLevel::linear, sls, options);
+  const auto [sG, sQ] = analysis::partial_factors(analysis::Combination::sls);
+  block["SLS"] = combination_block(r, sG, sQ);
+  return block;
+}
 
 GridShellOutput design_output(const DesignResult& r) {
   GridShellOutput out;

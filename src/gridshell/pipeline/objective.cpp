@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
@@ -51,6 +52,35 @@ DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s
 
 /// D and A beyond ~4 fold the deformed surface (docs/field.md): the search stays below.
 constexpr double kMaxRatio = 4;
+
+/// Round 1's shell-stress settings: the four conventions at D = A = 2.
+std::vector<FieldSetting> shell_settings() {
+  // (Across + falling, and frame-response fields with A = 2, were tried too and never came out
+  // best on the surfaces of docs/field.md: left out to keep the search affordable.)
+  struct Convention {
+    StressMeasure measure;
+    StretchAxis stretch;
+    DensityTrend density;
+  };
+  std::vector<FieldSetting> out;
+  for (const Convention& c : {Convention{StressMeasure::magnitude, StretchAxis::along,
+                                         DensityTrend::rising},
+                              Convention{StressMeasure::magnitude, StretchAxis::along,
+                                         DensityTrend::falling},
+                              Convention{StressMeasure::magnitude, StretchAxis::across,
+                                         DensityTrend::rising},
+                              Convention{StressMeasure::tension, StretchAxis::along,
+                                         DensityTrend::rising}}) {
+    FieldSetting s;
+    s.source = FieldSource::shell_stress;
+    s.D = s.A = 2;
+    s.measure = c.measure;
+    s.stretch = c.stretch;
+    s.density = c.density;
+    out.push_back(s);
+  }
+  return out;
+}
 
 /// Designs and judges one candidate. A failure marks the candidate failed, unless `rethrow`
 /// (the reference: its failure is the user's — a bad size or surface).
@@ -155,6 +185,33 @@ struct SearchProgress {
                     fmt::format("{} designs", n));
   }
 };
+
+/// The isotropic reference (its failure is the user's: thrown), with what round 1's shell-stress
+/// candidates share computed meanwhile on the other thread (prepare_design_cache: the stress,
+/// their four fields, the input surface's projector and maps), which the reference, needing no
+/// stress, would otherwise leave idle for most of its time.
+Evaluated reference_beside_warm_up(const Surface& surface, const DesignOptions& base,
+                                   DesignCache& cache) {
+  tbb::task_group group;
+  group.run([&] {
+    // A failure here is met again, and judged, by the candidate that needs the value (the
+    // cache keeps no failed value).
+    try {
+      for (const FieldSetting& s : shell_settings())
+        prepare_design_cache(surface, candidate_options(base, s, 0), cache);
+    } catch (...) {
+    }
+  });
+  std::optional<Evaluated> reference;
+  try {
+    reference = evaluate(surface, base, FieldSetting{}, nullptr, cache, 0, 1, true);
+  } catch (...) {
+    group.wait();
+    throw;
+  }
+  group.wait();
+  return std::move(*reference);
+}
 
 std::vector<Evaluated> evaluate_all(
     const Surface& surface, const DesignOptions& base,
@@ -282,29 +339,7 @@ using Pending = std::vector<std::pair<FieldSetting, const StressField*>>;
 Pending first_round(const Surface& surface, const DesignResult& reference,
                     const StressField& shell, std::deque<StressField>& responses) {
   Pending round;
-  // (Across + falling, and frame-response fields with A = 2, were tried too and never came out
-  // best on the surfaces of docs/field.md: left out to keep the search affordable.)
-  struct Convention {
-    StressMeasure measure;
-    StretchAxis stretch;
-    DensityTrend density;
-  };
-  for (const Convention& c : {Convention{StressMeasure::magnitude, StretchAxis::along,
-                                         DensityTrend::rising},
-                              Convention{StressMeasure::magnitude, StretchAxis::along,
-                                         DensityTrend::falling},
-                              Convention{StressMeasure::magnitude, StretchAxis::across,
-                                         DensityTrend::rising},
-                              Convention{StressMeasure::tension, StretchAxis::along,
-                                         DensityTrend::rising}}) {
-    FieldSetting s;
-    s.source = FieldSource::shell_stress;
-    s.D = s.A = 2;
-    s.measure = c.measure;
-    s.stretch = c.stretch;
-    s.density = c.density;
-    round.emplace_back(s, &shell);
-  }
+  for (const FieldSetting& s : shell_settings()) round.emplace_back(s, &shell);
   for (FieldSource src : {FieldSource::frame_mode, FieldSource::frame_energy}) {
     const std::vector<double>* values = response_values(reference, src);
     if (!values) continue;
@@ -406,7 +441,7 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   report_progress(options.progress, "objective search", 0, "the isotropic reference");
   std::vector<Evaluated> all;
   DesignCache cache;
-  all.push_back(evaluate(surface, base, FieldSetting{}, nullptr, cache, 0, 1, true));
+  all.push_back(reference_beside_warm_up(surface, base, cache));
   progress.one_more();
   if (stop_requested(options.stop)) throw Stopped{};
   const double length =
