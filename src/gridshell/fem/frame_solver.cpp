@@ -7,12 +7,14 @@
 #include <Spectra/SymEigsSolver.h>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 
 #include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
+#include "gridshell/fem/supernodal_solve.h"
 
 namespace gridshell::fem {
 
@@ -410,7 +412,6 @@ class Llt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
  public:
   Llt() { configure(cholmod()); }
   cholmod_factor* factor() const { return m_cholmodFactor; }
-  cholmod_common* common() const { return &const_cast<Llt*>(this)->cholmod(); }
 };
 
 // Simplicial LDLᵀ (no pivoting) for indefinite tangents; D is read off the factor.
@@ -599,46 +600,60 @@ std::vector<double> element_strain_energy(const FrameMesh& mesh, const FrameAsse
 
 namespace {
 // y = L⁻¹ P B Pᵀ L⁻ᵀ x for K = Pᵀ L Lᵀ P: a symmetric operator whose eigenvalues are 1/λ.
-// The permutations are applied directly and the triangular solves reuse CHOLMOD's workspaces
-// (cholmod_solve2), so an application allocates nothing.
+// The permutations are applied directly and the triangular solves are SupernodalTriangular's
+// (fem/supernodal_solve.h: plain loops over the small supernodes, two threads), so an
+// application allocates nothing.
 class BucklingOp {
  public:
   using Scalar = double;
   BucklingOp(const Llt& llt, const SpMat& B)
-      : llt_(llt),
+      : triangular_(*llt.factor()),
         B_(B),
         perm_(static_cast<const int*>(llt.factor()->Perm)),
         a_(B.rows()),
         b_(B.rows()) {}
-  ~BucklingOp() {
-    cholmod_common* c = llt_.common();
-    cholmod_free_dense(&x_, c);
-    cholmod_free_dense(&y_, c);
-    cholmod_free_dense(&e_, c);
-  }
-  BucklingOp(const BucklingOp&) = delete;
-  BucklingOp& operator=(const BucklingOp&) = delete;
   Eigen::Index rows() const { return B_.rows(); }
   Eigen::Index cols() const { return B_.cols(); }
   void perform_op(const double* x_in, double* y_out) const {
     const Eigen::Index n = rows();
     a_ = Eigen::Map<const Eigen::VectorXd>(x_in, n);
-    triangular(CHOLMOD_Lt, a_);  // a = L⁻ᵀ x
-    unpermute(a_, b_);           // b = Pᵀ a
-    a_.noalias() = B_ * b_;      // a = B b
-    permute(a_, b_);             // b = P a
-    triangular(CHOLMOD_L, b_);   // b = L⁻¹ b
+    triangular_.backward(a_.data());  // a = L⁻ᵀ x
+    unpermute(a_, b_);                // b = Pᵀ a
+    multiply(b_, a_);                 // a = B b
+    permute(a_, b_);                  // b = P a
+    triangular_.forward(b_.data());   // b = L⁻¹ b
     Eigen::Map<Eigen::VectorXd>(y_out, n) = b_;
   }
   Eigen::VectorXd back(const Eigen::VectorXd& y) const {
     a_ = y;
-    triangular(CHOLMOD_Lt, a_);
+    triangular_.backward(a_.data());
     Eigen::VectorXd out(rows());
     unpermute(a_, out);
     return out;
   }
 
  private:
+  // out = B v as one dot product per column (B is symmetric): the columns are independent, so
+  // they run in parallel (two interleaved partial sums each: the additions need not wait for
+  // each other).
+  void multiply(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
+    const int* outer = B_.outerIndexPtr();
+    const int* inner = B_.innerIndexPtr();
+    const double* value = B_.valuePtr();
+    tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(B_.cols()), 2048),
+                      [&](const tbb::blocked_range<int>& columns) {
+                        for (int j = columns.begin(); j != columns.end(); ++j) {
+                          double s0 = 0, s1 = 0;
+                          int k = outer[j];
+                          for (; k + 2 <= outer[j + 1]; k += 2) {
+                            s0 += value[k] * v(inner[k]);
+                            s1 += value[k + 1] * v(inner[k + 1]);
+                          }
+                          if (k < outer[j + 1]) s0 += value[k] * v(inner[k]);
+                          out(j) = s0 + s1;
+                        }
+                      });
+  }
   // (P v)_k = v_perm[k]; (Pᵀ v)_perm[k] = v_k.
   void permute(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
     for (Eigen::Index k = 0; k < v.size(); ++k) out(k) = perm_ ? v(perm_[k]) : v(k);
@@ -646,24 +661,10 @@ class BucklingOp {
   void unpermute(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
     for (Eigen::Index k = 0; k < v.size(); ++k) out(perm_ ? perm_[k] : k) = v(k);
   }
-  // v = L⁻¹ v or L⁻ᵀ v in place.
-  void triangular(int sys, Eigen::VectorXd& v) const {
-    cholmod_dense b;
-    b.nrow = b.nzmax = b.d = static_cast<size_t>(v.size());
-    b.ncol = 1;
-    b.x = v.data();
-    b.z = nullptr;
-    b.xtype = CHOLMOD_REAL;
-    b.dtype = CHOLMOD_DOUBLE;
-    if (!cholmod_solve2(sys, llt_.factor(), &b, nullptr, &x_, nullptr, &y_, &e_, llt_.common()))
-      throw std::runtime_error("CHOLMOD solve failed");
-    v = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(x_->x), v.size());
-  }
-  const Llt& llt_;
+  SupernodalTriangular triangular_;
   const SpMat& B_;
   const int* perm_;
   mutable Eigen::VectorXd a_, b_;
-  mutable cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;
 };
 
 double max_translation(const FrameMesh& mesh, const Eigen::VectorXd& v) {
