@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 
@@ -640,19 +641,21 @@ class BucklingOp {
     const int* outer = B_.outerIndexPtr();
     const int* inner = B_.innerIndexPtr();
     const double* value = B_.valuePtr();
-    tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(B_.cols()), 2048),
-                      [&](const tbb::blocked_range<int>& columns) {
-                        for (int j = columns.begin(); j != columns.end(); ++j) {
-                          double s0 = 0, s1 = 0;
-                          int k = outer[j];
-                          for (; k + 2 <= outer[j + 1]; k += 2) {
-                            s0 += value[k] * v(inner[k]);
-                            s1 += value[k + 1] * v(inner[k + 1]);
+    tbb::this_task_arena::isolate([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(B_.cols()), 2048),
+                        [&](const tbb::blocked_range<int>& columns) {
+                          for (int j = columns.begin(); j != columns.end(); ++j) {
+                            double s0 = 0, s1 = 0;
+                            int k = outer[j];
+                            for (; k + 2 <= outer[j + 1]; k += 2) {
+                              s0 += value[k] * v(inner[k]);
+                              s1 += value[k + 1] * v(inner[k + 1]);
+                            }
+                            if (k < outer[j + 1]) s0 += value[k] * v(inner[k]);
+                            out(j) = s0 + s1;
                           }
-                          if (k < outer[j + 1]) s0 += value[k] * v(inner[k]);
-                          out(j) = s0 + s1;
-                        }
-                      });
+                        });
+    });
   }
   // (P v)_k = v_perm[k]; (Pᵀ v)_perm[k] = v_k.
   void permute(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 
 namespace gridshell::fem {
 
@@ -22,8 +23,8 @@ Supernode supernode(const cholmod_factor& L, int s) {
   const int* super = static_cast<const int*>(L.super);
   const int* pi = static_cast<const int*>(L.pi);
   const int* px = static_cast<const int*>(L.px);
-  return {super[s], super[s + 1] - super[s], pi[s + 1] - pi[s], static_cast<const int*>(L.s) + pi[s],
-          static_cast<const double*>(L.x) + px[s]};
+  return {super[s], super[s + 1] - super[s], pi[s + 1] - pi[s],
+          static_cast<const int*>(L.s) + pi[s], static_cast<const double*>(L.x) + px[s]};
 }
 
 // Forward substitution through one supernode; its updates of the rows below go to x, except
@@ -181,8 +182,7 @@ SupernodalTriangular::SupernodalTriangular(const cholmod_factor& L) : L_(L) {
     }();
     if (top_entries > 0.25 * entries_) break;
     subtrees.erase(subtrees.begin());
-    subtrees.insert(subtrees.end(), tree.children[largest].begin(),
-                    tree.children[largest].end());
+    subtrees.insert(subtrees.end(), tree.children[largest].begin(), tree.children[largest].end());
   }
   if (!split_) return;
   std::sort(top.begin(), top.end());
@@ -223,7 +223,8 @@ void SupernodalTriangular::forward(double* x) const {
       forward_supernode(supernode(L_, s), x, work_[0].data(), nullptr, nullptr);
     return;
   }
-  tbb::parallel_invoke([&] { forward_group(0, x); }, [&] { forward_group(1, x); });
+  tbb::this_task_arena::isolate(
+      [&] { tbb::parallel_invoke([&] { forward_group(0, x); }, [&] { forward_group(1, x); }); });
   // The groups' updates of the top's rows, in a fixed order, then the top itself.
   for (int s : top_) {
     const Supernode S = supernode(L_, s);
@@ -243,7 +244,8 @@ void SupernodalTriangular::backward(double* x) const {
   }
   for (auto it = top_.rbegin(); it != top_.rend(); ++it)
     backward_supernode(supernode(L_, *it), x, work_[0].data());
-  tbb::parallel_invoke([&] { backward_group(0, x); }, [&] { backward_group(1, x); });
+  tbb::this_task_arena::isolate(
+      [&] { tbb::parallel_invoke([&] { backward_group(0, x); }, [&] { backward_group(1, x); }); });
 }
 
 }  // namespace gridshell::fem

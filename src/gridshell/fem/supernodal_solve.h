@@ -14,7 +14,9 @@
 /// apart and added afterwards), then the top; the back substitution does the top first, then the
 /// two groups. The split depends only on the factor's structure, never on the thread count, so
 /// the results are the same bits with one thread or two. The results equal CHOLMOD's to rounding
-/// (the sums run in another order).
+/// (the sums run in another order). The two groups run in an isolated TBB region: inside a
+/// parallel sweep or objective search the waiting thread takes no other design's work, and when
+/// every worker is busy the calling thread simply runs both groups.
 ///
 /// Not thread-safe: an object holds the work vectors of its solves (one solve at a time).
 
