@@ -1,7 +1,7 @@
 // Frame analysis timings on the shared surfaces, paper defaults (Ø37 steel, pinned supports,
 // self-weight spread by tributary area):
 //   Aquadom triangulation as a frame (11 748 beams, 2 elements per beam): linear, LBA (5 modes),
-//   one Lanczos step's forward and back substitution (CHOLMOD's, ours on two threads and on one);
+//   one Lanczos step's forward and back substitution (CHOLMOD's and ours);
 //   Lilium triangulation (7 547 beams, 2 elements per beam): the non-linear λ (arc-length).
 //   One corotational element: force, analytical tangent, finite-difference tangent (µs).
 // Run: ./build/frame_bench  (needs ../shared/data; prints δ and λ as counters). The Lilium case
@@ -14,9 +14,7 @@
 #include <algorithm>
 #include <ctime>
 #include <filesystem>
-#include <optional>
 
-#include <tbb/global_control.h>
 #include <Eigen/CholmodSupport>
 
 #include "gridshell/analysis/frame_analysis.h"
@@ -75,8 +73,8 @@ BENCHMARK(BM_AquadomBuckling)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // One Lanczos step's substitutions on the Aquadom stiffness factor (METIS ordering, as the
 // solver's): a forward and a back substitution by CHOLMOD (argument 0: cholmod_solve2, its BLAS
-// calls per supernode) or by fem/supernodal_solve.h (1: two threads; 2: one thread, the same
-// bits). Real time: the two-thread case uses the second core.
+// calls per supernode) or by fem/supernodal_solve.h (1). Here the factor stays in the cache
+// between steps; inside the LBA the K_G product and the Lanczos basis evict it.
 class MetisLlt : public Eigen::CholmodSupernodalLLT<fem::SpMat, Eigen::Lower> {
  public:
   MetisLlt() {
@@ -96,8 +94,6 @@ void BM_AquadomSubstitutions(benchmark::State& state) {
   MetisLlt llt;
   compute_factorization(llt, K);
   const fem::SupernodalTriangular own(*llt.factor());
-  std::optional<tbb::global_control> one_thread;
-  if (state.range(0) == 2) one_thread.emplace(tbb::global_control::max_allowed_parallelism, 1);
   Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(K.rows(), -1.0, 1.0);
   cholmod_dense b{};
   b.nrow = b.nzmax = b.d = static_cast<size_t>(x.size());
@@ -124,11 +120,8 @@ void BM_AquadomSubstitutions(benchmark::State& state) {
   cholmod_free_dense(&y, llt.common());
   cholmod_free_dense(&e, llt.common());
   state.counters["supernodes"] = static_cast<double>(llt.factor()->nsuper);
-  state.counters["group0"] = own.group_share(0);
-  state.counters["group1"] = own.group_share(1);
 }
-BENCHMARK(BM_AquadomSubstitutions)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_AquadomSubstitutions)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_LiliumNonlinear(benchmark::State& state) {
   const fem::FrameModel m = model_of("liliumVouga.ply");

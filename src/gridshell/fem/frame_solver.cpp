@@ -7,9 +7,7 @@
 #include <Spectra/SymEigsSolver.h>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 
@@ -602,8 +600,8 @@ std::vector<double> element_strain_energy(const FrameMesh& mesh, const FrameAsse
 namespace {
 // y = L⁻¹ P B Pᵀ L⁻ᵀ x for K = Pᵀ L Lᵀ P: a symmetric operator whose eigenvalues are 1/λ.
 // The permutations are applied directly and the triangular solves are SupernodalTriangular's
-// (fem/supernodal_solve.h: plain loops over the small supernodes, two threads), so an
-// application allocates nothing.
+// (fem/supernodal_solve.h: plain loops over the small supernodes), so an application allocates
+// nothing.
 class BucklingOp {
  public:
   using Scalar = double;
@@ -634,28 +632,22 @@ class BucklingOp {
   }
 
  private:
-  // out = B v as one dot product per column (B is symmetric): the columns are independent, so
-  // they run in parallel (two interleaved partial sums each: the additions need not wait for
-  // each other).
+  // out = B v as one dot product per column (B is symmetric, so a column is a row), in two
+  // interleaved partial sums (the additions need not wait for each other).
   void multiply(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
     const int* outer = B_.outerIndexPtr();
     const int* inner = B_.innerIndexPtr();
     const double* value = B_.valuePtr();
-    tbb::this_task_arena::isolate([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(B_.cols()), 2048),
-                        [&](const tbb::blocked_range<int>& columns) {
-                          for (int j = columns.begin(); j != columns.end(); ++j) {
-                            double s0 = 0, s1 = 0;
-                            int k = outer[j];
-                            for (; k + 2 <= outer[j + 1]; k += 2) {
-                              s0 += value[k] * v(inner[k]);
-                              s1 += value[k + 1] * v(inner[k + 1]);
-                            }
-                            if (k < outer[j + 1]) s0 += value[k] * v(inner[k]);
-                            out(j) = s0 + s1;
-                          }
-                        });
-    });
+    for (int j = 0; j < static_cast<int>(B_.cols()); ++j) {
+      double s0 = 0, s1 = 0;
+      int k = outer[j];
+      for (; k + 2 <= outer[j + 1]; k += 2) {
+        s0 += value[k] * v(inner[k]);
+        s1 += value[k + 1] * v(inner[k + 1]);
+      }
+      if (k < outer[j + 1]) s0 += value[k] * v(inner[k]);
+      out(j) = s0 + s1;
+    }
   }
   // (P v)_k = v_perm[k]; (Pᵀ v)_perm[k] = v_k.
   void permute(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
