@@ -607,7 +607,7 @@ class BucklingOp {
   using Scalar = double;
   BucklingOp(const Llt& llt, const SpMat& B)
       : triangular_(*llt.factor()),
-        B_(B),
+        B_(B.triangularView<Eigen::Upper>()),
         perm_(static_cast<const int*>(llt.factor()->Perm)),
         a_(B.rows()),
         b_(B.rows()) {}
@@ -632,21 +632,31 @@ class BucklingOp {
   }
 
  private:
-  // out = B v as one dot product per column (B is symmetric, so a column is a row), in two
-  // interleaved partial sums (the additions need not wait for each other).
+  // out = B v from B's upper triangle: column j gives row j's entries left of the diagonal
+  // (a dot product, in two interleaved partial sums) and, mirrored, column j's entries above it.
   void multiply(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
     const int* outer = B_.outerIndexPtr();
     const int* inner = B_.innerIndexPtr();
     const double* value = B_.valuePtr();
+    out.setZero();
     for (int j = 0; j < static_cast<int>(B_.cols()); ++j) {
-      double s0 = 0, s1 = 0;
+      int end = outer[j + 1];
+      const bool diagonal = end > outer[j] && inner[end - 1] == j;  // rows sorted: last
+      if (diagonal) --end;
+      const double vj = v(j);
+      double s0 = diagonal ? value[end] * vj : 0.0, s1 = 0;
       int k = outer[j];
-      for (; k + 2 <= outer[j + 1]; k += 2) {
+      for (; k + 2 <= end; k += 2) {
         s0 += value[k] * v(inner[k]);
         s1 += value[k + 1] * v(inner[k + 1]);
+        out(inner[k]) += value[k] * vj;
+        out(inner[k + 1]) += value[k + 1] * vj;
       }
-      if (k < outer[j + 1]) s0 += value[k] * v(inner[k]);
-      out(j) = s0 + s1;
+      if (k < end) {
+        s0 += value[k] * v(inner[k]);
+        out(inner[k]) += value[k] * vj;
+      }
+      out(j) += s0 + s1;
     }
   }
   // (P v)_k = v_perm[k]; (Pᵀ v)_perm[k] = v_k.
@@ -657,7 +667,7 @@ class BucklingOp {
     for (Eigen::Index k = 0; k < v.size(); ++k) out(perm_ ? perm_[k] : k) = v(k);
   }
   SupernodalTriangular triangular_;
-  const SpMat& B_;
+  SpMat B_;  ///< the upper triangle of B (half the memory traffic of a product)
   const int* perm_;
   mutable Eigen::VectorXd a_, b_;
 };
