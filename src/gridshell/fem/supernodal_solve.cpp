@@ -74,7 +74,8 @@ void backward_supernode(const Supernode& S, double* x, double* g) {
 }  // namespace
 
 SupernodalTriangular::SupernodalTriangular(const cholmod_factor& L) : L_(L) {
-  if (!L.is_super || !L.is_ll || L.xtype != CHOLMOD_REAL || L.itype != CHOLMOD_INT)
+  if (!L.is_super || !L.is_ll || L.xtype != CHOLMOD_REAL || L.dtype != CHOLMOD_DOUBLE ||
+      L.itype != CHOLMOD_INT)
     throw std::invalid_argument("SupernodalTriangular: not a real supernodal LL' factor");
   nsuper_ = static_cast<int>(L.nsuper);
   int max_below = 0;
