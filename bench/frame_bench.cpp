@@ -19,9 +19,7 @@
 
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
-#include "gridshell/core/cholmod_support.h"
 #include "gridshell/fem/frame_solver.h"
-#include "gridshell/fem/supernodal_solve.h"
 #include "gridshell/surfaces/load.h"
 
 using namespace gridshell;
@@ -70,58 +68,6 @@ void BM_AquadomBuckling(benchmark::State& state) {
   state.counters["lambda_lba"] = lambda;
 }
 BENCHMARK(BM_AquadomBuckling)->Unit(benchmark::kMillisecond)->Iterations(1);
-
-// One Lanczos step's substitutions on the Aquadom stiffness factor (METIS ordering, as the
-// solver's): a forward and a back substitution by CHOLMOD (argument 0: cholmod_solve2, its BLAS
-// calls per supernode) or by fem/supernodal_solve.h (1). Here the factor stays in the cache
-// between steps; inside the LBA the K_G product and the Lanczos basis evict it.
-class MetisLlt : public Eigen::CholmodSupernodalLLT<fem::SpMat, Eigen::Lower> {
- public:
-  MetisLlt() {
-    cholmod().nmethods = 1;
-    cholmod().method[0].ordering = CHOLMOD_METIS;
-    cholmod().postorder = 1;
-  }
-  cholmod_factor* factor() const { return m_cholmodFactor; }
-  cholmod_common* common() { return &cholmod(); }
-};
-
-void BM_AquadomSubstitutions(benchmark::State& state) {
-  const fem::FrameModel m = model_of("aquadom_Vouga.ply");
-  const fem::FrameMesh mesh = fem::discretize(m);
-  const fem::FrameAssembler asmb(mesh);
-  const fem::SpMat K = asmb.linear_stiffness();
-  MetisLlt llt;
-  compute_factorization(llt, K);
-  const fem::SupernodalTriangular own(*llt.factor());
-  Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(K.rows(), -1.0, 1.0);
-  cholmod_dense b{};
-  b.nrow = b.nzmax = b.d = static_cast<size_t>(x.size());
-  b.ncol = 1;
-  b.x = x.data();
-  b.xtype = CHOLMOD_REAL;
-  b.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense *out = nullptr, *y = nullptr, *e = nullptr;
-  cholmod_dense* out2 = nullptr;
-  const Eigen::VectorXd x0 = x;  // every step starts from x0 (repeated solves would underflow)
-  for (auto _ : state) {
-    if (state.range(0) == 0) {
-      cholmod_solve2(CHOLMOD_Lt, llt.factor(), &b, nullptr, &out, nullptr, &y, &e, llt.common());
-      cholmod_solve2(CHOLMOD_L, llt.factor(), out, nullptr, &out2, nullptr, &y, &e, llt.common());
-    } else {
-      x = x0;
-      own.backward(x.data());
-      own.forward(x.data());
-    }
-    benchmark::ClobberMemory();
-  }
-  cholmod_free_dense(&out, llt.common());
-  cholmod_free_dense(&out2, llt.common());
-  cholmod_free_dense(&y, llt.common());
-  cholmod_free_dense(&e, llt.common());
-  state.counters["supernodes"] = static_cast<double>(llt.factor()->nsuper);
-}
-BENCHMARK(BM_AquadomSubstitutions)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_LiliumNonlinear(benchmark::State& state) {
   const fem::FrameModel m = model_of("liliumVouga.ply");

@@ -14,7 +14,6 @@
 #include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/frame_pattern.h"
-#include "gridshell/fem/supernodal_solve.h"
 
 namespace gridshell::fem {
 
@@ -349,6 +348,7 @@ class Llt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
  public:
   Llt() { configure(cholmod()); }
   cholmod_factor* factor() const { return m_cholmodFactor; }
+  cholmod_common* common() const { return &const_cast<Llt*>(this)->cholmod(); }
 };
 
 // Simplicial LDLᵀ (no pivoting) for indefinite tangents; D is read off the factor.
@@ -537,66 +537,47 @@ std::vector<double> element_strain_energy(const FrameMesh& mesh, const FrameAsse
 
 namespace {
 // y = L⁻¹ P B Pᵀ L⁻ᵀ x for K = Pᵀ L Lᵀ P: a symmetric operator whose eigenvalues are 1/λ.
-// The permutations are applied directly and the triangular solves are SupernodalTriangular's
-// (fem/supernodal_solve.h: plain loops over the small supernodes), so an application allocates
-// nothing.
+// The permutations are applied directly and CHOLMOD's solve workspaces are kept, so an
+// application allocates nothing; B is kept as its upper triangle and multiplied as a
+// self-adjoint view (the product is memory-bound: half the matrix read per step).
 class BucklingOp {
  public:
   using Scalar = double;
   BucklingOp(const Llt& llt, const SpMat& B)
-      : triangular_(*llt.factor()),
+      : llt_(llt),
         B_(B.triangularView<Eigen::Upper>()),
         perm_(static_cast<const int*>(llt.factor()->Perm)),
         a_(B.rows()),
         b_(B.rows()) {}
+  ~BucklingOp() {
+    cholmod_common* c = llt_.common();
+    cholmod_free_dense(&x_, c);
+    cholmod_free_dense(&y_, c);
+    cholmod_free_dense(&e_, c);
+  }
+  BucklingOp(const BucklingOp&) = delete;
+  BucklingOp& operator=(const BucklingOp&) = delete;
   Eigen::Index rows() const { return B_.rows(); }
   Eigen::Index cols() const { return B_.cols(); }
   void perform_op(const double* x_in, double* y_out) const {
     const Eigen::Index n = rows();
     a_ = Eigen::Map<const Eigen::VectorXd>(x_in, n);
-    triangular_.backward(a_.data());  // a = L⁻ᵀ x
-    unpermute(a_, b_);                // b = Pᵀ a
-    multiply(b_, a_);                 // a = B b
-    permute(a_, b_);                  // b = P a
-    triangular_.forward(b_.data());   // b = L⁻¹ b
+    triangular(CHOLMOD_Lt, a_);                            // a = L⁻ᵀ x
+    unpermute(a_, b_);                                     // b = Pᵀ a
+    a_.noalias() = B_.selfadjointView<Eigen::Upper>() * b_;  // a = B b
+    permute(a_, b_);                                       // b = P a
+    triangular(CHOLMOD_L, b_);                             // b = L⁻¹ b
     Eigen::Map<Eigen::VectorXd>(y_out, n) = b_;
   }
   Eigen::VectorXd back(const Eigen::VectorXd& y) const {
     a_ = y;
-    triangular_.backward(a_.data());
+    triangular(CHOLMOD_Lt, a_);
     Eigen::VectorXd out(rows());
     unpermute(a_, out);
     return out;
   }
 
  private:
-  // out = B v from B's upper triangle: column j gives row j's entries left of the diagonal
-  // (a dot product, in two interleaved partial sums) and, mirrored, column j's entries above it.
-  void multiply(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
-    const int* outer = B_.outerIndexPtr();
-    const int* inner = B_.innerIndexPtr();
-    const double* value = B_.valuePtr();
-    out.setZero();
-    for (int j = 0; j < static_cast<int>(B_.cols()); ++j) {
-      int end = outer[j + 1];
-      const bool diagonal = end > outer[j] && inner[end - 1] == j;  // rows sorted: last
-      if (diagonal) --end;
-      const double vj = v(j);
-      double s0 = diagonal ? value[end] * vj : 0.0, s1 = 0;
-      int k = outer[j];
-      for (; k + 2 <= end; k += 2) {
-        s0 += value[k] * v(inner[k]);
-        s1 += value[k + 1] * v(inner[k + 1]);
-        out(inner[k]) += value[k] * vj;
-        out(inner[k + 1]) += value[k + 1] * vj;
-      }
-      if (k < end) {
-        s0 += value[k] * v(inner[k]);
-        out(inner[k]) += value[k] * vj;
-      }
-      out(j) += s0 + s1;
-    }
-  }
   // (P v)_k = v_perm[k]; (Pᵀ v)_perm[k] = v_k.
   void permute(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
     for (Eigen::Index k = 0; k < v.size(); ++k) out(k) = perm_ ? v(perm_[k]) : v(k);
@@ -604,10 +585,24 @@ class BucklingOp {
   void unpermute(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
     for (Eigen::Index k = 0; k < v.size(); ++k) out(perm_ ? perm_[k] : k) = v(k);
   }
-  SupernodalTriangular triangular_;
-  SpMat B_;  ///< the upper triangle of B (half the memory traffic of a product)
+  // v = L⁻¹ v or L⁻ᵀ v in place.
+  void triangular(int sys, Eigen::VectorXd& v) const {
+    cholmod_dense b;
+    b.nrow = b.nzmax = b.d = static_cast<size_t>(v.size());
+    b.ncol = 1;
+    b.x = v.data();
+    b.z = nullptr;
+    b.xtype = CHOLMOD_REAL;
+    b.dtype = CHOLMOD_DOUBLE;
+    if (!cholmod_solve2(sys, llt_.factor(), &b, nullptr, &x_, nullptr, &y_, &e_, llt_.common()))
+      throw std::runtime_error("CHOLMOD solve failed");
+    v = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(x_->x), v.size());
+  }
+  const Llt& llt_;
+  SpMat B_;  ///< the upper triangle of B
   const int* perm_;
   mutable Eigen::VectorXd a_, b_;
+  mutable cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;
 };
 
 double max_translation(const FrameMesh& mesh, const Eigen::VectorXd& v) {

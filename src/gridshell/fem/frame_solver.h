@@ -182,7 +182,7 @@ std::vector<MemberForces> member_forces(const FrameMesh& mesh,
 
 /// Linearised buckling: K φ = λ (−K_G(N_linear)) φ; the smallest positive λ first. Uses the
 /// factorised K of `linear` (Lanczos on L⁻¹(−K_G)L⁻ᵀ: each step one forward and one back
-/// substitution, by fem/supernodal_solve.h, and one K_G product; Aquadom triangulation,
+/// substitution by CHOLMOD, and one K_G product; Aquadom triangulation,
 /// 93 762 dofs: ~60 steps, memory-bound).
 struct BucklingResult {
   std::vector<double> lambdas;         ///< ascending, positive only
