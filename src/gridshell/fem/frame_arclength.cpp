@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -82,9 +83,11 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
   double rprev = 0;
   int last_refresh = 0, growing = 0, refreshes = 0;
   // The predicted point (iteration 1), kept for a refresh at iteration 2 (see below).
-  FrameState pred_state;
-  Eigen::VectorXd pred_du, pred_r;
-  double pred_lam = 0, pred_rn = 0;
+  struct Iterate {
+    FrameState state;
+    Eigen::VectorXd du, r;
+    double lambda = 0, rn = 0;
+  } predicted;
   bool fresh = false;        // the tangent in use is that of the previous iterate
   bool stable_only = false;  // a refreshed tangent was indefinite
   // Modified Newton: the start tangent is kept while the residual contracts fast enough
@@ -118,13 +121,7 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
       return it;
     }
     fresh = false;
-    if (it == 1) {
-      pred_state = st;
-      pred_du = du;
-      pred_lam = lam;
-      pred_r = r;
-      pred_rn = rn;
-    }
+    if (it == 1) predicted = {st, du, r, lam, rn};
     if (it >= 2) {
       growing = rho >= 1 ? growing + 1 : 0;
       // Past a critical point with the last stable tangent and no contraction: the step
@@ -145,11 +142,8 @@ int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::Vec
         last_refresh = it;
         ++refreshes;
         if (it == 2) {
-          st = pred_state;
-          du = pred_du;
-          lam = pred_lam;
-          r = pred_r;
-          rn = pred_rn;
+          std::tie(st, du, r, lam, rn) =
+              std::tie(predicted.state, predicted.du, predicted.r, predicted.lambda, predicted.rn);
           spdlog::debug("  back to the predicted point");
         }
         if (!factorize_tangent(asmb, st, work, factorizations)) return -1;
