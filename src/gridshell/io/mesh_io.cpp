@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string_view>
 
@@ -548,6 +549,13 @@ void write_ply(const fs::path& path, const PolyMesh& mesh, const std::vector<int
 
 namespace {
 
+// Appends format_number(x) and `sep` to s without a temporary string (field.vtp of a 250 K
+// triangle input holds millions of numbers).
+void append_number(std::string& s, double x, char sep) {
+  if (!std::isfinite(x)) throw Error("", "internal: refusing to write a non-finite number");
+  fmt::format_to(std::back_inserter(s), "{}{}", x, sep);
+}
+
 void append_data_arrays(std::string& s, const Attributes& attrs, Eigen::Index rows) {
   for (const auto& [name, values] : attrs) {
     if (values.rows() != rows)
@@ -557,8 +565,8 @@ void append_data_arrays(std::string& s, const Attributes& attrs, Eigen::Index ro
         "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
         name, values.cols());
     for (Eigen::Index i = 0; i < values.rows(); ++i) {
-      for (Eigen::Index c = 0; c < values.cols(); ++c) s += format_number(values(i, c)) + " ";
-      s += "\n";
+      for (Eigen::Index c = 0; c < values.cols(); ++c) append_number(s, values(i, c), ' ');
+      s += '\n';
     }
     s += "</DataArray>\n";
   }
@@ -567,8 +575,7 @@ void append_data_arrays(std::string& s, const Attributes& attrs, Eigen::Index ro
 void append_points(std::string& s, const Points& V) {
   s += "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (Eigen::Index v = 0; v < V.rows(); ++v)
-    s += fmt::format("{} {} {}\n", format_number(V(v, 0)), format_number(V(v, 1)),
-                     format_number(V(v, 2)));
+    for (int c = 0; c < 3; ++c) append_number(s, V(v, c), c < 2 ? ' ' : '\n');
   s += "</DataArray>\n</Points>\n";
 }
 
@@ -587,20 +594,21 @@ void write_polydata(const fs::path& path, const Points& V,
   append_points(s, V);
   if (!lines.empty()) {
     s += "<Lines>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-    for (const auto& l : lines) s += fmt::format("{} {}\n", l[0], l[1]);
+    for (const auto& l : lines) fmt::format_to(std::back_inserter(s), "{} {}\n", l[0], l[1]);
     s += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    for (std::size_t i = 0; i < lines.size(); ++i) s += fmt::format("{}\n", 2 * (i + 1));
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      fmt::format_to(std::back_inserter(s), "{}\n", 2 * (i + 1));
     s += "</DataArray>\n</Lines>\n";
   }
   if (!polys.empty() || lines.empty()) {
     s += "<Polys>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
     for (const auto& f : polys) {
-      for (int v : f) s += fmt::format("{} ", v);
-      s += "\n";
+      for (int v : f) fmt::format_to(std::back_inserter(s), "{} ", v);
+      s += '\n';
     }
     s += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
     std::size_t offset = 0;
-    for (const auto& f : polys) s += fmt::format("{}\n", offset += f.size());
+    for (const auto& f : polys) fmt::format_to(std::back_inserter(s), "{}\n", offset += f.size());
     s += "</DataArray>\n</Polys>\n";
   }
   s += "<PointData>\n";
