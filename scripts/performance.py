@@ -15,6 +15,7 @@ Needs ../shared/data for the shared surfaces; goals that need it are skipped wit
 import argparse
 import json
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -87,14 +88,21 @@ def goals(work):
          [["sweep", str(SURF / "Botanic.ply"), "--D", "1:4", "--A", "1:4", "--repeats", "3",
            "--length", "2018", "--analyze", "nonlinear", "-o", str(work / "sweep_botanic"),
            "--quiet"]], True),
+        ("results-md", "docs/results.md regenerated from scratch (scripts/results.py, 2 jobs; "
+         "written to the work folder, not docs/)", 900, None, "issue 20: ≈ 45 min", 2700,
+         "script",
+         [[sys.executable, str(ROOT / "scripts" / "results.py"), "--exe", "{exe}", "--work",
+           str(work / "results_work"), "--out", str(work / "results.md"), "--jobs", "2"]],
+         True),
     ]
 
 
 def run_timed(exe, args):
-    """Wall seconds, peak RSS in GB and CPU seconds (user + system, all threads) of one process;
-    raises on failure."""
+    """Wall seconds, peak RSS in GB and CPU seconds (user + system, all threads) of one process
+    (exe None: args is the whole command); raises on failure."""
     with tempfile.NamedTemporaryFile("r", suffix=".time") as t:
-        cmd = ["/usr/bin/time", "-f", "%e %M %U %S", "-o", t.name, str(exe)] + args
+        cmd = ["/usr/bin/time", "-f", "%e %M %U %S", "-o", t.name] + \
+            ([str(exe)] if exe is not None else []) + args
         t0 = time.monotonic()
         p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         wall = time.monotonic() - t0
@@ -121,7 +129,8 @@ def run_bench(build, program, name):
 
 
 def needs_data(spec):
-    return any(str(DATA) in a for args in spec for a in args) if isinstance(spec, list) else \
+    return any(str(DATA) in a or "results.py" in a for args in spec for a in args) \
+        if isinstance(spec, list) else \
         spec[0] in ("objective_bench", "voronoi_bench", "frame_bench")
 
 
@@ -130,7 +139,8 @@ def main():
     ap.add_argument("--build", default=str(ROOT / "build"))
     ap.add_argument("--only", default="")
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--long", action="store_true", help="also the sweeps (several minutes)")
+    ap.add_argument("--long", action="store_true",
+                    help="also the sweeps and docs/results.md (about 15 minutes)")
     ap.add_argument("--work", default=os.path.join(tempfile.gettempdir(),
                                                    "gridshell_performance"))
     a = ap.parse_args()
@@ -151,7 +161,13 @@ def main():
             continue
         peak = cpu = ""
         try:
-            if kind == "cmd":
+            if kind == "script":  # a whole script from scratch: its work folder emptied first
+                args = [x.replace("{exe}", str(exe)) for x in spec[-1]]
+                shutil.rmtree(args[args.index("--work") + 1], ignore_errors=True)
+                runs = [run_timed(None, args)]
+                ours, cpu = runs[0][0], f"{runs[0][2]:.2f} s"
+                peak, detail = f"{runs[0][1]:.2f} GB", "1 run"
+            elif kind == "cmd":
                 for setup in spec[:-1]:
                     run_timed(exe, setup)
                 runs = [run_timed(exe, spec[-1]) for _ in range(1 if long else a.repeats)]
@@ -168,7 +184,8 @@ def main():
             continue
         mark = "" if ours <= goal_s else " ✗"
         goal = f"≤ {goal_s:g} s" + (f", ≤ {goal_gb:g} GB" if goal_gb else "")
-        ratio = f"{anchor_s / ours:.0f}×" if anchor_s else ""
+        ratio = (f"{anchor_s / ours:.0f}×" if anchor_s / ours >= 10 else
+                 f"{anchor_s / ours:.1f}×") if anchor_s else ""
         print(f"| {name} | {what} | {ours:.2f} s{mark} ({detail}) | {cpu} | {peak} | {goal} | "
               f"{anchor or ''} | {ratio} |", flush=True)
     print(f"load average after: {os.getloadavg()[0]:.2f}", file=sys.stderr)
