@@ -732,18 +732,23 @@ void prepare_design_cache(const Surface& surface, const DesignOptions& o, Design
   warm_up(surface, o, &cache.impl());
 }
 
-DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress) {
+namespace {
+/// A given stress field must have one tensor per triangle of the surface.
+void check_stress_size(const Surface& surface, const StressField& stress) {
   if (static_cast<int>(stress.size()) != surface.mesh.num_faces())
     throw Error("field", fmt::format("{} stresses for {} triangles", stress.size(),
                                      surface.mesh.num_faces()));
+}
+}  // namespace
+
+DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress) {
+  check_stress_size(surface, stress);
   return design(surface, o, &stress, nullptr);
 }
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress,
                         DesignCache& cache) {
-  if (static_cast<int>(stress.size()) != surface.mesh.num_faces())
-    throw Error("field", fmt::format("{} stresses for {} triangles", stress.size(),
-                                     surface.mesh.num_faces()));
+  check_stress_size(surface, stress);
   return design(surface, o, &stress, &cache.impl());
 }
 
