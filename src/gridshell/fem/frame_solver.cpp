@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
 
 #include <Spectra/SymEigsSolver.h>
@@ -172,21 +173,27 @@ FrameAssembler::FrameAssembler(const FrameMesh& mesh) : mesh_(mesh), K_(frame_pa
   });
 }
 
-void FrameAssembler::scatter(const std::vector<double>& values, SpMat& K) const {
-  K = K_;
+SpMat FrameAssembler::assemble(const std::function<Mat12(int)>& element) const {
+  constexpr int kChunk = 2048;  // elements per chunk: 2.4 MB of matrices
+  const int ne = static_cast<int>(mesh_.elements.size());
+  std::vector<Mat12> chunk(static_cast<size_t>(std::min(ne, kChunk)));
+  SpMat K = K_;
   double* v = K.valuePtr();
   std::fill(v, v + K.nonZeros(), 0.0);
-  const size_t n = slot_.size();
-  for (size_t i = 0; i < n; ++i)
-    if (slot_[i] >= 0) v[slot_[i]] += values[i];
+  for (int k0 = 0; k0 < ne; k0 += kChunk) {
+    const int k1 = std::min(ne, k0 + kChunk);
+    tbb::parallel_for(k0, k1, [&](int k) { chunk[k - k0] = element(k); });
+    for (int k = k0; k < k1; ++k) {
+      const int* slot = slot_.data() + static_cast<size_t>(k) * 144;
+      const double* m = chunk[k - k0].data();  // column-major, as the slots
+      for (int q = 0; q < 144; ++q)
+        if (slot[q] >= 0) v[slot[q]] += m[q];
+    }
+  }
+  return K;
 }
 
 namespace {
-// Stores a 12×12 element matrix column-major into `out`.
-inline void store(const Mat12& K, double* out) {
-  for (int b = 0; b < 12; ++b)
-    for (int a = 0; a < 12; ++a) out[b * 12 + a] = K(a, b);
-}
 inline Mat12 truss_to12(const Mat6& k6) {
   Mat12 K = Mat12::Zero();
   K.block<3, 3>(0, 0) = k6.block<3, 3>(0, 0);
@@ -215,35 +222,18 @@ Mat12 element_linear_stiffness(const FrameMesh::Element& e) {
 }  // namespace
 
 SpMat FrameAssembler::linear_stiffness() const {
-  const int ne = static_cast<int>(mesh_.elements.size());
-  std::vector<double> vals(static_cast<size_t>(ne) * 144);
-  tbb::parallel_for(0, ne, [&](int k) {
-    store(element_linear_stiffness(mesh_.elements[k]), vals.data() + static_cast<size_t>(k) * 144);
-  });
-  SpMat K;
-  scatter(vals, K);
-  return K;
+  return assemble([&](int k) { return element_linear_stiffness(mesh_.elements[k]); });
 }
 
 SpMat FrameAssembler::geometric_stiffness(const std::vector<double>& axial) const {
-  const int ne = static_cast<int>(mesh_.elements.size());
-  std::vector<double> vals(static_cast<size_t>(ne) * 144);
-  tbb::parallel_for(0, ne, [&](int k) {
+  return assemble([&](int k) -> Mat12 {
     const auto& e = mesh_.elements[k];
-    Mat12 K;
-    if (e.truss) {
-      const Mat3 Kb = truss_block(0, e.beam.R0.col(0), axial[k], e.beam.l0);
-      Mat6 k6;
-      k6 << Kb, -Kb, -Kb, Kb;
-      K = truss_to12(k6);
-    } else {
-      K = beam_geometric_stiffness(axial[k], e.beam.l0, e.beam.R0);
-    }
-    store(K, vals.data() + static_cast<size_t>(k) * 144);
+    if (!e.truss) return beam_geometric_stiffness(axial[k], e.beam.l0, e.beam.R0);
+    const Mat3 Kb = truss_block(0, e.beam.R0.col(0), axial[k], e.beam.l0);
+    Mat6 k6;
+    k6 << Kb, -Kb, -Kb, Kb;
+    return truss_to12(k6);
   });
-  SpMat K;
-  scatter(vals, K);
-  return K;
 }
 
 namespace {
@@ -264,25 +254,20 @@ void add_force(const FrameMesh::Element& e, const Vec12& f, Eigen::VectorXd& ful
 SpMat FrameAssembler::tangent(const FrameState& state, Eigen::VectorXd* f_int_full,
                               std::vector<double>* axial, bool symmetric) const {
   const int ne = static_cast<int>(mesh_.elements.size());
-  std::vector<double> vals(static_cast<size_t>(ne) * 144);
   std::vector<Vec12> forces(ne);
   std::vector<double> N(ne);
-  tbb::parallel_for(0, ne, [&](int k) {
+  SpMat K = assemble([&](int k) -> Mat12 {
     const auto& e = mesh_.elements[k];
     const CorotState s = element_state(e, state);
-    Mat12 K;
     if (e.truss) {
-      K = truss_to12(truss_tangent(e.beam.s.EA, e.beam.l0, s.xi, s.xj));
       forces[k] = truss_f12(truss_force(e.beam.s.EA, e.beam.l0, s.xi, s.xj, &N[k]));
-    } else {
-      Vec7 f;
-      K = corot_tangent(e.beam, s, &forces[k], symmetric, &f);
-      N[k] = f(0);
+      return truss_to12(truss_tangent(e.beam.s.EA, e.beam.l0, s.xi, s.xj));
     }
-    store(K, vals.data() + static_cast<size_t>(k) * 144);
+    Vec7 f;
+    const Mat12 Ke = corot_tangent(e.beam, s, &forces[k], symmetric, &f);
+    N[k] = f(0);
+    return Ke;
   });
-  SpMat K;
-  scatter(vals, K);
   if (f_int_full) {
     f_int_full->setZero(6 * mesh_.X.rows());
     for (int k = 0; k < ne; ++k) add_force(mesh_.elements[k], forces[k], *f_int_full);
@@ -344,14 +329,18 @@ void configure(cholmod_common& c) {
   c.postorder = 1;
 }
 
-class Llt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
+// K is stored whole (frame_pattern.h); the supernodal LLᵀ reads its upper triangle, from which
+// CHOLMOD forms the permuted matrix it factorises with one transpose (from the lower triangle
+// it takes two: 5 % of the Aquadom LBA).
+class Llt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
  public:
   Llt() { configure(cholmod()); }
   cholmod_factor* factor() const { return m_cholmodFactor; }
   cholmod_common* common() const { return &const_cast<Llt*>(this)->cholmod(); }
 };
 
-// Simplicial LDLᵀ (no pivoting) for indefinite tangents; D is read off the factor.
+// Simplicial LDLᵀ (no pivoting) for indefinite tangents; D is read off the factor. The lower
+// triangle is the one CHOLMOD's simplicial factorisation permutes with one transpose.
 class Ldlt : public Eigen::CholmodSimplicialLDLT<SpMat, Eigen::Lower> {
  public:
   Ldlt() { configure(cholmod()); }
@@ -371,12 +360,16 @@ TangentSolver::TangentSolver() : impl_(std::make_unique<Impl>()) {
 }
 TangentSolver::~TangentSolver() = default;
 
+void TangentSolver::analyze(const SpMat& pattern) {
+  Impl& m = *impl_;
+  if (m.llt_analyzed) return;
+  analyze_pattern(m.llt, pattern);
+  m.llt_analyzed = true;
+}
+
 bool TangentSolver::factorize(const SpMat& K) {
   Impl& m = *impl_;
-  if (!m.llt_analyzed) {
-    analyze_pattern(m.llt, K);
-    m.llt_analyzed = true;
-  }
+  analyze(K);
   {
     const SerialOpenMpScope serial_openmp;
     m.llt.factorize(K);
@@ -485,8 +478,13 @@ void factorize_or_explain(TangentSolver& solver, const SpMat& K, const FrameMesh
 
 LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assembler,
                            const std::string& subject) {
-  const SpMat K = assembler.linear_stiffness();
   auto solver = std::make_shared<TangentSolver>();
+  // The ordering needs only the pattern: it runs beside the assembly (whose adding of element
+  // matrices into K is serial).
+  std::future<void> analysed =
+      std::async(std::launch::async, [&] { solver->analyze(assembler.pattern()); });
+  const SpMat K = assembler.linear_stiffness();
+  analysed.get();
   factorize_or_explain(*solver, K, mesh, subject);
   LinearResult r;
   r.u = solver->solve(mesh.load);
@@ -538,17 +536,17 @@ std::vector<double> element_strain_energy(const FrameMesh& mesh, const FrameAsse
 namespace {
 // y = L⁻¹ P B Pᵀ L⁻ᵀ x for K = Pᵀ L Lᵀ P: a symmetric operator whose eigenvalues are 1/λ.
 // The permutations are applied directly and CHOLMOD's solve workspaces are kept, so an
-// application allocates nothing; B is kept as its upper triangle and multiplied as a
-// self-adjoint view (the product is memory-bound: half the matrix read per step).
+// application allocates nothing; B (stored whole) is multiplied as the self-adjoint view of its
+// upper triangle (the product is memory-bound: it reads the first half of every column).
 class BucklingOp {
  public:
   using Scalar = double;
-  BucklingOp(const Llt& llt, const SpMat& B)
+  BucklingOp(const Llt& llt, SpMat B)
       : llt_(llt),
-        B_(B.triangularView<Eigen::Upper>()),
+        B_(std::move(B)),
         perm_(static_cast<const int*>(llt.factor()->Perm)),
-        a_(B.rows()),
-        b_(B.rows()) {}
+        a_(B_.rows()),
+        b_(B_.rows()) {}
   ~BucklingOp() {
     cholmod_common* c = llt_.common();
     cholmod_free_dense(&x_, c);
@@ -599,7 +597,7 @@ class BucklingOp {
     v = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(x_->x), v.size());
   }
   const Llt& llt_;
-  SpMat B_;  ///< the upper triangle of B
+  SpMat B_;
   const int* perm_;
   mutable Eigen::VectorXd a_, b_;
   mutable cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;
@@ -623,7 +621,8 @@ BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& asse
   double nmax = 0;
   for (double N : linear.axial) nmax = std::max(nmax, std::abs(N));
   if (nmax == 0) return out;
-  const SpMat B = -assembler.geometric_stiffness(linear.axial);
+  SpMat B = assembler.geometric_stiffness(linear.axial);
+  B.coeffs() *= -1;  // in place: the operator's B is −K_G
   const int n = mesh.num_dofs;
   std::vector<std::pair<double, Eigen::VectorXd>> found;
   if (n <= 300) {
@@ -646,7 +645,7 @@ BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& asse
     }
     if (!stiffness->positive_definite()) return out;
     const Llt& llt = stiffness->impl().llt;
-    BucklingOp op(llt, B);
+    BucklingOp op(llt, std::move(B));
     const int nev = std::min(options.modes, n - 2);
     const int ncv = std::min(n, std::max(2 * nev + 1, 24));
     Spectra::SymEigsSolver<BucklingOp> eigs(op, nev, ncv);
