@@ -4,6 +4,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <future>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -227,7 +228,21 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   analysis::FrameAnalysisOptions options = analysis_options(a, level, f.request);
   options.arc.progress = guard.progress;
   const analysis::FrameResult r = analysis::analyze_frame(f.model, options);
-  write_frame_outputs(a.run.out_dir, f.model, f.supports, r);
+  const bool gridshell_mesh = lower_ext(a.input) != ".json";  // members: its topology edges
+  const PolyMesh mesh{f.model.nodes, f.model.faces};
+  // A grid-shell's fabrication files (their beams.csv included) need only the mesh and the
+  // results: written on the second core while this one writes the frame's files and the report.
+  std::future<nlohmann::json> fabrication;
+  if (gridshell_mesh) {
+    analysis::GridshellFrameOptions bars;
+    bars.diameter = a.diameter;
+    fabrication = std::async(std::launch::async, [&, bars] {
+      return fabrication_report(a.run.out_dir, mesh, f.supports, &r, bars,
+                                fabrication::parse_sheet(a.sheet));
+    });
+  }
+  write_frame_outputs(a.run.out_dir, f.model, f.supports, r,
+                      gridshell_mesh ? BeamsCsv::LeaveToFabrication : BeamsCsv::Write);
   nlohmann::json report;
   nlohmann::json st = structure_block(r);
   st.erase("timings_s");  // report.json has them at the top level
@@ -238,47 +253,38 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["steel"] = a.checks.steel;
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
-  st["loads"] = lower_ext(a.input) != ".json" ? a.checks.loads
-                : f.combinations.empty()      ? "model"
-                                              : "load_cases";
-  if (lower_ext(a.input) == ".json")
+  st["loads"] = gridshell_mesh ? a.checks.loads : f.combinations.empty() ? "model" : "load_cases";
+  if (!gridshell_mesh)
     st["combinations"] = model_combinations(f, analysis_options(a, level, f.request), r);
   else
-    st["combinations"] =
-        combinations_block(PolyMesh{f.model.nodes, f.model.faces}, f.supports, frame_options(a),
-                           analysis_options(a, level, f.request), r);
+    st["combinations"] = combinations_block(mesh, f.supports, frame_options(a),
+                                            analysis_options(a, level, f.request), r);
   report["structure"] = st;
-  if (lower_ext(a.input) != ".json") {  // a grid-shell mesh: members are its topology edges
-    analysis::GridshellFrameOptions bars;
-    bars.diameter = a.diameter;
+  if (gridshell_mesh) {
     GridShellOutput out;
-    out.mesh = PolyMesh{f.model.nodes, f.model.faces};
+    out.mesh = mesh;
     out.supports = f.supports;
     add_structure(out, r);
     write_gridshell_vtp(a.run.out_dir, out);
-    report["fabrication"] = fabrication_report(a.run.out_dir, out.mesh, f.supports, &r, bars,
-                                               fabrication::parse_sheet(a.sheet));
   }
   figures::FigureInput fig{.title = fmt::format("gridshell analyze {}: {} nodes, {} members; "
                                                 "analysis {}",
                                                 a.input, f.model.num_nodes(),
                                                 f.model.members.size(), to_string(level))};
-  const PolyMesh frame{f.model.nodes, f.model.faces};
   for (const fem::FrameMember& m : f.model.members) fig.beams.push_back({m.i, m.j});
-  fig.gridshell = &frame, fig.supports = f.supports, fig.structure = &r;
+  fig.gridshell = &mesh, fig.supports = f.supports, fig.structure = &r;
   const auto t_fig = std::chrono::steady_clock::now();
   report["figures"] =
       figures::write_figures(a.run.out_dir, fig, figures::parse_figure_options(a.run.figures));
   report["timings_s"] = r.timings;
   report["timings_s"]["figures"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
+  if (gridshell_mesh) report["fabrication"] = fabrication.get();
   write_report(a.run.out_dir, report);
-  write_report_page(
-      a.run.out_dir,
-      lower_ext(a.input) == ".json"
-          ? report::frame_report_input(f.model, f.supports, r)
-          : report::gridshell_report_input(PolyMesh{f.model.nodes, f.model.faces}, f.supports, &r),
-      report, sub);
+  write_report_page(a.run.out_dir,
+                    !gridshell_mesh ? report::frame_report_input(f.model, f.supports, r)
+                                    : report::gridshell_report_input(mesh, f.supports, &r),
+                    report, sub);
   write_config(a.run.out_dir, sub);
   return 0;
 }

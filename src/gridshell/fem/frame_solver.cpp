@@ -560,11 +560,11 @@ class BucklingOp {
   void perform_op(const double* x_in, double* y_out) const {
     const Eigen::Index n = rows();
     a_ = Eigen::Map<const Eigen::VectorXd>(x_in, n);
-    triangular(CHOLMOD_Lt, a_);                            // a = L⁻ᵀ x
-    unpermute(a_, b_);                                     // b = Pᵀ a
+    triangular(CHOLMOD_Lt, a_);                              // a = L⁻ᵀ x
+    unpermute(a_, b_);                                       // b = Pᵀ a
     a_.noalias() = B_.selfadjointView<Eigen::Upper>() * b_;  // a = B b
-    permute(a_, b_);                                       // b = P a
-    triangular(CHOLMOD_L, b_);                             // b = L⁻¹ b
+    permute(a_, b_);                                         // b = P a
+    triangular(CHOLMOD_L, b_);                               // b = L⁻¹ b
     Eigen::Map<Eigen::VectorXd>(y_out, n) = b_;
   }
   Eigen::VectorXd back(const Eigen::VectorXd& y) const {

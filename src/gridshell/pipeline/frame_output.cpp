@@ -18,7 +18,8 @@ std::string fmt_num(double x) {
 }  // namespace
 
 void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel& model,
-                         const std::vector<int>& supports, const analysis::FrameResult& r) {
+                         const std::vector<int>& supports, const analysis::FrameResult& r,
+                         BeamsCsv beams) {
   std::vector<char> is_support(model.num_nodes(), 0);
   for (int v : supports)
     if (v >= 0 && v < model.num_nodes()) is_support[v] = 1;
@@ -31,7 +32,7 @@ void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel
                        fmt_num(r.displacement(v, 2)), int(is_support[v]));
     io::write_file_atomic(dir / "nodes.csv", s);
   }
-  {
+  if (beams == BeamsCsv::Write) {
     std::string s = "beam,node_i,node_j,length,axial_force,utilisation,buckling_utilisation\n";
     for (size_t m = 0; m < model.members.size(); ++m)
       s += fmt::format("{},{},{},{},{},{},{}\n", m, model.members[m].i, model.members[m].j,

@@ -15,9 +15,14 @@
 
 namespace gridshell {
 
+/// Whether write_frame_outputs writes beams.csv: a grid-shell's fabrication files
+/// (fabrication/fabrication_files.h) write their own, the same columns and more.
+enum class BeamsCsv { Write, LeaveToFabrication };
+
 /// Writes the files above into `dir` (which must exist). `supports`: supported model nodes.
 void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel& model,
-                         const std::vector<int>& supports, const analysis::FrameResult& r);
+                         const std::vector<int>& supports, const analysis::FrameResult& r,
+                         BeamsCsv beams = BeamsCsv::Write);
 
 /// modes.csv `mode,lambda,joint,ux,uy,uz`: the first `count` buckling modes' shapes (joint
 /// translations, largest 1, sign arbitrary) with their λ. Nothing when there are no modes.
