@@ -23,7 +23,8 @@ PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libsuitespa
   libblis4-serial libatlas3-base)
 
 # jemalloc: the executables' allocator, backed by transparent huge pages (src/interpose/allocator.cpp;
-# the Aquadom LBA 23 % faster on the 2-core VM, where a 4 KB page fault costs several µs).
+# page faults were a fifth of the Aquadom LBA on the 2-core VM, where one costs several µs;
+# docs/performance.md). Optional: without it CMake falls back to glibc's malloc.
 PACKAGES+=(libjemalloc-dev)
 
 # Open MPI: the optional distributed sweep (`mpirun -n K gridshell sweep ...`) and its test.

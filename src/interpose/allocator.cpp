@@ -10,9 +10,10 @@
 // 30 s before giving them back, so what a step frees the next one reuses instead of faulting it
 // in again. Trade-off measured (docs/performance.md): pages kept for the process's life made
 // the 8188-beam non-linear path ~5 % faster still but raised the fine input's peak from 0.56 to
-// 0.80 GB (freed pages kept in each thread's arena); jemalloc's default (pages given back
-// within seconds) re-faulted huge pages in that path. Where the kernel offers no huge pages the
-// setting does nothing. The environment's MALLOC_CONF is applied after these and overrides them.
+// 0.80 GB (freed pages kept in each thread's arena); with jemalloc's default (pages given back
+// within seconds) that path ran 40 % slower in one unpaired sitting. Where the kernel offers no
+// huge pages the setting does nothing. The environment's MALLOC_CONF is applied after these and
+// overrides them.
 
 extern "C" {
 // Read by jemalloc at its initialisation (its documented compile-time configuration symbol).

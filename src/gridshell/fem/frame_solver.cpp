@@ -331,7 +331,7 @@ void configure(cholmod_common& c) {
 
 // K is stored whole (frame_pattern.h); the supernodal LLᵀ reads its upper triangle, from which
 // CHOLMOD forms the permuted matrix it factorises with one transpose (from the lower triangle
-// it takes two: 5 % of the Aquadom LBA).
+// it takes two; CHOLMOD's transposes were 5 % of the Aquadom LBA's process).
 class Llt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
  public:
   Llt() { configure(cholmod()); }
