@@ -13,6 +13,10 @@
 ///   (50 K-triangle shell: factorisation CPU 2.6 s → 1.4–1.9 s). `SerialOpenMpScope` keeps them
 ///   at one thread on the calling thread; they partition by column, so results do not change.
 ///   The OpenMP runtime is CHOLMOD's dependency, found at run time; without one nothing is done.
+///   libgomp still ends each one-thread region with a system call (several per supernode: 88 000
+///   for one factorisation of the Aquadom frame); executables that link the CMake target
+///   `gridshell_openmp` (src/interpose/openmp.cpp: the gridshell executable, the tests and the
+///   benchmarks) run such regions directly instead.
 /// - The supernodal factorisation calls LAPACK's `dpotrf_` once per supernode on its diagonal
 ///   block; most blocks are small (50 K-triangle shell: 10 000 calls, n ≈ 40 on average), where
 ///   the LAPACKs Debian offers spend ~40 µs per call in per-call overhead (ATLAS recursing into
