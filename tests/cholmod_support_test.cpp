@@ -1,7 +1,8 @@
 // The library's own dpotrf_ for small blocks (core/cholmod_support.h): it must agree with an
 // independent Cholesky (Eigen's LLT) and with the system LAPACK it stands in front of, report
 // a matrix that is not positive definite exactly as LAPACK does (CHOLMOD's mechanism detection
-// relies on it), and be the dpotrf_ the process actually calls.
+// relies on it), and be the dpotrf_ the process actually calls. Likewise the small dtrsv_ and
+// dgemv_ of CHOLMOD's supernodal solves: Eigen's answers, the system BLAS's to rounding.
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
@@ -96,6 +97,91 @@ TEST(SmallPotrf, IsTheDpotrfTheProcessCallsAndMatchesTheSystemLapack) {
     if (n <= kSmallPotrfMax) {  // small blocks: exactly small_potrf's bits
       ASSERT_EQ(small_potrf('L', n, c.data(), n), 0);
       EXPECT_EQ(a, c) << "n=" << n;
+    }
+  }
+}
+
+using Trsv = void (*)(const char*, const char*, const char*, const int*, const double*, const int*,
+                     double*, const int*);
+using Gemv = void (*)(const char*, const int*, const int*, const double*, const double*,
+                      const int*, const double*, const int*, const double*, double*, const int*);
+
+Eigen::MatrixXd random_matrix(int rows, int cols, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::MatrixXd M(rows, cols);
+  for (int j = 0; j < cols; ++j)
+    for (int i = 0; i < rows; ++i) M(i, j) = u(rng);
+  return M;
+}
+
+TEST(SmallBlas2, TriangularSolvesAgreeWithEigen) {
+  for (int n : {1, 2, 6, 13, kSmallBlas2Max}) {
+    const int lda = n + 5;  // a supernode's block: rows below the triangle
+    Eigen::MatrixXd S = random_matrix(lda, n, 3u + n);
+    for (int j = 0; j < n; ++j) S(j, j) = 2.0 + std::abs(S(j, j));  // well conditioned
+    const Eigen::MatrixXd L = S.topRows(n).triangularView<Eigen::Lower>();
+    const Eigen::VectorXd b = random_matrix(n, 1, 17u + n);
+    Eigen::VectorXd x = b;
+    small_trsv_lower('N', n, S.data(), lda, x.data());
+    EXPECT_LT((L * x - b).cwiseAbs().maxCoeff(), 1e-13) << "n=" << n;
+    x = b;
+    small_trsv_lower('T', n, S.data(), lda, x.data());
+    EXPECT_LT((L.transpose() * x - b).cwiseAbs().maxCoeff(), 1e-13) << "n=" << n;
+  }
+}
+
+TEST(SmallBlas2, MatrixVectorProductsAgreeWithEigen) {
+  for (auto [m, n] : {std::pair{0, 3}, {7, 1}, {12, 6}, {300, kSmallBlas2Max}}) {
+    const int lda = m + 2;
+    const Eigen::MatrixXd S = random_matrix(lda, n, 5u + m + n);
+    const Eigen::MatrixXd A = S.topRows(m);
+    const Eigen::VectorXd x = random_matrix(n, 1, 9u + n), xt = random_matrix(m, 1, 11u + m);
+    const Eigen::VectorXd y0 = random_matrix(m, 1, 13u + m), y0t = random_matrix(n, 1, 15u + n);
+    Eigen::VectorXd y = y0, yt = y0t;
+    small_gemv_accumulate('N', m, n, -1.0, S.data(), lda, x.data(), y.data());
+    small_gemv_accumulate('T', m, n, 0.5, S.data(), lda, xt.data(), yt.data());
+    if (m > 0) {
+      EXPECT_LT((y - (y0 - A * x)).cwiseAbs().maxCoeff(), 1e-13) << m << "x" << n;
+    }
+    EXPECT_LT((yt - (y0t + 0.5 * A.transpose() * xt)).cwiseAbs().maxCoeff(), 1e-13)
+        << m << "x" << n;
+  }
+}
+
+TEST(SmallBlas2, AreTheRoutinesTheProcessCallsAndMatchTheSystemBlas) {
+  void* blas = dlopen("libblas.so.3", RTLD_NOW | RTLD_GLOBAL);
+  if (blas == nullptr) GTEST_SKIP() << "no libblas.so.3";
+  const auto system_trsv = std::bit_cast<Trsv>(dlsym(blas, "dtrsv_"));
+  const auto system_gemv = std::bit_cast<Gemv>(dlsym(blas, "dgemv_"));
+  const auto trsv = std::bit_cast<Trsv>(dlsym(RTLD_DEFAULT, "dtrsv_"));
+  const auto gemv = std::bit_cast<Gemv>(dlsym(RTLD_DEFAULT, "dgemv_"));
+  ASSERT_TRUE(system_trsv && system_gemv && trsv && gemv);
+  EXPECT_NE(trsv, system_trsv) << "the process resolves dtrsv_ to the BLAS's";
+  EXPECT_NE(gemv, system_gemv) << "the process resolves dgemv_ to the BLAS's";
+  const int one = 1, two = 2;
+  // Narrow blocks (ours) and wide ones and strided vectors (passed on): both give the BLAS's
+  // answer to rounding.
+  for (int n : {6, kSmallBlas2Max, kSmallBlas2Max + 8}) {
+    const int m = 3 * n, lda = m;
+    Eigen::MatrixXd S = random_matrix(lda, n, 21u + n);
+    for (int j = 0; j < n; ++j) S(j, j) = 2.0 + std::abs(S(j, j));
+    const Eigen::VectorXd b = random_matrix(2 * m, 1, 23u + n);
+    for (const char* t : {"N", "T"}) {
+      Eigen::VectorXd x = b.head(n), y = b.head(n);
+      trsv("L", t, "N", &n, S.data(), &lda, x.data(), &one);
+      system_trsv("L", t, "N", &n, S.data(), &lda, y.data(), &one);
+      EXPECT_LT((x - y).cwiseAbs().maxCoeff(), 1e-12) << t << n;
+      Eigen::VectorXd xs = b, ys = b;  // every other entry
+      trsv("L", t, "N", &n, S.data(), &lda, xs.data(), &two);
+      system_trsv("L", t, "N", &n, S.data(), &lda, ys.data(), &two);
+      EXPECT_LT((xs - ys).cwiseAbs().maxCoeff(), 1e-12) << t << n << " strided";
+      const double alpha = -1.0, beta = 1.0;
+      Eigen::VectorXd u = b.head(t[0] == 'N' ? m : n), v = u;
+      const Eigen::VectorXd in = b.tail(t[0] == 'N' ? n : m);
+      gemv(t, &m, &n, &alpha, S.data(), &lda, in.data(), &one, &beta, u.data(), &one);
+      system_gemv(t, &m, &n, &alpha, S.data(), &lda, in.data(), &one, &beta, v.data(), &one);
+      EXPECT_LT((u - v).cwiseAbs().maxCoeff(), 1e-12) << t << n;
     }
   }
 }

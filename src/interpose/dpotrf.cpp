@@ -1,6 +1,6 @@
 // dpotrf_ for small blocks (core/cholmod_support.h). CHOLMOD calls LAPACK's dpotrf_ on the
 // diagonal block of every supernode; this definition, linked into an executable (CMake target
-// gridshell_dpotrf, exported to the dynamic symbol table), takes precedence over liblapack's.
+// gridshell_small_dense, exported to the dynamic symbol table), takes precedence over liblapack's.
 // It is opt-in: the library itself never replaces a LAPACK routine of the process it is linked
 // into. The gridshell executable, the tests and the benchmarks link it.
 

@@ -98,5 +98,43 @@ int small_potrf(char uplo, int n, double* a, int lda) {
   return (uplo == 'U' || uplo == 'u') ? potrf_upper(n, a, lda) : potrf_lower(n, a, lda);
 }
 
+void small_trsv_lower(char trans, int n, const double* a, int lda, double* x) {
+  const long ld = lda;
+  if (trans == 'N' || trans == 'n') {
+    for (int j = 0; j < n; ++j) {  // forward: column j eliminates x_j from the rows below
+      const double* c = a + j * ld;
+      const double xj = x[j] / c[j];
+      x[j] = xj;
+      for (int i = j + 1; i < n; ++i) x[i] -= xj * c[i];
+    }
+    return;
+  }
+  for (int j = n - 1; j >= 0; --j) {  // backward with Lᵀ: row j of Lᵀ is column j of L
+    const double* c = a + j * ld;
+    double s = x[j];
+    for (int i = j + 1; i < n; ++i) s -= c[i] * x[i];
+    x[j] = s / c[j];
+  }
+}
+
+void small_gemv_accumulate(char trans, int m, int n, double alpha, const double* a, int lda,
+                           const double* x, double* y) {
+  const long ld = lda;
+  if (trans == 'N' || trans == 'n') {
+    for (int j = 0; j < n; ++j) {
+      const double* c = a + j * ld;
+      const double s = alpha * x[j];
+      for (int i = 0; i < m; ++i) y[i] += s * c[i];
+    }
+    return;
+  }
+  for (int j = 0; j < n; ++j) {
+    const double* c = a + j * ld;
+    double s = 0;
+    for (int i = 0; i < m; ++i) s += c[i] * x[i];
+    y[j] += alpha * s;
+  }
+}
+
 }  // namespace gridshell
 

@@ -22,7 +22,7 @@
 ///   the LAPACKs Debian offers spend ~40 µs per call in per-call overhead (ATLAS recursing into
 ///   BLAS: 0.5 GFlop/s, 0.4 s of a 1.5 s factorisation; libflame and reference LAPACK are no
 ///   better). The project therefore has its own `dpotrf_` (src/interpose/dpotrf.cpp, CMake
-///   target `gridshell_dpotrf`, linked into the gridshell executable, the tests and the
+///   target `gridshell_small_dense`, linked into the gridshell executable, the tests and the
 ///   benchmarks; the library alone does not replace a routine of the process that links it):
 ///   blocks up to `kSmallPotrfMax` are
 ///   factorised in place by `small_potrf` (a plain column Cholesky, same result to rounding and
@@ -66,6 +66,23 @@ inline constexpr int kSmallPotrfMax = 96;
 /// Cholesky factor of the `uplo` ('L' or 'U') triangle in place. Returns LAPACK's info: 0, or the
 /// 1-based order of the first leading minor that is not positive definite.
 int small_potrf(char uplo, int n, double* a, int lda);
+
+/// Widest block (columns) that the executables' `dtrsv_` and `dgemv_` handle themselves
+/// (src/interpose/blas2.cpp). CHOLMOD's supernodal solve makes one of each per supernode and
+/// direction; most supernodes of a frame are ≤ 6 columns wide (Aquadom: 11 281 of 12 732), where
+/// the BLAS's per-call cost (BLIS: ~0.2 µs) outweighs the work: 3.3 M such calls in the Aquadom
+/// LBA's 62 Lanczos steps. Wider blocks, strides ≠ 1 and the cases CHOLMOD does not use are
+/// passed on to the system BLAS.
+inline constexpr int kSmallBlas2Max = 32;
+
+/// BLAS `dtrsv` for a lower-triangular, non-unit n × n block (column-major, leading dimension
+/// lda) and a contiguous x: x = L⁻¹ x (`trans` 'N') or L⁻ᵀ x ('T' or 'C'), in place.
+void small_trsv_lower(char trans, int n, const double* a, int lda, double* x);
+
+/// BLAS `dgemv` with β = 1 and contiguous x and y: y += α A x (`trans` 'N'; A is m × n) or
+/// y += α Aᵀ x ('T' or 'C').
+void small_gemv_accumulate(char trans, int m, int n, double alpha, const double* a, int lda,
+                           const double* x, double* y);
 
 /// For its lifetime, OpenMP regions opened by the calling thread run on one thread.
 class SerialOpenMpScope {
