@@ -1,8 +1,9 @@
 // The library's own dpotrf_ for small blocks (core/cholmod_support.h): it must agree with an
 // independent Cholesky (Eigen's LLT) and with the system LAPACK it stands in front of, report
 // a matrix that is not positive definite exactly as LAPACK does (CHOLMOD's mechanism detection
-// relies on it), and be the dpotrf_ the process actually calls. Likewise the small dtrsv_ and
-// dgemv_ of CHOLMOD's supernodal solves: Eigen's answers, the system BLAS's to rounding.
+// relies on it), and be the dpotrf_ the process actually calls. Likewise the small BLAS calls of
+// CHOLMOD's supernodal factorisation (dsyrk_, dgemm_, dtrsm_) and solves (dtrsv_, dgemv_):
+// Eigen's answers, the system BLAS's to rounding, and the routines the process resolves to.
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
@@ -10,6 +11,7 @@
 #include <Eigen/Dense>
 #include <bit>
 #include <random>
+#include <tuple>
 
 #include "gridshell/core/cholmod_support.h"
 
@@ -183,6 +185,80 @@ TEST(SmallBlas2, AreTheRoutinesTheProcessCallsAndMatchTheSystemBlas) {
       system_gemv(t, &m, &n, &alpha, S.data(), &lda, in.data(), &one, &beta, v.data(), &one);
       EXPECT_LT((u - v).cwiseAbs().maxCoeff(), 1e-12) << t << n;
     }
+  }
+}
+
+TEST(SmallBlas3, FactorisationKernelsAgreeWithEigen) {
+  // The shapes of a supernode's update (k descendant columns, n rows of the triangle, m below).
+  for (auto [m, n, k] : {std::tuple{0, 1, 1}, {5, 6, 6}, {12, 6, 3}, {40, 12, 9}}) {
+    const Eigen::MatrixXd A = random_matrix(n + m, k, 31u + m + n + k);
+    const int lda = n + m, ldc = n + m + 1;
+    const Eigen::MatrixXd top = A.topRows(n), below = A.bottomRows(m);
+    Eigen::MatrixXd C = Eigen::MatrixXd::Constant(ldc, n, 7.0);  // beta = 0: not read
+    small_syrk_lower(n, k, 1.0, A.data(), lda, C.data(), ldc);
+    const Eigen::MatrixXd syrk = top * top.transpose();
+    EXPECT_LT((C.topRows(n) - syrk).triangularView<Eigen::Lower>().toDenseMatrix()
+                  .cwiseAbs().maxCoeff(), 1e-13);
+    EXPECT_EQ(C(0, n - 1), n > 1 ? 7.0 : C(0, 0)) << "the strict upper triangle is left alone";
+    Eigen::MatrixXd G = Eigen::MatrixXd::Constant(ldc, n, 7.0);
+    small_gemm_nt(m, n, k, -2.0, A.data() + n, lda, A.data(), lda, G.data(), ldc);
+    if (m > 0) {
+      EXPECT_LT((G.topRows(m) - (-2.0 * below * top.transpose())).cwiseAbs().maxCoeff(), 1e-13);
+    }
+    // B L⁻ᵀ for L the Cholesky factor of an SPD block.
+    Eigen::MatrixXd S = random_matrix(n, n, 41u + n);
+    S = S * S.transpose() + n * Eigen::MatrixXd::Identity(n, n);
+    const Eigen::MatrixXd L = S.llt().matrixL();
+    const Eigen::MatrixXd B = random_matrix(m, n, 43u + m);
+    Eigen::MatrixXd X = B;
+    small_trsm_right_lower_t(m, n, L.data(), n, X.data(), std::max(m, 1));
+    if (m > 0) {
+      EXPECT_LT((X * L.transpose() - B).cwiseAbs().maxCoeff(), 1e-12);
+    }
+  }
+}
+
+TEST(SmallBlas3, AreTheRoutinesTheProcessCallsAndMatchTheSystemBlas) {
+  void* blas = dlopen("libblas.so.3", RTLD_NOW | RTLD_GLOBAL);
+  if (blas == nullptr) GTEST_SKIP() << "no libblas.so.3";
+  using Syrk = void (*)(const char*, const char*, const int*, const int*, const double*,
+                        const double*, const int*, const double*, double*, const int*);
+  using Gemm = void (*)(const char*, const char*, const int*, const int*, const int*,
+                        const double*, const double*, const int*, const double*, const int*,
+                        const double*, double*, const int*);
+  using Trsm = void (*)(const char*, const char*, const char*, const char*, const int*,
+                        const int*, const double*, const double*, const int*, double*, const int*);
+  const auto sys_syrk = std::bit_cast<Syrk>(dlsym(blas, "dsyrk_"));
+  const auto sys_gemm = std::bit_cast<Gemm>(dlsym(blas, "dgemm_"));
+  const auto sys_trsm = std::bit_cast<Trsm>(dlsym(blas, "dtrsm_"));
+  const auto syrk = std::bit_cast<Syrk>(dlsym(RTLD_DEFAULT, "dsyrk_"));
+  const auto gemm = std::bit_cast<Gemm>(dlsym(RTLD_DEFAULT, "dgemm_"));
+  const auto trsm = std::bit_cast<Trsm>(dlsym(RTLD_DEFAULT, "dtrsm_"));
+  ASSERT_TRUE(sys_syrk && sys_gemm && sys_trsm && syrk && gemm && trsm);
+  EXPECT_NE(syrk, sys_syrk);
+  EXPECT_NE(gemm, sys_gemm);
+  EXPECT_NE(trsm, sys_trsm);
+  const double one = 1.0, zero = 0.0;
+  // Small calls (ours) and large ones (passed on) give the BLAS's answer to rounding.
+  for (int n : {6, 20, 60}) {
+    const int m = 2 * n, k = n, ld = m + n;
+    const Eigen::MatrixXd A = random_matrix(ld, k, 51u + n);
+    Eigen::MatrixXd C1 = Eigen::MatrixXd::Zero(ld, n), C2 = C1;
+    syrk("L", "N", &n, &k, &one, A.data(), &ld, &zero, C1.data(), &ld);
+    sys_syrk("L", "N", &n, &k, &one, A.data(), &ld, &zero, C2.data(), &ld);
+    EXPECT_LT((C1 - C2).triangularView<Eigen::Lower>().toDenseMatrix().cwiseAbs().maxCoeff(),
+              1e-12) << n;
+    Eigen::MatrixXd G1 = Eigen::MatrixXd::Zero(ld, n), G2 = G1;
+    gemm("N", "C", &m, &n, &k, &one, A.data() + n, &ld, A.data(), &ld, &zero, G1.data(), &ld);
+    sys_gemm("N", "C", &m, &n, &k, &one, A.data() + n, &ld, A.data(), &ld, &zero, G2.data(), &ld);
+    EXPECT_LT((G1 - G2).cwiseAbs().maxCoeff(), 1e-12) << n;
+    Eigen::MatrixXd S = random_matrix(n, n, 53u + n);
+    S = S * S.transpose() + n * Eigen::MatrixXd::Identity(n, n);
+    const Eigen::MatrixXd L = S.llt().matrixL();
+    Eigen::MatrixXd X1 = random_matrix(m, n, 57u + n), X2 = X1;
+    trsm("R", "L", "C", "N", &m, &n, &one, L.data(), &n, X1.data(), &m);
+    sys_trsm("R", "L", "C", "N", &m, &n, &one, L.data(), &n, X2.data(), &m);
+    EXPECT_LT((X1 - X2).cwiseAbs().maxCoeff(), 1e-12) << n;
   }
 }
 

@@ -117,6 +117,49 @@ void small_trsv_lower(char trans, int n, const double* a, int lda, double* x) {
   }
 }
 
+void small_syrk_lower(int n, int k, double alpha, const double* a, int lda, double* c, int ldc) {
+  const long la = lda, lc = ldc;
+  for (int j = 0; j < n; ++j) std::fill(c + j * lc + j, c + j * lc + n, 0.0);
+  for (int l = 0; l < k; ++l) {  // rank-1 updates, column by column of the lower triangle
+    const double* al = a + l * la;
+    for (int j = 0; j < n; ++j) {
+      const double s = alpha * al[j];
+      double* cj = c + j * lc;
+      for (int i = j; i < n; ++i) cj[i] += s * al[i];
+    }
+  }
+}
+
+void small_gemm_nt(int m, int n, int k, double alpha, const double* a, int lda, const double* b,
+                   int ldb, double* c, int ldc) {
+  const long la = lda, lb = ldb, lc = ldc;
+  for (int j = 0; j < n; ++j) std::fill(c + j * lc, c + j * lc + m, 0.0);
+  for (int l = 0; l < k; ++l) {
+    const double* al = a + l * la;
+    const double* bl = b + l * lb;
+    for (int j = 0; j < n; ++j) {
+      const double s = alpha * bl[j];
+      double* cj = c + j * lc;
+      for (int i = 0; i < m; ++i) cj[i] += s * al[i];
+    }
+  }
+}
+
+void small_trsm_right_lower_t(int m, int n, const double* a, int lda, double* b, int ldb) {
+  // X Lᵀ = B column by column: X(:, j) = (B(:, j) − Σ_{i<j} L(j, i) X(:, i)) / L(j, j).
+  const long la = lda, lb = ldb;
+  for (int j = 0; j < n; ++j) {
+    double* bj = b + j * lb;
+    for (int i = 0; i < j; ++i) {
+      const double l = a[j + i * la];
+      const double* bi = b + i * lb;
+      for (int r = 0; r < m; ++r) bj[r] -= l * bi[r];
+    }
+    const double d = a[j + j * la];
+    for (int r = 0; r < m; ++r) bj[r] /= d;
+  }
+}
+
 void small_gemv_accumulate(char trans, int m, int n, double alpha, const double* a, int lda,
                            const double* x, double* y) {
   const long ld = lda;

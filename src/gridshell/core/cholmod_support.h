@@ -68,7 +68,7 @@ inline constexpr int kSmallPotrfMax = 96;
 int small_potrf(char uplo, int n, double* a, int lda);
 
 /// Widest block (columns) that the executables' `dtrsv_` and `dgemv_` handle themselves
-/// (src/interpose/blas2.cpp). CHOLMOD's supernodal solve makes one of each per supernode and
+/// (src/interpose/small_blas.cpp). CHOLMOD's supernodal solve makes one of each per supernode and
 /// direction; most supernodes of a frame are ≤ 6 columns wide (Aquadom: 11 281 of 12 732), where
 /// the BLAS's per-call cost (BLIS: ~0.2 µs) outweighs the work: 3.3 M such calls in the Aquadom
 /// LBA's 62 Lanczos steps. Wider blocks, strides ≠ 1 and the cases CHOLMOD does not use are
@@ -83,6 +83,24 @@ void small_trsv_lower(char trans, int n, const double* a, int lda, double* x);
 /// y += α Aᵀ x ('T' or 'C').
 void small_gemv_accumulate(char trans, int m, int n, double alpha, const double* a, int lda,
                            const double* x, double* y);
+
+/// Largest level-3 call, in multiply-adds, that the executables' `dgemm_`, `dsyrk_` and
+/// `dtrsm_` do themselves (src/interpose/small_blas.cpp). CHOLMOD's supernodal factorisation
+/// makes a dsyrk and a dgemm per pair of a supernode and a descendant updating it, and a dtrsm
+/// per supernode: 52 000 calls for the Aquadom frame, 95 % of them under this size, where BLIS's
+/// per-call cost (packing buffers, ~µs) is most of the time. Larger calls, and the cases CHOLMOD
+/// does not make, are passed on to the system BLAS.
+inline constexpr long kSmallBlas3Max = 8192;
+
+/// BLAS `dsyrk` ('L', 'N', β = 0): the lower triangle of the n × n C = α A Aᵀ, A n × k.
+void small_syrk_lower(int n, int k, double alpha, const double* a, int lda, double* c, int ldc);
+
+/// BLAS `dgemm` ('N', 'T', β = 0): the m × n C = α A Bᵀ, A m × k, B n × k.
+void small_gemm_nt(int m, int n, int k, double alpha, const double* a, int lda, const double* b,
+                   int ldb, double* c, int ldc);
+
+/// BLAS `dtrsm` ('R', 'L', 'T', 'N', α = 1): B = B L⁻ᵀ, B m × n, L n × n lower triangular.
+void small_trsm_right_lower_t(int m, int n, const double* a, int lda, double* b, int ldb);
 
 /// For its lifetime, OpenMP regions opened by the calling thread run on one thread.
 class SerialOpenMpScope {
