@@ -20,14 +20,20 @@ namespace {
 
 using Potrf = void (*)(const char*, const int*, double*, const int*, int*);
 
+// Entries uniform in [−1, 1], column by column.
+Eigen::MatrixXd random_matrix(int rows, int cols, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::MatrixXd M(rows, cols);
+  for (int j = 0; j < cols; ++j)
+    for (int i = 0; i < rows; ++i) M(i, j) = u(rng);
+  return M;
+}
+
 // A random SPD matrix with condition number around 1e3, stored with a leading dimension lda > n
 // (the padding rows hold a sentinel that must survive).
 Eigen::MatrixXd random_spd(int n, int lda, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::MatrixXd B(n, n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) B(i, j) = u(rng);
+  const Eigen::MatrixXd B = random_matrix(n, n, seed);
   Eigen::MatrixXd A = B * B.transpose() + 1e-2 * n * Eigen::MatrixXd::Identity(n, n);
   Eigen::MatrixXd S = Eigen::MatrixXd::Constant(lda, n, 12345.0);
   S.topRows(n) = A;
@@ -107,15 +113,6 @@ using Trsv = void (*)(const char*, const char*, const char*, const int*, const d
                      double*, const int*);
 using Gemv = void (*)(const char*, const int*, const int*, const double*, const double*,
                       const int*, const double*, const int*, const double*, double*, const int*);
-
-Eigen::MatrixXd random_matrix(int rows, int cols, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::MatrixXd M(rows, cols);
-  for (int j = 0; j < cols; ++j)
-    for (int i = 0; i < rows; ++i) M(i, j) = u(rng);
-  return M;
-}
 
 TEST(SmallBlas2, TriangularSolvesAgreeWithEigen) {
   for (int n : {1, 2, 6, 13, kSmallBlas2Max}) {
