@@ -490,7 +490,23 @@ Vec3 tangent_unit(const Vec3& x, const Vec3& n) {
   return y.norm() > 1e-12 ? Vec3(y.normalized()) : any_perpendicular(n);
 }
 
-/// Step 1: the 4-fold average of J u per vertex of M′ (the data), carried down the hierarchy
+/// Per face, how much the field's direction counts in the cross field's data (0 … 1): where the
+/// metric is isotropic (a = 1) any cross gives square cells, so u there is no constraint; the
+/// weight grows linearly with a − 1 up to 1 at a = min(a_full, the field's largest a). A field
+/// without anisotropy (A = 1) keeps weight 1 everywhere: its directions are then the only ones
+/// there are (the isotropic, stress-aligned baseline). a_full ≤ 1: weight 1 everywhere.
+std::vector<double> direction_strength(const Field& field, double a_full) {
+  const int nf = static_cast<int>(field.a.size());
+  const double a_max = nf > 0 ? *std::max_element(field.a.begin(), field.a.end()) : 1;
+  const double a_top = std::min(a_full, a_max);
+  std::vector<double> strength(nf, 1.0);
+  if (a_full <= 1 || a_top <= 1 + 1e-9) return strength;
+  for (int f = 0; f < nf; ++f) strength[f] = std::clamp((field.a[f] - 1) / (a_top - 1), 0.0, 1.0);
+  return strength;
+}
+
+/// Step 1: the 4-fold average of J u per vertex of M′ (each triangle weighted by its area and
+/// direction_strength: the data), carried down the hierarchy
 /// (area × coherence weighted), solved on the coarsest level and refined level by level with the
 /// data term on each: where the stress field has a clear direction the data holds, where it
 /// cancels (a singularity of the stress directions) the coarse levels fill in a smooth cross.
@@ -508,13 +524,14 @@ std::vector<CrossField> cross_field(const TriMesh& rest, const TriMesh& def, con
   std::vector<std::vector<double>> lambda(nl);
   q_data[0].resize(nv);
   lambda[0].assign(nv, 0);
+  const std::vector<double> strength = direction_strength(field, o.full_alignment_anisotropy);
   for (int v = 0; v < nv; ++v) {
     const Vec3 r = any_perpendicular(n[v]), s = n[v].cross(r);
     std::complex<double> z = 0;
     double total = 0;
     for (int f : topo.vertex_faces[v]) {
       const double theta = std::atan2(w[f].dot(s), w[f].dot(r));
-      z += warea[f] * std::polar(1.0, 4 * theta);
+      z += strength[f] * warea[f] * std::polar(1.0, 4 * theta);
       total += warea[f];
     }
     const double phi = std::abs(z) > 0 ? std::arg(z) / 4 : 0;

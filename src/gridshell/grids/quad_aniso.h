@@ -11,8 +11,9 @@
 ///   0. hierarchy: M′'s vertices paired with a neighbour level by level down to `coarsest`
 ///      vertices (Jakob et al. 2015); steps 1 and 2 solve on the coarsest level first and refine
 ///      level by level, each finer level starting from its parents' values;
-///   1. orientation: per vertex a 4-direction (cross) field; the data is the area-weighted 4-fold
-///      average of J u over the incident triangles (carried down the hierarchy), and every level
+///   1. orientation: per vertex a 4-direction (cross) field; the data is the 4-fold average of J u
+///      over the incident triangles, weighted by area and by the field's anisotropy (where a = 1
+///      the direction is no constraint; carried down the hierarchy), and every level
 ///      is smoothed by Gauss–Seidel sweeps with the data as a term weighted by its coherence
 ///      (strong where the field is, free where it cancels);
 ///   2. position: per vertex a lattice origin o_i in its tangent plane (spacing h, axes of the
@@ -69,6 +70,15 @@ struct QuadAnisoOptions {
   /// Weight of the data term of the cross-field smoothing, per unit coherence, relative to the
   /// sum of the neighbours (≥ 0): high keeps the field's directions where they are well defined.
   double alignment = 4;
+  /// The field's direction is data for the cross field in proportion to its anisotropy: weight
+  /// (a − 1) / (a_full − 1), capped at 1, with a_full this value or the field's largest a if
+  /// smaller. Where the metric is isotropic any cross gives square cells, so following u there
+  /// only adds singularities and lattice defects; weighting by a raised the mean shares of valence-4
+  /// joints and quads by 1.3 and 1.4 points over the 22 full-length anisotropic runs of
+  /// docs/quad_aniso.md (weighting by coherence alone, any `alignment`: ±0.3). A field without
+  /// anisotropy (A = 1) keeps full weight: its directions are then the only ones there are.
+  /// ≤ 1: full weight everywhere (coherence only, the behaviour before session 11).
+  double full_alignment_anisotropy = 3;
   int max_face_sides = 8;      ///< faces with more sides are left out (holes in the grid)
   double boundary_snap = 1.5;  ///< see step 4 (× the mean length of the joint's beams)
   std::uint64_t seed = 1;
