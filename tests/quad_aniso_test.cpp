@@ -162,7 +162,7 @@ TEST(QuadAniso, PlaneWithTurningFieldMeetsTheTargets) {
 // has a = 3 along x, the right half a = 1 with directions that swirl at the scale of a few cells
 // (as stress directions do where the two principal stresses are alike). The cross field follows
 // u in proportion to a − 1, so the right half stays a plain lattice; following the swirl there
-// as well (full_alignment_anisotropy = 1: coherence only) costs lattice defects.
+// as well, as closely as before session 11, costs lattice defects.
 TEST(QuadAniso, DirectionsWhereTheMetricIsIsotropicDoNotBendTheLattice) {
   const Surface s = plane(40, 20, 80, 40);
   Field field = test::synthetic_field(
@@ -177,7 +177,8 @@ TEST(QuadAniso, DirectionsWhereTheMetricIsIsotropicDoNotBendTheLattice) {
   QuadAnisoOptions o;
   o.spacing = 1.5;
   const QuadMeshStats weighted = quad_mesh_stats(quad_aniso(s, field, o).grid.mesh, s.mesh, field);
-  o.full_alignment_anisotropy = 1;
+  o.full_alignment_anisotropy = 1;  // coherence only, and the short smoothing length of before
+  o.direction_smoothing = 0.07;      // session 11 (data weight ≈ 4 per neighbour)
   const QuadMeshStats followed = quad_mesh_stats(quad_aniso(s, field, o).grid.mesh, s.mesh, field);
   EXPECT_GT(weighted.interior_joints, 100);
   EXPECT_GE(weighted.valence4_share, 0.98);  // measured 1.000 and 1.000
@@ -239,6 +240,8 @@ TEST(QuadAniso, RejectsBadInput) {
   short_field.u.pop_back();
   o.spacing = 1;
   EXPECT_THROW(quad_aniso(s, short_field, o), Error);
+  o.direction_smoothing = 0;
+  EXPECT_THROW(quad_aniso(s, field, o), Error);
 }
 
 TEST(RecoverQuads, PairsTheTrianglesOfASplitQuadGrid) {

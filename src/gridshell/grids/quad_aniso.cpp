@@ -513,7 +513,7 @@ std::vector<double> direction_strength(const Field& field, double a_full) {
 /// Returns the cross field of every level.
 std::vector<CrossField> cross_field(const TriMesh& rest, const TriMesh& def, const Field& field,
                                     const Topology& topo, const std::vector<Level>& levels,
-                                    const QuadAnisoOptions& o) {
+                                    double h, const QuadAnisoOptions& o) {
   const int nv = def.num_vertices();
   const std::vector<Vec3>& n = levels[0].n;
   std::vector<Vec3> w;
@@ -536,7 +536,13 @@ std::vector<CrossField> cross_field(const TriMesh& rest, const TriMesh& def, con
     }
     const double phi = std::abs(z) > 0 ? std::arg(z) / 4 : 0;
     q_data[0][v] = std::cos(phi) * r + std::sin(phi) * s;
-    lambda[0][v] = total > 0 ? o.alignment * std::abs(z) / total : 0;
+    // Data weight per neighbour for a smoothing length ℓ = direction_smoothing × h: on a mesh of
+    // edge e the balance of the two terms is ℓ ≈ e / (2 √weight), so weight = (e / 2ℓ)².
+    double edge = 0;
+    for (int j : levels[0].nbr[v]) edge += (levels[0].p[j] - levels[0].p[v]).norm();
+    edge /= std::max<size_t>(1, levels[0].nbr[v].size());
+    const double per_neighbour = std::pow(edge / (2 * o.direction_smoothing * h), 2);
+    lambda[0][v] = total > 0 ? per_neighbour * std::abs(z) / total : 0;
   }
   for (int k = 0; k + 1 < nl; ++k) {  // restriction: weighted sums of the crosses matched
     const Level &f = levels[k], &c = levels[k + 1];
@@ -868,7 +874,7 @@ struct MetricFrames {
   std::vector<MatchedFrames> matched;
 };
 
-MetricFrames metric_frames(const TriMesh& rest, const TriMesh& def, const Field& field,
+MetricFrames metric_frames(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
                            const QuadAnisoOptions& o) {
   if (rest.num_faces() != def.num_faces() || rest.num_vertices() != def.num_vertices() ||
       field.size() != rest.num_faces())
@@ -878,7 +884,7 @@ MetricFrames metric_frames(const TriMesh& rest, const TriMesh& def, const Field&
   m.pos.resize(def.num_vertices());
   for (int v = 0; v < def.num_vertices(); ++v) m.pos[v] = def.vertex(v);
   m.levels = build_hierarchy(def, m.topo, o.coarsest);
-  m.cfs = cross_field(rest, def, field, m.topo, m.levels, o);
+  m.cfs = cross_field(rest, def, field, m.topo, m.levels, h, o);
   for (size_t k = 0; k < m.levels.size(); ++k)
     m.matched.push_back(matched_frames(m.levels[k], m.cfs[k]));
   return m;
@@ -904,7 +910,7 @@ PolyMesh quad_mesh_from_frames(const MetricFrames& m, const TriMesh& rest, const
 PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
                              const QuadAnisoOptions& o) {
   if (!(h > 0) || !std::isfinite(h)) throw Error("quad-aniso", "spacing must be positive");
-  return quad_mesh_from_frames(metric_frames(rest, def, field, o), rest, def, h, o);
+  return quad_mesh_from_frames(metric_frames(rest, def, field, h, o), rest, def, h, o);
 }
 
 namespace {
@@ -1031,6 +1037,8 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   if (!(o.length > 0) && !(o.spacing > 0))
     throw Error("--length", "quad-aniso needs --length L (m) or a spacing");
   if (!(o.resolution >= 1)) throw Error("quad-aniso", "resolution must be ≥ 1");
+  if (!(o.direction_smoothing > 0) || !std::isfinite(o.direction_smoothing))
+    throw Error("quad-aniso", "direction_smoothing must be positive");
   double area_def = 0;
   for (int f = 0; f < mesh.num_faces(); ++f)
     area_def += triangle_area(mesh.vertex(mesh.F(f, 0)), mesh.vertex(mesh.F(f, 1)),
@@ -1073,7 +1081,7 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   r.deformed_triangles = def.num_faces();
   const SurfaceProjector proj(mesh);
   const double tol = 1e-6 * bbox_diagonal(mesh.V);
-  const MetricFrames frames = metric_frames(rest, def, rest_field, o);
+  const MetricFrames frames = metric_frames(rest, def, rest_field, h, o);  // the h M′ is refined for
   auto build = [&](double spacing) {
     PolyMesh best_grid;
     double best_score = -1;

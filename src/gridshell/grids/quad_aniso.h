@@ -67,9 +67,14 @@ struct QuadAnisoOptions {
   /// at most this many; both fields are solved on the coarsest level first, then refined level
   /// by level. 0: a single level (M′ only).
   int coarsest = 64;
-  /// Weight of the data term of the cross-field smoothing, per unit coherence, relative to the
-  /// sum of the neighbours (≥ 0): high keeps the field's directions where they are well defined.
-  double alignment = 4;
+  /// Smoothing length of the cross field, in units of h: the field's direction is followed at
+  /// scales above about this fraction of a cell and smoothed below it (the data term's weight per
+  /// neighbour is (e / 2ℓ)² × coherence × anisotropy weight, e the vertex's mean edge on M′, so
+  /// the length does not depend on how finely M′ is meshed). A lattice cannot follow directions
+  /// that turn within a cell: each turn it is made to follow costs dislocations, and their share
+  /// per cell grows with h. Until session 11 the weight was 4 per neighbour (ℓ ≈ e / 4 ≈ h / 15
+  /// on M′ refined to edges ≤ h / 2, mean edge ≈ 0.27 h): docs/quad_aniso.md has the sweep.
+  double direction_smoothing = 0.25;
   /// The field's direction is data for the cross field in proportion to its anisotropy: weight
   /// (a − 1) / (a_full − 1), capped at 1, with a_full this value or the field's largest a if
   /// smaller. Where the metric is isotropic any cross gives square cells, so following u there
