@@ -29,6 +29,28 @@ TEST(Topology, EdgesLoopsAndEuler) {
   EXPECT_NEAR(polygon_area(m, 0) + polygon_area(m, 1), 1.0, 1e-15);
 }
 
+// Two quads sharing a corner (one component: faces meet through vertices), a lone quad apart
+// and an unused vertex: the pair is kept, renumbered in order, and the rest is dropped.
+TEST(Topology, LargestComponentKeepsTheBiggestPieceOnly) {
+  PolyMesh m;
+  m.V.resize(11, 3);
+  m.V << 9, 9, 9,                          // 0: unused
+      0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,  // 1–4: first quad
+      2, 1, 0, 2, 2, 0, 1, 2, 0,           // 5–7: second quad with corner 3
+      5, 0, 0, 6, 0, 0, 6, 1, 0;           // 8–10: a triangle apart
+  m.faces = {{8, 9, 10}, {1, 2, 3, 4}, {3, 5, 6, 7}};
+  const PolyMesh k = largest_component(m);
+  ASSERT_EQ(k.num_vertices(), 7);
+  ASSERT_EQ(k.num_faces(), 2);
+  EXPECT_EQ(k.faces[0], (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(k.faces[1], (std::vector<int>{2, 4, 5, 6}));
+  EXPECT_EQ(k.V.row(4), m.V.row(5));
+  // A tie keeps the component of the lowest vertex index; no faces, no vertices.
+  m.faces = {{8, 9, 10}, {1, 2, 3}};
+  EXPECT_EQ(largest_component(m).faces[0], (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(largest_component(PolyMesh{m.V, {}}).num_vertices(), 0);
+}
+
 TEST(Topology, DetectsEveryProblemKind) {
   PolyMesh m = square_with_two_triangles();
   m.V.conservativeResize(7, 3);

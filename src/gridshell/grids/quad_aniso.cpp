@@ -1091,7 +1091,8 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
       PolyMesh grid = quad_mesh_from_frames(frames, rest, def, spacing, so);
       for (int v = 0; v < grid.num_vertices(); ++v)
         grid.V.row(v) = proj.closest_point(grid.vertex(v)).transpose();
-      grid = snap_to_boundary(grid, proj, o.boundary_snap);
+      // A piece the extraction left apart (a quad cut off by a hole) would be a mechanism.
+      grid = largest_component(snap_to_boundary(grid, proj, o.boundary_snap));
       const double score = regularity_score(grid);
       if (score > best_score) best_score = score, best_grid = std::move(grid);
     }

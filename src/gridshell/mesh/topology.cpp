@@ -159,6 +159,35 @@ TriangleAdjacency build_triangle_adjacency(const Triangles& F, int nv) {
   return adj;
 }
 
+PolyMesh largest_component(const PolyMesh& mesh) {
+  DisjointSets sets(mesh.num_vertices());
+  for (const auto& f : mesh.faces)
+    for (size_t k = 1; k < f.size(); ++k) sets.unite(f[0], f[k]);
+  std::vector<int> faces_of(mesh.num_vertices(), 0);
+  for (const auto& f : mesh.faces)
+    if (!f.empty()) ++faces_of[sets.find(f[0])];
+  const int root = static_cast<int>(std::max_element(faces_of.begin(), faces_of.end()) -
+                                    faces_of.begin());  // the smallest root among the largest
+  PolyMesh out;
+  std::vector<int> index(mesh.num_vertices(), -1);
+  for (const auto& f : mesh.faces)
+    if (!f.empty() && sets.find(f[0]) == root)
+      for (int v : f) index[v] = 0;
+  int count = 0;
+  for (int& i : index)
+    if (i == 0) i = count++;
+  out.V.resize(count, 3);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (index[v] >= 0) out.V.row(index[v]) = mesh.V.row(v);
+  for (const auto& f : mesh.faces) {
+    if (f.empty() || sets.find(f[0]) != root) continue;
+    std::vector<int> g;
+    for (int v : f) g.push_back(index[v]);
+    out.faces.push_back(std::move(g));
+  }
+  return out;
+}
+
 int euler_characteristic(const PolyMesh& mesh, const Topology& topo) {
   int referenced = 0;
   for (const auto& vf : topo.vertex_faces) referenced += vf.empty() ? 0 : 1;

@@ -87,6 +87,12 @@ struct DisjointSets {
   }
 };
 
+/// The faces of the connected component (faces joined through shared vertices) with the most
+/// faces (on a tie, the one holding the lowest vertex index); vertices no kept face uses are
+/// dropped, the others keep their order. A grid-shell is one structure: a piece an extraction
+/// left apart from it would be a mechanism, or a second structure, in the analysis.
+PolyMesh largest_component(const PolyMesh& mesh);
+
 /// V − E + F counted over referenced vertices.
 int euler_characteristic(const PolyMesh& mesh, const Topology& topo);
 
