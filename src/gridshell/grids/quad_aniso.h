@@ -78,9 +78,9 @@ struct QuadAnisoOptions {
   /// The field's direction is data for the cross field in proportion to its anisotropy: weight
   /// (a − 1) / (a_full − 1), capped at 1, with a_full this value or the field's largest a if
   /// smaller. Where the metric is isotropic any cross gives square cells, so following u there
-  /// only adds singularities and lattice defects; weighting by a raised the mean shares of valence-4
-  /// joints and quads by 1.3 and 1.4 points over the 22 full-length anisotropic runs of
-  /// docs/quad_aniso.md (weighting by coherence alone, any `alignment`: ±0.3). A field without
+  /// only adds singularities and lattice defects; weighting by a raised the mean shares of
+  /// valence-4 joints and quads by 1.3 and 1.4 points over the 22 full-length anisotropic runs of
+  /// docs/quad_aniso.md (a lower data weight without it: 0.3 at most). A field without
   /// anisotropy (A = 1) keeps full weight: its directions are then the only ones there are.
   /// ≤ 1: full weight everywhere (coherence only, the behaviour before session 11).
   double full_alignment_anisotropy = 3;
