@@ -51,6 +51,26 @@ TEST(Topology, LargestComponentKeepsTheBiggestPieceOnly) {
   EXPECT_EQ(largest_component(PolyMesh{m.V, {}}).num_vertices(), 0);
 }
 
+// A 2 × 2 block of quads with a triangle hung on one outer edge and a quad hung on the
+// triangle: the quad goes first, then the triangle; the block's faces (each sharing two edges)
+// stay.
+TEST(Topology, RemoveHangingFacesPeelsFlapsOffTheBoundary) {
+  PolyMesh m;
+  m.V.resize(11, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 1, 1, 0, 2, 1, 0, 0, 2, 0, 1, 2, 0, 2, 2, 0,  // 0–8
+      3, 0.5, 0, 4, 0.5, 0;                                                                // 9–10
+  m.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}, {3, 4, 7, 6}, {4, 5, 8, 7}, {2, 9, 5}, {9, 10, 5}};
+  PolyMesh g = m;
+  remove_hanging_faces(g);
+  EXPECT_EQ(g.faces, (std::vector<std::vector<int>>{m.faces.begin(), m.faces.begin() + 4}));
+  EXPECT_EQ(g.num_vertices(), 11);  // vertices untouched
+  PolyMesh lone;                    // two faces on one edge: both hang, both kept
+  lone.V = m.V;
+  lone.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}};
+  remove_hanging_faces(lone);
+  EXPECT_EQ(lone.faces.size(), 2u);
+}
+
 TEST(Topology, DetectsEveryProblemKind) {
   PolyMesh m = square_with_two_triangles();
   m.V.conservativeResize(7, 3);

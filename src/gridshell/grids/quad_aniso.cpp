@@ -1091,8 +1091,11 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
       PolyMesh grid = quad_mesh_from_frames(frames, rest, def, spacing, so);
       for (int v = 0; v < grid.num_vertices(); ++v)
         grid.V.row(v) = proj.closest_point(grid.vertex(v)).transpose();
-      // A piece the extraction left apart (a quad cut off by a hole) would be a mechanism.
-      grid = largest_component(snap_to_boundary(grid, proj, o.boundary_snap));
+      // Flaps and pieces the extraction left apart (a quad cut off by a hole) would be
+      // mechanisms, or nearly, in the analysis.
+      grid = snap_to_boundary(grid, proj, o.boundary_snap);
+      remove_hanging_faces(grid);
+      grid = largest_component(grid);
       const double score = regularity_score(grid);
       if (score > best_score) best_score = score, best_grid = std::move(grid);
     }

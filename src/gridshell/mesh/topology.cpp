@@ -188,6 +188,27 @@ PolyMesh largest_component(const PolyMesh& mesh) {
   return out;
 }
 
+void remove_hanging_faces(PolyMesh& mesh) {
+  for (bool removed = true; removed && mesh.faces.size() > 1;) {
+    std::map<std::pair<int, int>, int> uses;
+    auto edge = [](int a, int b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+    for (const auto& f : mesh.faces)
+      for (size_t k = 0; k < f.size(); ++k) ++uses[edge(f[k], f[(k + 1) % f.size()])];
+    removed = false;
+    std::vector<std::vector<int>> kept;
+    for (auto& f : mesh.faces) {
+      int shared = 0;
+      for (size_t k = 0; k < f.size(); ++k) shared += uses[edge(f[k], f[(k + 1) % f.size()])] > 1;
+      if (shared <= 1)
+        removed = true;
+      else
+        kept.push_back(std::move(f));
+    }
+    if (kept.empty()) return;  // every face hangs (one face, or two on an edge): kept
+    mesh.faces = std::move(kept);
+  }
+}
+
 int euler_characteristic(const PolyMesh& mesh, const Topology& topo) {
   int referenced = 0;
   for (const auto& vf : topo.vertex_faces) referenced += vf.empty() ? 0 : 1;

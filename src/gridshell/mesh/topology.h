@@ -93,6 +93,13 @@ struct DisjointSets {
 /// left apart from it would be a mechanism, or a second structure, in the analysis.
 PolyMesh largest_component(const PolyMesh& mesh);
 
+/// Removes, repeatedly, the faces that hang on the rest by a single edge (every other edge of
+/// theirs on the boundary): held only at that edge's two vertices, such a face turns about the
+/// edge like a flap in a frame analysis, nearly a mechanism when both are pinned supports. A
+/// strip of faces erodes from its ends; when every face left hangs (one face, or two sharing an
+/// edge) they are kept. Vertices are not touched (largest_component drops the unused ones).
+void remove_hanging_faces(PolyMesh& mesh);
+
 /// V − E + F counted over referenced vertices.
 int euler_characteristic(const PolyMesh& mesh, const Topology& topo);
 
