@@ -30,7 +30,9 @@
 ///      valences nearest 4, new beams nearest h), remaining triangle pairs become quads;
 ///   4. mapping: each joint goes back to M through the affine map of an incident triangle, is
 ///      projected onto M, and joints on the grid's outer boundary within `boundary_snap` × the
-///      local beam length of M's boundary are moved onto it (so the boundary supports catch them).
+///      local beam length of M's boundary are moved onto it (so the boundary supports catch them);
+///      faces hanging on the grid by one edge are peeled off and only the largest connected piece
+///      is kept (mesh/topology.h: a flap or an island would be a near-mechanism in the analysis).
 /// Supports: transfer_supports (grids/supports.h), as the other baselines.
 ///
 /// Cost: O(V · (orientation + position sweeps)) on M′ (the coarser levels add about as much again)

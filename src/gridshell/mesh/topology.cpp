@@ -190,19 +190,16 @@ PolyMesh largest_component(const PolyMesh& mesh) {
 
 void remove_hanging_faces(PolyMesh& mesh) {
   for (bool removed = true; removed && mesh.faces.size() > 1;) {
-    std::map<std::pair<int, int>, int> uses;
-    auto edge = [](int a, int b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
-    for (const auto& f : mesh.faces)
-      for (size_t k = 0; k < f.size(); ++k) ++uses[edge(f[k], f[(k + 1) % f.size()])];
+    const Topology t = build_topology(mesh);
     removed = false;
     std::vector<std::vector<int>> kept;
-    for (auto& f : mesh.faces) {
+    for (size_t f = 0; f < mesh.faces.size(); ++f) {
       int shared = 0;
-      for (size_t k = 0; k < f.size(); ++k) shared += uses[edge(f[k], f[(k + 1) % f.size()])] > 1;
+      for (int e : t.face_edges[f]) shared += t.edge_faces[e].size() > 1;
       if (shared <= 1)
         removed = true;
       else
-        kept.push_back(std::move(f));
+        kept.push_back(mesh.faces[f]);
     }
     if (kept.empty()) return;  // every face hangs (one face, or two on an edge): kept
     mesh.faces = std::move(kept);
