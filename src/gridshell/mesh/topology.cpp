@@ -194,9 +194,10 @@ void remove_hanging_faces(PolyMesh& mesh) {
     removed = false;
     std::vector<std::vector<int>> kept;
     for (size_t f = 0; f < mesh.faces.size(); ++f) {
-      int shared = 0;
+      int shared = 0, held = 0;  // edges shared with other faces; corners other faces use
       for (int e : t.face_edges[f]) shared += t.edge_faces[e].size() > 1;
-      if (shared <= 1)
+      for (int v : mesh.faces[f]) held += t.vertex_faces[v].size() > 1;
+      if (shared == 1 && held <= 2)  // a flap: only the shared edge's two ends are held
         removed = true;
       else
         kept.push_back(mesh.faces[f]);

@@ -93,11 +93,12 @@ struct DisjointSets {
 /// left apart from it would be a mechanism, or a second structure, in the analysis.
 PolyMesh largest_component(const PolyMesh& mesh);
 
-/// Removes, repeatedly, the faces that hang on the rest by a single edge (every other edge of
-/// theirs on the boundary): held only at that edge's two vertices, such a face turns about the
-/// edge like a flap in a frame analysis, nearly a mechanism when both are pinned supports. A
-/// strip of faces erodes from its ends; when every face left hangs (one face, or two sharing an
-/// edge) they are kept. Vertices are not touched (largest_component drops the unused ones).
+/// Removes, repeatedly, the flaps: faces held by the rest at the two ends of a single edge only
+/// (no other edge shared, no other corner used by another face). Such a face turns about that
+/// edge in a frame analysis, nearly a mechanism when both ends are pinned supports. A face that
+/// also touches others at a corner is held at three points and stays, so a staircase boundary
+/// does not erode. When every face left is a flap (one face, or two sharing an edge) they are
+/// kept. Vertices are not touched (largest_component drops the unused ones).
 void remove_hanging_faces(PolyMesh& mesh);
 
 /// V − E + F counted over referenced vertices.
