@@ -3,16 +3,19 @@
 
     python3 scripts/quad_aniso_stats.py [--exe build/gridshell] [--work quad_aniso_work]
                                         [--jobs 2] [--only NAME,...] [--settings 3x3,1x1,2x4]
-                                        [--fresh]
+                                        [--fresh] [--surface NAME=PATH:L1,L2 ...]
 
 Runs `gridshell baseline SURFACE --kind quad-aniso -D D -A A --length L --analyze none` for the
 six shared surfaces (../shared/data, skipped when absent) and the built-in surfaces, at each
-(D, A) setting and each surface's lengths, and prints a Markdown table of the figures of
+(D, A) setting and each surface's lengths (plus any --surface given: a mesh file of your own at
+the lengths listed; with --surface and no --only, only those), and prints a Markdown table of the figures of
 report.json's `quad_aniso` block against the issue's targets:
 
   valence 4 >= 85 % and quads >= 85 % of the interior, every face simple, shortest beam >= 10 %
   of the median, length within 5 %; where a >= 2, >= 70 % of beams within 15 deg of u or u-perp;
   median aspect >= 1.5 where a >= 2.5 (A > 1); median aspect of all quads <= 1.2 at (1, 1).
+The column "spacing ×" is the 10th–90th percentile of the lattice's spacing factor on M′
+(QuadAnisoOptions::integrable_scale: how far the cells depart from the sizes d asks for).
 
 A run whose report.json exists under --work is not repeated (--fresh deletes --work first).
 The last line counts the rows that meet every target. Exit 0 unless a run fails.
@@ -80,6 +83,8 @@ def main():
     ap.add_argument("--settings", default="3x3,1x1,2x4", help="(D, A) pairs as DxA, comma-separated")
     ap.add_argument("--lengths", type=int, default=2, help="how many of each surface's lengths")
     ap.add_argument("--fresh", action="store_true")
+    ap.add_argument("--surface", action="append", default=[],
+                    help="NAME=PATH:L1[,L2]: a surface file of your own at these lengths (m)")
     a = ap.parse_args()
     exe, work = Path(a.exe), Path(a.work)
     if a.fresh and work.exists():
@@ -88,13 +93,23 @@ def main():
     surfaces = (SHARED if SURF.is_dir() else []) + BUILTIN
     if not SURF.is_dir():
         print(f"{SURF} is absent: built-in surfaces only", file=sys.stderr)
+    extra = []
+    for spec in a.surface:
+        name, _, rest = spec.partition("=")
+        path, _, lengths = rest.rpartition(":")
+        if not name or not path or not lengths:
+            sys.exit(f"--surface {spec}: expected NAME=PATH:L1[,L2]")
+        extra.append((name, [str(Path(path).resolve())], [int(x) for x in lengths.split(",")]))
+    if extra:
+        surfaces = extra if not a.only else surfaces + extra
     if a.only:
         keep = set(a.only.split(","))
         surfaces = [s for s in surfaces if s[0] in keep]
     settings = [tuple(int(x) for x in s.split("x")) for s in a.settings.split(",")]
     jobs = []
     for name, args, lengths in surfaces:
-        args = [str(SURF / args[0])] + args[1:] if not args[0].startswith("builtin:") else args
+        if not args[0].startswith("builtin:") and not Path(args[0]).is_absolute():
+            args = [str(SURF / args[0])] + args[1:]
         for L in lengths[:a.lengths]:
             for D, A in settings:
                 key = f"{name.lower().replace(' ', '_')}_{D}x{A}_{L}"
@@ -106,14 +121,14 @@ def main():
         results = [(key, meta, f.result()) for key, meta, f in futures]
 
     print("| Surface | (D, A) | L (m) | joints | faces | valence 4 | quads | non-simple | "
-          "min/median | length | aligned (beams) | aspect (quads) | aspect (all) | time (s) | "
-          "misses |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "min/median | length | aligned (beams) | aspect (quads) | aspect (all) | spacing × | "
+          "time (s) | misses |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     met = failed = 0
     for key, (name, D, A, L), (rep, seconds) in results:
         if rep is None:
             failed += 1
-            print(f"| {name} | ({D}, {A}) | {L} | failed | | | | | | | | | | | |")
+            print(f"| {name} | ({D}, {A}) | {L} | failed | | | | | | | | | | | | |")
             continue
         q, m = rep["quad_aniso"], rep["mesh"]
         length = m["total_length_m"] / L - 1
@@ -138,10 +153,13 @@ def main():
         aligned = (f"{pct(q['aligned_share'])} ({q['strong_beams']})"
                    if q["strong_beams"] else "–")
         aspect = (f"{q['median_aspect']:.2f} ({q['aspect_quads']})" if q["aspect_quads"] else "–")
+        spacing = (f"{q['spacing_factor_p10']:.2f}–{q['spacing_factor_p90']:.2f}"
+                   if "spacing_factor_p10" in q else "–")
         print(f"| {name} | ({D}, {A}) | {L} | {m['vertices']} | {m['faces']} | "
               f"{pct(q['valence4_share'])} | {pct(q['quad_share'])} | {q['non_simple_faces']} | "
               f"{q['min_edge_ratio']:.2f} | {100 * length:+.1f} % | {aligned} | {aspect} | "
-              f"{q['median_aspect_all']:.2f} | {seconds:.1f} | {', '.join(miss) or '–'} |")
+              f"{q['median_aspect_all']:.2f} | {spacing} | {seconds:.1f} | "
+              f"{', '.join(miss) or '–'} |")
     print(f"\n{met} of {len(results)} runs meet every target"
           + (f"; {failed} failed" if failed else "") + ".")
     return 1 if failed else 0
