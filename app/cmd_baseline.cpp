@@ -95,6 +95,9 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     const QuadMeshStats st = quad_mesh_stats(out.mesh, surface.mesh, field);
     quad_stats = {{"spacing_deformed_m", q.spacing},
                   {"fits", q.fits},
+                  {"grids", q.grids},
+                  {"spacing_factor_p10", q.spacing_factor_p10},
+                  {"spacing_factor_p90", q.spacing_factor_p90},
                   {"deformed_triangles", q.deformed_triangles},
                   {"folded_edges", q.folded_edges},
                   {"field", a.field},

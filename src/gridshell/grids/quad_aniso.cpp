@@ -10,6 +10,7 @@
 #include <set>
 #include <tuple>
 
+#include <Eigen/Sparse>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -54,14 +55,14 @@ Vec3 lattice_floor(const Vec3& o, const Vec3& q, const Vec3& t, const Vec3& p, d
 /// The two lattice points, one of each side's lattice, nearest each other near the middle of
 /// the edge v0 v1 (the 4 corners of the cell around the middle compared on each side).
 std::pair<Vec3, Vec3> compat_position(const Vec3& v0, const Vec3& q0, const Vec3& t0,
-                                      const Vec3& o0, const Vec3& v1, const Vec3& q1,
-                                      const Vec3& t1, const Vec3& o1, double h) {
+                                      const Vec3& o0, double h0, const Vec3& v1, const Vec3& q1,
+                                      const Vec3& t1, const Vec3& o1, double h1) {
   const Vec3 m = 0.5 * (v0 + v1);
-  const Vec3 a = lattice_floor(o0, q0, t0, m, h), b = lattice_floor(o1, q1, t1, m, h);
+  const Vec3 a = lattice_floor(o0, q0, t0, m, h0), b = lattice_floor(o1, q1, t1, m, h1);
   std::array<Vec3, 4> as, bs;  // the 4 corners of the cell around m, on each side
   for (int i = 0; i < 4; ++i) {
-    as[i] = a + h * ((i & 1) * q0 + (i >> 1) * t0);
-    bs[i] = b + h * ((i & 1) * q1 + (i >> 1) * t1);
+    as[i] = a + h0 * ((i & 1) * q0 + (i >> 1) * t0);
+    bs[i] = b + h1 * ((i & 1) * q1 + (i >> 1) * t1);
   }
   int best_i = 0, best_j = 0;
   double best_d = std::numeric_limits<double>::infinity();
@@ -607,8 +608,8 @@ MatchedFrames matched_frames(const Level& l, const CrossField& cf) {
 /// Gauss–Seidel sweeps of the position field on one level: each vertex's lattice origin is the
 /// average of its neighbours' lattices compared at the edges' middles, rounded back to the
 /// lattice point nearest the vertex.
-void smooth_position(const Level& l, const CrossField& cf, const MatchedFrames& mf, double h,
-                     std::vector<Vec3>& org, int iterations) {
+void smooth_position(const Level& l, const CrossField& cf, const MatchedFrames& mf,
+                     const std::vector<double>& hs, std::vector<Vec3>& org, int iterations) {
   const std::vector<Vec3>&n = cf.n, &q = cf.q, &t = cf.t, &pos = l.p;
   for (int it = 0; it < iterations; ++it) {
     for (int i = 0; i < l.size(); ++i) {
@@ -617,13 +618,13 @@ void smooth_position(const Level& l, const CrossField& cf, const MatchedFrames& 
       const int k0 = mf.offset[i];
       for (size_t k = 0; k < l.nbr[i].size(); ++k) {
         const int j = l.nbr[i][k];
-        const auto [a, b] = compat_position(pos[i], q[i], t[i], sum, pos[j], mf.q[k0 + k],
-                                            mf.t[k0 + k], org[j], h);
+        const auto [a, b] = compat_position(pos[i], q[i], t[i], sum, hs[i], pos[j],
+                                            mf.q[k0 + k], mf.t[k0 + k], org[j], hs[j]);
         sum = (a * weight + b) / (weight + 1);
         weight += 1;
         sum -= n[i] * n[i].dot(sum - pos[i]);
       }
-      org[i] = lattice_round(sum, q[i], t[i], pos[i], h);
+      org[i] = lattice_round(sum, q[i], t[i], pos[i], hs[i]);
     }
   }
 }
@@ -634,21 +635,24 @@ void smooth_position(const Level& l, const CrossField& cf, const MatchedFrames& 
 /// Returns level 0's origins.
 std::vector<Vec3> position_field(const std::vector<Level>& levels,
                                  const std::vector<CrossField>& cfs,
-                                 const std::vector<MatchedFrames>& matched, double h,
+                                 const std::vector<MatchedFrames>& matched,
+                                 const std::vector<std::vector<double>>& scale, double h,
                                  const QuadAnisoOptions& o) {
   const int nl = static_cast<int>(levels.size());
   std::vector<Vec3> org;
   for (int k = nl - 1; k >= 0; --k) {
     const Level& l = levels[k];
     const std::vector<Vec3>&n = cfs[k].n, &q = cfs[k].q, &t = cfs[k].t, &pos = l.p;
+    std::vector<double> hs(l.size());
+    for (int v = 0; v < l.size(); ++v) hs[v] = h * scale[k][v];
     std::vector<Vec3> next(l.size());
     if (k == nl - 1) {
       std::vector<char> seen(l.size(), 0);
       Rng rng(o.seed);
       for (int root = 0; root < l.size(); ++root) {
         if (seen[root]) continue;
-        next[root] =
-            pos[root] + h * (rng.uniform(-0.5, 0.5) * q[root] + rng.uniform(-0.5, 0.5) * t[root]);
+        next[root] = pos[root] + hs[root] * (rng.uniform(-0.5, 0.5) * q[root] +
+                                             rng.uniform(-0.5, 0.5) * t[root]);
         seen[root] = 1;
         std::deque<int> queue{root};
         while (!queue.empty()) {
@@ -658,7 +662,7 @@ std::vector<Vec3> position_field(const std::vector<Level>& levels,
             if (seen[j]) continue;
             seen[j] = 1;
             const Vec3 oj = next[i] - n[j] * n[j].dot(next[i] - pos[j]);
-            next[j] = lattice_round(oj, q[j], t[j], pos[j], h);
+            next[j] = lattice_round(oj, q[j], t[j], pos[j], hs[j]);
             queue.push_back(j);
           }
         }
@@ -666,11 +670,11 @@ std::vector<Vec3> position_field(const std::vector<Level>& levels,
     } else {
       for (int v = 0; v < l.size(); ++v) {
         const Vec3& op = org[l.parent[v]];
-        next[v] = lattice_round(op - n[v] * n[v].dot(op - pos[v]), q[v], t[v], pos[v], h);
+        next[v] = lattice_round(op - n[v] * n[v].dot(op - pos[v]), q[v], t[v], pos[v], hs[v]);
       }
     }
     org = std::move(next);
-    smooth_position(l, cfs[k], matched[k], h, org,
+    smooth_position(l, cfs[k], matched[k], hs, org,
                     k == 0 ? o.position_iterations : o.coarse_position_iterations);
   }
   return org;
@@ -690,7 +694,8 @@ struct LatticeJoints {
 /// then joints closer than 0.3 h are merged once more (one lattice point split in two where the
 /// lattices of a seam disagree slightly).
 LatticeJoints collapse_to_joints(const std::vector<Vec3>& pos, const Topology& topo,
-                                 const CrossField& cf, const std::vector<Vec3>& org, double h) {
+                                 const CrossField& cf, const std::vector<Vec3>& org,
+                                 const std::vector<double>& scale, double h) {
   const int nv = static_cast<int>(pos.size());
   const std::vector<Vec3>&n = cf.n, &q = cf.q, &t = cf.t;
   DisjointSets sets(nv);
@@ -698,12 +703,13 @@ LatticeJoints collapse_to_joints(const std::vector<Vec3>& pos, const Topology& t
   for (const auto& e : topo.edges) {
     const int i = e[0], j = e[1];
     const Vec3 qj = match_cross(q[j], n[j], q[i]), tj = n[j].cross(qj);
-    const auto [a, b] = compat_position(pos[i], q[i], t[i], org[i], pos[j], qj, tj, org[j], h);
-    if ((a - b).norm() > 0.5 * h) continue;  // the two lattices disagree here
-    const int di0 = static_cast<int>(std::lround((a - org[i]).dot(q[i]) / h));
-    const int di1 = static_cast<int>(std::lround((a - org[i]).dot(t[i]) / h));
-    const int dj0 = static_cast<int>(std::lround((b - org[j]).dot(qj) / h));
-    const int dj1 = static_cast<int>(std::lround((b - org[j]).dot(tj) / h));
+    const double hi = h * scale[i], hj = h * scale[j];
+    const auto [a, b] = compat_position(pos[i], q[i], t[i], org[i], hi, pos[j], qj, tj, org[j], hj);
+    if ((a - b).norm() > 0.25 * (hi + hj)) continue;  // the two lattices disagree here
+    const int di0 = static_cast<int>(std::lround((a - org[i]).dot(q[i]) / hi));
+    const int di1 = static_cast<int>(std::lround((a - org[i]).dot(t[i]) / hi));
+    const int dj0 = static_cast<int>(std::lround((b - org[j]).dot(qj) / hj));
+    const int dj1 = static_cast<int>(std::lround((b - org[j]).dot(tj) / hj));
     const int d0 = di0 - dj0, d1 = di1 - dj1;
     if (d0 == 0 && d1 == 0)
       sets.unite(i, j);
@@ -866,12 +872,103 @@ namespace {
 
 /// What does not depend on the spacing or the lattice's start, computed once per M′: topology,
 /// hierarchy, cross field per level and the matched neighbour frames of each level.
+/// The lattice spacing's factor e^s per vertex of M′ (and of each coarser level) that lets the
+/// lattice follow the cross field with fewer rows of cells starting. A cross field that turns
+/// (∇θ, on M′ with its curvature) is the frame of a grid without such defects only if the
+/// spacing varies with ∇s = −J ∇θ — a conformal grid: lines along hoops and meridians need
+/// cells ∝ r. At a constant spacing every turn is paid in dislocations. s is the least-squares
+/// solution of ∇s = −J ∇θ (P1 gradients, cotangent Laplacian; triangles where the cross's
+/// matchings do not close — its singularities — are left out). Part of it is the field's own
+/// grading: M′ is M scaled by about d / √a, and a lattice that is regular on M (a constant u on
+/// a plane, any d) has spacing ∝ d / √a on M′; that part, log(d / √a), is subtracted, so the
+/// cells keep the sizes d asks for and only the directions' turning and M's own curvature are
+/// absorbed. The rest is shifted to area-weighted mean 0,
+/// multiplied by `integrable_scale`, and clamped to ± log `max_scale_change`; coarser levels
+/// take the area-weighted mean of log scale over their children.
+std::vector<std::vector<double>> integrable_scale(const TriMesh& def, const Field& field,
+                                                  const std::vector<Level>& levels,
+                                                  const CrossField& cf,
+                                                  const QuadAnisoOptions& o) {
+  const int nv = def.num_vertices(), nf = def.num_faces();
+  std::vector<std::vector<double>> scale(levels.size());
+  for (size_t k = 0; k < levels.size(); ++k) scale[k].assign(levels[k].size(), 1.0);
+  if (o.integrable_scale == 0 || o.max_scale_change == 1) return scale;
+  std::vector<Eigen::Triplet<double>> trip;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nv), mass = Eigen::VectorXd::Zero(nv),
+                  asked = Eigen::VectorXd::Zero(nv);
+  for (int f = 0; f < nf; ++f) {
+    const int id[3] = {def.F(f, 0), def.F(f, 1), def.F(f, 2)};
+    const Vec3 p[3] = {def.vertex(id[0]), def.vertex(id[1]), def.vertex(id[2])};
+    Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
+    const double area2 = n.norm();
+    if (!(area2 > 0)) continue;
+    n /= area2;
+    const double area = 0.5 * area2;
+    // ∇ of the hat functions: n × (opposite edge) / (2 area).
+    Vec3 grad[3];
+    for (int c = 0; c < 3; ++c) grad[c] = n.cross(p[(c + 2) % 3] - p[(c + 1) % 3]) / area2;
+    // M′ is M scaled by d/a along u and d across: its conformal part, log(d / √a), is grading the
+    // field asks for, not turning to absorb.
+    const double graded = std::log(field.d[f] / std::sqrt(field.a[f]));
+    for (int a = 0; a < 3; ++a) {
+      mass[id[a]] += area / 3;
+      asked[id[a]] += area / 3 * graded;
+      for (int b = 0; b < 3; ++b)
+        trip.emplace_back(id[a], id[b], area * grad[a].dot(grad[b]));
+    }
+    // The cross's angle at the three corners, matched to corner 0's and measured in the
+    // triangle's plane; a singular triangle (the matchings around it do not close) is skipped.
+    const Vec3 r = tangent_unit(cf.q[id[0]], n), rs = n.cross(r);
+    double theta[3] = {0, 0, 0};
+    Vec3 prev = cf.q[id[0]];
+    for (int c = 1; c < 3; ++c) {
+      prev = match_cross(cf.q[id[c]], cf.n[id[c]], prev);
+      const Vec3 qc = tangent_unit(prev, n);
+      theta[c] = std::atan2(qc.dot(rs), qc.dot(r));
+    }
+    const Vec3 back = match_cross(cf.q[id[0]], cf.n[id[0]], prev);
+    if (back.dot(cf.q[id[0]]) < 0.5) continue;
+    Vec3 grad_theta = Vec3::Zero();
+    for (int c = 0; c < 3; ++c) grad_theta += theta[c] * grad[c];
+    const Vec3 g = -n.cross(grad_theta);  // −J ∇θ
+    for (int a = 0; a < 3; ++a) rhs[id[a]] += area * g.dot(grad[a]);
+  }
+  Eigen::SparseMatrix<double> L(nv, nv);
+  L.setFromTriplets(trip.begin(), trip.end());
+  double total = mass.sum(), diag = 0;
+  for (int v = 0; v < nv; ++v) diag += L.coeff(v, v);
+  // A weak pull to 0 fixes the free constant (the solve is otherwise singular).
+  const double eps = 1e-8 * diag / std::max(1.0, total);
+  for (int v = 0; v < nv; ++v) L.coeffRef(v, v) += eps * mass[v];
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(L);
+  if (solver.info() != Eigen::Success) return scale;
+  Eigen::VectorXd sv = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !sv.allFinite()) return scale;
+  for (int v = 0; v < nv; ++v) sv[v] -= mass[v] > 0 ? asked[v] / mass[v] : 0;
+  const double mean = sv.dot(mass) / total, cap = std::log(o.max_scale_change);
+  for (int v = 0; v < nv; ++v)
+    scale[0][v] = std::exp(std::clamp(o.integrable_scale * (sv[v] - mean), -cap, cap));
+  for (size_t k = 1; k < levels.size(); ++k) {
+    std::vector<double> sum(levels[k].size(), 0), w(levels[k].size(), 0);
+    for (int v = 0; v < levels[k - 1].size(); ++v) {
+      const int pa = levels[k - 1].parent[v];
+      sum[pa] += levels[k - 1].area[v] * std::log(scale[k - 1][v]);
+      w[pa] += levels[k - 1].area[v];
+    }
+    for (int v = 0; v < levels[k].size(); ++v)
+      scale[k][v] = w[v] > 0 ? std::exp(sum[v] / w[v]) : 1.0;
+  }
+  return scale;
+}
+
 struct MetricFrames {
   Topology topo;
   std::vector<Vec3> pos;
   std::vector<Level> levels;
   std::vector<CrossField> cfs;
   std::vector<MatchedFrames> matched;
+  std::vector<std::vector<double>> scale;  ///< per level and vertex: the lattice spacing / h
+  double scale_p10 = 1, scale_p90 = 1;      ///< of scale[0], weighted by M′'s vertex areas
 };
 
 MetricFrames metric_frames(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
@@ -887,6 +984,17 @@ MetricFrames metric_frames(const TriMesh& rest, const TriMesh& def, const Field&
   m.cfs = cross_field(rest, def, field, m.topo, m.levels, h, o);
   for (size_t k = 0; k < m.levels.size(); ++k)
     m.matched.push_back(matched_frames(m.levels[k], m.cfs[k]));
+  m.scale = integrable_scale(def, field, m.levels, m.cfs[0], o);
+  std::vector<std::pair<double, double>> sw;
+  for (int v = 0; v < m.levels[0].size(); ++v) sw.emplace_back(m.scale[0][v], m.levels[0].area[v]);
+  std::sort(sw.begin(), sw.end());
+  double total = 0, acc = 0;
+  for (const auto& [x, w] : sw) total += w;
+  for (const auto& [x, w] : sw) {
+    if (acc <= 0.1 * total) m.scale_p10 = x;
+    if (acc <= 0.9 * total) m.scale_p90 = x;
+    acc += w;
+  }
   return m;
 }
 
@@ -895,8 +1003,8 @@ PolyMesh quad_mesh_from_frames(const MetricFrames& m, const TriMesh& rest, const
                                double h, const QuadAnisoOptions& o) {
   if (!(h > 0) || !std::isfinite(h)) throw Error("quad-aniso", "spacing must be positive");
   const CrossField& cf = m.cfs[0];
-  const std::vector<Vec3> org = position_field(m.levels, m.cfs, m.matched, h, o);
-  const LatticeJoints joints = collapse_to_joints(m.pos, m.topo, cf, org, h);
+  const std::vector<Vec3> org = position_field(m.levels, m.cfs, m.matched, m.scale, h, o);
+  const LatticeJoints joints = collapse_to_joints(m.pos, m.topo, cf, org, m.scale[0], h);
   std::vector<std::vector<int>> faces = trace_faces(joint_rings(joints), joints, o.max_face_sides);
   if (faces.empty()) throw Error("quad-aniso", "extraction found no faces (spacing too large?)");
   pair_odd_faces(faces, joints.pos, joints.normal, h);
@@ -1039,6 +1147,10 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   if (!(o.resolution >= 1)) throw Error("quad-aniso", "resolution must be ≥ 1");
   if (!(o.direction_smoothing > 0) || !std::isfinite(o.direction_smoothing))
     throw Error("quad-aniso", "direction_smoothing must be positive");
+  if (!(o.integrable_scale >= 0) || !std::isfinite(o.integrable_scale))
+    throw Error("quad-aniso", "integrable_scale must be ≥ 0");
+  if (!(o.max_scale_change >= 1) || !std::isfinite(o.max_scale_change))
+    throw Error("quad-aniso", "max_scale_change must be ≥ 1");
   double area_def = 0;
   for (int f = 0; f < mesh.num_faces(); ++f)
     area_def += triangle_area(mesh.vertex(mesh.F(f, 0)), mesh.vertex(mesh.F(f, 1)),
@@ -1082,42 +1194,46 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   const SurfaceProjector proj(mesh);
   const double tol = 1e-6 * bbox_diagonal(mesh.V);
   const MetricFrames frames = metric_frames(rest, def, rest_field, h, o);  // the h M′ is refined for
-  auto build = [&](double spacing) {
-    PolyMesh best_grid;
-    double best_score = -1;
-    for (int start = 0; start < std::max(1, o.starts); ++start) {
-      QuadAnisoOptions so = o;
-      so.seed = o.seed + 7919 * static_cast<std::uint64_t>(start);
-      PolyMesh grid = quad_mesh_from_frames(frames, rest, def, spacing, so);
-      for (int v = 0; v < grid.num_vertices(); ++v)
-        grid.V.row(v) = proj.closest_point(grid.vertex(v)).transpose();
-      // Flaps and pieces the extraction left apart (a quad cut off by a hole) would be
-      // mechanisms, or nearly, in the analysis.
-      grid = snap_to_boundary(grid, proj, o.boundary_snap);
-      remove_hanging_faces(grid);
-      grid = largest_component(grid);
-      const double score = regularity_score(grid);
-      if (score > best_score) best_score = score, best_grid = std::move(grid);
-    }
-    return best_grid;
+  // One lattice start at spacing h: the grid on M, cleaned up, with its length error and score.
+  struct Candidate {
+    PolyMesh grid;
+    double spacing = 0, length = 0, error = 0, score = 0;
   };
-  PolyMesh best;
-  double best_error = std::numeric_limits<double>::infinity();
+  auto build = [&](double spacing, int start) {
+    QuadAnisoOptions so = o;
+    so.seed = o.seed + 7919 * static_cast<std::uint64_t>(start);
+    Candidate c;
+    c.spacing = spacing;
+    c.grid = quad_mesh_from_frames(frames, rest, def, spacing, so);
+    for (int v = 0; v < c.grid.num_vertices(); ++v)
+      c.grid.V.row(v) = proj.closest_point(c.grid.vertex(v)).transpose();
+    // Flaps and pieces the extraction left apart (a quad cut off by a hole) would be
+    // mechanisms, or nearly, in the analysis.
+    c.grid = snap_to_boundary(c.grid, proj, o.boundary_snap);
+    remove_hanging_faces(c.grid);
+    c.grid = largest_component(c.grid);
+    c.score = regularity_score(c.grid);
+    c.length = total_edge_length(c.grid);
+    c.error = o.length > 0 ? c.length / o.length - 1 : 0;
+    ++r.grids;
+    return c;
+  };
+  std::vector<Candidate> pool;  // every grid built; the result is chosen from it at the end
+  const int starts = std::max(1, o.starts);
   const int fits = o.length > 0 ? o.max_fits : 1;
   double h_long = 0, h_short = std::numeric_limits<double>::infinity();  // see the bracket below
   for (int k = 0; k < fits; ++k) {
-    PolyMesh grid = build(h);
+    // The secant follows the most regular of the starts at this h (the first on a tie).
     ++r.fits;
-    const double length = total_edge_length(grid);
-    const double error = o.length > 0 ? length / o.length - 1 : 0;
-    spdlog::info("[quad-aniso] h = {:.4g} m on M': {} joints, {} faces, {:.1f} m", h,
-                 grid.num_vertices(), grid.num_faces(), length);
-    if (std::abs(error) < best_error) {
-      best_error = std::abs(error);
-      best = std::move(grid);
-      r.spacing = h;
+    size_t top = pool.size();
+    for (int start = 0; start < starts; ++start) {
+      pool.push_back(build(h, start));
+      if (pool.back().score > pool[top].score) top = pool.size() - 1;
     }
-    if (best_error <= o.length_tolerance) break;
+    const double length = pool[top].length;
+    spdlog::info("[quad-aniso] h = {:.4g} m on M': {} joints, {} faces, {:.1f} m", h,
+                 pool[top].grid.num_vertices(), pool[top].grid.num_faces(), length);
+    if (std::abs(pool[top].error) <= o.length_tolerance) break;
     // L(h) is a step function (whole cells) and jumps with the lattice's start, so the secant on
     // L ∝ 1/h can oscillate about the target on a small grid: once h is bracketed (one grid too
     // long, one too short) a step that leaves the bracket is replaced by its geometric middle.
@@ -1131,11 +1247,49 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
       next = std::sqrt(h_long * h_short);
     h = next;
   }
-  if (o.length > 0 && best_error > std::max(o.length_tolerance, o.length_limit))
-    throw Error("quad-aniso", fmt::format("total length not within {:.0f}% of {} m after {} fits",
-                                          100 * std::max(o.length_tolerance, o.length_limit),
-                                          o.length, r.fits));
-  r.grid.mesh = std::move(best);
+  // A grid of a few dozen cells can jump across the ±limit band between two spacings as close as
+  // the fit places them (one row of cells is > 10 % of its length); other lattice starts land
+  // elsewhere on the step function. They are tried at the spacings of the closest grids above
+  // and below the target (or, with one side only, there and at the fit's next step).
+  auto within = [&](double limit) {
+    return std::any_of(pool.begin(), pool.end(),
+                       [&](const Candidate& c) { return std::abs(c.error) <= limit; });
+  };
+  const double limit = std::max(o.length_tolerance, o.length_limit);
+  if (o.length > 0 && !within(limit)) {
+    const Candidate *above = nullptr, *below = nullptr;
+    for (const Candidate& c : pool) {
+      if (c.error > 0 && (!above || c.error < above->error)) above = &c;
+      if (c.error < 0 && (!below || c.error > below->error)) below = &c;
+    }
+    std::vector<double> retry;
+    if (above) retry.push_back(above->spacing);
+    if (below) retry.push_back(below->spacing);
+    if (retry.size() < 2 && std::isfinite(h) && h > 0) retry.push_back(h);
+    const int before = r.grids;
+    for (int start = starts; start < starts + o.extra_starts && !within(limit); ++start)
+      for (double spacing : retry) pool.push_back(build(spacing, start));
+    spdlog::info("[quad-aniso] {} more lattice starts at {} spacings", r.grids - before,
+                 retry.size());
+  }
+  // The result: the most regular grid within length_tolerance (the first on a tie); failing
+  // that, the closest.
+  const Candidate* best = nullptr;
+  for (const Candidate& c : pool) {
+    const bool in = std::abs(c.error) <= o.length_tolerance;
+    const bool best_in = best && std::abs(best->error) <= o.length_tolerance;
+    if (!best || (in && (!best_in || c.score > best->score)) ||
+        (!in && !best_in && std::abs(c.error) < std::abs(best->error)))
+      best = &c;
+  }
+  if (o.length > 0 && std::abs(best->error) > limit)
+    throw Error("quad-aniso", fmt::format("total length not within {:.0f}% of {} m after {} grids",
+                                          100 * limit, o.length, r.grids));
+  r.spacing = best->spacing;
+  r.spacing_factor_p10 = frames.scale_p10;
+  r.spacing_factor_p90 = frames.scale_p90;
+  PolyMesh best_grid = best->grid;
+  r.grid.mesh = std::move(best_grid);
   r.grid.supports = transfer_supports(r.grid.mesh.V, surface, tol);
   return r;
 }
