@@ -38,6 +38,7 @@ struct BaselineArgs {
   std::string sheet = "2.5x1.25";
   // quad-aniso: the field of design
   double D = 3, A = 3;
+  double max_size_change = QuadAnisoOptions{}.max_scale_change;
   std::string field = "stress", measure = "magnitude", stretch = "along", density = "rising";
   SurfaceOptions surface_options;
   RunOptions run;
@@ -89,6 +90,9 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     qo.length = a.length;
     qo.spacing = a.spacing;
     qo.seed = a.run.seed;
+    if (!(a.max_size_change >= 1) || !std::isfinite(a.max_size_change))
+      throw Error("--max-size-change", "must be a number ≥ 1");
+    qo.max_scale_change = a.max_size_change;
     QuadAnisoResult q = quad_aniso(surface, field, qo);
     out.mesh = std::move(q.grid.mesh);
     out.supports = std::move(q.grid.supports);
@@ -232,6 +236,10 @@ void register_baseline(CLI::App& app, Action& action) {
       ->default_str("magnitude");
   sub->add_option("--stretch", a->stretch, "quad-aniso: along | across")->default_str("along");
   sub->add_option("--density", a->density, "quad-aniso: rising | falling")->default_str("rising");
+  sub->add_option("--max-size-change", a->max_size_change,
+                  "quad-aniso: cells may depart from the size d asks for by this factor so the "
+                  "lattice follows turning directions with fewer irregular joints (1: exactly d)")
+      ->default_str(fmt::format("{}", QuadAnisoOptions{}.max_scale_change));
   sub->add_option("--angle", a->angle_deg, "quad: rotation of the grid in plan (degrees)")
       ->default_str("0");
   sub->add_option("--radius", a->radius, "voronoi-iso/tri: cell size R (m) instead of --length");

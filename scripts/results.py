@@ -283,7 +283,7 @@ def paper_jobs(length_for):
             continue
         jobs.append((f"{slug(name)}_quad-aniso", ["baseline"] + surface_args(file) +
                      ["--kind", "quad-aniso", "-D", str(D), "-A", str(A),
-                      "--length", f"{length_for[name]:.1f}"]))
+                      "--max-size-change", "1", "--length", f"{length_for[name]:.1f}"]))
         if name == "Botanic":
             jobs.append(("botanic_original", ["baseline"] + surface_args(file) +
                          ["--kind", "original"]))
@@ -298,8 +298,9 @@ def paper_section(rows, length_for, tang):
           "it (Botanic.ply is Tang et al.'s quad mesh split into triangles: `baseline --kind "
           "original`; British Quad: Tang's quads recovered by `scripts/tang_quads.py`; Lilium's "
           "and Aquadom's originals are not in the data), the anisotropic quad mesh guided by the "
-          "same stress field at the same (D, A) (`baseline --kind quad-aniso`, "
-          "docs/quad_aniso.md), the isotropic quad grid, the isotropic Voronoi tessellation, the "
+          "same stress field at the same (D, A) (`baseline --kind quad-aniso --max-size-change 1`: "
+          "cells exactly as the field's density asks, so both patterns put the steel where the "
+          "same field does; docs/quad_aniso.md), the isotropic quad grid, the isotropic Voronoi tessellation, the "
           "Voronoi design and the triangulation. Same frame model as section 1; the original "
           "rows keep their own length (the grid-shell as built). The paper's λ and δ are beside "
           "ours: its frame differs (section 1's note), so compare orderings within a surface, "

@@ -49,6 +49,10 @@ TEST(Cli, BadBaselineOptions) {
   EXPECT_EQ(test::run_gridshell("baseline builtin:dome --kind hex --length 100").status, 2);
   EXPECT_EQ(test::run_gridshell("baseline builtin:dome --kind quad").status, 2);
   EXPECT_EQ(test::run_gridshell("baseline builtin:dome --kind quad --length -5").status, 2);
+  const test::RunResult r = test::run_gridshell(
+      "baseline builtin:dome --kind quad-aniso --length 400 --max-size-change 0.8");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--max-size-change"), std::string::npos) << r.err;
 }
 
 TEST(Cli, VoronoiAndTriangleBaselinesHitTheLength) {
@@ -72,8 +76,21 @@ TEST(Cli, VoronoiAndTriangleBaselinesHitTheLength) {
       EXPECT_GE(report["quad_aniso"]["quad_share"].get<double>(), 0.6);
       EXPECT_EQ(report["quad_aniso"]["non_simple_faces"].get<int>(), 0);
       EXPECT_GE(report["quad_aniso"]["min_edge_ratio"].get<double>(), 0.1);
+      // The spacing factor stays within --max-size-change (1.25 by default).
+      EXPECT_GE(report["quad_aniso"]["spacing_factor_p10"].get<double>(), 0.8 - 1e-9);
+      EXPECT_LE(report["quad_aniso"]["spacing_factor_p90"].get<double>(), 1.25 + 1e-9);
     }
   }
+  // --max-size-change 1: cells exactly as d asks (a constant spacing on M′).
+  fs::path d = test::temp_dir("exact");
+  ASSERT_EQ(test::run_gridshell("baseline builtin:dome --kind quad-aniso --length 400 "
+                                "--max-size-change 1 --analyze none --quiet -o " +
+                                d.string())
+                .status,
+            0);
+  auto report = nlohmann::json::parse(slurp(d / "report.json"));
+  EXPECT_EQ(report["quad_aniso"]["spacing_factor_p10"].get<double>(), 1.0);
+  EXPECT_EQ(report["quad_aniso"]["spacing_factor_p90"].get<double>(), 1.0);
 }
 
 TEST(Cli, SweepShardsReproduceTheUnshardedRows) {
