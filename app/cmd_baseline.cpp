@@ -65,6 +65,8 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   field_options.field_options.measure = parse_stress_measure(a.measure);
   field_options.field_options.stretch = parse_stretch_axis(a.stretch);
   field_options.field_options.density = parse_density_trend(a.density);
+  if (!(a.max_size_change >= 1) || !std::isfinite(a.max_size_change))
+    throw Error("--max-size-change", "must be a number ≥ 1");
   Surface surface = load_surface(a.surface, a.surface_options);
   lap("load", t0);
   GridShellOutput out;
@@ -90,8 +92,6 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     qo.length = a.length;
     qo.spacing = a.spacing;
     qo.seed = a.run.seed;
-    if (!(a.max_size_change >= 1) || !std::isfinite(a.max_size_change))
-      throw Error("--max-size-change", "must be a number ≥ 1");
     qo.max_scale_change = a.max_size_change;
     QuadAnisoResult q = quad_aniso(surface, field, qo);
     out.mesh = std::move(q.grid.mesh);
