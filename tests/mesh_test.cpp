@@ -51,8 +51,8 @@ TEST(Topology, LargestComponentKeepsTheBiggestPieceOnly) {
   EXPECT_EQ(largest_component(PolyMesh{m.V, {}}).num_vertices(), 0);
 }
 
-// A 2 × 2 block of quads with a triangle hung on one outer edge and a quad hung on the
-// triangle: the quad goes first, then the triangle; the block's faces (each sharing two edges)
+// A 2 × 2 block of quads with a triangle hung on one outer edge and a second triangle hung on
+// the first: the second goes first, then the first; the block's faces (each sharing two edges)
 // stay.
 TEST(Topology, RemoveHangingFacesPeelsFlapsOffTheBoundary) {
   PolyMesh m;

@@ -940,6 +940,9 @@ std::vector<std::vector<double>> integrable_scale(const TriMesh& def, const Fiel
   // A weak pull to 0 fixes the free constant (the solve is otherwise singular).
   const double eps = 1e-8 * diag / std::max(1.0, total);
   for (int v = 0; v < nv; ++v) L.coeffRef(v, v) += eps * mass[v];
+  // One small 2D Laplacian per M′: Eigen's simplicial factorisation, without CHOLMOD's
+  // supernodal BLAS blocks and symbolic-analysis lock (core/cholmod_support.h), which pay off on
+  // the frame and shell systems, not here.
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(L);
   if (solver.info() != Eigen::Success) return scale;
   Eigen::VectorXd sv = solver.solve(rhs);

@@ -103,16 +103,19 @@ struct QuadAnisoOptions {
   /// cap of 1.25 took the runs of docs/quad_aniso.md's table that meet every target at full
   /// length from 31 to 33 of 33 (8 generated surfaces: 22 to 23 of 24) and the mean smaller share
   /// of valence-4 joints and quads of the 22 anisotropic full-length runs from 92.1 % to 93.7 %
-  /// (session 12's sweep of κ and the cap is there: κ = 1 and a cap of 1.5 tie on the count).
+  /// (session 12's sweep of κ and the cap is there: κ = 1 at ±25 % and κ = 0.5 at ±50 % tie with
+  /// this setting on the count).
   double integrable_scale = 0.5;
   /// The spacing factor stays within [1 / this, this] (≥ 1; 1: constant spacing).
   double max_scale_change = 1.25;
   int max_face_sides = 8;      ///< faces with more sides are left out (holes in the grid)
   double boundary_snap = 1.5;  ///< see step 4 (× the mean length of the joint's beams)
   std::uint64_t seed = 1;
-  /// Lattice starts tried per spacing (seeds seed + 7919 k); the grid with the highest share of
-  /// valence-4 interior joints plus share of interior quads is kept. The seed alone moves these
-  /// shares by several points (Shell at (3, 3): valence 4 from 81 % to 86 % over 4 seeds).
+  /// Lattice starts tried per spacing (seeds seed + 7919 k). The length fit follows the start with
+  /// the highest share of valence-4 interior joints plus share of interior quads; the result is
+  /// the grid with the highest such score among all starts at all spacings within
+  /// `length_tolerance`. The seed alone moves these shares by several points (Shell at (3, 3):
+  /// valence 4 from 81 % to 86 % over 4 seeds).
   int starts = 4;
   DeformOptions deform;  ///< max_edge is set from h and `resolution`
 };
