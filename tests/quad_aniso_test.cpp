@@ -12,8 +12,8 @@
 #include "gridshell/grids/baseline_kind.h"
 #include "gridshell/grids/quad_aniso.h"
 #include "gridshell/grids/recover_quads.h"
-#include "gridshell/pipeline/baseline_field.h"
 #include "gridshell/mesh/topology.h"
+#include "gridshell/pipeline/baseline_field.h"
 #include "gridshell/surfaces/builtin.h"
 #include "gridshell/surfaces/load.h"
 #include "test_support.h"
@@ -178,7 +178,7 @@ TEST(QuadAniso, DirectionsWhereTheMetricIsIsotropicDoNotBendTheLattice) {
   o.spacing = 1.5;
   const QuadMeshStats weighted = quad_mesh_stats(quad_aniso(s, field, o).grid.mesh, s.mesh, field);
   o.full_alignment_anisotropy = 1;  // coherence only, and the short smoothing length of before
-  o.direction_smoothing = 0.07;      // session 11 (data weight ≈ 4 per neighbour)
+  o.direction_smoothing = 0.07;     // session 11 (data weight ≈ 4 per neighbour)
   const QuadMeshStats followed = quad_mesh_stats(quad_aniso(s, field, o).grid.mesh, s.mesh, field);
   EXPECT_GT(weighted.interior_joints, 100);
   EXPECT_GE(weighted.valence4_share, 0.98);  // measured 1.000 and 1.000

@@ -10,9 +10,9 @@
 #include <set>
 #include <tuple>
 
-#include <Eigen/Sparse>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <Eigen/Sparse>
 
 #include "gridshell/core/error.h"
 #include "gridshell/core/rng.h"
@@ -211,7 +211,8 @@ double quad_badness(const std::array<Vec3, 4>& p, const Vec3& n) {
 /// into quads by diagonals (i, i + 3): the lowest Σ badness + `valence_weight` × Σ over the
 /// diagonals' ends of the change in |valence − 4| + Σ over the diagonals of (length / h − 1)²
 /// (a new beam should be one lattice step long, not a cell's diagonal). Diagonals that are beams
-/// already are not used. Returns the cost (infinite when there is no admissible split) and fills `quads`.
+/// already are not used. Returns the cost (infinite when there is no admissible split) and fills
+/// `quads`.
 double best_quad_split(const std::vector<int>& poly, const std::vector<Vec3>& p, const Vec3& n,
                        std::map<int, int>& degree, const std::set<std::pair<int, int>>& beams,
                        double valence_weight, double h, std::vector<std::array<int, 4>>& quads) {
@@ -260,7 +261,7 @@ std::vector<int> join_across(const std::vector<int>& poly, const std::vector<int
   for (int k = 0; k < m; ++k) out.push_back(poly[(i + 1 + k) % m]);  // b … a
   int j = 0;
   while (j < mg && face[j] != a) ++j;
-  if (j == mg || face[(j + mg - 1) % mg] != b) return {};  // face does not walk b → a
+  if (j == mg || face[(j + mg - 1) % mg] != b) return {};              // face does not walk b → a
   for (int k = 1; k + 1 < mg; ++k) out.push_back(face[(j + k) % mg]);  // after a … before b
   std::vector<int> sorted = out;
   std::sort(sorted.begin(), sorted.end());
@@ -420,8 +421,8 @@ std::vector<Level> build_hierarchy(const TriMesh& def, const Topology& topo, int
     l.n = vertex_normals(def);
     l.area.assign(nv, 0);
     for (int f = 0; f < def.num_faces(); ++f) {
-      const double a = triangle_area(def.vertex(def.F(f, 0)), def.vertex(def.F(f, 1)),
-                                     def.vertex(def.F(f, 2)));
+      const double a =
+          triangle_area(def.vertex(def.F(f, 0)), def.vertex(def.F(f, 1)), def.vertex(def.F(f, 2)));
       for (int k = 0; k < 3; ++k) l.area[def.F(f, k)] += a / 3;
     }
     for (double& a : l.area) a = std::max(a, 1e-300);
@@ -434,9 +435,8 @@ std::vector<Level> build_hierarchy(const TriMesh& def, const Topology& topo, int
     for (int i = 0; i < nv; ++i)
       for (int j : f.nbr[i])
         if (i < j)
-          pairs.emplace_back(-f.n[i].dot(f.n[j]) * std::min(f.area[i] / f.area[j],
-                                                            f.area[j] / f.area[i]),
-                             i, j);
+          pairs.emplace_back(
+              -f.n[i].dot(f.n[j]) * std::min(f.area[i] / f.area[j], f.area[j] / f.area[i]), i, j);
     std::sort(pairs.begin(), pairs.end());
     std::vector<int> parent(nv, -1);
     int count = 0;
@@ -472,8 +472,8 @@ std::vector<Level> build_hierarchy(const TriMesh& def, const Topology& topo, int
 
 /// Gauss–Seidel sweeps of the cross field on one level, with the data term q_data weighted by
 /// λ × the vertex's neighbour count.
-void smooth_cross(const Level& l, const std::vector<Vec3>& q_data, const std::vector<double>& lambda,
-                  std::vector<Vec3>& q, int iterations) {
+void smooth_cross(const Level& l, const std::vector<Vec3>& q_data,
+                  const std::vector<double>& lambda, std::vector<Vec3>& q, int iterations) {
   for (int it = 0; it < iterations; ++it) {
     for (int v = 0; v < l.size(); ++v) {
       const auto& nb = l.nbr[v];
@@ -618,8 +618,8 @@ void smooth_position(const Level& l, const CrossField& cf, const MatchedFrames& 
       const int k0 = mf.offset[i];
       for (size_t k = 0; k < l.nbr[i].size(); ++k) {
         const int j = l.nbr[i][k];
-        const auto [a, b] = compat_position(pos[i], q[i], t[i], sum, hs[i], pos[j],
-                                            mf.q[k0 + k], mf.t[k0 + k], org[j], hs[j]);
+        const auto [a, b] = compat_position(pos[i], q[i], t[i], sum, hs[i], pos[j], mf.q[k0 + k],
+                                            mf.t[k0 + k], org[j], hs[j]);
         sum = (a * weight + b) / (weight + 1);
         weight += 1;
         sum -= n[i] * n[i].dot(sum - pos[i]);
@@ -740,8 +740,7 @@ LatticeJoints collapse_to_joints(const std::vector<Vec3>& pos, const Topology& t
     }
     for (int c = 0; c < nc; ++c) {
       J.pos[c] /= J.vertices[c];
-      J.normal[c] =
-          J.normal[c].norm() > 0 ? Vec3(J.normal[c].normalized()) : Vec3(Vec3::UnitZ());
+      J.normal[c] = J.normal[c].norm() > 0 ? Vec3(J.normal[c].normalized()) : Vec3(Vec3::UnitZ());
     }
   }
   return J;
@@ -887,8 +886,7 @@ namespace {
 /// take the area-weighted mean of log scale over their children.
 std::vector<std::vector<double>> integrable_scale(const TriMesh& def, const Field& field,
                                                   const std::vector<Level>& levels,
-                                                  const CrossField& cf,
-                                                  const QuadAnisoOptions& o) {
+                                                  const CrossField& cf, const QuadAnisoOptions& o) {
   const int nv = def.num_vertices(), nf = def.num_faces();
   std::vector<std::vector<double>> scale(levels.size());
   for (size_t k = 0; k < levels.size(); ++k) scale[k].assign(levels[k].size(), 1.0);
@@ -913,8 +911,7 @@ std::vector<std::vector<double>> integrable_scale(const TriMesh& def, const Fiel
     for (int a = 0; a < 3; ++a) {
       mass[id[a]] += area / 3;
       asked[id[a]] += area / 3 * graded;
-      for (int b = 0; b < 3; ++b)
-        trip.emplace_back(id[a], id[b], area * grad[a].dot(grad[b]));
+      for (int b = 0; b < 3; ++b) trip.emplace_back(id[a], id[b], area * grad[a].dot(grad[b]));
     }
     // The cross's angle at the three corners, matched to corner 0's and measured in the
     // triangle's plane; a singular triangle (the matchings around it do not close) is skipped.
@@ -971,7 +968,7 @@ struct MetricFrames {
   std::vector<CrossField> cfs;
   std::vector<MatchedFrames> matched;
   std::vector<std::vector<double>> scale;  ///< per level and vertex: the lattice spacing / h
-  double scale_p10 = 1, scale_p90 = 1;      ///< of scale[0], weighted by M′'s vertex areas
+  double scale_p10 = 1, scale_p90 = 1;     ///< of scale[0], weighted by M′'s vertex areas
 };
 
 MetricFrames metric_frames(const TriMesh& rest, const TriMesh& def, const Field& field, double h,
@@ -1025,7 +1022,6 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
 }
 
 namespace {
-
 
 /// Moves the grid's outer-boundary joints near M's boundary onto it, collapses the stubs this
 /// makes, and drops unused joints and faces that are not simple polygons.
@@ -1085,7 +1081,8 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
   PolyMesh moved{mesh.V, {}};
   for (int v = 0; v < mesh.num_vertices(); ++v) moved.V.row(v) = p[v].transpose();
   for (auto& f : faces) {
-    if (f.size() < 3 || !is_simple_polygon(moved, f)) continue;  // a fold at the seam of the lattice
+    if (f.size() < 3 || !is_simple_polygon(moved, f))
+      continue;  // a fold at the seam of the lattice
     for (int& v : f) {
       if (index[v] < 0) index[v] = count++;
       v = index[v];
@@ -1196,7 +1193,8 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   r.deformed_triangles = def.num_faces();
   const SurfaceProjector proj(mesh);
   const double tol = 1e-6 * bbox_diagonal(mesh.V);
-  const MetricFrames frames = metric_frames(rest, def, rest_field, h, o);  // the h M′ is refined for
+  const MetricFrames frames =
+      metric_frames(rest, def, rest_field, h, o);  // the h M′ is refined for
   // One lattice start at spacing h: the grid on M, cleaned up, with its length error and score.
   struct Candidate {
     PolyMesh grid;

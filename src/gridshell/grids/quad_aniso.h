@@ -65,7 +65,7 @@ struct QuadAnisoOptions {
   /// lattice starts are tried at the spacings of the closest grids above and below the target
   /// (with grids on one side only: there and at the fit's next spacing).
   int extra_starts = 16;
-  double resolution = 2;           ///< M′ refined to edges ≤ h / resolution
+  double resolution = 2;  ///< M′ refined to edges ≤ h / resolution
   int orientation_iterations = 20;
   /// Gauss–Seidel sweeps of the position field on M′ and on each coarser level of the hierarchy
   /// (each level starts from its parents' lattices). Fewer sweeps are cheaper but not free: 20
@@ -126,8 +126,8 @@ struct QuadAnisoResult {
   /// The lattice spacing on M′ is h × a factor per vertex (`integrable_scale`): its 10th and 90th
   /// percentiles over M′'s area (1 and 1 without it).
   double spacing_factor_p10 = 1, spacing_factor_p90 = 1;
-  int fits = 0;        ///< spacings tried by the length fit
-  int grids = 0;       ///< grids extracted (spacings × lattice starts, and any extra starts)
+  int fits = 0;   ///< spacings tried by the length fit
+  int grids = 0;  ///< grids extracted (spacings × lattice starts, and any extra starts)
   int deformed_triangles = 0;
   int folded_edges = 0;  ///< of M′ (metric/deform.h)
 };
