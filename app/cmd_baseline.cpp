@@ -100,6 +100,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     quad_stats = {{"spacing_deformed_m", q.spacing},
                   {"fits", q.fits},
                   {"grids", q.grids},
+                  {"starts", q.starts},
                   {"spacing_factor_p10", q.spacing_factor_p10},
                   {"spacing_factor_p90", q.spacing_factor_p90},
                   {"deformed_triangles", q.deformed_triangles},

@@ -79,6 +79,9 @@ TEST(Cli, VoronoiAndTriangleBaselinesHitTheLength) {
       // The spacing factor stays within --max-size-change (1.25 by default).
       EXPECT_GE(report["quad_aniso"]["spacing_factor_p10"].get<double>(), 0.8 - 1e-9);
       EXPECT_LE(report["quad_aniso"]["spacing_factor_p90"].get<double>(), 1.25 + 1e-9);
+      // A grid of ~40 cells is built from 32 lattice starts per spacing (4000 cells' worth).
+      EXPECT_EQ(report["quad_aniso"]["starts"].get<int>(), 32);
+      EXPECT_GE(report["quad_aniso"]["grids"].get<int>(), 32);
     }
   }
   // --max-size-change 1: cells exactly as d asks (a constant spacing on M′).

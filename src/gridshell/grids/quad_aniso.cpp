@@ -1110,24 +1110,11 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
   return out;
 }
 
-/// Share of interior joints of valence 4 plus share of interior faces with 4 sides.
-double regularity_score(const PolyMesh& grid) {
-  const Topology t = build_topology(grid);
-  int joints = 0, valence4 = 0, faces = 0, quads = 0;
-  for (int v = 0; v < grid.num_vertices(); ++v) {
-    if (t.on_boundary[v] || t.vertex_faces[v].empty()) continue;
-    ++joints;
-    valence4 += t.vertex_neighbors[v].size() == 4;
-  }
-  for (const auto& f : grid.faces) {
-    bool interior = true;
-    for (int v : f) interior = interior && !t.on_boundary[v];
-    if (!interior) continue;
-    ++faces;
-    quads += f.size() == 4;
-  }
-  return (joints ? static_cast<double>(valence4) / joints : 0) +
-         (faces ? static_cast<double>(quads) / faces : 0);
+/// A candidate grid's quality, the sum of three shares of QuadMeshStats: interior joints of
+/// valence 4, interior faces with 4 sides, and beams within 15° of u or u⊥ where a ≥ 2 (1 when
+/// there are none: an isotropic field, or a grid too coarse to have interior beams there).
+double grid_quality(const QuadMeshStats& st) {
+  return st.valence4_share + st.quad_share + (st.strong_beams > 0 ? st.aligned_share : 1.0);
 }
 
 bool is_isotropic(const Field& field) {
@@ -1151,6 +1138,8 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     throw Error("quad-aniso", "integrable_scale must be ≥ 0");
   if (!(o.max_scale_change >= 1) || !std::isfinite(o.max_scale_change))
     throw Error("quad-aniso", "max_scale_change must be ≥ 1");
+  if (!(o.start_cells >= 0) || !std::isfinite(o.start_cells))
+    throw Error("quad-aniso", "start_cells must be ≥ 0");
   double area_def = 0;
   for (int f = 0; f < mesh.num_faces(); ++f)
     area_def += triangle_area(mesh.vertex(mesh.F(f, 0)), mesh.vertex(mesh.F(f, 1)),
@@ -1213,7 +1202,7 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     c.grid = snap_to_boundary(c.grid, proj, o.boundary_snap);
     remove_hanging_faces(c.grid);
     c.grid = largest_component(c.grid);
-    c.score = regularity_score(c.grid);
+    c.score = grid_quality(quad_mesh_stats(c.grid, mesh, field));
     c.length = total_edge_length(c.grid);
     c.error = o.length > 0 ? c.length / o.length - 1 : 0;
     ++r.grids;
@@ -1221,19 +1210,31 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   };
   std::vector<Candidate> pool;  // every grid built; the result is chosen from it at the end
   const int starts = std::max(1, o.starts);
+  std::set<std::pair<double, int>> built;  // (spacing, start) of every grid in the pool
+  auto add = [&](double spacing, int start) {
+    if (built.emplace(spacing, start).second) pool.push_back(build(spacing, start));
+  };
   const int fits = o.length > 0 ? o.max_fits : 1;
   double h_long = 0, h_short = std::numeric_limits<double>::infinity();  // see the bracket below
   for (int k = 0; k < fits; ++k) {
-    // The secant follows the most regular of the starts at this h (the first on a tie).
+    // The secant follows the median length of the starts at this h: one start's grid can lose a
+    // piece (only the largest connected part is kept), and its length would send the fit astray.
     ++r.fits;
-    size_t top = pool.size();
-    for (int start = 0; start < starts; ++start) {
-      pool.push_back(build(h, start));
-      if (pool.back().score > pool[top].score) top = pool.size() - 1;
-    }
-    const double length = pool[top].length;
-    spdlog::info("[quad-aniso] h = {:.4g} m on M': {} joints, {} faces, {:.1f} m", h,
-                 pool[top].grid.num_vertices(), pool[top].grid.num_faces(), length);
+    const size_t first = pool.size();
+    size_t top = first;
+    for (int start = 0; start < starts; ++start) add(h, start);
+    if (pool.size() == first) break;  // the fit came back to a spacing it had tried
+    for (size_t c = first; c < pool.size(); ++c)
+      if (pool[c].score > pool[top].score) top = c;
+    std::vector<double> lengths;
+    for (size_t c = first; c < pool.size(); ++c) lengths.push_back(pool[c].length);
+    std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+    const double length = lengths[lengths.size() / 2];
+    spdlog::info(
+        "[quad-aniso] h = {:.4g} m on M': {} starts, median {:.1f} m; the best: {} joints, "
+        "{} faces, {:.1f} m",
+        h, starts, length, pool[top].grid.num_vertices(), pool[top].grid.num_faces(),
+        pool[top].length);
     if (std::abs(pool[top].error) <= o.length_tolerance) break;
     // L(h) is a step function (whole cells) and jumps with the lattice's start, so the secant on
     // L ∝ 1/h can oscillate about the target on a small grid: once h is bracketed (one grid too
@@ -1269,20 +1270,35 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     if (retry.size() < 2 && std::isfinite(h) && h > 0) retry.push_back(h);
     const int before = r.grids;
     for (int start = starts; start < starts + o.extra_starts && !within(limit); ++start)
-      for (double spacing : retry) pool.push_back(build(spacing, start));
+      for (double spacing : retry) add(spacing, start);
     spdlog::info("[quad-aniso] {} more lattice starts at {} spacings", r.grids - before,
                  retry.size());
   }
-  // The result: the most regular grid within length_tolerance (the first on a tie); failing
-  // that, the closest.
-  const Candidate* best = nullptr;
-  for (const Candidate& c : pool) {
-    const bool in = std::abs(c.error) <= o.length_tolerance;
-    const bool best_in = best && std::abs(best->error) <= o.length_tolerance;
-    if (!best || (in && (!best_in || c.score > best->score)) ||
-        (!in && !best_in && std::abs(c.error) < std::abs(best->error)))
-      best = &c;
-  }
+  // The result: the grid of the highest quality within length_tolerance (the first on a tie);
+  // failing that, the closest.
+  auto choose = [&] {
+    const Candidate* best = nullptr;
+    for (const Candidate& c : pool) {
+      const bool in = std::abs(c.error) <= o.length_tolerance;
+      const bool best_in = best && std::abs(best->error) <= o.length_tolerance;
+      if (!best || (in && (!best_in || c.score > best->score)) ||
+          (!in && !best_in && std::abs(c.error) < std::abs(best->error)))
+        best = &c;
+    }
+    return best;
+  };
+  // More starts at the spacing of that grid: a grid of few cells is cheap to build again, and
+  // its shares move most with the start (one defect among 40 joints is 2.5 points).
+  const double chosen = choose()->spacing;
+  const double cells = area_def / (chosen * chosen);
+  r.starts = static_cast<int>(std::clamp(std::floor(o.start_cells / cells), double(starts),
+                                         double(std::max(starts, o.max_starts))));
+  const int before_more = r.grids;
+  for (int start = starts; start < r.starts; ++start) add(chosen, start);
+  if (r.grids > before_more)
+    spdlog::info("[quad-aniso] {} more lattice starts at h = {:.4g} m (about {:.0f} cells)",
+                 r.grids - before_more, chosen, cells);
+  const Candidate* best = choose();
   if (o.length > 0 && std::abs(best->error) > limit)
     throw Error("quad-aniso", fmt::format("total length not within {:.0f}% of {} m after {} grids",
                                           100 * limit, o.length, r.grids));
