@@ -2,6 +2,7 @@
 // stored as triangle pairs (grids/recover_quads.h) and the baseline kinds.
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <array>
@@ -346,6 +347,14 @@ TEST(QuadAniso, SmallGridIsTheBestOfItsLatticeStarts) {
   EXPECT_DOUBLE_EQ(quality(all.grid.mesh), best);
   // The starts differ: the best is worth choosing.
   EXPECT_GT(best, *std::min_element(each.begin(), each.end()));
+  // The starts are built in parallel; on one thread the result is the same grid.
+  QuadAnisoResult serial;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    serial = quad_aniso(s, field, o);
+  }
+  EXPECT_EQ(serial.grid.mesh.faces, all.grid.mesh.faces);
+  EXPECT_TRUE(serial.grid.mesh.V == all.grid.mesh.V);
 }
 
 TEST(QuadAniso, RejectsBadInput) {

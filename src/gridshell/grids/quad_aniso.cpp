@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
 #include <Eigen/Sparse>
 
 #include "gridshell/core/error.h"
@@ -1205,14 +1206,27 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     c.score = grid_quality(quad_mesh_stats(c.grid, mesh, field));
     c.length = total_edge_length(c.grid);
     c.error = o.length > 0 ? c.length / o.length - 1 : 0;
-    ++r.grids;
     return c;
   };
   std::vector<Candidate> pool;  // every grid built; the result is chosen from it at the end
   const int starts = std::max(1, o.starts);
   std::set<std::pair<double, int>> built;  // (spacing, start) of every grid in the pool
-  auto add = [&](double spacing, int start) {
-    if (built.emplace(spacing, start).second) pool.push_back(build(spacing, start));
+  // Builds the lattice starts not built yet (each (spacing, start) once), in parallel: every
+  // start has its own seed, so the grids and their order in the pool do not depend on threads.
+  auto add = [&](const std::vector<std::pair<double, int>>& jobs) {
+    std::vector<std::pair<double, int>> todo;
+    for (const auto& job : jobs)
+      if (built.insert(job).second) todo.push_back(job);
+    std::vector<Candidate> made(todo.size());
+    tbb::parallel_for(0, static_cast<int>(todo.size()),
+                      [&](int k) { made[k] = build(todo[k].first, todo[k].second); });
+    for (Candidate& c : made) pool.push_back(std::move(c));
+    r.grids += static_cast<int>(todo.size());
+  };
+  auto starts_at = [](double spacing, int from, int to) {
+    std::vector<std::pair<double, int>> jobs;
+    for (int start = from; start < to; ++start) jobs.emplace_back(spacing, start);
+    return jobs;
   };
   const int fits = o.length > 0 ? o.max_fits : 1;
   double h_long = 0, h_short = std::numeric_limits<double>::infinity();  // see the bracket below
@@ -1222,7 +1236,7 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     ++r.fits;
     const size_t first = pool.size();
     size_t top = first;
-    for (int start = 0; start < starts; ++start) add(h, start);
+    add(starts_at(h, 0, starts));
     if (pool.size() == first) break;  // the fit came back to a spacing it had tried
     for (size_t c = first; c < pool.size(); ++c)
       if (pool[c].score > pool[top].score) top = c;
@@ -1270,7 +1284,11 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     if (retry.size() < 2 && std::isfinite(h) && h > 0) retry.push_back(h);
     const int before = r.grids;
     for (int start = starts; start < starts + o.extra_starts && !within(limit); ++start)
-      for (double spacing : retry) add(spacing, start);
+      add([&] {
+        std::vector<std::pair<double, int>> jobs;
+        for (double spacing : retry) jobs.emplace_back(spacing, start);
+        return jobs;
+      }());
     spdlog::info("[quad-aniso] {} more lattice starts at {} spacings", r.grids - before,
                  retry.size());
   }
@@ -1294,7 +1312,7 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   r.starts = static_cast<int>(std::clamp(std::floor(o.start_cells / cells), double(starts),
                                          double(std::max(starts, o.max_starts))));
   const int before_more = r.grids;
-  for (int start = starts; start < r.starts; ++start) add(chosen, start);
+  add(starts_at(chosen, starts, r.starts));
   if (r.grids > before_more)
     spdlog::info("[quad-aniso] {} more lattice starts at h = {:.4g} m (about {:.0f} cells)",
                  r.grids - before_more, chosen, cells);

@@ -39,8 +39,9 @@
 /// Cost: O(V · (orientation + position sweeps)) on M′ (the coarser levels add about as much again)
 /// plus one sparse LDLᵀ of M′'s Laplacian (the spacing factor) and O(n log n) for the
 /// extraction, times the lattice starts (`starts` per spacing, up to `max_starts` at the chosen
-/// spacing of a small grid; the grid of the highest quality is kept); the length fit repeats
-/// steps 2–4 (M′, the hierarchy and the cross field are computed once).
+/// spacing of a small grid; the grid of the highest quality is kept; the starts of a spacing are
+/// built in parallel, each with its own seed, so the result does not depend on the thread count);
+/// the length fit repeats steps 2–4 (M′, the hierarchy and the cross field are computed once).
 
 #include <cstdint>
 #include <vector>
