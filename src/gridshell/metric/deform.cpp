@@ -25,6 +25,13 @@ using Mat32 = Eigen::Matrix<double, 3, 2>;
 using Mat33 = Eigen::Matrix3d;
 
 constexpr double kBoundaryBending = 0.1;
+/// A face's membrane stiffness area · D Dᵀ has the trace Σ cot θ (√3 for an equilateral
+/// triangle), which grows without bound on a sliver (a boundary "cap" of a mapped disk: area
+/// 1e-7 m², trace ~1e8, and the bending term squares it): the global system is then not
+/// positive definite in floating point. Above this trace the face's weight is scaled down so its
+/// trace is this (a positive multiple of a positive semi-definite term: the sum stays positive
+/// definite); faces with no angle below about 0.1° keep their area.
+constexpr double kMaxCotangentSum = 1e3;
 
 /// The global step's factorisation: supernodal (BLAS blocks: 2× faster than the simplicial one on
 /// the bending system's two-ring stencil), then converted to a simplicial factor, whose solves
@@ -46,6 +53,8 @@ struct Level {
   std::vector<Mat32> frame;             ///< (u, u⊥) in 3D
   std::vector<Eigen::Vector2d> target;  ///< (d/a, d)
   std::vector<double> area;
+  /// The face's weight in the energy: its area, less on a sliver (kMaxCotangentSum).
+  std::vector<double> weight;
   std::vector<int> free_index;  ///< vertex → unknown index or -1 when fixed
   int num_free = 0;
   Eigen::SparseMatrix<double> Lff;          ///< free × free
@@ -75,6 +84,7 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
   lv.frame.resize(nf);
   lv.target.resize(nf);
   lv.area.resize(nf);
+  lv.weight.resize(nf);
   const double diag = bbox_diagonal(rest.V);
   for (int f = 0; f < nf; ++f) {
     const Vec3 p0 = rest.vertex(rest.F(f, 0)), p1 = rest.vertex(rest.F(f, 1)),
@@ -95,6 +105,8 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
     lv.D[f] = G * E.inverse();
     lv.target[f] = Eigen::Vector2d(d / a, d);
     lv.area[f] = area;
+    const double trace = area * lv.D[f].squaredNorm();
+    lv.weight[f] = trace > kMaxCotangentSum ? area * kMaxCotangentSum / trace : area;
   }
   // One fixed vertex per connected component; unreferenced vertices are fixed too.
   DisjointSets sets(nv);
@@ -122,7 +134,7 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
   std::vector<double> vertex_area(nv, 0.0);
   std::vector<char> boundary(nv, 0);
   for (int f = 0; f < nf; ++f) {
-    const Mat33 K = lv.area[f] * lv.D[f] * lv.D[f].transpose();
+    const Mat33 K = lv.weight[f] * lv.D[f] * lv.D[f].transpose();
     for (int i = 0; i < 3; ++i) {
       vertex_area[rest.F(f, i)] += lv.area[f] / 3;
       for (int j = 0; j < 3; ++j) trip.emplace_back(rest.F(f, i), rest.F(f, j), K(i, j));
@@ -189,7 +201,7 @@ void global_step(Level& lv, const TriMesh& rest, Points& X, const std::vector<Ma
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(lv.num_free, 3);
   for (int f = 0; f < nf; ++f) {
     const Mat32 B = R[f] * lv.target[f].asDiagonal();
-    const Mat33 C = lv.area[f] * lv.D[f] * B.transpose();  // row i → vertex i
+    const Mat33 C = lv.weight[f] * lv.D[f] * B.transpose();  // row i → vertex i
     for (int i = 0; i < 3; ++i) {
       const int fi = lv.free_index[rest.F(f, i)];
       if (fi >= 0) rhs.row(fi) += C.row(i);
@@ -260,7 +272,7 @@ double local_step(const Level& lv, const TriMesh& rest, const Points& X, std::ve
         (vn.row(rest.F(f, 0)) + vn.row(rest.F(f, 1)) + vn.row(rest.F(f, 2))).transpose() -
         3 * fn[f];
     R[f] = fn[f].dot(around) < 0 ? oriented_fit(M, around) : polar32(M);
-    e[f] = lv.area[f] * (J - R[f] * lv.target[f].asDiagonal()).squaredNorm();
+    e[f] = lv.weight[f] * (J - R[f] * lv.target[f].asDiagonal()).squaredNorm();
     s[f] = lv.area[f] * lv.target[f].squaredNorm();
   });
   // Serial sums: independent of the thread count.
