@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Eight roof surfaces outside the shared data and the built-ins, for checking a method on
+"""Fourteen roof surfaces outside the shared data and the built-ins, for checking a method on
 surfaces it was not tuned on (docs/quad_aniso.md, session 12).
 
     python3 scripts/generated_surfaces.py OUT_DIR
@@ -13,6 +13,13 @@ Writes OUT_DIR/NAME.obj (triangles; every boundary vertex becomes a support by d
   blob       three-lobed plan (radius 16 m +/- 25 %), a dome with a superposed wave
   canopy     long wavy canopy, 50 x 14 m
   wave       elliptic plan 40 x 26 m, a dome with a superposed wave
+and six added in session 13 (held out there):
+  pillow     a pillow over a 28 x 28 m square, 9 m high
+  monkey     monkey saddle over a disk of radius 15 m
+  bent       barrel vault bent through 90 degrees in plan (radii 14-26 m)
+  hexdome    dome over a hexagonal plan (16 m to the corners); its corner cells are slivers
+  bumpy      five Gaussian bumps on a dome over an ellipse 36 x 24 m
+  tent       tent-like peak off centre over a 30 x 30 m square
 and prints the area of each (the acceptance runs used lengths of about area and area / 2 m).
 """
 
@@ -88,6 +95,44 @@ def wave(u, v):
     return 20 * x, 13 * y, 5 * (1 - x * x - y * y) + 1.2 * math.sin(3 * x) * math.cos(2 * y)
 
 
+# Added in session 13 and used there as held out (no choice was made on them).
+def monkey(u, v):
+    x, y = disk_map(u, v)
+    return 15 * x, 15 * y, 4 * (x ** 3 - 3 * x * y * y) + 5 * (1 - x * x - y * y)
+
+
+def bent(u, v):
+    t, r = math.pi / 2 * u, 20 + 12 * (v - 0.5)
+    return r * math.cos(t), r * math.sin(t), 7 * math.sin(math.pi * v)
+
+
+def hexdome(u, v):
+    x, y = disk_map(u, v)
+    r, t = math.hypot(x, y), math.atan2(y, x)
+    k = math.cos(math.pi / 6) / math.cos((t + math.pi / 6) % (math.pi / 3) - math.pi / 6)
+    return 16 * k * r * math.cos(t), 16 * k * r * math.sin(t), 8 * (1 - r * r)
+
+
+BUMPS = [(-4.932682584671454, -6.284714869358965, 3.952803419119561, 4.289745146670171),
+         (1.0046961205872975, -2.4175994955734605, 2.17399677432412, 6.0297429327576815),
+         (-12.950121563624423, -1.1943776940770547, 2.209566270723857, 4.362852053375461),
+         (-2.11346270400961, 5.883338244096684, 2.371405883448937, 4.892955858428058),
+         (3.5681302273565016, 8.058760964226103, 3.731308845852496, 5.586721898603121)]  # x, y, height, width (m): random.Random(7), uniform in (±14, ±9, 2–5, 4–8)
+
+
+def bumpy(u, v):
+    x, y = disk_map(u, v)
+    px, py, rim = 18 * x, 12 * y, 1 - x * x - y * y
+    return px, py, rim * (5 + sum(h * math.exp(-((px - a) ** 2 + (py - b) ** 2) / (2 * w * w))
+                                  for a, b, h, w in BUMPS))
+
+
+def tent(u, v):
+    x, y = 2 * u - 1, 2 * v - 1
+    peak = max(0.0, 1 - math.hypot(x - 0.2, y + 0.1) / 1.6)
+    return 15 * x, 15 * y, 10 * peak * (1 - x * x) * math.sqrt(1 - y * y) + 0.5
+
+
 SURFACES = {
     "saddle": lambda: grid(60, 60, lambda u, v: (30 * u - 15, 30 * v - 15,
                                                  4 + 6 * ((2 * u - 1) ** 2 - (2 * v - 1) ** 2))),
@@ -103,6 +148,13 @@ SURFACES = {
                                                   3 * math.sin(math.pi * v) + 1.5
                                                   * math.sin(3 * math.pi * u) * math.sin(math.pi * v))),
     "wave": lambda: grid(64, 64, wave),
+    "pillow": lambda: grid(56, 56, lambda u, v: (28 * u, 28 * v,
+                                                 9 * (1 - (2 * u - 1) ** 2) * (1 - (2 * v - 1) ** 2))),
+    "monkey": lambda: grid(60, 60, monkey),
+    "bent": lambda: grid(70, 30, bent),
+    "hexdome": lambda: grid(60, 60, hexdome),
+    "bumpy": lambda: grid(64, 64, bumpy),
+    "tent": lambda: grid(60, 60, tent),
 }
 
 
