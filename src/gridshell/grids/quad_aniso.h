@@ -138,9 +138,11 @@ struct QuadAnisoResult {
   /// The lattice spacing on M′ is h × a factor per vertex (`integrable_scale`): its 10th and 90th
   /// percentiles over M′'s area (1 and 1 without it).
   double spacing_factor_p10 = 1, spacing_factor_p90 = 1;
-  int fits = 0;    ///< spacings tried by the length fit
-  int starts = 0;  ///< lattice starts at the result's spacing (QuadAnisoOptions::start_cells)
-  int grids = 0;   ///< grids extracted (spacings × lattice starts, and any extra starts)
+  int fits = 0;  ///< spacings tried by the length fit
+  /// Lattice starts at the spacing that got the extra ones (QuadAnisoOptions::start_cells; the
+  /// result is chosen again after them and may come from another spacing).
+  int starts = 0;
+  int grids = 0;  ///< grids extracted (spacings × lattice starts, and any extra starts)
   int deformed_triangles = 0;
   int folded_edges = 0;  ///< of M′ (metric/deform.h)
 };
