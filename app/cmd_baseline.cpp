@@ -118,7 +118,8 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                   {"aligned_share", st.aligned_share},
                   {"aspect_quads", st.aspect_quads},
                   {"median_aspect", st.median_aspect},
-                  {"median_aspect_all", st.median_aspect_all}};
+                  {"median_aspect_all", st.median_aspect_all},
+                  {"coverage", st.coverage}};
   } else if (kind == BaselineKind::original) {
     // The surface file's own grid-shell (Botanic.ply: Tang's quads as triangle pairs).
     RecoveredQuads q = recover_quads(surface.mesh);

@@ -122,13 +122,13 @@ def main():
 
     print("| Surface | (D, A) | L (m) | joints | faces | valence 4 | quads | non-simple | "
           "min/median | length | aligned (beams) | aspect (quads) | aspect (all) | spacing × | "
-          "time (s) | misses |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "covered | time (s) | misses |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     met = failed = 0
     for key, (name, D, A, L), (rep, seconds) in results:
         if rep is None:
             failed += 1
-            print(f"| {name} | ({D}, {A}) | {L} | failed | | | | | | | | | | | | |")
+            print(f"| {name} | ({D}, {A}) | {L} | failed | | | | | | | | | | | | | |")
             continue
         q, m = rep["quad_aniso"], rep["mesh"]
         length = m["total_length_m"] / L - 1
@@ -155,10 +155,11 @@ def main():
         aspect = (f"{q['median_aspect']:.2f} ({q['aspect_quads']})" if q["aspect_quads"] else "–")
         spacing = (f"{q['spacing_factor_p10']:.2f}–{q['spacing_factor_p90']:.2f}"
                    if "spacing_factor_p10" in q else "–")
+        covered = pct(q["coverage"]) if "coverage" in q else "–"
         print(f"| {name} | ({D}, {A}) | {L} | {m['vertices']} | {m['faces']} | "
               f"{pct(q['valence4_share'])} | {pct(q['quad_share'])} | {q['non_simple_faces']} | "
               f"{q['min_edge_ratio']:.2f} | {100 * length:+.1f} % | {aligned} | {aspect} | "
-              f"{q['median_aspect_all']:.2f} | {spacing} | {seconds:.1f} | "
+              f"{q['median_aspect_all']:.2f} | {spacing} | {covered} | {seconds:.1f} | "
               f"{', '.join(miss) or '–'} |")
     print(f"\n{met} of {len(results)} runs meet every target"
           + (f"; {failed} failed" if failed else "") + ".")

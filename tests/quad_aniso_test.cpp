@@ -364,6 +364,55 @@ TEST(QuadAniso, SmallGridIsTheBestOfItsLatticeStarts) {
   EXPECT_TRUE(serial.grid.mesh.V == all.grid.mesh.V);
 }
 
+// A hole about one cell wide: the extraction walks the loop of beams around it on M′ like any
+// other face, and that face would be a panel over the void (before the fix: 7 of these 8
+// single-start grids had one). No face may have its centroid over the hole, and the hole stays a
+// boundary of the grid.
+TEST(QuadAniso, NoPanelOverAHoleOfOneCell) {
+  const Surface full = plane(30, 20, 60, 40);
+  std::vector<int> index(full.mesh.num_vertices(), -1);
+  std::vector<std::array<int, 3>> kept;
+  int count = 0;
+  const auto in_hole = [](const Vec3& c) {
+    return std::abs(c.x() - 15) < 1.5 && std::abs(c.y() - 10) < 1.5;
+  };
+  for (int f = 0; f < full.mesh.num_faces(); ++f) {
+    Vec3 c = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) c += full.mesh.vertex(full.mesh.F(f, k)) / 3;
+    if (in_hole(c)) continue;
+    std::array<int, 3> t{};
+    for (int k = 0; k < 3; ++k) {
+      int& i = index[full.mesh.F(f, k)];
+      if (i < 0) i = count++;
+      t[k] = i;
+    }
+    kept.push_back(t);
+  }
+  Surface s;
+  s.mesh.V.resize(count, 3);
+  for (int v = 0; v < full.mesh.num_vertices(); ++v)
+    if (index[v] >= 0) s.mesh.V.row(index[v]) = full.mesh.V.row(v);
+  s.mesh.F.resize(static_cast<int>(kept.size()), 3);
+  for (int f = 0; f < static_cast<int>(kept.size()); ++f)
+    s.mesh.F.row(f) << kept[f][0], kept[f][1], kept[f][2];
+  const Field field = uniform_field(s.mesh);
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    QuadAnisoOptions o;
+    o.spacing = 3.5;  // cells of 3.5 m around a hole of 3 m
+    o.seed = seed;
+    o.starts = o.max_starts = 1;
+    const PolyMesh g = quad_aniso(s, field, o).grid.mesh;
+    int over = 0;
+    for (const auto& f : g.faces) {
+      Vec3 c = Vec3::Zero();
+      for (int v : f) c += g.vertex(v) / static_cast<double>(f.size());
+      over += in_hole(c);
+    }
+    EXPECT_EQ(over, 0) << seed;
+    EXPECT_EQ(build_topology(g).boundary_loops.size(), 2u) << seed;
+  }
+}
+
 TEST(QuadAniso, RejectsBadInput) {
   const Surface s = plane(4, 2, 4, 2);
   const Field field = uniform_field(s.mesh);

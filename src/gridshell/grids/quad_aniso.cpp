@@ -1024,8 +1024,42 @@ PolyMesh quad_mesh_on_metric(const TriMesh& rest, const TriMesh& def, const Fiel
 
 namespace {
 
+/// Whether a face of the grid spans a hole (or a notch) of M: at least a third of the sample
+/// points inside it (its centroid, and the points halfway from it to each corner and to each
+/// side's middle) lie over the void — closer to M's boundary than to any interior point of M,
+/// and off M by more than 2 % of the face's mean side. The extraction walks faces around M′'s
+/// holes like any other loop of beams; a hole smaller than a few cells would otherwise get a
+/// panel over it. (A face along a boundary that curves into M has the void only between its
+/// side and the boundary, outside the samples.)
+bool spans_void(const std::vector<Vec3>& p, const std::vector<int>& face,
+                const SurfaceProjector& proj) {
+  if (!proj.has_boundary()) return false;
+  const size_t n = face.size();
+  Vec3 c = Vec3::Zero();
+  double side = 0;
+  for (size_t k = 0; k < n; ++k) {
+    c += p[face[k]];
+    side += (p[face[k]] - p[face[(k + 1) % n]]).norm();
+  }
+  c /= static_cast<double>(n);
+  side /= static_cast<double>(n);
+  std::vector<Vec3> samples{c};
+  for (size_t k = 0; k < n; ++k) {
+    samples.push_back(0.5 * (c + p[face[k]]));
+    samples.push_back(0.5 * c + 0.25 * (p[face[k]] + p[face[(k + 1) % n]]));
+  }
+  int void_samples = 0;
+  for (const Vec3& x : samples) {
+    const double to_surface = (proj.closest_point(x) - x).norm();
+    if (to_surface > 0.02 * side &&
+        (proj.closest_boundary_point(x) - x).norm() <= to_surface + 1e-9 * proj.diagonal())
+      ++void_samples;
+  }
+  return 3 * void_samples >= static_cast<int>(samples.size());
+}
+
 /// Moves the grid's outer-boundary joints near M's boundary onto it, collapses the stubs this
-/// makes, and drops unused joints and faces that are not simple polygons.
+/// makes, and drops unused joints, faces that are not simple polygons and faces over M's holes.
 PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, double snap) {
   const Topology topo = build_topology(mesh);
   std::vector<Vec3> p(mesh.num_vertices());
@@ -1084,6 +1118,7 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
   for (auto& f : faces) {
     if (f.size() < 3 || !is_simple_polygon(moved, f))
       continue;  // a fold at the seam of the lattice
+    if (spans_void(p, f, proj)) continue;
     for (int& v : f) {
       if (index[v] < 0) index[v] = count++;
       v = index[v];
@@ -1106,7 +1141,12 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
     bool inner = true;
     for (int v : loop) inner = inner && !on_surface_boundary[v];
     std::vector<int> face(loop.rbegin(), loop.rend());
-    if (inner && is_simple_polygon(out, face)) out.faces.push_back(std::move(face));
+    if (!inner || !is_simple_polygon(out, face)) continue;
+    std::vector<Vec3> corners;
+    for (int v : face) corners.push_back(out.vertex(v));
+    std::vector<int> local(face.size());
+    std::iota(local.begin(), local.end(), 0);
+    if (!spans_void(corners, local, proj)) out.faces.push_back(std::move(face));
   }
   return out;
 }

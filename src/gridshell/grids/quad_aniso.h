@@ -176,6 +176,9 @@ struct QuadMeshStats {
   double median_aspect = 0;
   int aspect_quads = 0;
   double median_aspect_all = 0;  ///< max/min of the two mean opposite-edge lengths, all quads
+  /// Area of the grid's faces / area of the surface: what the lattice's boundary cells leave
+  /// uncovered (cells cut by M's boundary have no joints outside M; docs/quad_aniso.md).
+  double coverage = 0;
 };
 struct QuadMeshStatsOptions {
   double strong_a = 2;

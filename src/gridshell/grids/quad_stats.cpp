@@ -107,6 +107,10 @@ QuadMeshStats quad_mesh_stats(const PolyMesh& grid, const TriMesh& surface, cons
   s.aspect_quads = static_cast<int>(aspects.size());
   s.median_aspect = median_of(aspects);
   s.median_aspect_all = median_of(aspects_all);
+  double covered = 0;
+  for (int f = 0; f < grid.num_faces(); ++f) covered += polygon_area(grid, f);
+  const double area = surface_area(surface);
+  s.coverage = area > 0 ? covered / area : 0;
   return s;
 }
 
