@@ -87,16 +87,19 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     out.mesh = std::move(g.mesh);
     out.supports = std::move(g.supports);
   } else if (kind == BaselineKind::quad_aniso) {
-    const Field field = baseline_field(surface, field_options);
+    const std::optional<Surface> coarse = baseline_surface(surface, field_options, a.length);
+    const Surface& on = coarse ? *coarse : surface;  // what the field and the grid are built on
+    const Field field = baseline_field(on, field_options);
     QuadAnisoOptions qo;
     qo.length = a.length;
     qo.spacing = a.spacing;
     qo.seed = a.run.seed;
     qo.max_scale_change = a.max_size_change;
-    QuadAnisoResult q = quad_aniso(surface, field, qo);
+    QuadAnisoResult q = quad_aniso(on, field, qo);
     out.mesh = std::move(q.grid.mesh);
-    out.supports = std::move(q.grid.supports);
-    const QuadMeshStats st = quad_mesh_stats(out.mesh, surface.mesh, field);
+    out.supports = std::move(q.grid.supports);  // coarse keeps the input's supports
+    if (coarse) move_onto_input(out.mesh, coarse->mesh, surface.mesh);
+    const QuadMeshStats st = quad_mesh_stats(out.mesh, on.mesh, field);
     quad_stats = {{"spacing_deformed_m", q.spacing},
                   {"fits", q.fits},
                   {"grids", q.grids},
@@ -104,6 +107,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                   {"spacing_factor_p10", q.spacing_factor_p10},
                   {"spacing_factor_p90", q.spacing_factor_p90},
                   {"deformed_triangles", q.deformed_triangles},
+                  {"analysis_triangles", on.mesh.num_faces()},
                   {"folded_edges", q.folded_edges},
                   {"field", a.field},
                   {"D", a.D},

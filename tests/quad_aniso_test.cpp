@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "gridshell/core/error.h"
@@ -15,6 +16,7 @@
 #include "gridshell/grids/quad_aniso.h"
 #include "gridshell/grids/recover_quads.h"
 #include "gridshell/mesh/topology.h"
+#include "gridshell/optimize/projector.h"
 #include "gridshell/pipeline/baseline_field.h"
 #include "gridshell/surfaces/builtin.h"
 #include "gridshell/surfaces/load.h"
@@ -108,6 +110,16 @@ TEST(QuadAniso, PlaneWithConstantFieldFollowsDirectionAndAspect) {
   EXPECT_LT(max_z, 1e-9);
   EXPECT_LT(min_x, 1e-6);
   EXPECT_GT(max_x, 40 - 1e-6);
+  // The lattice at 30° cuts the rectangle's corners; each gap is filled up to the corner, which
+  // becomes a joint, and the grid covers the plane up to its boundary.
+  for (const Vec3& corner : {Vec3(0, 0, 0), Vec3(40, 0, 0), Vec3(40, 20, 0), Vec3(0, 20, 0)}) {
+    double nearest = 1e9;
+    for (int v = 0; v < g.num_vertices(); ++v)
+      nearest = std::min(nearest, (g.vertex(v) - corner).norm());
+    EXPECT_LT(nearest, 1e-9) << corner.transpose();
+  }
+  EXPECT_GT(st.coverage, 0.99);
+  EXPECT_LE(st.coverage, 1 + 1e-9);
 }
 
 // d rising from 1 to 2 along x: quads half as big where d = 2, still stretched a = 2-fold
@@ -413,6 +425,45 @@ TEST(QuadAniso, NoPanelOverAHoleOfOneCell) {
   }
 }
 
+// A fine input (a disk of 15 m radius in 28 800 triangles) is built on the design's coarsened analysis copy at lengths
+// whose cells need far fewer triangles, and the joints are then moved onto the input: each onto
+// the input surface, those on the copy's boundary (chords of the input's) onto its boundary.
+TEST(QuadAniso, FineInputIsBuiltOnTheDesignsCoarseCopy) {
+  const Surface s = disk(15, 120);
+  DesignOptions d;
+  d.field = FieldInput::uniform;
+  const std::optional<Surface> coarse = baseline_surface(s, d, 300);
+  ASSERT_TRUE(coarse.has_value());
+  EXPECT_LT(4 * coarse->mesh.num_faces(), s.mesh.num_faces());
+  EXPECT_FALSE(baseline_surface(s, d, 0).has_value());       // --spacing: no length to size by
+  EXPECT_FALSE(baseline_surface(s, d, 30000).has_value());  // cells finer than the input's
+  DesignOptions file = d;
+  file.field = FieldInput::file;  // values per input triangle: the input it must be
+  EXPECT_FALSE(baseline_surface(s, file, 300).has_value());
+  QuadAnisoOptions o;
+  o.length = 300;
+  o.max_starts = o.starts;
+  PolyMesh g = quad_aniso(*coarse, uniform_field(coarse->mesh), o).grid.mesh;
+  const SurfaceProjector from(coarse->mesh), onto(s.mesh);
+  const double tol = 1e-6 * onto.diagonal();
+  std::vector<char> was_boundary(g.num_vertices());
+  double chord_gap = 0;
+  for (int v = 0; v < g.num_vertices(); ++v) {
+    was_boundary[v] = from.boundary_distance(g.vertex(v)) <= tol;
+    if (was_boundary[v]) chord_gap = std::max(chord_gap, onto.boundary_distance(g.vertex(v)));
+  }
+  EXPECT_GT(chord_gap, 10 * tol);  // the premise: the copy's boundary is not the input's
+  move_onto_input(g, coarse->mesh, s.mesh);
+  int moved = 0;
+  for (int v = 0; v < g.num_vertices(); ++v) {
+    EXPECT_LT(onto.distance(g.vertex(v)), tol);
+    if (!was_boundary[v]) continue;
+    EXPECT_LT(onto.boundary_distance(g.vertex(v)), tol);
+    ++moved;
+  }
+  EXPECT_GT(moved, 10);
+}
+
 TEST(QuadAniso, RejectsBadInput) {
   const Surface s = plane(4, 2, 4, 2);
   const Field field = uniform_field(s.mesh);
@@ -432,6 +483,9 @@ TEST(QuadAniso, RejectsBadInput) {
   EXPECT_THROW(quad_aniso(s, field, o), Error);
   o.max_scale_change = 1.25;
   o.start_cells = -1;
+  EXPECT_THROW(quad_aniso(s, field, o), Error);
+  o.start_cells = 4000;
+  o.gap_joints = -1;
   EXPECT_THROW(quad_aniso(s, field, o), Error);
 }
 

@@ -1058,6 +1058,126 @@ bool spans_void(const std::vector<Vec3>& p, const std::vector<int>& face,
   return 3 * void_samples >= static_cast<int>(samples.size());
 }
 
+/// The point of segment [a, b] nearest x, as the parameter along it (0 at a, 1 at b).
+double segment_parameter(const Vec3& x, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double l2 = d.squaredNorm();
+  return l2 > 0 ? std::clamp((x - a).dot(d) / l2, 0.0, 1.0) : 0.0;
+}
+
+/// Douglas–Peucker: the points of the polyline `path` (ends excluded) that stay when it is
+/// simplified to within `tolerance`, in order.
+void simplify_path(const std::vector<Vec3>& path, int first, int last, double tolerance,
+                   std::vector<int>& kept) {
+  if (last - first < 2) return;
+  int worst = -1;
+  double worst_d = tolerance;
+  for (int i = first + 1; i < last; ++i) {
+    const double t = segment_parameter(path[i], path[first], path[last]);
+    const double d = (path[i] - (path[first] + t * (path[last] - path[first]))).norm();
+    if (d > worst_d) worst_d = d, worst = i;
+  }
+  if (worst < 0) return;
+  simplify_path(path, first, worst, tolerance, kept);
+  kept.push_back(worst);
+  simplify_path(path, worst, last, tolerance, kept);
+}
+
+/// Gaps between the grid's boundary and M's: where the grid's boundary runs from a joint on M's
+/// boundary (s0) through at most `max_inner` joints off it to the next joint on M's boundary
+/// (s1) while M's boundary between them (s0 to s1 in the same sense) bends away from the
+/// grid's — a corner of M cut off by one beam, or a notch of a few cells where the lattice's
+/// seam meets the boundary — the gap becomes a face: M's boundary from s0 to s1, simplified to
+/// within a quarter of the gap's chord (Douglas–Peucker; its corners become joints), then the
+/// grid's boundary back. Gaps whose face would have more than `max_sides` sides, would not be a
+/// simple polygon or would lie over the void are left open.
+void fill_boundary_gaps(PolyMesh& g, const Points& mv, const std::vector<std::vector<int>>& m_loops,
+                        int max_inner, int max_sides, const SurfaceProjector& proj) {
+  struct Spot {
+    int loop = -1, edge = 0;
+    double t = 0, distance = std::numeric_limits<double>::infinity();
+  };
+  auto locate = [&](const Vec3& x) {
+    Spot best;
+    for (int l = 0; l < static_cast<int>(m_loops.size()); ++l) {
+      const auto& loop = m_loops[l];
+      for (int e = 0; e < static_cast<int>(loop.size()); ++e) {
+        const Vec3 a = mv.row(loop[e]).transpose();
+        const Vec3 b = mv.row(loop[(e + 1) % loop.size()]).transpose();
+        const double t = segment_parameter(x, a, b);
+        const double d = (x - (a + t * (b - a))).norm();
+        if (d < best.distance) best = {l, e, t, d};
+      }
+    }
+    return best;
+  };
+  const double tol = 1e-6 * proj.diagonal();
+  const Topology topo = build_topology(g);
+  double mean_beam = 0;
+  for (const auto& e : topo.edges) mean_beam += (g.vertex(e[0]) - g.vertex(e[1])).norm();
+  mean_beam /= std::max(1, topo.num_edges());
+  std::vector<char> on_m_boundary(g.num_vertices(), 0);
+  for (const auto& loop : topo.boundary_loops)
+    for (int v : loop) on_m_boundary[v] = locate(g.vertex(v)).distance <= tol;
+  for (const auto& loop : topo.boundary_loops) {
+    const int n = static_cast<int>(loop.size());
+    for (int i = 0; i < n; ++i) {
+      if (!on_m_boundary[loop[i]]) continue;
+      int j = (i + 1) % n, inner = 0;
+      while (!on_m_boundary[loop[j]] && j != i) j = (j + 1) % n, ++inner;
+      if (j == i || inner > max_inner) continue;
+      bool regular = true;  // the joints off M's boundary become interior: valence 4 only
+      for (int k = (i + 1) % n; k != j; k = (k + 1) % n)
+        regular = regular && topo.vertex_neighbors[loop[k]].size() == 4;
+      if (!regular) continue;
+      const int s0 = loop[i], s1 = loop[j];
+      const Spot a = locate(g.vertex(s0)), b = locate(g.vertex(s1));
+      if (a.loop < 0 || a.loop != b.loop || a.distance > tol || b.distance > tol) continue;
+      // M's boundary from s0 to s1, forward (M and the grid are oriented alike).
+      const auto& ml = m_loops[a.loop];
+      const int mn = static_cast<int>(ml.size());
+      std::vector<Vec3> path{g.vertex(s0)};
+      if (!(a.edge == b.edge && b.t >= a.t)) {
+        for (int e = (a.edge + 1) % mn, steps = 0; steps < mn; e = (e + 1) % mn, ++steps) {
+          path.push_back(mv.row(ml[e]).transpose());
+          if (e == b.edge) break;
+        }
+      }
+      path.push_back(g.vertex(s1));
+      double m_length = 0, grid_length = 0;
+      for (size_t k = 1; k < path.size(); ++k) m_length += (path[k] - path[k - 1]).norm();
+      for (int k = i; k != j; k = (k + 1) % n)
+        grid_length += (g.vertex(loop[(k + 1) % n]) - g.vertex(loop[k])).norm();
+      if (m_length > 4 * grid_length) continue;  // the long way round: not this gap
+      const double chord = (g.vertex(s1) - g.vertex(s0)).norm();
+      std::vector<int> kept;  // new beams are at least a quarter of the mean beam long
+      simplify_path(path, 0, static_cast<int>(path.size()) - 1,
+                    0.25 * std::max(chord, mean_beam), kept);
+      if (inner == 0 && kept.empty()) continue;  // a beam along M's boundary
+      const int sides = 2 + inner + static_cast<int>(kept.size());
+      if (sides > max_sides || (kept.empty() && chord < 0.25 * mean_beam)) continue;
+      const int first_new = g.num_vertices();
+      std::vector<int> face{s0};
+      g.V.conservativeResize(first_new + static_cast<int>(kept.size()), 3);
+      for (size_t k = 0; k < kept.size(); ++k) {
+        g.V.row(first_new + static_cast<int>(k)) = path[kept[k]].transpose();
+        face.push_back(first_new + static_cast<int>(k));
+      }
+      face.push_back(s1);
+      for (int k = (j - 1 + n) % n; k != i; k = (k - 1 + n) % n) face.push_back(loop[k]);
+      std::vector<Vec3> corners;
+      for (int v : face) corners.push_back(g.vertex(v));
+      std::vector<int> local(face.size());
+      std::iota(local.begin(), local.end(), 0);
+      if (!is_simple_polygon(g, face) || spans_void(corners, local, proj)) {
+        g.V.conservativeResize(first_new, 3);
+        continue;
+      }
+      g.faces.push_back(std::move(face));
+    }
+  }
+}
+
 /// Moves the grid's outer-boundary joints near M's boundary onto it, collapses the stubs this
 /// makes, and drops unused joints, faces that are not simple polygons and faces over M's holes.
 PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, double snap) {
@@ -1181,6 +1301,7 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     throw Error("quad-aniso", "max_scale_change must be ≥ 1");
   if (!(o.start_cells >= 0) || !std::isfinite(o.start_cells))
     throw Error("quad-aniso", "start_cells must be ≥ 0");
+  if (o.gap_joints < 0) throw Error("quad-aniso", "gap_joints must be ≥ 0");
   double area_def = 0;
   for (int f = 0; f < mesh.num_faces(); ++f)
     area_def += triangle_area(mesh.vertex(mesh.F(f, 0)), mesh.vertex(mesh.F(f, 1)),
@@ -1243,6 +1364,7 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     c.grid = snap_to_boundary(c.grid, proj, o.boundary_snap);
     remove_hanging_faces(c.grid);
     c.grid = largest_component(c.grid);
+    fill_boundary_gaps(c.grid, mesh.V, proj.boundary_loops(), o.gap_joints, o.max_face_sides, proj);
     c.score = grid_quality(quad_mesh_stats(c.grid, mesh, field));
     c.length = total_edge_length(c.grid);
     c.error = o.length > 0 ? c.length / o.length - 1 : 0;

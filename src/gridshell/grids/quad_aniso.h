@@ -33,7 +33,11 @@
 ///      projected onto M, and joints on the grid's outer boundary within `boundary_snap` × the
 ///      local beam length of M's boundary are moved onto it (so the boundary supports catch them);
 ///      faces hanging on the grid by one edge are peeled off and only the largest connected piece
-///      is kept (mesh/topology.h: a flap or an island would be a near-mechanism in the analysis).
+///      is kept (mesh/topology.h: a flap or an island would be a near-mechanism in the analysis);
+///      a face a third of whose sample points lie over a hole of M is left out (the extraction
+///      walks loops around M′'s holes like any other face); last, where a beam of the grid's
+///      boundary cuts off a corner of M (or a notch, `gap_joints`), the gap becomes a face whose
+///      other side follows M's boundary, its corners new joints, so the grid reaches M's corners.
 /// Supports: transfer_supports (grids/supports.h), as the other baselines.
 ///
 /// Cost: O(V · (orientation + position sweeps)) on M′ (the coarser levels add about as much again)
@@ -113,6 +117,13 @@ struct QuadAnisoOptions {
   double max_scale_change = 1.25;
   int max_face_sides = 8;      ///< faces with more sides are left out (holes in the grid)
   double boundary_snap = 1.5;  ///< see step 4 (× the mean length of the joint's beams)
+  /// Step 4's gaps between the grid's boundary and M's are filled where at most this many joints
+  /// of the grid's boundary lie off M's boundary between two on it (and all of them have
+  /// valence 4: they become interior joints). 0: only corners of M cut off by a single beam.
+  /// Session 14 measured 3 against 0 (docs/quad_aniso.md): the same runs met every target
+  /// (63 of 66 shared, 45 of 48 generated), 0.5 point more of M covered on the generated
+  /// surfaces, the half-length runs' smaller share 0.2 points lower; 0 was kept.
+  int gap_joints = 0;
   std::uint64_t seed = 1;
   /// Lattice starts tried per spacing by the length fit (seeds seed + 7919 k). Each grid's
   /// quality is the sum of three shares of QuadMeshStats: valence-4 interior joints, interior

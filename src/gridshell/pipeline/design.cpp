@@ -555,6 +555,11 @@ FieldInput parse_field_input(const std::string& word, std::string* file) {
   return FieldInput::file;
 }
 
+std::optional<Surface> design_analysis_surface(const Surface& surface, const DesignOptions& o) {
+  DesignResult scratch;
+  return analysis_surface(surface, o, scratch);
+}
+
 void check_design_options(const DesignOptions& o) {
   if (!(o.D >= 1) || !std::isfinite(o.D)) throw Error("-D", "must be a number ≥ 1");
   if (!(o.A >= 1) || !std::isfinite(o.A)) throw Error("-A", "must be a number ≥ 1");

@@ -101,6 +101,12 @@ struct DesignResult {
 /// Throws Error for options that can never work (D < 1, a negative size, …), before any work.
 void check_design_options(const DesignOptions& options);
 
+/// Stage 0 of run_design on its own: the coarsened copy of `surface` the stages before the
+/// finishing step run on (`analysis_resolution`, for the size that `options.tessellation`
+/// requests), or nothing when the input is not much finer than the cells need. For baselines
+/// that follow the design's field (pipeline/baseline_field.h).
+std::optional<Surface> design_analysis_surface(const Surface& surface, const DesignOptions& options);
+
 /// Runs the pipeline on `surface`. Throws Error for bad options or input.
 DesignResult run_design(const Surface& surface, const DesignOptions& options);
 /// The same with the stress stage replaced by a given stress per triangle of `surface.mesh`
