@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Fourteen roof surfaces outside the shared data and the built-ins, for checking a method on
+"""Twenty-two roof surfaces outside the shared data and the built-ins, for checking a method on
 surfaces it was not tuned on (docs/quad_aniso.md, session 12).
 
     python3 scripts/generated_surfaces.py OUT_DIR
@@ -20,10 +20,21 @@ and six added in session 13 (held out there):
   hexdome    dome over a hexagonal plan (16 m to the corners); its corner cells are slivers
   bumpy      five Gaussian bumps on a dome over an ellipse 36 x 24 m
   tent       tent-like peak off centre over a 30 x 30 m square
-and prints the area of each (the acceptance runs used lengths of about area and area / 2 m).
+and eight added in session 14 (held out there), for what the others lack:
+  pillow_irregular  the pillow meshed irregularly (jittered vertices, random diagonals)
+  pillow_quads      the pillow as quad faces
+  pillow_graded     the pillow meshed 50:1 finer at one side than at the other
+  pillow_fine       the pillow in 96 800 triangles (a fine input)
+  oculus            a low dome over a 30 x 30 m square with a round hole of 4 m radius
+  two_holes         the same with two holes of 2.8 m radius, meshed irregularly
+  barrel_vault      a half-cylinder barrel vault, 60 m long, 6 m radius
+  big_shallow       a 120 x 90 m shallow shell, 12 m high
+and prints the area of each (the acceptance runs used lengths of about area and area / 2 m;
+big_shallow 5000 and 2500 m).
 """
 
 import math
+import random
 import sys
 from pathlib import Path
 
@@ -34,17 +45,26 @@ def disk_map(u, v):
     return x * math.sqrt(1 - y * y / 2), y * math.sqrt(1 - x * x / 2)
 
 
-def grid(n, m, point, keep=lambda i, j: True, wrap=False):
+def grid(n, m, point, keep=lambda i, j: True, wrap=False, jitter=0.0, seed=0, quads=False,
+         us=None):
     """Vertices point(i / n, j / m) of the kept cells of an n x m grid, two triangles per cell
-    (diagonals alternating); with wrap, column n is column 0."""
+    (diagonals alternating); with wrap, column n is column 0. Options for meshes unlike a
+    regular grid: jitter moves interior vertices by up to that fraction of a cell and picks the
+    diagonals at random (random.Random(seed)); quads keeps each cell a quad; us gives the n + 1
+    values of u instead of i / n (a graded mesh)."""
     index, vertices, faces = {}, [], []
+    rng = random.Random(seed)
 
     def vid(i, j):
         if wrap:
             i %= n
         if (i, j) not in index:
             index[(i, j)] = len(vertices)
-            vertices.append(point(i / n, j / m))
+            u, v = (us[i] if us else i / n), j / m
+            if jitter and 0 < i < n and 0 < j < m:
+                u += rng.uniform(-jitter, jitter) / n
+                v += rng.uniform(-jitter, jitter) / m
+            vertices.append(point(u, v))
         return index[(i, j)]
 
     for i in range(n):
@@ -52,19 +72,27 @@ def grid(n, m, point, keep=lambda i, j: True, wrap=False):
             if not keep(i, j):
                 continue
             a, b, c, d = vid(i, j), vid(i + 1, j), vid(i + 1, j + 1), vid(i, j + 1)
-            faces += [(a, b, c), (a, c, d)] if (i + j) % 2 else [(a, b, d), (b, c, d)]
+            split = rng.random() < 0.5 if jitter else (i + j) % 2
+            if quads:
+                faces.append((a, b, c, d))
+            else:
+                faces += [(a, b, c), (a, c, d)] if split else [(a, b, d), (b, c, d)]
     return vertices, faces
 
 
 def area(vertices, faces):
     total = 0.0
-    for a, b, c in faces:
-        p, q, r = vertices[a], vertices[b], vertices[c]
-        u = [q[k] - p[k] for k in range(3)]
-        w = [r[k] - p[k] for k in range(3)]
-        x = (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
-        total += 0.5 * math.sqrt(sum(t * t for t in x))
+    for face in faces:  # fans of triangles
+        for a, b, c in ((face[0], face[k], face[k + 1]) for k in range(1, len(face) - 1)):
+            total += triangle_area(vertices[a], vertices[b], vertices[c])
     return total
+
+
+def triangle_area(p, q, r):
+    u = [q[k] - p[k] for k in range(3)]
+    w = [r[k] - p[k] for k in range(3)]
+    x = (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
+    return 0.5 * math.sqrt(sum(t * t for t in x))
 
 
 def hill(u, v):
@@ -127,6 +155,15 @@ def bumpy(u, v):
                                   for a, b, h, w in BUMPS))
 
 
+def pillow(u, v):
+    return 28 * u, 28 * v, 9 * (1 - (2 * u - 1) ** 2) * (1 - (2 * v - 1) ** 2)
+
+
+def low_dome(u, v):
+    x, y = 2 * u - 1, 2 * v - 1
+    return 15 * x, 15 * y, 8 * (1 - 0.5 * (x * x + y * y))
+
+
 def tent(u, v):
     x, y = 2 * u - 1, 2 * v - 1
     peak = max(0.0, 1 - math.hypot(x - 0.2, y + 0.1) / 1.6)
@@ -148,13 +185,26 @@ SURFACES = {
                                                   3 * math.sin(math.pi * v) + 1.5
                                                   * math.sin(3 * math.pi * u) * math.sin(math.pi * v))),
     "wave": lambda: grid(64, 64, wave),
-    "pillow": lambda: grid(56, 56, lambda u, v: (28 * u, 28 * v,
-                                                 9 * (1 - (2 * u - 1) ** 2) * (1 - (2 * v - 1) ** 2))),
+    "pillow": lambda: grid(56, 56, pillow),
     "monkey": lambda: grid(60, 60, monkey),
     "bent": lambda: grid(70, 30, bent),
     "hexdome": lambda: grid(60, 60, hexdome),
     "bumpy": lambda: grid(64, 64, bumpy),
     "tent": lambda: grid(60, 60, tent),
+    # Session 14: meshes unlike a regular grid, holes, a large span, a fine input.
+    "pillow_irregular": lambda: grid(40, 40, pillow, jitter=0.35, seed=3),
+    "pillow_quads": lambda: grid(40, 40, pillow, quads=True),
+    "pillow_graded": lambda: grid(50, 50, pillow, us=[(i / 50) ** 2 for i in range(51)]),
+    "pillow_fine": lambda: grid(220, 220, pillow),
+    "oculus": lambda: grid(60, 60, low_dome,
+                           keep=lambda i, j: (i - 29.5) ** 2 + (j - 29.5) ** 2 > 64),
+    "two_holes": lambda: grid(64, 64, low_dome, jitter=0.3, seed=5,
+                              keep=lambda i, j: (i - 18) ** 2 + (j - 32) ** 2 > 36
+                              and (i - 46) ** 2 + (j - 32) ** 2 > 36),
+    "barrel_vault": lambda: grid(90, 24, lambda u, v: (60 * u, 6 * math.cos(math.pi * v),
+                                                 6 * math.sin(math.pi * v))),
+    "big_shallow": lambda: grid(60, 60, lambda u, v: (120 * u, 90 * v, 12 * math.sin(math.pi * u)
+                                                      * math.sin(math.pi * v))),
 }
 
 
@@ -167,8 +217,9 @@ def main():
         vertices, faces = make()
         with open(out / f"{name}.obj", "w") as f:
             f.writelines(f"v {x:.6f} {y:.6f} {z:.6f}\n" for x, y, z in vertices)
-            f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in faces)
-        print(f"{name}: {len(vertices)} vertices, {len(faces)} triangles, area {area(vertices, faces):.0f} m²")
+            f.writelines("f " + " ".join(str(k + 1) for k in face) + "\n" for face in faces)
+        print(f"{name}: {len(vertices)} vertices, {len(faces)} faces, "
+              f"area {area(vertices, faces):.0f} m²")
 
 
 if __name__ == "__main__":
