@@ -425,9 +425,10 @@ TEST(QuadAniso, NoPanelOverAHoleOfOneCell) {
   }
 }
 
-// A fine input (a disk of 15 m radius in 28 800 triangles) is built on the design's coarsened analysis copy at lengths
-// whose cells need far fewer triangles, and the joints are then moved onto the input: each onto
-// the input surface, those on the copy's boundary (chords of the input's) onto its boundary.
+// A fine input (a disk of 15 m radius in 28 800 triangles) is built on the design's coarsened
+// analysis copy at lengths whose cells need far fewer triangles, and the joints are then moved onto
+// the input: each onto the input surface, those on the copy's boundary (chords of the input's) onto
+// its boundary.
 TEST(QuadAniso, FineInputIsBuiltOnTheDesignsCoarseCopy) {
   const Surface s = disk(15, 120);
   DesignOptions d;
@@ -435,7 +436,7 @@ TEST(QuadAniso, FineInputIsBuiltOnTheDesignsCoarseCopy) {
   const std::optional<Surface> coarse = baseline_surface(s, d, 300);
   ASSERT_TRUE(coarse.has_value());
   EXPECT_LT(4 * coarse->mesh.num_faces(), s.mesh.num_faces());
-  EXPECT_FALSE(baseline_surface(s, d, 0).has_value());       // --spacing: no length to size by
+  EXPECT_FALSE(baseline_surface(s, d, 0).has_value());      // --spacing: no length to size by
   EXPECT_FALSE(baseline_surface(s, d, 30000).has_value());  // cells finer than the input's
   DesignOptions file = d;
   file.field = FieldInput::file;  // values per input triangle: the input it must be
@@ -462,6 +463,25 @@ TEST(QuadAniso, FineInputIsBuiltOnTheDesignsCoarseCopy) {
     ++moved;
   }
   EXPECT_GT(moved, 10);
+}
+
+// Coverage is the grid's face area over the surface's: unit squares over the left half of a
+// 4 × 2 plane cover exactly half of it, and the whole grid of them all of it.
+TEST(QuadAniso, CoverageIsTheGridsShareOfTheSurfaceArea) {
+  const Surface s = plane(4, 2, 4, 2);
+  const Field field = uniform_field(s.mesh);
+  PolyMesh g;
+  g.V.resize(15, 3);
+  for (int j = 0; j <= 2; ++j)
+    for (int i = 0; i <= 4; ++i) g.V.row(j * 5 + i) << i, j, 0;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i)
+      g.faces.push_back({j * 5 + i, j * 5 + i + 1, j * 5 + i + 6, j * 5 + i + 5});
+  EXPECT_NEAR(quad_mesh_stats(g, s.mesh, field).coverage, 0.5, 1e-12);
+  for (int j = 0; j < 2; ++j)
+    for (int i = 2; i < 4; ++i)
+      g.faces.push_back({j * 5 + i, j * 5 + i + 1, j * 5 + i + 6, j * 5 + i + 5});
+  EXPECT_NEAR(quad_mesh_stats(g, s.mesh, field).coverage, 1.0, 1e-12);
 }
 
 TEST(QuadAniso, RejectsBadInput) {

@@ -1058,6 +1058,15 @@ bool spans_void(const std::vector<Vec3>& p, const std::vector<int>& face,
   return 3 * void_samples >= static_cast<int>(samples.size());
 }
 
+/// The same for face `face` of `g`.
+bool spans_void(const PolyMesh& g, const std::vector<int>& face, const SurfaceProjector& proj) {
+  std::vector<Vec3> corners;
+  for (int v : face) corners.push_back(g.vertex(v));
+  std::vector<int> local(face.size());
+  std::iota(local.begin(), local.end(), 0);
+  return spans_void(corners, local, proj);
+}
+
 /// The point of segment [a, b] nearest x, as the parameter along it (0 at a, 1 at b).
 double segment_parameter(const Vec3& x, const Vec3& a, const Vec3& b) {
   const Vec3 d = b - a;
@@ -1151,8 +1160,8 @@ void fill_boundary_gaps(PolyMesh& g, const Points& mv, const std::vector<std::ve
       if (m_length > 4 * grid_length) continue;  // the long way round: not this gap
       const double chord = (g.vertex(s1) - g.vertex(s0)).norm();
       std::vector<int> kept;  // new beams are at least a quarter of the mean beam long
-      simplify_path(path, 0, static_cast<int>(path.size()) - 1,
-                    0.25 * std::max(chord, mean_beam), kept);
+      simplify_path(path, 0, static_cast<int>(path.size()) - 1, 0.25 * std::max(chord, mean_beam),
+                    kept);
       if (inner == 0 && kept.empty()) continue;  // a beam along M's boundary
       const int sides = 2 + inner + static_cast<int>(kept.size());
       if (sides > max_sides || (kept.empty() && chord < 0.25 * mean_beam)) continue;
@@ -1165,11 +1174,7 @@ void fill_boundary_gaps(PolyMesh& g, const Points& mv, const std::vector<std::ve
       }
       face.push_back(s1);
       for (int k = (j - 1 + n) % n; k != i; k = (k - 1 + n) % n) face.push_back(loop[k]);
-      std::vector<Vec3> corners;
-      for (int v : face) corners.push_back(g.vertex(v));
-      std::vector<int> local(face.size());
-      std::iota(local.begin(), local.end(), 0);
-      if (!is_simple_polygon(g, face) || spans_void(corners, local, proj)) {
+      if (!is_simple_polygon(g, face) || spans_void(g, face, proj)) {
         g.V.conservativeResize(first_new, 3);
         continue;
       }
@@ -1261,12 +1266,8 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
     bool inner = true;
     for (int v : loop) inner = inner && !on_surface_boundary[v];
     std::vector<int> face(loop.rbegin(), loop.rend());
-    if (!inner || !is_simple_polygon(out, face)) continue;
-    std::vector<Vec3> corners;
-    for (int v : face) corners.push_back(out.vertex(v));
-    std::vector<int> local(face.size());
-    std::iota(local.begin(), local.end(), 0);
-    if (!spans_void(corners, local, proj)) out.faces.push_back(std::move(face));
+    if (inner && is_simple_polygon(out, face) && !spans_void(out, face, proj))
+      out.faces.push_back(std::move(face));
   }
   return out;
 }

@@ -46,6 +46,8 @@
 /// spacing of a small grid; the grid of the highest quality is kept; the starts of a spacing are
 /// built in parallel, each with its own seed, so the result does not depend on the thread count);
 /// the length fit repeats steps 2–4 (M′, the hierarchy and the cross field are computed once).
+/// Step 4's gap filling locates each joint of the grid's boundary on M's boundary by a linear
+/// scan: O(grid boundary joints × M's boundary edges) per grid, small beside the position field.
 
 #include <cstdint>
 #include <vector>

@@ -1,7 +1,9 @@
 #pragma once
 /// \file baseline_field.h
 /// The field of a design, for baselines that follow it (`baseline --kind quad-aniso`): the
-/// design's stress stage and field stage at (D, A) with its conventions, without tessellating.
+/// design's stress stage and field stage at (D, A) with its conventions, without tessellating;
+/// and the surface they run on — design's coarsened analysis copy of a fine input — with the
+/// step that moves the grid built there back onto the input.
 
 #include <optional>
 
