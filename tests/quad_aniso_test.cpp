@@ -344,8 +344,7 @@ TEST(QuadAniso, SmallGridIsTheBestOfItsLatticeStarts) {
     field.u[f] = Vec3(std::cos(t), std::sin(t), 0);
   }
   auto quality = [&](const PolyMesh& g) {
-    const QuadMeshStats st = quad_mesh_stats(g, s.mesh, field);
-    return st.valence4_share + st.quad_share + (st.strong_beams ? st.aligned_share : 1.0);
+    return quad_grid_quality(quad_mesh_stats(g, s.mesh, field));
   };
   QuadAnisoOptions o;
   o.spacing = 4;
@@ -374,6 +373,29 @@ TEST(QuadAniso, SmallGridIsTheBestOfItsLatticeStarts) {
   }
   EXPECT_EQ(serial.grid.mesh.faces, all.grid.mesh.faces);
   EXPECT_TRUE(serial.grid.mesh.V == all.grid.mesh.V);
+}
+
+// The ranking of lattice starts, on figures made by hand: bars missed first, then the sum.
+TEST(QuadAniso, StartsAreRankedByTheBarsTheyMissThenByTheirShares) {
+  auto stats = [](double valence4, double quads, int strong, double aligned) {
+    QuadMeshStats st;
+    st.valence4_share = valence4;
+    st.quad_share = quads;
+    st.strong_beams = strong;
+    st.aligned_share = aligned;
+    return st;
+  };
+  const double fair = quad_grid_quality(stats(0.86, 0.86, 10, 0.71));
+  // Perfect in two, short of 70 % aligned: a larger sum (2.6 against 2.43), yet ranked lower.
+  EXPECT_GT(fair, quad_grid_quality(stats(1.0, 1.0, 10, 0.6)));
+  // Both meet every bar: the sum decides.
+  EXPECT_GT(quad_grid_quality(stats(0.9, 0.9, 10, 0.8)), fair);
+  // One bar missed beats two.
+  EXPECT_GT(quad_grid_quality(stats(0.5, 0.9, 10, 0.9)),
+            quad_grid_quality(stats(0.84, 0.84, 10, 1.0)));
+  // No beam where a ≥ 2: alignment counts as met, as 1.
+  EXPECT_DOUBLE_EQ(quad_grid_quality(stats(0.9, 0.95, 0, 0.0)), 0.9 + 0.95 + 1.0);
+  EXPECT_DOUBLE_EQ(quad_grid_quality(stats(0.9, 0.95, 10, 0.8)), 0.9 + 0.95 + 0.8);
 }
 
 // A hole about one cell wide: the extraction walks the loop of beams around it on M′ like any

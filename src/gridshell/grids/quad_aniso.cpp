@@ -1272,13 +1272,6 @@ PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, do
   return out;
 }
 
-/// A candidate grid's quality, the sum of three shares of QuadMeshStats: interior joints of
-/// valence 4, interior faces with 4 sides, and beams within 15° of u or u⊥ where a ≥ 2 (1 when
-/// there are none: an isotropic field, or a grid too coarse to have interior beams there).
-double grid_quality(const QuadMeshStats& st) {
-  return st.valence4_share + st.quad_share + (st.strong_beams > 0 ? st.aligned_share : 1.0);
-}
-
 bool is_isotropic(const Field& field) {
   for (int f = 0; f < field.size(); ++f)
     if (field.d[f] != 1 || field.a[f] != 1) return false;
@@ -1286,6 +1279,12 @@ bool is_isotropic(const Field& field) {
 }
 
 }  // namespace
+
+double quad_grid_quality(const QuadMeshStats& st) {
+  const double aligned = st.strong_beams > 0 ? st.aligned_share : 1.0;
+  const int short_of_bars = (st.valence4_share < 0.85) + (st.quad_share < 0.85) + (aligned < 0.70);
+  return st.valence4_share + st.quad_share + aligned - 3.0 * short_of_bars;
+}
 
 QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const QuadAnisoOptions& o) {
   const TriMesh& mesh = surface.mesh;
@@ -1366,7 +1365,7 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     remove_hanging_faces(c.grid);
     c.grid = largest_component(c.grid);
     fill_boundary_gaps(c.grid, mesh.V, proj.boundary_loops(), o.gap_joints, o.max_face_sides, proj);
-    c.score = grid_quality(quad_mesh_stats(c.grid, mesh, field));
+    c.score = quad_grid_quality(quad_mesh_stats(c.grid, mesh, field));
     c.length = total_edge_length(c.grid);
     c.error = o.length > 0 ? c.length / o.length - 1 : 0;
     return c;
