@@ -118,6 +118,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                   {"quad_share", st.quad_share},
                   {"non_simple_faces", st.non_simple_faces},
                   {"min_edge_ratio", st.min_edge_ratio},
+                  {"min_area_ratio", st.min_area_ratio},
                   {"strong_beams", st.strong_beams},
                   {"aligned_share", st.aligned_share},
                   {"aspect_quads", st.aspect_quads},

@@ -141,6 +141,8 @@ def main():
             miss.append("simple")
         if q["min_edge_ratio"] < 0.10:
             miss.append("short beam")
+        if q.get("min_area_ratio", 1) < 0.02:  # not a target of the issue: a sliver panel
+            miss.append("sliver")
         if abs(length) > 0.05:
             miss.append("length")
         if q["strong_beams"] > 0 and q["aligned_share"] < 0.70:

@@ -77,6 +77,7 @@ TEST(Cli, VoronoiAndTriangleBaselinesHitTheLength) {
       EXPECT_GE(report["quad_aniso"]["quad_share"].get<double>(), 0.6);
       EXPECT_EQ(report["quad_aniso"]["non_simple_faces"].get<int>(), 0);
       EXPECT_GE(report["quad_aniso"]["min_edge_ratio"].get<double>(), 0.1);
+      EXPECT_GE(report["quad_aniso"]["min_area_ratio"].get<double>(), 0.02);  // no sliver panel
       // The spacing factor stays within --max-size-change (1.25 by default).
       EXPECT_GE(report["quad_aniso"]["spacing_factor_p10"].get<double>(), 0.8 - 1e-9);
       EXPECT_LE(report["quad_aniso"]["spacing_factor_p90"].get<double>(), 1.25 + 1e-9);

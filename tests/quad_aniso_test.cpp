@@ -78,6 +78,7 @@ void expect_regular_quads(const QuadMeshStats& st) {
   EXPECT_GE(st.quad_share, 0.85);
   EXPECT_EQ(st.non_simple_faces, 0);
   EXPECT_GE(st.min_edge_ratio, 0.1);
+  EXPECT_GE(st.min_area_ratio, 0.02);  // no sliver panel
 }
 
 void expect_valid_quads(const QuadMeshStats& st) {
@@ -528,6 +529,11 @@ TEST(QuadAniso, RejectsBadInput) {
   EXPECT_THROW(quad_aniso(s, field, o), Error);
   o.start_cells = 4000;
   o.gap_joints = -1;
+  EXPECT_THROW(quad_aniso(s, field, o), Error);
+  o.gap_joints = 0;
+  o.min_face_area = 1;
+  EXPECT_THROW(quad_aniso(s, field, o), Error);
+  o.min_face_area = -0.1;
   EXPECT_THROW(quad_aniso(s, field, o), Error);
 }
 

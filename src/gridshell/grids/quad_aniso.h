@@ -126,6 +126,10 @@ struct QuadAnisoOptions {
   /// (63 of 66 shared, 45 of 48 generated), 0.5 point more of M covered on the generated
   /// surfaces, the half-length runs' smaller share 0.2 points lower; 0 was kept.
   int gap_joints = 0;
+  /// Faces of less than this fraction of the median face area are left out, after step 4's
+  /// snapping and after its gap filling: slivers (all joints of a boundary cell snapped onto a
+  /// straight piece of M's boundary) that no one would cut a panel for. 0: all kept.
+  double min_face_area = 0.02;
   std::uint64_t seed = 1;
   /// Lattice starts tried per spacing by the length fit (seeds seed + 7919 k). Each grid's
   /// quality is quad_grid_quality (below). The fit follows
@@ -180,6 +184,9 @@ struct QuadMeshStats {
   double quad_share = 0;      ///< of interior faces
   int non_simple_faces = 0;   ///< faces whose plan (best-fit plane) self-intersects
   double min_edge_ratio = 0;  ///< shortest beam / median beam
+  /// Smallest face area / median face area: a sliver panel (joints of a boundary cell snapped
+  /// onto a straight piece of M's boundary) shows here.
+  double min_area_ratio = 0;
   /// Interior beams where the field's a ≥ `strong_a` (a at the beam's midpoint).
   int strong_beams = 0;
   double aligned_share = 0;  ///< of those, within `angle_deg` of u or u⊥

@@ -50,6 +50,12 @@ QuadMeshStats quad_mesh_stats(const PolyMesh& grid, const TriMesh& surface, cons
   s.min_edge_ratio = lengths.empty() || median <= 0
                          ? 0
                          : *std::min_element(lengths.begin(), lengths.end()) / median;
+  std::vector<double> areas;
+  for (int f = 0; f < grid.num_faces(); ++f) areas.push_back(polygon_area(grid, f));
+  const double median_area = median_of(areas);
+  s.min_area_ratio = areas.empty() || median_area <= 0
+                         ? 0
+                         : *std::min_element(areas.begin(), areas.end()) / median_area;
   // Beams: alignment where the field is strongly anisotropic.
   Points mids(topo.num_edges(), 3);
   for (int e = 0; e < topo.num_edges(); ++e)
