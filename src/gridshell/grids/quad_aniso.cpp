@@ -1125,6 +1125,13 @@ void fill_boundary_gaps(PolyMesh& g, const Points& mv, const std::vector<std::ve
   double mean_beam = 0;
   for (const auto& e : topo.edges) mean_beam += (g.vertex(e[0]) - g.vertex(e[1])).norm();
   mean_beam /= std::max(1, topo.num_edges());
+  // A gap is a corner or a notch, about a cell: a face of more than twice the median face's
+  // area would be a panel across a region the extraction left empty (a trapezoid's end, 40 % of
+  // its roof, in one pentagon), not a gap.
+  std::vector<double> areas;
+  for (int f = 0; f < g.num_faces(); ++f) areas.push_back(polygon_area(g, f));
+  std::nth_element(areas.begin(), areas.begin() + areas.size() / 2, areas.end());
+  const double max_area = areas.empty() ? 0 : 2 * areas[areas.size() / 2];
   std::vector<char> on_m_boundary(g.num_vertices(), 0);
   for (const auto& loop : topo.boundary_loops)
     for (int v : loop) on_m_boundary[v] = locate(g.vertex(v)).distance <= tol;
@@ -1174,7 +1181,10 @@ void fill_boundary_gaps(PolyMesh& g, const Points& mv, const std::vector<std::ve
       }
       face.push_back(s1);
       for (int k = (j - 1 + n) % n; k != i; k = (k - 1 + n) % n) face.push_back(loop[k]);
-      if (!is_simple_polygon(g, face) || spans_void(g, face, proj)) {
+      g.faces.push_back(face);
+      const double area = polygon_area(g, g.num_faces() - 1);
+      g.faces.pop_back();
+      if (area > max_area || !is_simple_polygon(g, face) || spans_void(g, face, proj)) {
         g.V.conservativeResize(first_new, 3);
         continue;
       }
