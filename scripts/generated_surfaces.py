@@ -209,8 +209,9 @@ SURFACES = {
 
 
 def main():
-    if len(sys.argv) != 2:
-        sys.exit(__doc__)
+    if len(sys.argv) != 2 or sys.argv[1].startswith("-"):  # -h / --help: usage, not a folder
+        print(__doc__, file=sys.stderr)
+        sys.exit(0 if sys.argv[1:] in (["-h"], ["--help"]) else 2)
     out = Path(sys.argv[1])
     out.mkdir(parents=True, exist_ok=True)
     for name, make in SURFACES.items():

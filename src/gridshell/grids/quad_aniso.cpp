@@ -1067,6 +1067,18 @@ bool spans_void(const PolyMesh& g, const std::vector<int>& face, const SurfacePr
   return spans_void(corners, local, proj);
 }
 
+/// The area of each face of `g`, and their median (0 without faces).
+std::vector<double> face_areas(const PolyMesh& g) {
+  std::vector<double> areas;
+  for (int f = 0; f < g.num_faces(); ++f) areas.push_back(polygon_area(g, f));
+  return areas;
+}
+double median_area(std::vector<double> areas) {
+  if (areas.empty()) return 0;
+  std::nth_element(areas.begin(), areas.begin() + areas.size() / 2, areas.end());
+  return areas[areas.size() / 2];
+}
+
 /// The point of segment [a, b] nearest x, as the parameter along it (0 at a, 1 at b).
 double segment_parameter(const Vec3& x, const Vec3& a, const Vec3& b) {
   const Vec3 d = b - a;
@@ -1128,10 +1140,7 @@ void fill_boundary_gaps(PolyMesh& g, const Points& mv, const std::vector<std::ve
   // A gap is a corner or a notch, about a cell: a face of more than twice the median face's
   // area would be a panel across a region the extraction left empty (a trapezoid's end, 40 % of
   // its roof, in one pentagon), not a gap.
-  std::vector<double> areas;
-  for (int f = 0; f < g.num_faces(); ++f) areas.push_back(polygon_area(g, f));
-  std::nth_element(areas.begin(), areas.begin() + areas.size() / 2, areas.end());
-  const double max_area = areas.empty() ? 0 : 2 * areas[areas.size() / 2];
+  const double max_area = 2 * median_area(face_areas(g));
   std::vector<char> on_m_boundary(g.num_vertices(), 0);
   for (const auto& loop : topo.boundary_loops)
     for (int v : loop) on_m_boundary[v] = locate(g.vertex(v)).distance <= tol;
@@ -1193,8 +1202,6 @@ void fill_boundary_gaps(PolyMesh& g, const Points& mv, const std::vector<std::ve
   }
 }
 
-/// Moves the grid's outer-boundary joints near M's boundary onto it, collapses the stubs this
-/// makes, and drops unused joints, faces that are not simple polygons and faces over M's holes.
 /// Leaves out the faces of less than `fraction` of the median face area: slivers where the
 /// joints of a boundary cell were all snapped onto a straight piece of M's boundary, or a gap
 /// between the grid's boundary and M's was filled by a face of almost no area (session 15: 16 of
@@ -1202,18 +1209,16 @@ void fill_boundary_gaps(PolyMesh& g, const Points& mv, const std::vector<std::ve
 /// fiftieth of the others' area, or of none, is nothing anyone would cut glass for. Vertices are
 /// not touched (largest_component drops the unused ones).
 void drop_slivers(PolyMesh& g, double fraction) {
-  std::vector<double> areas;
-  for (int f = 0; f < g.num_faces(); ++f) areas.push_back(polygon_area(g, f));
-  if (areas.empty()) return;
-  std::vector<double> sorted = areas;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double limit = fraction * sorted[sorted.size() / 2];
+  const std::vector<double> areas = face_areas(g);
+  const double limit = fraction * median_area(areas);
   std::vector<std::vector<int>> kept;
   for (int f = 0; f < g.num_faces(); ++f)
     if (areas[f] >= limit) kept.push_back(std::move(g.faces[f]));
   g.faces = std::move(kept);
 }
 
+/// Moves the grid's outer-boundary joints near M's boundary onto it, collapses the stubs this
+/// makes, and drops unused joints, faces that are not simple polygons and faces over M's holes.
 PolyMesh snap_to_boundary(const PolyMesh& mesh, const SurfaceProjector& proj, double snap) {
   const Topology topo = build_topology(mesh);
   std::vector<Vec3> p(mesh.num_vertices());
