@@ -2,7 +2,9 @@
 // a true force-density equilibrium. Messy surface files: what the loader repairs, the one warning
 // line it writes, and the support-colour rule.
 
+#include <cmath>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -282,6 +284,98 @@ TEST(MessySurface, FacesWithoutAreaAreDroppedOrShortened) {
   // Nothing with an area left: an Error, not an empty surface.
   const fs::path bad = write(p.parent_path() / "bad.obj", "v 0 0 0\nv 1 0 0\nf 1 1 2\n");
   EXPECT_THROW(load_surface(bad.string()), Error);
+}
+
+namespace {
+
+/// An n × n grid of unit squares in the plane z = 0 as OBJ text, two triangles per square, all
+/// counter-clockwise seen from +z except those whose index `reversed` says.
+std::string grid_obj(int n, const std::function<bool(int)>& reversed) {
+  std::string s;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s += fmt::format("v {} {} 0\n", i, j);
+  int t = 0;
+  auto face = [&](int a, int b, int c) {
+    s += reversed(t++) ? fmt::format("f {} {} {}\n", c + 1, b + 1, a + 1)
+                       : fmt::format("f {} {} {}\n", a + 1, b + 1, c + 1);
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      face(a, b, c);
+      face(a, c, d);
+    }
+  return s;
+}
+
+/// Per triangle, the sign of its normal's z component.
+std::vector<int> normal_signs(const TriMesh& m) {
+  std::vector<int> out;
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const Vec3 n = (m.vertex(m.F(f, 1)) - m.vertex(m.F(f, 0)))
+                       .cross(m.vertex(m.F(f, 2)) - m.vertex(m.F(f, 0)));
+    out.push_back(n.z() > 0 ? 1 : -1);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(MessySurface, MixedFaceOrientationIsMadeConsistent) {
+  // A 4 × 4 square as 32 triangles, every third one clockwise: 11 edges of the file are walked
+  // the same way by both faces, which topology would count as 22 boundary edges (and `design`
+  // refuses). Loaded, the 11 minority faces are reversed: one boundary loop, every normal +z.
+  const fs::path dir = test::temp_dir("messy");
+  const fs::path p = write(dir / "mixed.obj", grid_obj(4, [](int t) { return t % 3 == 1; }));
+  EXPECT_GT(check_mesh(load_poly_surface(p.string()).mesh).inconsistent_orientation, 0);
+  LogCapture log;
+  const Surface s = load_surface(p.string());
+  EXPECT_EQ(s.mesh.num_faces(), 32);
+  EXPECT_EQ(build_topology(s.mesh).boundary_loops.size(), 1u);
+  EXPECT_EQ(check_mesh(to_poly(s.mesh)).inconsistent_orientation, 0);
+  EXPECT_EQ(normal_signs(s.mesh), std::vector<int>(32, 1));
+  EXPECT_EQ(s.supports.size(), 16u);  // the boundary of the square, not of every triangle
+  EXPECT_EQ(log.lines(), 1) << log.text();
+  EXPECT_NE(log.text().find("reversed 11 faces to orient the surface consistently"),
+            std::string::npos)
+      << log.text();
+
+  // The clockwise faces in the majority (by area): they keep their orientation, the others turn.
+  write(p, grid_obj(4, [](int t) { return t % 3 != 1; }));
+  const Surface flipped = load_surface(p.string());
+  EXPECT_EQ(normal_signs(flipped.mesh), std::vector<int>(32, -1));
+
+  // A consistently oriented file is not touched: no warning.
+  write(p, grid_obj(4, [](int) { return false; }));
+  LogCapture quiet;
+  EXPECT_EQ(normal_signs(load_surface(p.string()).mesh), std::vector<int>(32, 1));
+  EXPECT_EQ(quiet.lines(), 0) << quiet.text();
+}
+
+TEST(MessySurface, MoebiusStripIsReportedNotForced) {
+  // A Möbius strip of 12 quads: no orientation makes every edge agree; the loader says so and
+  // keeps the faces (one edge stays inconsistent), and `design`'s surface checks refuse it later.
+  std::string obj;
+  const int n = 12;
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * M_PI * i / n, w = 0.3;
+    for (int side : {-1, 1}) {
+      const double r = 1 + side * w * std::cos(t / 2);
+      obj += fmt::format("v {} {} {}\n", r * std::cos(t), r * std::sin(t), side * w * std::sin(t / 2));
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    const int a = 2 * i, b = 2 * i + 1;
+    const int c = i + 1 < n ? 2 * i + 3 : 0, d = i + 1 < n ? 2 * i + 2 : 1;  // the half twist
+    obj += fmt::format("f {} {} {} {}\n", a + 1, b + 1, c + 1, d + 1);
+  }
+  const fs::path p = write(test::temp_dir("messy") / "moebius.obj", obj);
+  LogCapture log;
+  const Surface s = load_surface(p.string());
+  EXPECT_EQ(s.mesh.num_faces(), 2 * n);
+  EXPECT_NE(log.text().find("1 edge still inconsistently oriented (a non-orientable surface)"),
+            std::string::npos)
+      << log.text();
 }
 
 TEST(MessySurface, SliversAreKeptWithAWarning) {

@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <queue>
 
 #include <fmt/format.h>
+
+#include "gridshell/mesh/geometry.h"
+#include "gridshell/mesh/topology.h"
 
 namespace gridshell {
 
@@ -48,6 +52,66 @@ std::string plural(int n, const char* one, const char* many) {
   return fmt::format("{} {}", n, n == 1 ? one : many);
 }
 
+/// Step 4 of repair_mesh: reverses faces so that every edge shared by exactly two faces is walked
+/// once each way. Faces are visited breadth-first from the lowest id of each connected piece
+/// (through such edges); a face is reversed or not to agree with the face it was reached from.
+/// Within a piece, the faces marked for reversal are reversed only if they have less area than
+/// the others (ties: the piece's lowest face keeps its orientation).
+void orient_faces(PolyMesh& mesh, RepairReport& r) {
+  const Topology topo = build_topology(mesh);
+  const int nf = mesh.num_faces();
+  // Direction of face f's k-th edge relative to the stored (smaller, larger) edge: ±1.
+  auto dir = [&](int f, int k) {
+    const auto& face = mesh.faces[f];
+    return face[k] < face[(k + 1) % face.size()] ? 1 : -1;
+  };
+  auto local = [&](int f, int e) {
+    const auto& fe = topo.face_edges[f];
+    return static_cast<int>(std::find(fe.begin(), fe.end(), e) - fe.begin());
+  };
+  std::vector<int> flip(nf, -1);  // -1 not reached; 0 keep; 1 reverse
+  for (int seed = 0; seed < nf; ++seed) {
+    if (flip[seed] >= 0) continue;
+    std::vector<int> piece{seed};
+    std::queue<int> todo;
+    flip[seed] = 0;
+    todo.push(seed);
+    while (!todo.empty()) {
+      const int f = todo.front();
+      todo.pop();
+      for (int k = 0; k < static_cast<int>(mesh.faces[f].size()); ++k) {
+        const int e = topo.face_edges[f][k];
+        if (topo.edge_faces[e].size() != 2) continue;
+        const int g = topo.edge_faces[e][0] == f ? topo.edge_faces[e][1] : topo.edge_faces[e][0];
+        if (g == f) continue;
+        if (flip[g] >= 0) continue;
+        // Consistent when the two faces walk the edge opposite ways (after their flips).
+        flip[g] = dir(f, k) * (flip[f] ? -1 : 1) == dir(g, local(g, e)) ? 1 : 0;
+        {
+          piece.push_back(g);
+          todo.push(g);
+        }
+      }
+    }
+    double area[2] = {0, 0};
+    for (int f : piece) area[flip[f]] += polygon_area(mesh, f);
+    if (area[1] > area[0])
+      for (int f : piece) flip[f] = 1 - flip[f];
+  }
+  for (int e = 0; e < topo.num_edges(); ++e) {
+    const auto& ef = topo.edge_faces[e];
+    if (ef.size() != 2) continue;
+    const int d0 = dir(ef[0], local(ef[0], e)) * (flip[ef[0]] ? -1 : 1);
+    const int d1 = dir(ef[1], local(ef[1], e)) * (flip[ef[1]] ? -1 : 1);
+    r.inconsistent_edges += d0 == d1;
+  }
+  for (int f = 0; f < nf; ++f)
+    if (flip[f] == 1) {
+      std::reverse(mesh.faces[f].begin(), mesh.faces[f].end());
+      ++r.reversed_faces;
+    }
+}
+
 }  // namespace
 
 std::string RepairReport::describe() const {
@@ -61,6 +125,12 @@ std::string RepairReport::describe() const {
   if (unreferenced_vertices)
     parts.push_back("dropped " +
                     plural(unreferenced_vertices, "unreferenced vertex", "unreferenced vertices"));
+  if (reversed_faces)
+    parts.push_back("reversed " + plural(reversed_faces, "face", "faces") +
+                    " to orient the surface consistently");
+  if (inconsistent_edges)
+    parts.push_back(plural(inconsistent_edges, "edge", "edges") +
+                    " still inconsistently oriented (a non-orientable surface)");
   std::string out;
   for (const auto& p : parts) out += (out.empty() ? "" : ", ") + p;
   return out;
@@ -101,14 +171,18 @@ RepairReport repair_mesh(PolyMesh& mesh) {
 
   r.new_id.resize(nv);
   for (int v = 0; v < nv; ++v) r.new_id[v] = compact[first[v]];
-  if (!r.changed()) return r;
-  Points V(kept, 3);
-  for (int v = 0; v < nv; ++v)
-    if (compact[v] >= 0) V.row(compact[v]) = mesh.V.row(v);
-  for (auto& f : faces)
-    for (int& v : f) v = compact[v];
-  mesh.V = std::move(V);
-  mesh.faces = std::move(faces);
+  if (r.changed()) {
+    Points V(kept, 3);
+    for (int v = 0; v < nv; ++v)
+      if (compact[v] >= 0) V.row(compact[v]) = mesh.V.row(v);
+    for (auto& f : faces)
+      for (int& v : f) v = compact[v];
+    mesh.V = std::move(V);
+    mesh.faces = std::move(faces);
+  }
+
+  // 4. Orientation.
+  orient_faces(mesh, r);
   return r;
 }
 

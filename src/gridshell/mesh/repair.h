@@ -8,10 +8,16 @@
 ///      (a quad 0 1 1 2 becomes the triangle 0 1 2); a face left with fewer than 3 corners, or
 ///      that still visits a vertex twice, has no area and is dropped;
 ///   3. unreferenced vertices (construction points, sometimes even coloured as supports):
-///      dropped, the other vertices keep their order.
+///      dropped, the other vertices keep their order;
+///   4. face orientation (exporters and hand-edited files often mix clockwise and
+///      counter-clockwise faces; topology would see each such edge as two boundary edges):
+///      faces are made to agree across every edge they share with exactly one other face, in
+///      each connected piece keeping the orientation of the larger area (so a consistently
+///      oriented file is left untouched). A non-orientable piece (a Möbius strip) keeps the
+///      conflicts it cannot resolve; `inconsistent_edges` counts them.
 /// Sliver triangles are not repaired (the analyses cope with them; moving vertices would change
 /// the designer's surface): `count_slivers` lets the loader say how many there are.
-/// Cost: O(V log V + sum of face sizes).
+/// Cost: O(V log V + S log S), S the sum of face sizes.
 
 #include <string>
 #include <vector>
@@ -25,15 +31,20 @@ struct RepairReport {
   int shortened_faces = 0;        ///< faces that lost a repeated corner and are still polygons
   int dropped_faces = 0;          ///< faces without area (fewer than 3 distinct corners)
   int unreferenced_vertices = 0;  ///< vertices no face uses, dropped
+  int reversed_faces = 0;         ///< faces whose corner order was reversed (step 4)
+  int inconsistent_edges = 0;     ///< edges still walked the same way by both faces (step 4)
   /// For each vertex of the mesh as it was: its id after the repair, or -1 when it was dropped
   /// (an unreferenced vertex). Duplicates map to the id of the vertex they were merged into.
   std::vector<int> new_id;
 
+  /// True when something was repaired (steps 1–4; a non-orientable piece alone is not).
   bool changed() const {
-    return merged_vertices + shortened_faces + dropped_faces + unreferenced_vertices > 0;
+    return merged_vertices + shortened_faces + dropped_faces + unreferenced_vertices +
+               reversed_faces >
+           0;
   }
-  /// What was done, e.g. "merged 9 duplicate vertices, dropped 3 unreferenced vertices"; empty
-  /// when nothing was.
+  /// What was done, e.g. "merged 9 duplicate vertices, dropped 3 unreferenced vertices", and the
+  /// edges left inconsistent; empty when there is nothing to say.
   std::string describe() const;
 };
 

@@ -184,7 +184,7 @@ Surface load_surface(const std::string& spec, const SurfaceOptions& o) {
     const RepairReport repair = repair_mesh(file.mesh);
     if (file.mesh.num_faces() == 0)
       throw Error(spec, "no face has an area (every face uses a vertex twice)");
-    if (repair.changed()) notes.push_back(repair.describe());
+    if (const std::string what = repair.describe(); !what.empty()) notes.push_back(what);
     s.mesh = triangulate(file.mesh);
     s.supports = resolve_supports(o, file.mesh, &file, repair.new_id, nullptr, notes);
     if (const int slivers = count_slivers(s.mesh); slivers > 0)
