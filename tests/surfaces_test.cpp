@@ -269,6 +269,37 @@ TEST(MessySurface, ExactDuplicateVerticesAreMerged) {
   EXPECT_NE(log.text().find("merged 2 duplicate vertices"), std::string::npos) << log.text();
 }
 
+TEST(MessySurface, NearlyCoincidentVerticesAreMergedWithinTheTolerance) {
+  // A 10 m square meshed as two patches, each with its own copy of the seam x = 5: the copies
+  // are 2e-6 m apart (2e-7 of the 14.1 m diagonal, as single-precision rounding leaves them).
+  // Merged: one piece with one boundary loop, on which the seam's middle vertex no longer lies.
+  // 2e-4 m apart (1.4e-5 of the diagonal): a gap the loader keeps.
+  auto two_patches = [](double gap) {
+    return fmt::format(
+        "v 0 0 0\nv 5 0 0\nv 5 5 0\nv 5 10 0\nv 0 10 0\n"
+        "v {0} 0 0\nv 10 0 0\nv 10 10 0\nv {0} 10 0\nv {0} 5 0\n"
+        "f 1 2 3\nf 1 3 5\nf 3 4 5\nf 6 7 10\nf 7 8 10\nf 8 9 10\n",
+        5 + gap);
+  };
+  const fs::path p = write(test::temp_dir("messy") / "patches.obj", two_patches(2e-6));
+  LogCapture log;
+  const Surface s = load_surface(p.string());
+  EXPECT_EQ(s.mesh.num_vertices(), 7);
+  const Topology topo = build_topology(s.mesh);
+  EXPECT_EQ(topo.boundary_loops.size(), 1u);
+  EXPECT_EQ(std::count(topo.on_boundary.begin(), topo.on_boundary.end(), 1), 6);  // not (5, 5)
+  EXPECT_DOUBLE_EQ(s.mesh.V(1, 0), 5.0);  // merged into the lowest id: the first patch's
+  EXPECT_NE(log.text().find("merged 3 duplicate vertices (3 within 1e-06 of the size, not at the "
+                            "same position)"),
+            std::string::npos)
+      << log.text();
+
+  write(p, two_patches(2e-4));
+  const Surface apart = load_surface(p.string());
+  EXPECT_EQ(apart.mesh.num_vertices(), 10);
+  EXPECT_EQ(build_topology(apart.mesh).boundary_loops.size(), 2u);
+}
+
 TEST(MessySurface, FacesWithoutAreaAreDroppedOrShortened) {
   // A quad with a repeated corner (a triangle really) and a triangle that uses a vertex twice.
   const fs::path p = write(test::temp_dir("messy") / "rep.obj",

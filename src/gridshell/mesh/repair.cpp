@@ -1,7 +1,9 @@
 #include "gridshell/mesh/repair.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <queue>
 
@@ -14,23 +16,79 @@ namespace gridshell {
 
 namespace {
 
-/// For each vertex, the lowest-numbered vertex at exactly the same position (itself if none).
-std::vector<int> first_at_same_position(const Points& V) {
+/// For each vertex, the lowest-numbered vertex it is merged into (itself if none): vertices
+/// within `tolerance` of each other are grouped (transitively), each group into its lowest id.
+/// A grid of cells of side 2 × tolerance, vertices sorted by cell: each vertex is compared with
+/// those of its own cell and of the neighbouring cells it lies within `tolerance` of (on average
+/// 3.4 cells). tolerance 0: exactly equal positions only.
+std::vector<int> first_within(const Points& V, double tolerance) {
   const int nv = static_cast<int>(V.rows());
-  std::vector<int> order(nv);
-  std::iota(order.begin(), order.end(), 0);
-  auto key_less = [&V](int a, int b) {
-    for (int c = 0; c < 3; ++c)
-      if (V(a, c) != V(b, c)) return V(a, c) < V(b, c);
-    return a < b;  // equal positions: lowest id first
+  std::vector<int> root(nv);
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int v) {
+    while (root[v] != v) v = root[v] = root[root[v]];
+    return v;
   };
-  std::sort(order.begin(), order.end(), key_less);
-  std::vector<int> first(nv);
-  for (int i = 0; i < nv; ++i) {
-    const int v = order[i];
-    const bool same = i > 0 && V.row(v) == V.row(order[i - 1]);
-    first[v] = same ? first[order[i - 1]] : v;
+  auto unite = [&](int x, int y) {
+    x = find(x);
+    y = find(y);
+    if (x != y) root[std::max(x, y)] = std::min(x, y);
+  };
+  using Key = std::array<std::int64_t, 3>;
+  const double cell = 2 * tolerance;
+  auto key_of = [&](const Vec3& p) {
+    Key k{0, 0, 0};
+    if (cell > 0)
+      for (int c = 0; c < 3; ++c) k[c] = static_cast<std::int64_t>(std::floor(p[c] / cell));
+    return k;
+  };
+  auto position_less = [&](int x, int y) {
+    for (int c = 0; c < 3; ++c)
+      if (V(x, c) != V(y, c)) return V(x, c) < V(y, c);
+    return x < y;
+  };
+  // Sorted by cell, then by position: equal positions are next to each other in this order.
+  std::vector<std::pair<Key, int>> cells(nv);
+  for (int v = 0; v < nv; ++v) cells[v] = {key_of(V.row(v).transpose()), v};
+  std::sort(cells.begin(), cells.end(), [&](const auto& x, const auto& y) {
+    return x.first != y.first ? x.first < y.first : position_less(x.second, y.second);
+  });
+  for (int i = 1; i < nv; ++i)
+    if (V.row(cells[i].second) == V.row(cells[i - 1].second))
+      unite(cells[i].second, cells[i - 1].second);
+  if (tolerance <= 0) {
+    std::vector<int> first(nv);
+    for (int v = 0; v < nv; ++v) first[v] = find(v);
+    return first;
   }
+  const double tol2 = tolerance * tolerance;
+  for (int i = 0; i < nv; ++i) {
+    const int v = cells[i].second;
+    const Vec3 p = V.row(v).transpose();
+    const Key& k = cells[i].first;
+    // Per axis, the neighbouring cells within reach: the own cell and the one whose face is
+    // closer than the tolerance.
+    std::array<std::array<int, 2>, 3> reach;
+    std::array<int, 3> count{};
+    for (int c = 0; c < 3; ++c) {
+      reach[c][count[c]++] = 0;
+      const double offset = p[c] - static_cast<double>(k[c]) * cell;
+      if (offset < tolerance) reach[c][count[c]++] = -1;
+      if (offset > cell - tolerance) reach[c][count[c]++] = 1;
+    }
+    for (int ix = 0; ix < count[0]; ++ix)
+      for (int iy = 0; iy < count[1]; ++iy)
+        for (int iz = 0; iz < count[2]; ++iz) {
+          const Key n{k[0] + reach[0][ix], k[1] + reach[1][iy], k[2] + reach[2][iz]};
+          auto it = std::lower_bound(cells.begin(), cells.end(), n,
+                                     [](const auto& x, const Key& y) { return x.first < y; });
+          for (; it != cells.end() && it->first == n; ++it)
+            if (it->second != v && (V.row(it->second) - V.row(v)).squaredNorm() <= tol2)
+              unite(it->second, v);
+        }
+  }
+  std::vector<int> first(nv);
+  for (int v = 0; v < nv; ++v) first[v] = find(v);
   return first;
 }
 
@@ -58,6 +116,17 @@ std::string plural(int n, const char* one, const char* many) {
 /// Within a piece, the faces marked for reversal are reversed only if they have less area than
 /// the others (ties: the piece's lowest face keeps its orientation).
 void orient_faces(PolyMesh& mesh, RepairReport& r) {
+  // Nothing to do when no directed edge is walked twice (the usual case): checked on sorted
+  // directed edges, cheaper than the topology below.
+  {
+    std::vector<std::uint64_t> directed;
+    for (const auto& face : mesh.faces)
+      for (std::size_t k = 0; k < face.size(); ++k)
+        directed.push_back(static_cast<std::uint64_t>(face[k]) << 32 |
+                           static_cast<std::uint32_t>(face[(k + 1) % face.size()]));
+    std::sort(directed.begin(), directed.end());
+    if (std::adjacent_find(directed.begin(), directed.end()) == directed.end()) return;
+  }
   const Topology topo = build_topology(mesh);
   const int nf = mesh.num_faces();
   // Direction of face f's k-th edge relative to the stored (smaller, larger) edge: ±1.
@@ -117,7 +186,11 @@ void orient_faces(PolyMesh& mesh, RepairReport& r) {
 std::string RepairReport::describe() const {
   std::vector<std::string> parts;
   if (merged_vertices)
-    parts.push_back("merged " + plural(merged_vertices, "duplicate vertex", "duplicate vertices"));
+    parts.push_back(
+        "merged " + plural(merged_vertices, "duplicate vertex", "duplicate vertices") +
+        (close_vertices ? fmt::format(" ({} within {:g} of the size, not at the same position)",
+                                      close_vertices, kWeldTolerance)
+                        : ""));
   if (shortened_faces)
     parts.push_back("removed a repeated corner from " + plural(shortened_faces, "face", "faces"));
   if (dropped_faces)
@@ -141,8 +214,15 @@ RepairReport repair_mesh(PolyMesh& mesh) {
   const int nv = mesh.num_vertices();
 
   // 1. Duplicates.
-  const std::vector<int> first = first_at_same_position(mesh.V);
-  for (int v = 0; v < nv; ++v) r.merged_vertices += first[v] != v;
+  // Within the tolerance when the coordinates allow a grid of that cell size (finite, and fewer
+  // than 10¹⁵ cells from the origin), else exactly equal positions only.
+  const double tolerance = nv > 0 && mesh.V.allFinite() ? kWeldTolerance * bbox_diagonal(mesh.V) : 0;
+  const bool gridable = tolerance > 0 && mesh.V.cwiseAbs().maxCoeff() < 1e15 * tolerance;
+  const std::vector<int> first = first_within(mesh.V, gridable ? tolerance : 0);
+  for (int v = 0; v < nv; ++v) {
+    r.merged_vertices += first[v] != v;
+    r.close_vertices += first[v] != v && mesh.V.row(v) != mesh.V.row(first[v]);
+  }
 
   // 2. Faces, on the merged ids.
   std::vector<std::vector<int>> faces;

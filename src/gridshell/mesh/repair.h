@@ -2,8 +2,10 @@
 /// \file repair.h
 /// Making a surface read from a file usable when its exporter left some mess behind. What is
 /// repaired, in this order:
-///   1. exact duplicate vertices (exporters that split the mesh at seams or per face): merged
-///      into the lowest-numbered of them, so the surface is connected again;
+///   1. duplicate vertices (exporters that split the mesh at seams or per face, or mesh the
+///      patches of a CAD surface one by one): vertices within kWeldTolerance × the bounding
+///      box's diagonal of each other (transitively) are merged into the lowest-numbered of
+///      them, so the surface is connected again;
 ///   2. faces that then use a vertex twice: a repeated corner next to itself is removed
 ///      (a quad 0 1 1 2 becomes the triangle 0 1 2); a face left with fewer than 3 corners, or
 ///      that still visits a vertex twice, has no area and is dropped;
@@ -26,8 +28,14 @@
 
 namespace gridshell {
 
+/// Vertices closer than this fraction of the bounding box's diagonal are one vertex: 30 µm on a
+/// 30 m roof, far below any member or panel, and well above the rounding of coordinates written
+/// in single precision (relative 6e-8) near the roof.
+inline constexpr double kWeldTolerance = 1e-6;
+
 struct RepairReport {
   int merged_vertices = 0;        ///< duplicate vertices merged into another one
+  int close_vertices = 0;         ///< of those, the ones not exactly at the same position
   int shortened_faces = 0;        ///< faces that lost a repeated corner and are still polygons
   int dropped_faces = 0;          ///< faces without area (fewer than 3 distinct corners)
   int unreferenced_vertices = 0;  ///< vertices no face uses, dropped
