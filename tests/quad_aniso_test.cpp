@@ -507,6 +507,29 @@ TEST(QuadAniso, CoverageIsTheGridsShareOfTheSurfaceArea) {
   EXPECT_NEAR(quad_mesh_stats(g, s.mesh, field).coverage, 1.0, 1e-12);
 }
 
+// Two 20 × 10 m planes 10 m apart in one surface (two roofs in one file): each gets its grid.
+// Before, only the grid's largest component was kept: one roof, half the surface covered.
+TEST(QuadAniso, EachPieceOfTheSurfaceGetsItsGrid) {
+  const Surface left = plane(20, 10, 40, 20);
+  Surface s = left;
+  const int nv = left.mesh.num_vertices(), nf = left.mesh.num_faces();
+  s.mesh.V.conservativeResize(2 * nv, 3);
+  s.mesh.F.conservativeResize(2 * nf, 3);
+  for (int v = 0; v < nv; ++v)
+    s.mesh.V.row(nv + v) = left.mesh.V.row(v) + Eigen::RowVector3d(30, 0, 0);
+  for (int f = 0; f < nf; ++f) s.mesh.F.row(nf + f) = left.mesh.F.row(f).array() + nv;
+  const Field field = uniform_field(s.mesh);
+  QuadAnisoOptions o;
+  o.spacing = 1.0;
+  const PolyMesh g = quad_aniso(s, field, o).grid.mesh;
+  int on_left = 0, on_right = 0;
+  for (int v = 0; v < g.num_vertices(); ++v) (g.V(v, 0) < 25 ? on_left : on_right)++;
+  EXPECT_NEAR(on_left, on_right, 0.1 * on_left);
+  const QuadMeshStats st = quad_mesh_stats(g, s.mesh, field);
+  EXPECT_GT(st.coverage, 0.95);
+  expect_regular_quads(st);
+}
+
 TEST(QuadAniso, RejectsBadInput) {
   const Surface s = plane(4, 2, 4, 2);
   const Field field = uniform_field(s.mesh);

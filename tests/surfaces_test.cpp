@@ -392,7 +392,8 @@ TEST(MessySurface, MoebiusStripIsReportedNotForced) {
     const double t = 2 * M_PI * i / n, w = 0.3;
     for (int side : {-1, 1}) {
       const double r = 1 + side * w * std::cos(t / 2);
-      obj += fmt::format("v {} {} {}\n", r * std::cos(t), r * std::sin(t), side * w * std::sin(t / 2));
+      obj +=
+          fmt::format("v {} {} {}\n", r * std::cos(t), r * std::sin(t), side * w * std::sin(t / 2));
     }
   }
   for (int i = 0; i < n; ++i) {

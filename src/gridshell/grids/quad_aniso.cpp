@@ -1380,6 +1380,29 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   r.deformed_triangles = def.num_faces();
   const SurfaceProjector proj(mesh);
   const double tol = 1e-6 * bbox_diagonal(mesh.V);
+  // A surface of several pieces (two roofs in one file) gets a grid on each: per piece, the
+  // grid's largest component on it is kept.
+  std::vector<int> piece_of_triangle(mesh.num_faces(), 0);
+  bool several_pieces = false;
+  {
+    DisjointSets sets(mesh.num_vertices());
+    for (int f = 0; f < mesh.num_faces(); ++f)
+      for (int k = 1; k < 3; ++k) sets.unite(mesh.F(f, 0), mesh.F(f, k));
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      piece_of_triangle[f] = sets.find(mesh.F(f, 0));
+      several_pieces |= piece_of_triangle[f] != piece_of_triangle[0];
+    }
+  }
+  auto keep_largest = [&](const PolyMesh& grid) {
+    if (!several_pieces) return largest_component(grid);
+    std::vector<int> piece(grid.num_vertices());
+    for (int v = 0; v < grid.num_vertices(); ++v) {
+      int triangle = -1;
+      proj.closest_point_walk(grid.vertex(v), triangle);
+      piece[v] = piece_of_triangle[triangle];
+    }
+    return largest_component(grid, piece);
+  };
   const MetricFrames frames =
       metric_frames(rest, def, rest_field, h, o);  // the h M′ is refined for
   // One lattice start at spacing h: the grid on M, cleaned up, with its length error and score.
@@ -1400,10 +1423,10 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     c.grid = snap_to_boundary(c.grid, proj, o.boundary_snap);
     drop_slivers(c.grid, o.min_face_area);
     remove_hanging_faces(c.grid);
-    c.grid = largest_component(c.grid);
+    c.grid = keep_largest(c.grid);
     fill_boundary_gaps(c.grid, mesh.V, proj.boundary_loops(), o.gap_joints, o.max_face_sides, proj);
     drop_slivers(c.grid, o.min_face_area);  // a gap filled by a face of almost no area
-    c.grid = largest_component(c.grid);
+    c.grid = keep_largest(c.grid);
     c.score = quad_grid_quality(quad_mesh_stats(c.grid, mesh, field));
     c.length = total_edge_length(c.grid);
     c.error = o.length > 0 ? c.length / o.length - 1 : 0;

@@ -186,11 +186,11 @@ void orient_faces(PolyMesh& mesh, RepairReport& r) {
 std::string RepairReport::describe() const {
   std::vector<std::string> parts;
   if (merged_vertices)
-    parts.push_back(
-        "merged " + plural(merged_vertices, "duplicate vertex", "duplicate vertices") +
-        (close_vertices ? fmt::format(" ({} within {:g} of the size, not at the same position)",
-                                      close_vertices, kWeldTolerance)
-                        : ""));
+    parts.push_back("merged " + plural(merged_vertices, "duplicate vertex", "duplicate vertices") +
+                    (close_vertices
+                         ? fmt::format(" ({} within {:g} of the size, not at the same position)",
+                                       close_vertices, kWeldTolerance)
+                         : ""));
   if (shortened_faces)
     parts.push_back("removed a repeated corner from " + plural(shortened_faces, "face", "faces"));
   if (dropped_faces)
@@ -216,7 +216,8 @@ RepairReport repair_mesh(PolyMesh& mesh) {
   // 1. Duplicates.
   // Within the tolerance when the coordinates allow a grid of that cell size (finite, and fewer
   // than 10¹⁵ cells from the origin), else exactly equal positions only.
-  const double tolerance = nv > 0 && mesh.V.allFinite() ? kWeldTolerance * bbox_diagonal(mesh.V) : 0;
+  const double tolerance =
+      nv > 0 && mesh.V.allFinite() ? kWeldTolerance * bbox_diagonal(mesh.V) : 0;
   const bool gridable = tolerance > 0 && mesh.V.cwiseAbs().maxCoeff() < 1e15 * tolerance;
   const std::vector<int> first = first_within(mesh.V, gridable ? tolerance : 0);
   for (int v = 0; v < nv; ++v) {

@@ -160,18 +160,29 @@ TriangleAdjacency build_triangle_adjacency(const Triangles& F, int nv) {
 }
 
 PolyMesh largest_component(const PolyMesh& mesh) {
+  return largest_component(mesh, std::vector<int>(mesh.num_vertices(), 0));
+}
+
+PolyMesh largest_component(const PolyMesh& mesh, const std::vector<int>& piece) {
   DisjointSets sets(mesh.num_vertices());
   for (const auto& f : mesh.faces)
     for (size_t k = 1; k < f.size(); ++k) sets.unite(f[0], f[k]);
   std::vector<int> faces_of(mesh.num_vertices(), 0);
   for (const auto& f : mesh.faces)
     if (!f.empty()) ++faces_of[sets.find(f[0])];
-  const int root = static_cast<int>(std::max_element(faces_of.begin(), faces_of.end()) -
-                                    faces_of.begin());  // the smallest root among the largest
+  // Per piece, the root of its largest component (the smallest root among the largest).
+  std::map<int, int> best;
+  for (int r = 0; r < mesh.num_vertices(); ++r) {
+    if (faces_of[r] == 0) continue;
+    auto [it, fresh] = best.emplace(piece[r], r);
+    if (!fresh && faces_of[r] > faces_of[it->second]) it->second = r;
+  }
+  std::vector<char> keep(mesh.num_vertices(), 0);
+  for (const auto& [p, r] : best) keep[r] = 1;
   PolyMesh out;
   std::vector<int> index(mesh.num_vertices(), -1);
   for (const auto& f : mesh.faces)
-    if (!f.empty() && sets.find(f[0]) == root)
+    if (!f.empty() && keep[sets.find(f[0])])
       for (int v : f) index[v] = 0;
   int count = 0;
   for (int& i : index)
@@ -180,7 +191,7 @@ PolyMesh largest_component(const PolyMesh& mesh) {
   for (int v = 0; v < mesh.num_vertices(); ++v)
     if (index[v] >= 0) out.V.row(index[v]) = mesh.V.row(v);
   for (const auto& f : mesh.faces) {
-    if (f.empty() || sets.find(f[0]) != root) continue;
+    if (f.empty() || !keep[sets.find(f[0])]) continue;
     std::vector<int> g;
     for (int v : f) g.push_back(index[v]);
     out.faces.push_back(std::move(g));

@@ -92,6 +92,10 @@ struct DisjointSets {
 /// dropped, the others keep their order. A grid-shell is one structure: a piece an extraction
 /// left apart from it would be a mechanism, or a second structure, in the analysis.
 PolyMesh largest_component(const PolyMesh& mesh);
+/// The same per piece of a surface made of several: `piece[v]` names the piece vertex v lies on,
+/// and of the components lying on each piece (by their lowest vertex) the one with the most
+/// faces is kept. One value everywhere: largest_component(mesh).
+PolyMesh largest_component(const PolyMesh& mesh, const std::vector<int>& piece);
 
 /// Removes, repeatedly, the flaps: faces held by the rest at the two ends of a single edge only
 /// (no other edge shared, no other corner used by another face). Such a face turns about that
