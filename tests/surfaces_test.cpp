@@ -410,6 +410,84 @@ TEST(MessySurface, MoebiusStripIsReportedNotForced) {
       << log.text();
 }
 
+TEST(MessySurface, AClosedSurfaceWithoutSupportsIsRefused) {
+  // A tetrahedron: no boundary, no colours, so no supports: refused when loaded (design would
+  // otherwise fail later, in the shell analysis, on a mechanism).
+  const fs::path p = write(test::temp_dir("messy") / "closed.obj",
+                           "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                           "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n");
+  try {
+    load_surface(p.string());
+    ADD_FAILURE() << "no Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no supports: the surface has no boundary"),
+              std::string::npos)
+        << e.what();
+  }
+  // With supports named, it loads.
+  SurfaceOptions o;
+  o.supports = write(p.parent_path() / "closed.json", "[0, 1]").string();
+  EXPECT_EQ(load_surface(p.string(), o).supports, (std::vector<int>{0, 1}));
+  o.supports = write(p.parent_path() / "none.json", "[]").string();
+  EXPECT_THROW(load_surface(p.string(), o), Error);
+}
+
+TEST(MessySurface, ASurfaceKilometresAcrossIsFlaggedAsMillimetres) {
+  // The same square roof at 30 m and at 30 000 (a file in millimetres): only the second warns.
+  auto square = [](double side) {
+    return fmt::format("v 0 0 0\nv {0} 0 0\nv {0} {0} 0\nv 0 {0} 0\nf 1 2 3\nf 1 3 4\n", side);
+  };
+  const fs::path p = write(test::temp_dir("messy") / "units.obj", square(30));
+  {
+    LogCapture log;
+    load_surface(p.string());
+    EXPECT_EQ(log.lines(), 0) << log.text();
+  }
+  write(p, square(30000));
+  LogCapture log;
+  load_surface(p.string());
+  EXPECT_NE(log.text().find("the surface is 42426 m across (its bounding box's diagonal): if its "
+                            "coordinates are in millimetres, pass --scale 0.001"),
+            std::string::npos)
+      << log.text();
+  SurfaceOptions o;
+  o.scale = 0.001;
+  LogCapture scaled;
+  load_surface(p.string(), o);
+  EXPECT_EQ(scaled.lines(), 0) << scaled.text();
+}
+
+TEST(MessySurface, ASurfaceOnItsSideIsFlagged) {
+  // A 20 × 10 m barrel 4 m high, written y-up: read as z-up it stands 10 m tall on a 4 m wide
+  // plan (warned); with --up y it is a roof again (no warning).
+  std::string obj;
+  for (int i = 0; i <= 8; ++i)
+    for (int j = 0; j <= 4; ++j) {
+      const double x = 20.0 * i / 8, s = 10.0 * j / 4 - 5;
+      obj += fmt::format("v {} {} {}\n", x, 4 * (1 - s * s / 25), -s);  // y up, z towards you
+    }
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const int a = i * 5 + j + 1, b = a + 5;
+      obj += fmt::format("f {} {} {}\nf {} {} {}\n", a, b, b + 1, a, b + 1, a + 1);
+    }
+  const fs::path p = write(test::temp_dir("messy") / "yup.obj", obj);
+  {
+    LogCapture log;
+    load_surface(p.string());
+    EXPECT_NE(log.text().find("the surface is 10 m tall and 4 m wide: if its up axis is not z, "
+                              "pass --up y"),
+              std::string::npos)
+        << log.text();
+  }
+  SurfaceOptions o;
+  o.up = "y";
+  LogCapture log;
+  const Surface s = load_surface(p.string(), o);
+  EXPECT_EQ(log.lines(), 0) << log.text();
+  EXPECT_NEAR(s.mesh.V.col(2).maxCoeff(), 4.0, 1e-12);
+}
+
 TEST(MessySurface, SliversAreKeptWithAWarning) {
   // A square fanned around a vertex (0.5, 0.5001): no sliver, no warning.
   const fs::path p = write(test::temp_dir("messy") / "sliver.off",

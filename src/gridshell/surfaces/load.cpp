@@ -192,6 +192,26 @@ Surface load_surface(const std::string& spec, const SurfaceOptions& o) {
                                   slivers == 1 ? "triangle" : "triangles"));
   }
   reorient(s.mesh.V, o.up, o.scale);
+  if (s.supports.empty()) {
+    const bool listed = o.supports != "auto" && o.supports != "red" && o.supports != "boundary";
+    throw Error(spec, listed ? "no supports: the --supports list names no vertex of the surface"
+                             : "no supports: the surface has no boundary and no red vertices "
+                               "(mark the supports red, or name them with --supports FILE.json)");
+  }
+  if (const double size = bbox_diagonal(s.mesh.V); size > kLargestRoof)
+    notes.push_back(fmt::format(
+        "the surface is {:.0f} m across (its bounding box's diagonal): if its coordinates are in "
+        "millimetres, pass --scale 0.001",
+        size));
+  if (s.mesh.num_vertices() > 0) {
+    const Vec3 extent = (s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff()).transpose();
+    const double narrow = std::min(extent.x(), extent.y());
+    if (extent.z() > kTallerThanWide * narrow)
+      notes.push_back(fmt::format(
+          "the surface is {:.3g} m tall and {:.3g} m wide: if its up axis is not z, pass --up y "
+          "(or -y)",
+          extent.z(), narrow));
+  }
   warn(spec, notes);
   return s;
 }

@@ -3,10 +3,13 @@
 /// Turning what a user names on the command line into a `Surface`: a mesh file or
 /// `builtin:NAME[:key=value,...]`, re-oriented (`up`), scaled, with its supports.
 ///
-/// Real files are messy. `load_surface` repairs what it safely can (mesh/repair.h: merges exact
-/// duplicate vertices, drops faces without area and unreferenced vertices — vertex ids after them
-/// shift down, so per-vertex output and a CSV field refer to the repaired surface), keeps sliver
-/// triangles, and says what it did in one `spdlog::warn` line. `load_poly_surface` (grid-shells
+/// Real files are messy. `load_surface` repairs what it safely can (mesh/repair.h: merges
+/// duplicate and nearly coincident vertices, drops faces without area and unreferenced vertices —
+/// vertex ids after them shift down, so per-vertex output and a CSV field refer to the repaired
+/// surface —, orients faces consistently), keeps sliver triangles, and says what it did in one
+/// `spdlog::warn` line, which also says when the surface is larger than kLargestRoof (a file in
+/// millimetres read as metres) or more than kTallerThanWide times as tall as its plan is wide (a
+/// y-up file read without `--up y`). `load_poly_surface` (grid-shells
 /// for `analyze`, any mesh for `info`) reads the file as it is.
 ///
 /// Support colour: a vertex is a support when its colour is red — red channel at least 128,
@@ -32,8 +35,17 @@ struct SurfaceOptions {
   double scale = 1.0;    ///< multiplies coordinates
 };
 
+/// Coordinates are metres; a surface whose bounding box's diagonal exceeds this is most likely
+/// in millimetres (the largest grid-shell roofs span a few hundred metres).
+inline constexpr double kLargestRoof = 2000;
+/// A roof is lower than its plan is wide (hemispherical domes: half as tall; the six shared and
+/// 27 other test surfaces: at most 0.5); a surface this many times as tall as the narrower side
+/// of its plan is most likely lying on its side (a y-up file read as z-up).
+inline constexpr double kTallerThanWide = 1.5;
+
 /// Loads and prepares a surface (repairing it as above, triangulating polygons). Throws Error
-/// for bad input, or when no face with an area is left.
+/// for bad input, when no face with an area is left, or when it has no supports (a closed
+/// surface without red vertices, an empty --supports list).
 Surface load_surface(const std::string& spec, const SurfaceOptions& options = {});
 
 /// Loads a polygon mesh (a grid-shell) with its supports, by the same rules, without repairs.
