@@ -1,6 +1,7 @@
-// libFuzzer harness: surface files (PLY ascii/binary, OBJ, OFF) through io::read_mesh and
-// load_surface. The first input byte picks the extension (byte % 3: 0 = .ply, 1 = .obj,
-// 2 = .off; the seed corpus starts its files with '0', '1' or '2'), the rest is the file.
+// libFuzzer harness: surface files (PLY ascii/binary, OBJ, OFF, STL ascii/binary) through
+// io::read_mesh and load_surface. The first input byte picks the extension (byte % 4: 0 = .ply,
+// 1 = .obj, 2 = .off, 3 = .stl; the seed corpus starts its files with '0' … '3'), the rest is
+// the file.
 
 #include <algorithm>
 #include <cstdint>
@@ -64,8 +65,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
-  static const char* const kNames[3] = {"input.ply", "input.obj", "input.off"};
-  const auto path = fuzz::write_input(kNames[data[0] % 3], data + 1, size - 1);
+  static const char* const kNames[4] = {"input.ply", "input.obj", "input.off", "input.stl"};
+  const auto path = fuzz::write_input(kNames[data[0] % 4], data + 1, size - 1);
   try {
     check_mesh_file(io::read_mesh(path));
   } catch (const Error&) {

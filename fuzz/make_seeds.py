@@ -2,7 +2,7 @@
 """Writes the hand-made seed inputs of fuzz/corpus/{mesh,field,model}/ (run from anywhere).
 
 File names say what each seed is; the first byte of a mesh seed picks its extension for fuzz_mesh
-(0 = .ply, 1 = .obj, 2 = .off) and of a field seed its format for fuzz_field (0 = .blk, 1 = .csv).
+(0 = .ply, 1 = .obj, 2 = .off, 3 = .stl) and of a field seed its format for fuzz_field (0 = .blk, 1 = .csv).
 Regression inputs for fixed findings (regress_*) are kept as the fuzzer found them, not written here.
 """
 import json, os, struct
@@ -56,6 +56,17 @@ w("mesh/1_obj_out_of_range","1v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
 w("mesh/2_off","2OFF\n# comment\n4 2 0\n0 0 0\n1 0 0\n1 1 0.5\n0 1 0.25\n3 0 1 2\n3 0 2 3\n")
 w("mesh/2_off_polygon","2OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0.5 0\n4 0 1 2 3\n3 1 4 2\n")
 w("mesh/2_off_truncated","2OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 2\n")
+# STL: ascii, binary (with and without "solid" in its header), binary declaring too many facets
+T=[(V[0],V[1],V[2]),(V[0],V[2],V[3])]
+s="solid seed\n"+"".join("facet normal 0 0 1\nouter loop\n"+"".join("vertex %g %g %g\n"%v for v in t)+"endloop\nendfacet\n" for t in T)+"endsolid seed\n"
+w("mesh/3_stl_ascii","3"+s)
+def stl(header,n):
+    b=header.ljust(80,b" ")+struct.pack("<I",n)
+    for t in T: b+=struct.pack("<3f",0,0,1)+b"".join(struct.pack("<3f",*v) for v in t)+b"\0\0"
+    return b
+w("mesh/3_stl_binary",b"3"+stl(b"binary seed",2))
+w("mesh/3_stl_binary_solid_header",b"3"+stl(b"solid binary seed",2))
+w("mesh/3_stl_binary_short",b"3"+stl(b"binary seed",7))
 # field: 3x3 patch vertices (fuzz_field.cpp)
 pts=[(i-1.0,j-1.0,0.3 if (i,j)==(1,1) else 0.0) for j in range(3) for i in range(3)]
 s="x\ty\tz\ts1\tv1x\tv1y\tv1z\ts2\tv2x\tv2y\tv2z\n"

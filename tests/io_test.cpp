@@ -1,10 +1,13 @@
-// Mesh file reading and writing: lossless round trips, every supported flavour of PLY/OBJ/OFF,
+// Mesh file reading and writing: lossless round trips, every supported flavour of PLY/OBJ/OFF/STL,
 // and the paper's shared surfaces with their supports.
 
+#include <array>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <fstream>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "gridshell/core/error.h"
@@ -173,6 +176,67 @@ TEST(MeshIO, OffVariants) {
   // 4D OFF has a fourth coordinate: refused rather than misread.
   write_text(d / "4.off", "4OFF\n3 1 0\n0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 2\n");
   EXPECT_THROW(io::read_mesh(d / "4.off"), Error);
+}
+
+namespace {
+
+/// A binary STL of `triangles` (corners as coordinates), with `header` in its 80-byte header and
+/// `count` facets declared (-1: as many as given).
+std::string binary_stl(const std::vector<std::array<Vec3, 3>>& triangles, const std::string& header,
+                       long count = -1) {
+  std::string out = header;
+  out.resize(80, ' ');
+  const std::uint32_t n = count < 0 ? static_cast<std::uint32_t>(triangles.size())
+                                    : static_cast<std::uint32_t>(count);
+  out.append(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& t : triangles) {
+    const float normal[3] = {0, 0, 1};
+    out.append(reinterpret_cast<const char*>(normal), sizeof normal);
+    for (const Vec3& p : t) {
+      const float xyz[3] = {static_cast<float>(p.x()), static_cast<float>(p.y()),
+                            static_cast<float>(p.z())};
+      out.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+    }
+    out.append(2, '\0');
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(MeshIO, StlAsciiAndBinary) {
+  // The unit square as two facets, each with its own copy of the corners (as STL stores them):
+  // read back as 4 shared vertices, whichever of the two encodings.
+  const std::vector<std::array<Vec3, 3>> square = {
+      {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.5)},
+      {Vec3(0, 0, 0), Vec3(1, 1, 0.5), Vec3(0, 1, 0)}};
+  const fs::path d = test::temp_dir("stl");
+  std::string ascii = "solid square\n";
+  for (const auto& t : square) {
+    ascii += "  facet normal 0 0 1\n    outer loop\n";
+    for (const Vec3& p : t) ascii += fmt::format("      vertex {} {} {}\n", p.x(), p.y(), p.z());
+    ascii += "    endloop\n  endfacet\n";
+  }
+  ascii += "endsolid square\n";
+  write_text(d / "a.stl", ascii);
+  write_text(d / "b.stl", binary_stl(square, "binary"));
+  // Some exporters begin a binary file's header with "solid" too; and no extension at all.
+  write_text(d / "c.stl", binary_stl(square, "solid exported by a CAD tool"));
+  write_text(d / "ascii_without_extension", ascii);
+  for (const char* name : {"a.stl", "b.stl", "c.stl", "ascii_without_extension"}) {
+    const io::MeshFile r = io::read_mesh(d / name);
+    EXPECT_EQ(r.mesh.num_vertices(), 4) << name;
+    ASSERT_EQ(r.mesh.num_faces(), 2) << name;
+    EXPECT_EQ(r.mesh.faces[0].size(), 3u);
+    EXPECT_EQ(r.mesh.faces[0][0], r.mesh.faces[1][0]) << name;  // the corner (0, 0, 0), shared
+    EXPECT_DOUBLE_EQ(r.mesh.V(r.mesh.faces[0][2], 2), 0.5) << name;
+    EXPECT_TRUE(r.vertex_colors.empty());
+    const Surface s = load_surface((d / name).string());
+    EXPECT_EQ(s.supports.size(), 4u) << name;  // no colours: the boundary
+  }
+  // A binary file that declares more facets than it holds is refused.
+  write_text(d / "short.stl", binary_stl(square, "binary", 5));
+  EXPECT_THROW(io::read_mesh(d / "short.stl"), Error);
 }
 
 TEST(MeshIO, UpAxisAndScale) {

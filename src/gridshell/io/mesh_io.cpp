@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include <CGAL/IO/OBJ.h>
+#include <CGAL/IO/STL.h>
 #include <CGAL/Simple_cartesian.h>
 #include <fmt/format.h>
 
@@ -417,8 +418,9 @@ void read_off(const std::string& data, const std::string& name, std::vector<Cgal
 
 std::string detect_format(const fs::path& path, const std::string& data) {
   std::string ext = lower(path.extension().string());
-  if (ext == ".ply" || ext == ".obj" || ext == ".off") return ext.substr(1);
+  if (ext == ".ply" || ext == ".obj" || ext == ".off" || ext == ".stl") return ext.substr(1);
   if (data.compare(0, 3, "ply") == 0) return "ply";
+  if (data.compare(0, 6, "solid ") == 0) return "stl";
   if (data.find("OFF") != std::string::npos && data.find("OFF") < 8) return "off";
   return "obj";
 }
@@ -443,6 +445,12 @@ MeshFile read_mesh(const fs::path& path) {
     } else if (format == "off") {
       read_off(data, name, points, polygons);
       ok = true;
+    } else if (format == "stl") {
+      // ASCII or binary (CGAL tells them apart, and tries the other when one fails); corners
+      // at exactly the same position are one vertex.
+      std::vector<std::array<std::size_t, 3>> triangles;
+      ok = CGAL::IO::read_STL(in, points, triangles);
+      for (const auto& t : triangles) polygons.push_back({t[0], t[1], t[2]});
     } else {
       ok = CGAL::IO::read_OBJ(in, points, polygons);
     }

@@ -35,7 +35,9 @@ struct MeshFile {
   std::vector<std::array<std::uint8_t, 3>> vertex_colors;
 };
 
-/// Reads PLY, OBJ or OFF (chosen by extension, else by the file's first bytes).
+/// Reads PLY, OBJ, OFF or STL (ASCII or binary; chosen by extension, else by the file's first
+/// bytes: "ply", "OFF", "solid ", else OBJ). STL has no colours (supports: the boundary or a
+/// --supports list).
 /// Throws Error (subject = path) for a missing, empty, truncated or malformed file, declared
 /// counts that do not fit the file, out-of-range indices, non-finite coordinates, no faces.
 MeshFile read_mesh(const std::filesystem::path& path);
