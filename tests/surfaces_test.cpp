@@ -200,6 +200,13 @@ class LogCapture {
   std::shared_ptr<spdlog::logger> previous_;
 };
 
+/// What loading the surface file `p` writes to the log (its warning line, or nothing).
+std::string load_log(const fs::path& p, const SurfaceOptions& o = {}) {
+  LogCapture log;
+  load_surface(p.string(), o);
+  return log.text();
+}
+
 /// An ascii PLY with per-vertex colours; `faces` as vertex id lists.
 std::string colour_ply(const std::vector<std::array<double, 3>>& V,
                        const std::vector<std::array<int, 3>>& rgb,
@@ -438,23 +445,15 @@ TEST(MessySurface, ASurfaceKilometresAcrossIsFlaggedAsMillimetres) {
     return fmt::format("v 0 0 0\nv {0} 0 0\nv {0} {0} 0\nv 0 {0} 0\nf 1 2 3\nf 1 3 4\n", side);
   };
   const fs::path p = write(test::temp_dir("messy") / "units.obj", square(30));
-  {
-    LogCapture log;
-    load_surface(p.string());
-    EXPECT_EQ(log.lines(), 0) << log.text();
-  }
+  EXPECT_EQ(load_log(p), "");
   write(p, square(30000));
-  LogCapture log;
-  load_surface(p.string());
-  EXPECT_NE(log.text().find("the surface is 42426 m across (its bounding box's diagonal): if its "
-                            "coordinates are in millimetres, pass --scale 0.001"),
+  EXPECT_NE(load_log(p).find("the surface is 42426 m across (its bounding box's diagonal): if "
+                             "its coordinates are in millimetres, pass --scale 0.001"),
             std::string::npos)
-      << log.text();
+      << load_log(p);
   SurfaceOptions o;
   o.scale = 0.001;
-  LogCapture scaled;
-  load_surface(p.string(), o);
-  EXPECT_EQ(scaled.lines(), 0) << scaled.text();
+  EXPECT_EQ(load_log(p, o), "");
 }
 
 TEST(MessySurface, ASurfaceOnItsSideIsFlagged) {
@@ -472,19 +471,14 @@ TEST(MessySurface, ASurfaceOnItsSideIsFlagged) {
       obj += fmt::format("f {} {} {}\nf {} {} {}\n", a, b, b + 1, a, b + 1, a + 1);
     }
   const fs::path p = write(test::temp_dir("messy") / "yup.obj", obj);
-  {
-    LogCapture log;
-    load_surface(p.string());
-    EXPECT_NE(log.text().find("the surface is 10 m tall and 4 m wide: if its up axis is not z, "
-                              "pass --up y"),
-              std::string::npos)
-        << log.text();
-  }
+  EXPECT_NE(load_log(p).find(
+                "the surface is 10 m tall and 4 m wide: if its up axis is not z, pass --up y"),
+            std::string::npos)
+      << load_log(p);
   SurfaceOptions o;
   o.up = "y";
-  LogCapture log;
+  EXPECT_EQ(load_log(p, o), "");
   const Surface s = load_surface(p.string(), o);
-  EXPECT_EQ(log.lines(), 0) << log.text();
   EXPECT_NEAR(s.mesh.V.col(2).maxCoeff(), 4.0, 1e-12);
 }
 
