@@ -293,6 +293,17 @@ TEST(DesignCli, ObjectiveSearchReportsCandidatesAndRepeatsFromConfig) {
     if (x.at("ok").get<bool>()) best = std::min(best, x.at("delta_max_m").get<double>());
   EXPECT_EQ(c.at(chosen).at("delta_max_m").get<double>(), best);
   EXPECT_DOUBLE_EQ(report.at("structure").at("delta_max_m").get<double>(), best);
+  // The timings account for the search: its other candidates are a stage of their own, and the
+  // stages add up to the total (all but microseconds of argument parsing).
+  const auto& t = report.at("timings_s");
+  ASSERT_TRUE(t.contains("objective_search"));
+  EXPECT_GT(t.at("objective_search").get<double>(), 0.0);
+  double stages = 0;
+  for (const auto& [stage, s] : t.items())
+    if (stage != "total") stages += s.get<double>();
+  const double total = t.at("total").get<double>();
+  EXPECT_LE(stages, total * (1 + 1e-9));
+  EXPECT_GE(stages, 0.9 * total);
   const fs::path d2 = temp_dir("objective_again");
   const auto r2 =
       run_gridshell("design --config " + (d / "config.json").string() + " --out " + d2.string());
