@@ -127,18 +127,7 @@ LoadedFrame load_frame(const AnalyzeArgs& a) {
     for (const auto& s : f.model.supports) f.supports.push_back(s.node);
     return f;
   }
-  SurfaceOptions so = a.surface_options;
-  std::vector<int> comment;
-  if (so.supports == "auto" && lower_ext(a.input) == ".obj")
-    comment = io::read_obj_supports_comment(a.input);
-  PolySurface s = load_poly_surface(a.input, so);
-  if (!comment.empty()) {
-    for (int v : comment)
-      if (v >= s.mesh.num_vertices())
-        throw Error(a.input,
-                    fmt::format("'# supports' lists vertex {} of {}", v, s.mesh.num_vertices()));
-    s.supports = comment;
-  }
+  PolySurface s = load_gridshell(a.input, a.surface_options);
   if (s.supports.empty())
     throw Error(a.input, "no support vertices: the grid-shell is a mechanism");
   f.model = analysis::gridshell_frame(s.mesh, s.supports, frame_options(a));
@@ -152,14 +141,13 @@ analysis::AnalysisLevel analysis_level(const std::string& word,
   if (word != "auto") return analysis::parse_analysis_level(word);
   if (request.nonlinear.value_or(false)) return analysis::AnalysisLevel::nonlinear;
   if (request.buckling.value_or(false)) return analysis::AnalysisLevel::buckling;
-  if (request.linear.has_value() || request.buckling.has_value() ||
-      request.nonlinear.has_value() || request.nonlinear_static.has_value())
+  if (request.linear.has_value() || request.buckling.has_value() || request.nonlinear.has_value() ||
+      request.nonlinear_static.has_value())
     return analysis::AnalysisLevel::linear;
   return analysis::AnalysisLevel::nonlinear;
 }
 
-analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a,
-                                                analysis::AnalysisLevel level,
+analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a, analysis::AnalysisLevel level,
                                                 const io::ModelAnalysisRequest& request) {
   analysis::FrameAnalysisOptions o;
   o.subject = a.input;

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "gridshell/io/mesh_io.h"
@@ -343,4 +344,53 @@ TEST(DesignCli, ProgressOnStderrAndQuietSilencesIt) {
   EXPECT_NE(loud.err.find("[non-linear path] 100%"), std::string::npos) << loud.err;
   ASSERT_EQ(quiet.status, 0) << quiet.err;
   EXPECT_EQ(quiet.err.find('%'), std::string::npos) << quiet.err;
+}
+
+// A grid-shell written panel by panel (every face with its own copies of its corners, no
+// supports comment), as per-face exporters write polygon meshes, is analysed as the grid-shell
+// it is: its joints are merged on load (one warning line), and δ and λ are the welded file's.
+// Before, every corner was a boundary joint and a support, and the non-linear path of that
+// pinned heap of panels ran for over ten minutes.
+TEST(DesignCli, AnalyzeJoinsAGridShellWrittenPanelByPanel) {
+  const auto d = temp_dir("panel_by_panel");
+  const auto made = run_gridshell(
+      "design builtin:funicular:res=16 --cells 60 -D 2 -A 2 --seed 2 --analyze none --figures "
+      "none --quiet -o " +
+      (d / "design").string());
+  ASSERT_EQ(made.status, 0) << made.err;
+  const auto file = gridshell::io::read_mesh(d / "design" / "gridshell.obj");
+  std::string obj;
+  int corners = 0;
+  for (const auto& face : file.mesh.faces) {
+    std::string f = "f";
+    for (int v : face) {
+      obj += fmt::format("v {:.17g} {:.17g} {:.17g}\n", file.mesh.V(v, 0), file.mesh.V(v, 1),
+                         file.mesh.V(v, 2));
+      f += fmt::format(" {}", ++corners);
+    }
+    obj += f + "\n";
+  }
+  {
+    std::ofstream out(d / "panels.obj");
+    out << obj;
+  }
+  auto analyse = [&](const fs::path& input, const char* name) {
+    const auto r = run_gridshell("analyze " + input.string() +
+                                 " --supports boundary --analyze buckling --figures none -o " +
+                                 (d / name).string());
+    EXPECT_EQ(r.status, 0) << r.err;
+    return std::make_pair(nlohmann::json::parse(slurp(d / name / "report.json")), r.err);
+  };
+  const auto [welded, welded_log] = analyse(d / "design" / "gridshell.obj", "welded");
+  const auto [panels, panels_log] = analyse(d / "panels.obj", "panels");
+  EXPECT_EQ(welded_log.find("merged"), std::string::npos) << welded_log;
+  EXPECT_NE(panels_log.find(fmt::format("merged {} duplicate vertices",
+                                        corners - file.mesh.num_vertices())),
+            std::string::npos)
+      << panels_log;
+  for (const char* k : {"delta_max_m", "lambda_linear_buckling"})
+    EXPECT_NEAR(panels.at("structure").at(k).get<double>(),
+                welded.at("structure").at(k).get<double>(),
+                1e-9 * welded.at("structure").at(k).get<double>())
+        << k;
 }

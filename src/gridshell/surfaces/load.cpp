@@ -1,8 +1,10 @@
 #include "gridshell/surfaces/load.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <set>
 
@@ -12,6 +14,7 @@
 
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
+#include "gridshell/io/frame_model_json.h"
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/mesh/repair.h"
 #include "gridshell/mesh/topology.h"
@@ -166,6 +169,49 @@ void warn(const std::string& subject, const std::vector<std::string>& notes) {
 }
 
 }  // namespace
+
+namespace {
+
+bool obj_file(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext == ".obj";
+}
+
+}  // namespace
+
+PolySurface load_gridshell(const std::string& path, const SurfaceOptions& o) {
+  if (path.rfind("builtin:", 0) == 0) return load_poly_surface(path, o);
+  PolySurface s;
+  std::vector<std::string> notes;
+  io::MeshFile file = io::read_mesh(path);
+  std::vector<int> comment;
+  if (o.supports == "auto" && obj_file(path)) {
+    comment = io::read_obj_supports_comment(path);
+    for (int v : comment)
+      if (v >= file.mesh.num_vertices())
+        throw Error(path,
+                    fmt::format("'# supports' lists vertex {} of {}", v, file.mesh.num_vertices()));
+  }
+  const RepairReport repair = repair_mesh(file.mesh);
+  if (file.mesh.num_faces() == 0)
+    throw Error(path, "no face has an area (every face uses a vertex twice)");
+  if (const std::string what = repair.describe(); !what.empty()) notes.push_back(what);
+  if (comment.empty()) {
+    s.supports = resolve_supports(o, file.mesh, &file, repair.new_id, nullptr, notes);
+  } else {
+    int dropped = 0;
+    s.supports = remap(comment, repair.new_id, dropped);
+    if (dropped > 0)
+      notes.push_back(fmt::format("{} of the '# supports' joints {} unused (dropped)", dropped,
+                                  dropped == 1 ? "was" : "were"));
+  }
+  s.mesh = std::move(file.mesh);
+  reorient(s.mesh.V, o.up, o.scale);
+  warn(path, notes);
+  return s;
+}
 
 bool is_support_colour(const std::array<std::uint8_t, 3>& rgb) {
   const int r = rgb[0], g = rgb[1], b = rgb[2];

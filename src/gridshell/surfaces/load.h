@@ -55,6 +55,16 @@ struct PolySurface {
 };
 PolySurface load_poly_surface(const std::string& path, const SurfaceOptions& options = {});
 
+/// Loads a grid-shell for `analyze`: like load_poly_surface, but a file whose joints are written
+/// once per panel (each face with its own copies of its corners, as per-face exporters do) or
+/// nearly coincide is one structure, not a heap of loose panels. The mesh is repaired as
+/// `load_surface` repairs (mesh/repair.h: joints within kWeldTolerance of the diagonal merged,
+/// faces without area and unused joints dropped, faces oriented; one warning line) before the
+/// supports are found, so "the boundary" is the repaired grid-shell's. With supports "auto", an
+/// OBJ's `# supports` comment line (what our writer puts there) names them, by the file's ids.
+/// A clean grid-shell is loaded as it is.
+PolySurface load_gridshell(const std::string& path, const SurfaceOptions& options = {});
+
 /// True for the colours that mark supports (the rule above).
 bool is_support_colour(const std::array<std::uint8_t, 3>& rgb);
 
