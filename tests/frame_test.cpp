@@ -8,6 +8,7 @@
 #include <cmath>
 #include <Eigen/Eigenvalues>
 #include <numbers>
+#include <numeric>
 
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
@@ -596,6 +597,24 @@ TEST(GridshellFrame, LinearEquilibriumAndPath) {
   EXPECT_GT(*r.lambda_displacement_limit, 0);
   std::printf("quad grid-shell: lambda_LBA %.4f, lambda_nl %.4f (%s), %zu path points\n",
               *r.lambda_linear_buckling, *r.lambda_nonlinear, r.limit_type.c_str(), r.path.size());
+}
+
+// Every joint pinned (joint loads straight into the supports): no displacement, no buckling,
+// and no path to follow. The path used to start at λ = span / 2000 / 1e-300 and ran for
+// minutes; now it is skipped and says why.
+TEST(GridshellFrame, EveryJointPinnedHasNoPathToFollow) {
+  std::vector<int> sup;
+  const PolyMesh mesh = quad_shell(sup);
+  std::vector<int> all(mesh.num_vertices());
+  std::iota(all.begin(), all.end(), 0);
+  const FrameModel m = analysis::gridshell_frame(mesh, all, {});
+  const analysis::FrameResult r = analysis::analyze_frame(m, {});
+  EXPECT_EQ(r.delta_max_m, 0.0);
+  EXPECT_FALSE(r.lambda_linear_buckling.has_value());
+  EXPECT_FALSE(r.lambda_nonlinear.has_value());
+  EXPECT_TRUE(r.path.empty());
+  EXPECT_EQ(r.nonlinear_stop_reason,
+            "no displacement under the load (every loaded joint supported)");
 }
 
 TEST(FrameErrors, MechanismZeroLengthBadReferenceBadSection) {

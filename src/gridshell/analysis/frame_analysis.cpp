@@ -234,6 +234,13 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
     if (o.path_goal == PathGoal::displacement_limit && a.limit_type == "none") return std::nullopt;
     return a.lambda_critical;
   };
+  // Loads that go straight into the supports (every loaded joint pinned) leave nothing to
+  // follow: no displacement, no buckling; a path would start at λ = span / 2000 / 0.
+  if (!(res.delta_max_m > 0) && !res.lambda_linear_buckling) {
+    res.nonlinear_stop_reason = "no displacement under the load (every loaded joint supported)";
+    spdlog::info("non-linear: {}", res.nonlinear_stop_reason);
+    return;
+  }
   const bool can_perturb = !lba.modes.empty();
   const PathRun main = follow_path(model, mesh, o, lba, res, o.imperfection && can_perturb);
   const ArcLengthResult& al = main.al;
