@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <numeric>
 #include <queue>
 
 #include <fmt/format.h>
@@ -23,17 +22,7 @@ namespace {
 /// 3.4 cells). tolerance 0: exactly equal positions only.
 std::vector<int> first_within(const Points& V, double tolerance) {
   const int nv = static_cast<int>(V.rows());
-  std::vector<int> root(nv);
-  std::iota(root.begin(), root.end(), 0);
-  auto find = [&](int v) {
-    while (root[v] != v) v = root[v] = root[root[v]];
-    return v;
-  };
-  auto unite = [&](int x, int y) {
-    x = find(x);
-    y = find(y);
-    if (x != y) root[std::max(x, y)] = std::min(x, y);
-  };
+  DisjointSets sets(nv);  // a set's root is its lowest id
   using Key = std::array<std::int64_t, 3>;
   const double cell = 2 * tolerance;
   auto key_of = [&](const Vec3& p) {
@@ -55,10 +44,10 @@ std::vector<int> first_within(const Points& V, double tolerance) {
   });
   for (int i = 1; i < nv; ++i)
     if (V.row(cells[i].second) == V.row(cells[i - 1].second))
-      unite(cells[i].second, cells[i - 1].second);
+      sets.unite(cells[i].second, cells[i - 1].second);
   if (tolerance <= 0) {
     std::vector<int> first(nv);
-    for (int v = 0; v < nv; ++v) first[v] = find(v);
+    for (int v = 0; v < nv; ++v) first[v] = sets.find(v);
     return first;
   }
   const double tol2 = tolerance * tolerance;
@@ -84,11 +73,11 @@ std::vector<int> first_within(const Points& V, double tolerance) {
                                      [](const auto& x, const Key& y) { return x.first < y; });
           for (; it != cells.end() && it->first == n; ++it)
             if (it->second != v && (V.row(it->second) - V.row(v)).squaredNorm() <= tol2)
-              unite(it->second, v);
+              sets.unite(it->second, v);
         }
   }
   std::vector<int> first(nv);
-  for (int v = 0; v < nv; ++v) first[v] = find(v);
+  for (int v = 0; v < nv; ++v) first[v] = sets.find(v);
   return first;
 }
 
@@ -152,14 +141,11 @@ void orient_faces(PolyMesh& mesh, RepairReport& r) {
         const int e = topo.face_edges[f][k];
         if (topo.edge_faces[e].size() != 2) continue;
         const int g = topo.edge_faces[e][0] == f ? topo.edge_faces[e][1] : topo.edge_faces[e][0];
-        if (g == f) continue;
-        if (flip[g] >= 0) continue;
+        if (g == f || flip[g] >= 0) continue;
         // Consistent when the two faces walk the edge opposite ways (after their flips).
         flip[g] = dir(f, k) * (flip[f] ? -1 : 1) == dir(g, local(g, e)) ? 1 : 0;
-        {
-          piece.push_back(g);
-          todo.push(g);
-        }
+        piece.push_back(g);
+        todo.push(g);
       }
     }
     double area[2] = {0, 0};

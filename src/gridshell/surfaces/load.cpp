@@ -161,6 +161,16 @@ std::vector<int> resolve_supports(const SurfaceOptions& o, const PolyMesh& mesh,
   return listed;
 }
 
+/// Repairs a file's mesh (mesh/repair.h), noting what was done; Error when no face is left.
+RepairReport repaired(io::MeshFile& file, const std::string& subject,
+                      std::vector<std::string>& notes) {
+  const RepairReport repair = repair_mesh(file.mesh);
+  if (file.mesh.num_faces() == 0)
+    throw Error(subject, "no face has an area (every face uses a vertex twice)");
+  if (const std::string what = repair.describe(); !what.empty()) notes.push_back(what);
+  return repair;
+}
+
 void warn(const std::string& subject, const std::vector<std::string>& notes) {
   if (notes.empty()) return;
   std::string line;
@@ -194,10 +204,7 @@ PolySurface load_gridshell(const std::string& path, const SurfaceOptions& o) {
         throw Error(path,
                     fmt::format("'# supports' lists vertex {} of {}", v, file.mesh.num_vertices()));
   }
-  const RepairReport repair = repair_mesh(file.mesh);
-  if (file.mesh.num_faces() == 0)
-    throw Error(path, "no face has an area (every face uses a vertex twice)");
-  if (const std::string what = repair.describe(); !what.empty()) notes.push_back(what);
+  const RepairReport repair = repaired(file, path, notes);
   if (comment.empty()) {
     s.supports = resolve_supports(o, file.mesh, &file, repair.new_id, nullptr, notes);
   } else {
@@ -227,10 +234,7 @@ Surface load_surface(const std::string& spec, const SurfaceOptions& o) {
     s.supports = resolve_supports(o, to_poly(b.mesh), nullptr, {}, &b.supports, notes);
   } else {
     io::MeshFile file = io::read_mesh(spec);
-    const RepairReport repair = repair_mesh(file.mesh);
-    if (file.mesh.num_faces() == 0)
-      throw Error(spec, "no face has an area (every face uses a vertex twice)");
-    if (const std::string what = repair.describe(); !what.empty()) notes.push_back(what);
+    const RepairReport repair = repaired(file, spec, notes);
     s.mesh = triangulate(file.mesh);
     s.supports = resolve_supports(o, file.mesh, &file, repair.new_id, nullptr, notes);
     if (const int slivers = count_slivers(s.mesh); slivers > 0)
