@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <utility>
+#include <vector>
+
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/builtin.h"
@@ -163,4 +167,84 @@ TEST(TriangleAdjacency, RefusesNonManifoldInput) {
   Triangles H(2, 3);
   H << 0, 1, 2, 0, 3, 4;  // two fans touching at vertex 0
   EXPECT_THROW(build_triangle_adjacency(H, 5), Error);
+}
+
+namespace {
+/// The sum of |area| of the triangles of `tri`, and whether each one turns like +z.
+std::pair<double, bool> unsigned_area_and_upward(const TriMesh& tri) {
+  double area = 0;
+  bool upward = true;
+  for (int f = 0; f < tri.num_faces(); ++f) {
+    const Vec3 a = tri.vertex(tri.F(f, 0)), b = tri.vertex(tri.F(f, 1)), c = tri.vertex(tri.F(f, 2));
+    const Vec3 n = (b - a).cross(c - a);
+    area += 0.5 * n.norm();
+    upward = upward && n.z() > 0;
+  }
+  return {area, upward};
+}
+}  // namespace
+
+TEST(Triangulate, ConvexPolygonsAreFansFromTheFirstCorner) {
+  PolyMesh m;
+  m.V.resize(5, 3);
+  m.V << 0, 0, 0, 2, 0, 0, 3, 1, 0, 1, 2, 0, -1, 1, 0;
+  m.faces = {{0, 1, 2, 3, 4}};
+  const TriMesh t = triangulate(m);
+  ASSERT_EQ(t.num_faces(), 3);
+  for (int f = 0; f < 3; ++f) EXPECT_EQ(t.F(f, 0), 0);
+  EXPECT_NEAR(unsigned_area_and_upward(t).first, polygon_area(m, 0), 1e-12);
+}
+
+TEST(Triangulate, ConcavePolygonsStayInsideTheirOutline) {
+  // A square with a notch cut down to (1, 0.5) from its top side: area 4 − 1.5 = 2.5. Listed from
+  // the corner (2, 2) beside the notch, a fan from it would lay the notch's triangle (area 1.5,
+  // turned the other way) over the others: 5.5 in all.
+  PolyMesh m;
+  m.V.resize(5, 3);
+  m.V << 0, 0, 0, 2, 0, 0, 2, 2, 0, 1, 0.5, 0, 0, 2, 0;
+  m.faces = {{2, 3, 4, 0, 1}};
+  const TriMesh t = triangulate(m);
+  ASSERT_EQ(t.num_faces(), 3);
+  const auto [area, upward] = unsigned_area_and_upward(t);
+  EXPECT_NEAR(area, 2.5, 1e-12);
+  EXPECT_TRUE(upward);
+
+  // The same outline with the notch's bottom lifted to z = 1, far from planar: CGAL's
+  // minimum-weight search in 3D, not the planar path. The triangles still turn up and do not
+  // overlap in plan.
+  m.V(3, 2) = 1.0;
+  const TriMesh lifted = triangulate(m);
+  ASSERT_EQ(lifted.num_faces(), 3);
+  double plan = 0;
+  for (int f = 0; f < 3; ++f) {
+    const Vec3 a = lifted.vertex(lifted.F(f, 0)), b = lifted.vertex(lifted.F(f, 1)),
+               c = lifted.vertex(lifted.F(f, 2));
+    const double z = (b - a).cross(c - a).z();
+    EXPECT_GT(z, 0) << "triangle " << f;
+    plan += 0.5 * z;
+  }
+  EXPECT_NEAR(plan, 2.5, 1e-12);
+}
+
+TEST(Triangulate, ALargeConcavePolygonIsTriangulatedInsideItsOutline) {
+  // A star of 2000 corners (radii 1 and 0.5 alternating) in the plane z = 0: above the corner
+  // count of CGAL's cubic search, triangulated by the planar (constrained Delaunay) path.
+  const int n = 2000;
+  PolyMesh m;
+  m.V.resize(n, 3);
+  std::vector<int> face;
+  const double pi = 3.14159265358979323846;
+  for (int k = 0; k < n; ++k) {
+    const double r = k % 2 == 0 ? 1.0 : 0.5, t = 2 * pi * k / n;
+    m.V.row(k) << r * std::cos(t), r * std::sin(t), 0;
+    face.push_back(k);
+  }
+  m.faces = {face};
+  const double area = n * 0.5 * 1.0 * 0.5 * std::sin(2 * pi / n);  // n triangles about the centre
+  const TriMesh t = triangulate(m);
+  ASSERT_EQ(t.num_faces(), n - 2);
+  const auto [sum, upward] = unsigned_area_and_upward(t);
+  EXPECT_NEAR(sum, polygon_area(m, 0), 1e-9);
+  EXPECT_NEAR(sum, area, 1e-9);
+  EXPECT_TRUE(upward);
 }

@@ -39,8 +39,11 @@ struct Surface {
   std::vector<int> supports;
 };
 
-/// Triangulates every polygon as a fan from its first vertex (polygons of the input files are
-/// small and convex in practice); triangles stay as they are.
+/// Triangulates every polygon: a convex one (every corner turning the same way about its Newell
+/// normal) as a fan from its first vertex; a concave one by CGAL's hole filling of its outline
+/// (the constrained Delaunay triangulation in its plane when nearly planar, else a minimum-weight
+/// search), whose triangles stay inside it where a fan would fold one over the others.
+/// Triangles stay as they are.
 TriMesh triangulate(const PolyMesh& poly);
 
 /// The polygon mesh whose faces are the triangles of `tri`.
