@@ -439,6 +439,38 @@ TEST(MessySurface, AClosedSurfaceWithoutSupportsIsRefused) {
   EXPECT_THROW(load_surface(p.string(), o), Error);
 }
 
+TEST(MessySurface, AFinIsRefused) {
+  // A square (two triangles) with a third triangle standing on its diagonal: the edge 1–3 has
+  // three faces. No stage can analyse that; the loader says so instead of a later stage.
+  const fs::path p = write(test::temp_dir("messy") / "fin.obj",
+                           "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n"
+                           "f 1 2 3\nf 1 3 4\nf 1 3 5\n");
+  try {
+    load_surface(p.string());
+    ADD_FAILURE() << "no Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("1 edge of three or more faces (a fin"),
+              std::string::npos)
+        << e.what();
+  }
+  // Without the fin it loads.
+  write(p, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+  EXPECT_EQ(load_surface(p.string()).mesh.num_faces(), 2);
+}
+
+TEST(MessySurface, AConcavePolygonIsTriangulatedInsideItsOutline) {
+  // A 2 × 2 square with a notch down to (1, 0.5) as one pentagon listed from the corner beside
+  // the notch, and a square beside it: a fan from the first corner would fold the notch's
+  // triangle over the others (5.5 m² of triangles for 2.5 m² of polygon).
+  const fs::path p = write(test::temp_dir("messy") / "notch.obj",
+                           "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 1 0.5 0\nv 0 2 0\nv 4 0 0\nv 4 2 0\n"
+                           "f 3 4 5 1 2\nf 2 6 7 3\n");
+  const Surface s = load_surface(p.string());
+  ASSERT_EQ(s.mesh.num_faces(), 5);
+  EXPECT_NEAR(surface_area(s.mesh), 2.5 + 4.0, 1e-12);
+  EXPECT_TRUE(check_mesh(to_poly(s.mesh)).ok());
+}
+
 TEST(MessySurface, ASurfaceKilometresAcrossIsFlaggedAsMillimetres) {
   // The same square roof at 30 m and at 30 000 (a file in millimetres): only the second warns.
   auto square = [](double side) {

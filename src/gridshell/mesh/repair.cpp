@@ -106,7 +106,8 @@ std::string plural(int n, const char* one, const char* many) {
 /// the others (ties: the piece's lowest face keeps its orientation).
 void orient_faces(PolyMesh& mesh, RepairReport& r) {
   // Nothing to do when no directed edge is walked twice (the usual case): checked on sorted
-  // directed edges, cheaper than the topology below.
+  // directed edges, cheaper than the topology below. (An edge of three or more faces always
+  // has a directed edge walked twice, so non_manifold_edges is counted below.)
   {
     std::vector<std::uint64_t> directed;
     for (const auto& face : mesh.faces)
@@ -155,6 +156,7 @@ void orient_faces(PolyMesh& mesh, RepairReport& r) {
   }
   for (int e = 0; e < topo.num_edges(); ++e) {
     const auto& ef = topo.edge_faces[e];
+    r.non_manifold_edges += ef.size() > 2;
     if (ef.size() != 2) continue;
     const int d0 = dir(ef[0], local(ef[0], e)) * (flip[ef[0]] ? -1 : 1);
     const int d1 = dir(ef[1], local(ef[1], e)) * (flip[ef[1]] ? -1 : 1);
@@ -190,6 +192,8 @@ std::string RepairReport::describe() const {
   if (inconsistent_edges)
     parts.push_back(plural(inconsistent_edges, "edge", "edges") +
                     " still inconsistently oriented (a non-orientable surface)");
+  if (non_manifold_edges)
+    parts.push_back(plural(non_manifold_edges, "edge", "edges") + " of three or more faces");
   std::string out;
   for (const auto& p : parts) out += (out.empty() ? "" : ", ") + p;
   return out;

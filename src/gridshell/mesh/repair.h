@@ -16,7 +16,9 @@
 ///      faces are made to agree across every edge they share with exactly one other face, in
 ///      each connected piece keeping the orientation of the larger area (so a consistently
 ///      oriented file is left untouched). A non-orientable piece (a Möbius strip) keeps the
-///      conflicts it cannot resolve; `inconsistent_edges` counts them.
+///      conflicts it cannot resolve; `inconsistent_edges` counts them. Edges of three or more
+///      faces (a fin, two roofs meeting in a T) are left alone and counted in
+///      `non_manifold_edges`: which faces to drop is the designer's choice.
 /// Sliver triangles are not repaired (the analyses cope with them; moving vertices would change
 /// the designer's surface): `count_slivers` lets the loader say how many there are.
 /// Cost: O(V log V + S log S), S the sum of face sizes.
@@ -41,6 +43,7 @@ struct RepairReport {
   int unreferenced_vertices = 0;  ///< vertices no face uses, dropped
   int reversed_faces = 0;         ///< faces whose corner order was reversed (step 4)
   int inconsistent_edges = 0;     ///< edges still walked the same way by both faces (step 4)
+  int non_manifold_edges = 0;     ///< edges of three or more faces (a fin): left as they are
   /// For each vertex of the mesh as it was: its id after the repair, or -1 when it was dropped
   /// (an unreferenced vertex). Duplicates map to the id of the vertex they were merged into.
   std::vector<int> new_id;
@@ -52,7 +55,7 @@ struct RepairReport {
            0;
   }
   /// What was done, e.g. "merged 9 duplicate vertices, dropped 3 unreferenced vertices", and the
-  /// edges left inconsistent; empty when there is nothing to say.
+  /// edges left inconsistent or non-manifold; empty when there is nothing to say.
   std::string describe() const;
 };
 
