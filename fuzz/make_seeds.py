@@ -52,6 +52,7 @@ w("mesh/1_obj_quad_negative_indices","1# a quad and a triangle\nv 0 0 0\nv 1 0 0
 w("mesh/1_obj_triangles","1v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0.25\nf 1 2 3\nf 1 3 4\n")
 w("mesh/1_obj_messy","1# unreferenced, duplicate and repeated-corner vertices\nv 9 9 9\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 2 3 4\nf 2 5 4 6\nf 2 2 3\n")
 w("mesh/1_obj_out_of_range","1v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+w("mesh/1_obj_concave","1# two notched pentagons: one planar, one with its notch lifted out of its plane\nv 0 0 0\nv 2 0 0\nv 2 2 0\nv 1 0.5 0\nv 0 2 0\nv 4 0 0\nv 4 2 0\nv 3 1.5 1\nf 3 4 5 1 2\nf 2 6 7 8 3\n")
 # OFF
 w("mesh/2_off","2OFF\n# comment\n4 2 0\n0 0 0\n1 0 0\n1 1 0.5\n0 1 0.25\n3 0 1 2\n3 0 2 3\n")
 w("mesh/2_off_polygon","2OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0.5 0\n4 0 1 2 3\n3 1 4 2\n")

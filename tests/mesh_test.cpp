@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/repair.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/builtin.h"
 
@@ -247,4 +248,20 @@ TEST(Triangulate, ALargeConcavePolygonIsTriangulatedInsideItsOutline) {
   EXPECT_NEAR(sum, polygon_area(m, 0), 1e-9);
   EXPECT_NEAR(sum, area, 1e-9);
   EXPECT_TRUE(upward);
+}
+
+TEST(Triangulate, ACornerOnAStraightSideGetsNoTriangleWithoutArea) {
+  // A triangle whose side 0–2 has a corner at its middle (1, 0), as a stitched T-junction leaves
+  // it, listed from that side's end: a fan from corner 0 would give the triangle 0, 1, 2 with
+  // no area.
+  PolyMesh m;
+  m.V.resize(4, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 2, 0, 0, 1, 2, 0;
+  m.faces = {{0, 1, 2, 3}};
+  const TriMesh t = triangulate(m);
+  ASSERT_EQ(t.num_faces(), 2);
+  const auto [area, upward] = unsigned_area_and_upward(t);
+  EXPECT_NEAR(area, 2.0, 1e-12);
+  EXPECT_TRUE(upward);
+  EXPECT_EQ(count_slivers(t), 0);
 }

@@ -307,6 +307,43 @@ TEST(MessySurface, NearlyCoincidentVerticesAreMergedWithinTheTolerance) {
   EXPECT_EQ(build_topology(apart.mesh).boundary_loops.size(), 2u);
 }
 
+TEST(MessySurface, TJunctionSeamsAreStitched) {
+  // A 10 × 10 m roof arched along y (z = sin(π y / 10)) meshed as two patches that meet at
+  // x = 5 (+ gap): the left one with a seam vertex at y = 5, the right one with its own at
+  // y = 10/3 and 20/3, each on the arch (so 0.13–0.2 m off the other side's chords).
+  auto two_patches = [](double gap) {
+    std::string obj;
+    auto v = [&](double x, double y) {
+      obj += fmt::format("v {} {} {}\n", x, y, std::sin(3.14159265358979323846 * y / 10));
+    };
+    for (auto [x, y] : {std::pair{0.0, 0.0}, {5.0, 0.0}, {5.0, 5.0}, {5.0, 10.0}, {0.0, 10.0},
+                        {0.0, 5.0}})
+      v(x, y);
+    for (auto [x, y] : {std::pair{5.0, 0.0}, {10.0, 0.0}, {10.0, 10.0}, {5.0, 10.0},
+                        {5.0, 10.0 / 3}, {5.0, 20.0 / 3}, {10.0, 5.0}})
+      v(x + (x == 5.0 ? gap : 0.0), y);
+    return obj +
+           "f 1 2 3\nf 1 3 6\nf 6 3 4\nf 6 4 5\n"
+           "f 7 8 13\nf 7 13 11\nf 11 13 12\nf 12 13 9\nf 12 9 10\n";
+  };
+  const fs::path p = write(test::temp_dir("messy") / "seam.obj", two_patches(0));
+  LogCapture log;
+  const Surface s = load_surface(p.string());
+  EXPECT_EQ(s.mesh.num_vertices(), 11);
+  EXPECT_EQ(s.mesh.num_faces(), 12);  // 9 triangles, 3 of them now with a fourth corner
+  const Topology topo = build_topology(s.mesh);
+  EXPECT_EQ(topo.boundary_loops.size(), 1u);
+  EXPECT_EQ(s.supports.size(), 8u);  // the outline only, not the seam
+  EXPECT_TRUE(check_mesh(to_poly(s.mesh)).ok());
+  EXPECT_EQ(count_slivers(s.mesh), 0);
+  EXPECT_NE(log.text().find("stitched 3 T-junctions"), std::string::npos) << log.text();
+
+  // The right patch 0.5 m away: a gap (beyond 6 % of the edges), not a seam.
+  write(p, two_patches(0.5));
+  const Surface apart = load_surface(p.string());
+  EXPECT_EQ(build_topology(apart.mesh).boundary_loops.size(), 2u);
+}
+
 TEST(MessySurface, FacesWithoutAreaAreDroppedOrShortened) {
   // A quad with a repeated corner (a triangle really) and a triangle that uses a vertex twice.
   const fs::path p = write(test::temp_dir("messy") / "rep.obj",

@@ -19,14 +19,16 @@ Vec3 newell_normal(const std::vector<Vec3>& p) {
   return n;
 }
 
-/// Whether every corner of the polygon turns the same way about its normal n.
-bool is_convex(const std::vector<Vec3>& p, const Vec3& n) {
+/// Whether a fan from any corner gives triangles with area: every corner of the polygon turns
+/// the same way about its normal n, by at least about a degree (a corner on a straight side,
+/// as a stitched T-junction leaves, would give a fan triangle of no area).
+bool strictly_convex(const std::vector<Vec3>& p, const Vec3& n) {
+  constexpr double kStraight = 0.02;  // sin of the smallest turn: 1.1°
+  const Vec3 unit = n.normalized();
   const std::size_t m = p.size();
   for (std::size_t i = 0; i < m; ++i) {
-    const Vec3& a = p[(i + m - 1) % m];
-    const Vec3& b = p[i];
-    const Vec3& c = p[(i + 1) % m];
-    if ((b - a).cross(c - b).dot(n) < 0) return false;
+    const Vec3 in = p[i] - p[(i + m - 1) % m], out = p[(i + 1) % m] - p[i];
+    if (in.cross(out).dot(unit) <= kStraight * in.norm() * out.norm()) return false;
   }
   return true;
 }
@@ -81,7 +83,7 @@ std::vector<std::array<int, 3>> polygon_triangles(const PolyMesh& poly, const st
   std::vector<Vec3> p;
   for (int v : face) p.push_back(poly.vertex(v));
   const Vec3 n = newell_normal(p);
-  if (face.size() > 3 && n.norm() > 0 && !is_convex(p, n)) {
+  if (face.size() > 3 && n.norm() > 0 && !strictly_convex(p, n)) {
     const Vec3 normal = n.normalized();
     const Vec3 e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
     Vec3 centre = Vec3::Zero();

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <queue>
 
 #include <fmt/format.h>
@@ -99,7 +100,135 @@ std::string plural(int n, const char* one, const char* many) {
   return fmt::format("{} {}", n, n == 1 ? one : many);
 }
 
-/// Step 4 of repair_mesh: reverses faces so that every edge shared by exactly two faces is walked
+/// Step 4 of repair_mesh: stitches T-junctions (see repair.h). Boundary edges are the undirected
+/// edges of one face; their vertices are binned in a grid of cells of the mean boundary edge's
+/// length, and each boundary edge looks for candidates in the cells its (widened) box covers.
+/// A vertex near several edges goes into the nearest. Returns the number of vertices inserted.
+int stitch_t_junctions(PolyMesh& mesh) {
+  struct Side {
+    std::uint64_t key;  // the undirected edge (smaller id << 32 | larger id)
+    int face, corner;   // the edge runs from corner to corner + 1 of face
+  };
+  auto edge_key = [&](const std::vector<int>& face, std::size_t k) {
+    const auto a = static_cast<std::uint32_t>(face[k]);
+    const auto b = static_cast<std::uint32_t>(face[(k + 1) % face.size()]);
+    return static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b);
+  };
+  std::vector<std::uint64_t> keys;
+  for (const auto& face : mesh.faces)
+    for (std::size_t k = 0; k < face.size(); ++k) keys.push_back(edge_key(face, k));
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::uint64_t> once;  // the boundary's keys, sorted
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    if ((i == 0 || keys[i - 1] != keys[i]) && (i + 1 == keys.size() || keys[i + 1] != keys[i]))
+      once.push_back(keys[i]);
+  if (once.size() < 4) return 0;
+  std::vector<Side> boundary;
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    for (std::size_t k = 0; k < mesh.faces[f].size(); ++k)
+      if (const std::uint64_t e = edge_key(mesh.faces[f], k);
+          std::binary_search(once.begin(), once.end(), e))
+        boundary.push_back({e, f, static_cast<int>(k)});
+  if (boundary.size() < 4) return 0;
+  auto ends = [&](const Side& e) {
+    const auto& face = mesh.faces[e.face];
+    return std::pair{face[e.corner], face[(e.corner + 1) % face.size()]};
+  };
+  // Each boundary vertex with the directions of its boundary edges.
+  std::vector<std::vector<Vec3>> along(mesh.num_vertices());
+  double mean = 0;
+  for (const Side& e : boundary) {
+    const auto [a, b] = ends(e);
+    const Vec3 d = mesh.vertex(b) - mesh.vertex(a);
+    mean += d.norm() / static_cast<double>(boundary.size());
+    if (d.norm() > 0) {
+      along[a].push_back(d.normalized());
+      along[b].push_back(d.normalized());
+    }
+  }
+  if (!(mean > 0) || !std::isfinite(mean)) return 0;
+  using Key = std::array<std::int64_t, 3>;
+  auto key_of = [&](const Vec3& p) {
+    Key k;
+    for (int c = 0; c < 3; ++c) k[c] = static_cast<std::int64_t>(std::floor(p[c] / mean));
+    return k;
+  };
+  std::vector<std::pair<Key, int>> cells;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (!along[v].empty()) cells.push_back({key_of(mesh.vertex(v)), v});
+  std::sort(cells.begin(), cells.end());
+  const double cos_angle = std::cos(kTJunctionAngle * std::acos(-1.0) / 180.0);
+  // Per vertex, the nearest edge it lies on: (distance, index into boundary, parameter).
+  struct Hit {
+    double distance = std::numeric_limits<double>::infinity();
+    int edge = -1;
+    double t = 0;
+  };
+  std::vector<Hit> hit(mesh.num_vertices());
+  constexpr std::int64_t kMaxCells = 4096;  // an edge far longer than the mean is not searched
+  for (int i = 0; i < static_cast<int>(boundary.size()); ++i) {
+    const auto [a, b] = ends(boundary[i]);
+    const Vec3 pa = mesh.vertex(a), pb = mesh.vertex(b), d = pb - pa;
+    const double length = d.norm();
+    if (!(length > 0)) continue;
+    const double reach = kTJunctionTolerance * length;
+    const Vec3 lo = pa.cwiseMin(pb) - Vec3::Constant(reach), hi = pa.cwiseMax(pb) + Vec3::Constant(reach);
+    const Key k0 = key_of(lo), k1 = key_of(hi);
+    if ((k1[0] - k0[0] + 1) * (k1[1] - k0[1] + 1) * (k1[2] - k0[2] + 1) > kMaxCells) continue;
+    const auto& face = mesh.faces[boundary[i].face];
+    for (std::int64_t x = k0[0]; x <= k1[0]; ++x)
+      for (std::int64_t y = k0[1]; y <= k1[1]; ++y)
+        for (std::int64_t z = k0[2]; z <= k1[2]; ++z) {
+          const Key key{x, y, z};
+          auto it = std::lower_bound(cells.begin(), cells.end(), std::pair{key, -1});
+          for (; it != cells.end() && it->first == key; ++it) {
+            const int v = it->second;
+            const Vec3 p = mesh.vertex(v);
+            const double t = (p - pa).dot(d) / (length * length);
+            if (t <= 1e-3 || t >= 1 - 1e-3) continue;
+            const double distance = (p - pa - t * d).norm();
+            if (distance > reach || distance >= hit[v].distance) continue;
+            if (std::find(face.begin(), face.end(), v) != face.end()) continue;
+            bool parallel = false;
+            for (const Vec3& u : along[v]) parallel |= std::abs(u.dot(d)) >= cos_angle * length;
+            if (parallel) hit[v] = {distance, i, t};
+          }
+        }
+  }
+  // Insert, per edge in the order of the parameter; faces rebuilt corner by corner.
+  std::vector<std::vector<std::pair<double, int>>> on_edge(boundary.size());
+  int inserted = 0;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (hit[v].edge >= 0) {
+      on_edge[hit[v].edge].push_back({hit[v].t, v});
+      ++inserted;
+    }
+  if (inserted == 0) return 0;
+  std::vector<std::vector<std::pair<int, std::vector<int>>>> per_face(mesh.num_faces());
+  for (std::size_t i = 0; i < boundary.size(); ++i) {
+    if (on_edge[i].empty()) continue;
+    std::sort(on_edge[i].begin(), on_edge[i].end());
+    std::vector<int> vs;
+    for (const auto& [t, v] : on_edge[i]) vs.push_back(v);
+    per_face[boundary[i].face].push_back({boundary[i].corner, std::move(vs)});
+  }
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    if (per_face[f].empty()) continue;
+    std::sort(per_face[f].begin(), per_face[f].end());
+    std::vector<int> out;
+    std::size_t next = 0;
+    const auto& face = mesh.faces[f];
+    for (int k = 0; k < static_cast<int>(face.size()); ++k) {
+      out.push_back(face[k]);
+      if (next < per_face[f].size() && per_face[f][next].first == k)
+        for (int v : per_face[f][next++].second) out.push_back(v);
+    }
+    mesh.faces[f] = std::move(out);
+  }
+  return inserted;
+}
+
+/// Step 5 of repair_mesh: reverses faces so that every edge shared by exactly two faces is walked
 /// once each way. Faces are visited breadth-first from the lowest id of each connected piece
 /// (through such edges); a face is reversed or not to agree with the face it was reached from.
 /// Within a piece, the faces marked for reversal are reversed only if they have less area than
@@ -186,6 +315,9 @@ std::string RepairReport::describe() const {
   if (unreferenced_vertices)
     parts.push_back("dropped " +
                     plural(unreferenced_vertices, "unreferenced vertex", "unreferenced vertices"));
+  if (t_junctions)
+    parts.push_back("stitched " + plural(t_junctions, "T-junction", "T-junctions") +
+                    " (a vertex on another patch's edge)");
   if (reversed_faces)
     parts.push_back("reversed " + plural(reversed_faces, "face", "faces") +
                     " to orient the surface consistently");
@@ -252,7 +384,8 @@ RepairReport repair_mesh(PolyMesh& mesh) {
     mesh.faces = std::move(faces);
   }
 
-  // 4. Orientation.
+  // 4. T-junctions, 5. orientation.
+  r.t_junctions = stitch_t_junctions(mesh);
   orient_faces(mesh, r);
   return r;
 }
