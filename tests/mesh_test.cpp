@@ -121,8 +121,8 @@ TEST(Topology, CollapseBoundaryStubs) {
 }
 
 TEST(TriangleAdjacency, AgreesWithTopologyOnTheBuiltins) {
-  for (const char* spec : {"paraboloid:res=10", "dome:res=12", "barrel:res=10", "court:res=14",
-                           "funicular:res=10"}) {
+  for (const char* spec :
+       {"paraboloid:res=10", "dome:res=12", "barrel:res=10", "court:res=14", "funicular:res=10"}) {
     const TriMesh m = make_builtin(spec).mesh;
     const Topology topo = build_topology(m);
     const TriangleAdjacency adj = build_triangle_adjacency(m.F, m.num_vertices());
@@ -176,7 +176,8 @@ std::pair<double, bool> unsigned_area_and_upward(const TriMesh& tri) {
   double area = 0;
   bool upward = true;
   for (int f = 0; f < tri.num_faces(); ++f) {
-    const Vec3 a = tri.vertex(tri.F(f, 0)), b = tri.vertex(tri.F(f, 1)), c = tri.vertex(tri.F(f, 2));
+    const Vec3 a = tri.vertex(tri.F(f, 0)), b = tri.vertex(tri.F(f, 1)),
+               c = tri.vertex(tri.F(f, 2));
     const Vec3 n = (b - a).cross(c - a);
     area += 0.5 * n.norm();
     upward = upward && n.z() > 0;

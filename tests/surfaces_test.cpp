@@ -316,11 +316,16 @@ TEST(MessySurface, TJunctionSeamsAreStitched) {
     auto v = [&](double x, double y) {
       obj += fmt::format("v {} {} {}\n", x, y, std::sin(3.14159265358979323846 * y / 10));
     };
-    for (auto [x, y] : {std::pair{0.0, 0.0}, {5.0, 0.0}, {5.0, 5.0}, {5.0, 10.0}, {0.0, 10.0},
-                        {0.0, 5.0}})
+    for (auto [x, y] :
+         {std::pair{0.0, 0.0}, {5.0, 0.0}, {5.0, 5.0}, {5.0, 10.0}, {0.0, 10.0}, {0.0, 5.0}})
       v(x, y);
-    for (auto [x, y] : {std::pair{5.0, 0.0}, {10.0, 0.0}, {10.0, 10.0}, {5.0, 10.0},
-                        {5.0, 10.0 / 3}, {5.0, 20.0 / 3}, {10.0, 5.0}})
+    for (auto [x, y] : {std::pair{5.0, 0.0},
+                        {10.0, 0.0},
+                        {10.0, 10.0},
+                        {5.0, 10.0},
+                        {5.0, 10.0 / 3},
+                        {5.0, 20.0 / 3},
+                        {10.0, 5.0}})
       v(x + (x == 5.0 ? gap : 0.0), y);
     return obj +
            "f 1 2 3\nf 1 3 6\nf 6 3 4\nf 6 4 5\n"
@@ -486,8 +491,7 @@ TEST(MessySurface, AFinIsRefused) {
     load_surface(p.string());
     ADD_FAILURE() << "no Error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("1 edge of three or more faces (a fin"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("1 edge of three or more faces (a fin"), std::string::npos)
         << e.what();
   }
   // Without the fin it loads.

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <vector>
 
-#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
 namespace gridshell {
 
@@ -78,7 +78,8 @@ std::vector<CGAL::Triple<int, int, int>> fill_outline(const std::vector<Point>& 
 /// where a fan would fold one over the others. Falls back to the fan when CGAL finds none (a
 /// polygon through a repeated point, or one of over kDelaunaySearchCorners corners that is far
 /// from planar).
-std::vector<std::array<int, 3>> polygon_triangles(const PolyMesh& poly, const std::vector<int>& face) {
+std::vector<std::array<int, 3>> polygon_triangles(const PolyMesh& poly,
+                                                  const std::vector<int>& face) {
   std::vector<std::array<int, 3>> out;
   std::vector<Vec3> p;
   for (int v : face) p.push_back(poly.vertex(v));

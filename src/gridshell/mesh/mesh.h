@@ -40,10 +40,10 @@ struct Surface {
 };
 
 /// Triangulates every polygon: a convex one (every corner turning the same way about its Newell
-/// normal, by a degree or more) as a fan from its first vertex; a concave one by CGAL's hole filling of its outline
-/// (the constrained Delaunay triangulation in its plane when nearly planar, else a minimum-weight
-/// search), whose triangles stay inside it where a fan would fold one over the others.
-/// Triangles stay as they are.
+/// normal, by a degree or more) as a fan from its first vertex; a concave one by CGAL's hole
+/// filling of its outline (the constrained Delaunay triangulation in its plane when nearly planar,
+/// else a minimum-weight search), whose triangles stay inside it where a fan would fold one over
+/// the others. Triangles stay as they are.
 TriMesh triangulate(const PolyMesh& poly);
 
 /// The polygon mesh whose faces are the triangles of `tri`.

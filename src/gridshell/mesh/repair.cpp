@@ -146,7 +146,9 @@ int stitch_t_junctions(PolyMesh& mesh) {
       along[b].push_back(d.normalized());
     }
   }
-  if (!(mean > 0) || !std::isfinite(mean)) return 0;
+  // No grid when its cells would not fit the coordinates (as in step 1).
+  if (!(mean > 0) || !std::isfinite(mean) || !(mesh.V.cwiseAbs().maxCoeff() < 1e15 * mean))
+    return 0;
   using Key = std::array<std::int64_t, 3>;
   auto key_of = [&](const Vec3& p) {
     Key k;
@@ -165,16 +167,19 @@ int stitch_t_junctions(PolyMesh& mesh) {
     double t = 0;
   };
   std::vector<Hit> hit(mesh.num_vertices());
-  constexpr std::int64_t kMaxCells = 4096;  // an edge far longer than the mean is not searched
+  constexpr double kMaxCells = 4096;  // an edge far longer than the mean is not searched
   for (int i = 0; i < static_cast<int>(boundary.size()); ++i) {
     const auto [a, b] = ends(boundary[i]);
     const Vec3 pa = mesh.vertex(a), pb = mesh.vertex(b), d = pb - pa;
     const double length = d.norm();
     if (!(length > 0)) continue;
     const double reach = kTJunctionTolerance * length;
-    const Vec3 lo = pa.cwiseMin(pb) - Vec3::Constant(reach), hi = pa.cwiseMax(pb) + Vec3::Constant(reach);
+    const Vec3 lo = pa.cwiseMin(pb) - Vec3::Constant(reach),
+               hi = pa.cwiseMax(pb) + Vec3::Constant(reach);
     const Key k0 = key_of(lo), k1 = key_of(hi);
-    if ((k1[0] - k0[0] + 1) * (k1[1] - k0[1] + 1) * (k1[2] - k0[2] + 1) > kMaxCells) continue;
+    double cells_covered = 1;
+    for (int c = 0; c < 3; ++c) cells_covered *= static_cast<double>(k1[c] - k0[c] + 1);
+    if (cells_covered > kMaxCells) continue;
     const auto& face = mesh.faces[boundary[i].face];
     for (std::int64_t x = k0[0]; x <= k1[0]; ++x)
       for (std::int64_t y = k0[1]; y <= k1[1]; ++y)

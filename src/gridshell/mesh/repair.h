@@ -65,8 +65,8 @@ struct RepairReport {
 
   /// True when something was repaired (steps 1–5; a non-orientable piece alone is not).
   bool changed() const {
-    return merged_vertices + shortened_faces + dropped_faces + unreferenced_vertices +
-               t_junctions + reversed_faces >
+    return merged_vertices + shortened_faces + dropped_faces + unreferenced_vertices + t_junctions +
+               reversed_faces >
            0;
   }
   /// What was done, e.g. "merged 9 duplicate vertices, dropped 3 unreferenced vertices", and the

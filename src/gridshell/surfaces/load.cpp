@@ -236,11 +236,12 @@ Surface load_surface(const std::string& spec, const SurfaceOptions& o) {
     io::MeshFile file = io::read_mesh(spec);
     const RepairReport repair = repaired(file, spec, notes);
     if (repair.non_manifold_edges > 0)
-      throw Error(spec, fmt::format("{} {} of three or more faces (a fin, or roofs meeting in a T): "
-                                    "the surface must be a manifold; delete the extra faces or "
-                                    "design each roof from its own file",
-                                    repair.non_manifold_edges,
-                                    repair.non_manifold_edges == 1 ? "edge" : "edges"));
+      throw Error(spec,
+                  fmt::format("{} {} of three or more faces (a fin, or roofs meeting in a T): "
+                              "the surface must be a manifold; delete the extra faces or "
+                              "design each roof from its own file",
+                              repair.non_manifold_edges,
+                              repair.non_manifold_edges == 1 ? "edge" : "edges"));
     s.mesh = triangulate(file.mesh);
     s.supports = resolve_supports(o, file.mesh, &file, repair.new_id, nullptr, notes);
     if (const int slivers = count_slivers(s.mesh); slivers > 0)
