@@ -530,6 +530,23 @@ TEST(QuadAniso, EachPieceOfTheSurfaceGetsItsGrid) {
   expect_regular_quads(st);
 }
 
+// Cells 3× larger beyond x = 22 m than before x = 20 m (d from 1 to 1/3 within 2 m): M′, which
+// makes the metric Euclidean, is crushed along the change, and beams ordered about each joint on
+// M′ alone were out of order there: faces were walked across the large cells and only 77 % of
+// the plane was covered. With the walk on M as well (the one covering more is kept): 96 %.
+TEST(QuadAniso, LargeCellsBesideSmallOnesAreFaces) {
+  const Surface s = plane(40, 20, 80, 40);
+  const Field field = test::synthetic_field(
+      s.mesh, [](const Vec3& c) { return 1 / (1 + std::clamp(c.x() - 20, 0.0, 2.0)); },
+      [](const Vec3&) { return 2.0; });
+  QuadAnisoOptions o;
+  o.spacing = 1.5;
+  const QuadMeshStats st = quad_mesh_stats(quad_aniso(s, field, o).grid.mesh, s.mesh, field);
+  EXPECT_GT(st.coverage, 0.93);
+  EXPECT_GT(st.interior_joints, 60);
+  expect_regular_quads(st);
+}
+
 TEST(QuadAniso, RejectsBadInput) {
   const Surface s = plane(4, 2, 4, 2);
   const Field field = uniform_field(s.mesh);

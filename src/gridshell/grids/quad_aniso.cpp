@@ -75,7 +75,7 @@ std::pair<Vec3, Vec3> compat_position(const Vec3& v0, const Vec3& q0, const Vec3
   return {as[best_i], bs[best_j]};
 }
 
-/// Per vertex of M′: unit normal.
+/// Per vertex of a triangle mesh (M′ or M): unit normal, area-weighted over its triangles.
 std::vector<Vec3> vertex_normals(const TriMesh& m) {
   std::vector<Vec3> n(m.num_vertices(), Vec3::Zero());
   for (int f = 0; f < m.num_faces(); ++f) {
@@ -748,9 +748,12 @@ LatticeJoints collapse_to_joints(const std::vector<Vec3>& pos, const Topology& t
 }
 
 /// Step 3b: each joint's beams (dangling ones pruned), ordered counter-clockwise about its
-/// normal.
-std::vector<std::vector<int>> joint_rings(const LatticeJoints& J) {
+/// normal, starting from the cross's axis q at the joint's first vertex.
+std::vector<std::vector<int>> joint_rings(const LatticeJoints& J, const CrossField& cf) {
   const int nc = J.count;
+  std::vector<int> first(nc, -1);
+  for (int v = 0; v < static_cast<int>(J.cluster.size()); ++v)
+    if (first[J.cluster[v]] < 0) first[J.cluster[v]] = v;
   std::vector<std::set<int>> adj(nc);
   for (const auto& s : J.steps) {
     const int a = J.cluster[s[0]], b = J.cluster[s[1]];
@@ -770,7 +773,10 @@ std::vector<std::vector<int>> joint_rings(const LatticeJoints& J) {
   }
   std::vector<std::vector<int>> ring(nc);
   for (int c = 0; c < nc; ++c) {
-    const Vec3 r = any_perpendicular(J.normal[c]), s = J.normal[c].cross(r);
+    const Vec3 n = J.normal[c], q = cf.q[first[c]];
+    const Vec3 along = q - q.dot(n) * n;
+    const Vec3 r = along.norm() > 1e-12 ? Vec3(along.normalized()) : any_perpendicular(n);
+    const Vec3 s = n.cross(r);
     std::vector<std::pair<double, int>> by_angle;
     for (int b : adj[c]) {
       const Vec3 d = J.pos[b] - J.pos[c];
@@ -823,14 +829,17 @@ std::vector<std::vector<int>> trace_faces(const std::vector<std::vector<int>>& r
   return faces;
 }
 
-/// Step 4: joints back on M — each vertex's lattice point through the affine map of the incident
-/// triangle that contains it best, averaged over the joint's vertices, projected on M; joints
-/// renumbered in the order the faces use them.
-PolyMesh joints_on_surface(const TriMesh& rest, const TriMesh& def, const Topology& topo,
-                           const std::vector<Vec3>& org, const LatticeJoints& J,
-                           std::vector<std::vector<int>> faces) {
+/// The joints `J` of M′ carried to M (not yet projected on it): each joint's position is its
+/// vertices' lattice points through the affine map of the incident triangle that contains each
+/// best, averaged; its normal is the mean of its vertices' normals on M (`rest_normal`).
+LatticeJoints joints_on_rest(const TriMesh& rest, const TriMesh& def, const Topology& topo,
+                             const std::vector<Vec3>& org, const LatticeJoints& J,
+                             const std::vector<Vec3>& rest_normal) {
   const int nv = def.num_vertices(), nc = J.count;
-  std::vector<Vec3> cm(nc, Vec3::Zero());
+  LatticeJoints on_m = J;
+  std::vector<Vec3>&cm = on_m.pos, &normal = on_m.normal;
+  std::fill(cm.begin(), cm.end(), Vec3::Zero());
+  std::fill(normal.begin(), normal.end(), Vec3::Zero());
   for (int v = 0; v < nv; ++v) {
     double best = -std::numeric_limits<double>::infinity();
     Vec3 mapped = rest.vertex(v);
@@ -849,7 +858,31 @@ PolyMesh joints_on_surface(const TriMesh& rest, const TriMesh& def, const Topolo
           ra + st(0) * (rest.vertex(rest.F(f, 1)) - ra) + st(1) * (rest.vertex(rest.F(f, 2)) - ra);
     }
     cm[J.cluster[v]] += mapped;
+    normal[J.cluster[v]] += rest_normal[v];
   }
+  for (int c = 0; c < nc; ++c) {
+    cm[c] /= J.vertices[c];
+    normal[c] = normal[c].norm() > 0 ? Vec3(normal[c].normalized()) : J.normal[c];
+  }
+  return on_m;
+}
+
+/// The total area of polygons `faces` with corners `pos` (each by its vector area).
+double faces_area(const std::vector<std::vector<int>>& faces, const std::vector<Vec3>& pos) {
+  double total = 0;
+  for (const auto& f : faces) {
+    Vec3 area = Vec3::Zero();
+    for (size_t k = 0; k < f.size(); ++k) area += pos[f[k]].cross(pos[f[(k + 1) % f.size()]]);
+    total += 0.5 * area.norm();
+  }
+  return total;
+}
+
+/// Step 4: the joints carried to M (`joints_on_rest`) projected on it; joints renumbered in the
+/// order the faces use them.
+PolyMesh joints_on_surface(const TriMesh& rest, const std::vector<Vec3>& cm,
+                           std::vector<std::vector<int>> faces) {
+  const int nc = static_cast<int>(cm.size());
   std::vector<int> index(nc, -1);
   PolyMesh out;
   int count = 0;
@@ -861,7 +894,7 @@ PolyMesh joints_on_surface(const TriMesh& rest, const TriMesh& def, const Topolo
   out.V.resize(count, 3);
   const SurfaceProjector proj(rest);
   for (int c = 0; c < nc; ++c)
-    if (index[c] >= 0) out.V.row(index[c]) = proj.closest_point(cm[c] / J.vertices[c]).transpose();
+    if (index[c] >= 0) out.V.row(index[c]) = proj.closest_point(cm[c]).transpose();
   out.faces = std::move(faces);
   return out;
 }
@@ -969,6 +1002,7 @@ struct MetricFrames {
   std::vector<CrossField> cfs;
   std::vector<MatchedFrames> matched;
   std::vector<std::vector<double>> scale;  ///< per level and vertex: the lattice spacing / h
+  std::vector<Vec3> rest_normal;           ///< per vertex of M (refined as M′): unit normal
   double scale_p10 = 1, scale_p90 = 1;     ///< of scale[0], weighted by M′'s vertex areas
 };
 
@@ -986,6 +1020,7 @@ MetricFrames metric_frames(const TriMesh& rest, const TriMesh& def, const Field&
   for (size_t k = 0; k < m.levels.size(); ++k)
     m.matched.push_back(matched_frames(m.levels[k], m.cfs[k]));
   m.scale = integrable_scale(def, field, m.levels, m.cfs[0], o);
+  m.rest_normal = vertex_normals(rest);
   std::vector<std::pair<double, double>> sw;
   for (int v = 0; v < m.levels[0].size(); ++v) sw.emplace_back(m.scale[0][v], m.levels[0].area[v]);
   std::sort(sw.begin(), sw.end());
@@ -1006,12 +1041,25 @@ PolyMesh quad_mesh_from_frames(const MetricFrames& m, const TriMesh& rest, const
   const CrossField& cf = m.cfs[0];
   const std::vector<Vec3> org = position_field(m.levels, m.cfs, m.matched, m.scale, h, o);
   const LatticeJoints joints = collapse_to_joints(m.pos, m.topo, cf, org, m.scale[0], h);
-  std::vector<std::vector<int>> faces = trace_faces(joint_rings(joints), joints, o.max_face_sides);
+  // Faces are traced twice: with the beams ordered about each joint on M′, and on M, and the
+  // tracing whose faces cover more of M is kept (M′'s on a tie). M′ is where the lattice is
+  // square, but it can be crushed where the metric changes fast (the rim of a lobe of large cells
+  // next to small ones): there neighbours' angles about a joint on M′ are not their order on the
+  // surface, faces are walked across cells, and a whole lobe was left without faces. On M, the
+  // roof, the order is right there; near M′'s boundary a joint's point on M is extrapolated and
+  // its order can be the worse one.
+  const LatticeJoints on_m = joints_on_rest(rest, def, m.topo, org, joints, m.rest_normal);
+  std::vector<std::vector<int>> faces =
+      trace_faces(joint_rings(joints, cf), joints, o.max_face_sides);
+  std::vector<std::vector<int>> faces_m =
+      trace_faces(joint_rings(on_m, cf), on_m, o.max_face_sides);
+  if (faces_area(faces_m, on_m.pos) > faces_area(faces, on_m.pos) * (1 + 1e-9))
+    faces = std::move(faces_m);
   if (faces.empty()) throw Error("quad-aniso", "extraction found no faces (spacing too large?)");
   pair_odd_faces(faces, joints.pos, joints.normal, h);
   merge_triangle_pairs(faces, joints.pos);
   absorb_lone_triangles(faces, joints.pos);
-  return joints_on_surface(rest, def, m.topo, org, joints, std::move(faces));
+  return joints_on_surface(rest, on_m.pos, std::move(faces));
 }
 
 }  // namespace

@@ -25,12 +25,14 @@
 ///      al. 2015, "Instant field-aligned meshes"; in vertex order: deterministic);
 ///   3. extraction: an edge whose ends carry the same lattice point is collapsed, one whose ends
 ///      differ by one lattice step along an axis becomes a beam; joints of degree ≤ 1 are pruned;
-///      faces are walked with the beams ordered by angle around each joint; faces that are not
+///      faces are walked with the beams ordered by angle around each joint, once on M′ and once
+///      on M (each joint through the affine map of an incident triangle), and the walk whose
+///      faces cover more of M is kept (M′ can be crushed where the metric changes fast, and its
+///      order is then not the surface's); faces that are not
 ///      simple, turn the wrong way or have more than `max_face_sides` sides are left out; two
 ///      faces of odd sides joined through ≤ 2 quads are re-split into quads (squarest quads,
 ///      valences nearest 4, new beams nearest h), remaining triangle pairs become quads;
-///   4. mapping: each joint goes back to M through the affine map of an incident triangle, is
-///      projected onto M, and joints on the grid's outer boundary within `boundary_snap` × the
+///   4. mapping: each joint, carried to M as in step 3, is projected onto M, and joints on the grid's outer boundary within `boundary_snap` × the
 ///      local beam length of M's boundary are moved onto it (so the boundary supports catch them);
 ///      faces hanging on the grid by one edge are peeled off and only the largest connected piece
 ///      is kept (mesh/topology.h: a flap or an island would be a near-mechanism in the analysis);
