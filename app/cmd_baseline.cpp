@@ -203,7 +203,8 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                             report["mesh"]["total_length_m"].get<double>(), a.analyze, a.run.seed),
        .gridshell = &out.mesh,
        .supports = out.supports,
-       .structure = structure ? &*structure : nullptr},
+       .structure = structure ? &*structure : nullptr,
+       .surface = &surface.mesh},
       figures::parse_figure_options(a.run.figures));
   lap("figures", t3);
   timings["total"] = std::chrono::duration<double>(Clock::now() - t0).count();

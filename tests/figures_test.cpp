@@ -224,6 +224,36 @@ TEST(Figures, CompressionIsDrawnRedAndTensionBlue) {
   EXPECT_LT(grey.r, 0.6);
 }
 
+// Given the input surface, the plan draws its boundary under the beams and frames it, so a part
+// the grid leaves uncovered shows: beams over the left half of a 10 × 4 m plate.
+TEST(Figures, ThePlanShowsTheSurfacesEdge) {
+  PolyMesh mesh;
+  mesh.V.resize(6, 3);
+  mesh.V << 0, 0, 0, 2.5, 0, 0, 5, 0, 0, 0, 4, 0, 2.5, 4, 0, 5, 4, 0;
+  mesh.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}};
+  TriMesh plate;
+  plate.V.resize(4, 3);
+  plate.V << 0, 0, 0, 10, 0, 0, 10, 4, 0, 0, 4, 0;
+  plate.F.resize(2, 3);
+  plate.F << 0, 1, 2, 0, 2, 3;
+  const FigureOptions o = small_options();
+  const Canvas plan = draw_plan({.gridshell = &mesh, .surface = &plate}, o);
+  Points both(10, 3);
+  both << mesh.V, plate.V;
+  const Axes axes = plan_axes(both, o);  // the surface is in the frame
+  auto at = [&](double x, double y) {
+    const Eigen::Vector2d p = axes.to_pixel(x, y);
+    return plan.pixel(static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())));
+  };
+  const Rgb edge = at(10, 2);  // the plate's right side, far from any beam: green
+  EXPECT_GT(edge.g, edge.r + 0.1);
+  EXPECT_GT(edge.g, edge.b + 0.1);
+  const Rgb inside = at(7.5, 2);  // uncovered: nothing is drawn over the plate itself
+  EXPECT_EQ(inside.r + inside.g + inside.b, 3.0);
+  const Rgb beam = at(2.5, 2);  // the middle beam, grey
+  EXPECT_LT(beam.g, 0.6);
+}
+
 TEST(Figures, AnAnalysedShellGetsEveryFigureNonTrivialAndOfTheStatedSize) {
   PolyMesh mesh;
   const Surface surface = small_shell(mesh);

@@ -23,6 +23,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr Rgb kBeamGrey{0.35, 0.35, 0.38};
 constexpr Rgb kSupport{0.08, 0.08, 0.08};
 constexpr Rgb kGlass{0.80, 0.87, 0.93};
+constexpr Rgb kSurfaceEdge{0.42, 0.62, 0.42};  ///< the input surface's boundary in plan
 
 std::vector<std::array<int, 2>> beams_of(const FigureInput& in) {
   if (!in.beams.empty()) return in.beams;
@@ -251,7 +252,21 @@ Canvas draw_plan(const FigureInput& in, const FigureOptions& options) {
   const Points& V = in.gridshell->V;
   const auto beams = beams_of(in);
   const auto* force = forces_of(in, beams.size());
-  const Axes axes = plan_axes(V, options);
+  // The input surface's boundary, when given, is drawn under the beams (and kept in view), so
+  // what the grid leaves uncovered shows.
+  std::vector<std::vector<int>> edge_loops;
+  Points framed = V;
+  if (in.surface && in.surface->num_faces() > 0) {
+    edge_loops = build_topology(*in.surface).boundary_loops;
+    framed.resize(V.rows() + in.surface->num_vertices(), 3);
+    framed << V, in.surface->V;
+  }
+  const Axes axes = plan_axes(framed, options);
+  for (const auto& loop : edge_loops)
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const auto a = in.surface->V.row(loop[k]), b = in.surface->V.row(loop[(k + 1) % loop.size()]);
+      draw_line(canvas, axes.to_pixel(a(0), a(1)), axes.to_pixel(b(0), b(1)), kSurfaceEdge, 2.0);
+    }
   std::vector<Vec2> px(V.rows());
   for (int v = 0; v < V.rows(); ++v) px[v] = axes.to_pixel(V(v, 0), V(v, 1));
   // Lowest beams first, so that what is on top in plan is drawn on top.
@@ -269,6 +284,12 @@ Canvas draw_plan(const FigureInput& in, const FigureOptions& options) {
   const double fs = font_size(canvas);
   if (force) draw_force_legend(canvas, page, scale, *force);
   draw_supports_legend(canvas, page, false);
+  if (!edge_loops.empty()) {
+    const Vec2 p(page.legend.x - 1.4 * fs, page.legend.y + page.legend.h + 7.0 * fs);
+    draw_line(canvas, p, p + Vec2(0.8 * fs, 0), kSurfaceEdge, 2.0);
+    draw_text(canvas, p.x() + 1.6 * fs, p.y(), "surface edge",
+              {.size = 0.85 * fs, .vertical = Align::middle});
+  }
   draw_scale_bar(canvas, axes, page.legend.x - 1.0 * fs, page.legend.y + page.legend.h + 9.0 * fs);
   draw_title(canvas, page.title, force_heading("Plan view", force != nullptr), in.title);
   return canvas;

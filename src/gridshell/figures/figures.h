@@ -5,6 +5,7 @@
 ///
 ///   - top.png             plan view; beams coloured by linear axial force (compression red,
 ///                         tension blue, as in the paper), supports as squares, scale bar in m;
+///                         the input surface's boundary (thin green) when `surface` is given;
 ///   - perspective.png     a fixed 3D view (azimuth −60°, elevation 30°), panels as light glass,
 ///                         beams by axial force, drawn far to near; supports as triangles;
 ///   - field.png           the design field on the input surface (plan): density d by colour,
@@ -53,7 +54,7 @@ struct FigureInput {
   std::vector<std::array<int, 2>> beams{};
   std::vector<int> supports{};                       ///< supported joints
   const analysis::FrameResult* structure = nullptr;  ///< axial forces, modes, path
-  const TriMesh* surface = nullptr;                  ///< the input surface of `field`
+  const TriMesh* surface = nullptr;  ///< the input surface (of `field`; its edge in top.png)
   const Field* field = nullptr;                      ///< per triangle of `surface`
 };
 
