@@ -1364,8 +1364,12 @@ bool is_isotropic(const Field& field) {
 
 double quad_grid_quality(const QuadMeshStats& st) {
   const double aligned = st.strong_beams > 0 ? st.aligned_share : 1.0;
-  const int short_of_bars = (st.valence4_share < 0.85) + (st.quad_share < 0.85) + (aligned < 0.70);
-  return st.valence4_share + st.quad_share + aligned - 3.0 * short_of_bars;
+  // Faces that overlap (a walk in the wrong order) cover more than the surface: as bad as less.
+  const double covered = 1 - std::abs(1 - st.coverage);
+  const int short_of_bars =
+      (st.valence4_share < 0.85) + (st.quad_share < 0.85) + (aligned < 0.70) + (covered < 0.90);
+  // A missed bar weighs more than the sum of the four shares can make up.
+  return st.valence4_share + st.quad_share + aligned + covered - 4.0 * short_of_bars;
 }
 
 QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const QuadAnisoOptions& o) {

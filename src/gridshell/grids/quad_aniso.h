@@ -28,13 +28,14 @@
 ///      faces are walked with the beams ordered by angle around each joint, once on M′ and once
 ///      on M (each joint through the affine map of an incident triangle), and the walk whose
 ///      faces cover more of M is kept (M′ can be crushed where the metric changes fast, and its
-///      order is then not the surface's); faces that are not
-///      simple, turn the wrong way or have more than `max_face_sides` sides are left out; two
-///      faces of odd sides joined through ≤ 2 quads are re-split into quads (squarest quads,
-///      valences nearest 4, new beams nearest h), remaining triangle pairs become quads;
-///   4. mapping: each joint, carried to M as in step 3, is projected onto M, and joints on the grid's outer boundary within `boundary_snap` × the
-///      local beam length of M's boundary are moved onto it (so the boundary supports catch them);
-///      faces hanging on the grid by one edge are peeled off and only the largest connected piece
+///      order is then not the surface's); faces that are not simple, turn the wrong way or have
+///      more than `max_face_sides` sides are left out; two faces of odd sides joined through ≤ 2
+///      quads are re-split into quads (squarest quads, valences nearest 4, new beams nearest h),
+///      remaining triangle pairs become quads;
+///   4. mapping: each joint, carried to M as in step 3, is projected onto M, and joints on the
+///      grid's outer boundary within `boundary_snap` × the local beam length of M's boundary are
+///      moved onto it (so the boundary supports catch them); faces hanging on the grid by one
+///      edge are peeled off and only the largest connected piece
 ///      is kept (mesh/topology.h: a flap or an island would be a near-mechanism in the analysis);
 ///      a face a third of whose sample points lie over a hole of M is left out (the extraction
 ///      walks loops around M′'s holes like any other face); last, where a beam of the grid's
@@ -209,14 +210,17 @@ struct QuadMeshStatsOptions {
 QuadMeshStats quad_mesh_stats(const PolyMesh& grid, const TriMesh& surface, const Field& field,
                               const QuadMeshStatsOptions& options = {});
 
-/// How the lattice starts are ranked (higher is better), from three shares of QuadMeshStats:
-/// interior joints of valence 4, interior faces with 4 sides, and beams within 15° of u or u⊥
-/// where a ≥ 2 (1 when there are none: an isotropic field, or a grid too coarse to have interior
-/// beams there). First by how many of them fall short of the bars of a good field-aligned quad
-/// grid (85 % regular joints, 85 % quads, 70 % aligned beams; docs/quad_aniso.md), then by their
-/// sum: a grid fair in all three beats one perfect in two and poor in the third, which the sum
-/// alone chose on grids of few cells, where one defect among 20 joints is 5 points (session 15:
-/// 4 of 8 such misses of the generated surfaces went).
+/// How the lattice starts are ranked (higher is better), from four shares of QuadMeshStats:
+/// interior joints of valence 4, interior faces with 4 sides, beams within 15° of u or u⊥ where
+/// a ≥ 2 (1 when there are none: an isotropic field, or a grid too coarse to have interior beams
+/// there), and the coverage of the surface (1 − |1 − coverage|: overlapping faces cover more
+/// than the surface, and that is as bad as less). First by how many of them fall short of
+/// the bars of a good field-aligned quad grid (85 % regular joints, 85 % quads, 70 % aligned
+/// beams, 90 % covered; docs/quad_aniso.md), then by their sum: a grid fair in all beats one
+/// perfect in some and poor in another, which the sum alone chose on grids of few cells, where
+/// one defect among 20 joints is 5 points (session 15: 4 of 8 such misses of the generated
+/// surfaces went). Coverage counts since session 18: a hole in the grid takes its joints and
+/// faces out of the interior shares, so a start with a hole could rank first for it.
 double quad_grid_quality(const QuadMeshStats& stats);
 
 }  // namespace gridshell
