@@ -107,6 +107,13 @@ TEST(Geometry, SurfaceAreaAndBoundingBox) {
   square.V << 0, 0, 0, 2, 0, 0, 2, 2, 0, 0, 2, 0;
   square.faces = {{0, 1, 2, 3}};
   EXPECT_DOUBLE_EQ(polygon_area(square, 0), 4.0);
+  // The same square as points and corner ids, listed from another corner: the same area.
+  const std::vector<Vec3> pos = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 2, 0), Vec3(0, 2, 0)};
+  EXPECT_DOUBLE_EQ(polygon_area(pos, {2, 3, 0, 1}), 4.0);
+  // A square bent along its diagonal (corners 1 and 3 raised by 1): the vector area's norm is
+  // its plan area, 4, less than the area of its two triangles, 2 · 2√1.5.
+  const std::vector<Vec3> bent = {Vec3(0, 0, 0), Vec3(2, 0, 1), Vec3(2, 2, 0), Vec3(0, 2, 1)};
+  EXPECT_NEAR(polygon_area(bent, {0, 1, 2, 3}), 4.0, 1e-12);
 }
 
 TEST(Geometry, PlaneSignedDistanceReflectionAndProjection) {

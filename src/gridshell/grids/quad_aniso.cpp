@@ -867,14 +867,10 @@ LatticeJoints joints_on_rest(const TriMesh& rest, const TriMesh& def, const Topo
   return on_m;
 }
 
-/// The total area of polygons `faces` with corners `pos` (each by its vector area).
+/// The total area of polygons `faces` with corners `pos`.
 double faces_area(const std::vector<std::vector<int>>& faces, const std::vector<Vec3>& pos) {
   double total = 0;
-  for (const auto& f : faces) {
-    Vec3 area = Vec3::Zero();
-    for (size_t k = 0; k < f.size(); ++k) area += pos[f[k]].cross(pos[f[(k + 1) % f.size()]]);
-    total += 0.5 * area.norm();
-  }
+  for (const auto& f : faces) total += polygon_area(pos, f);
   return total;
 }
 

@@ -59,12 +59,23 @@ double signed_area_2d(const std::vector<Eigen::Vector2d>& polygon) {
   return 0.5 * a;
 }
 
-double polygon_area(const PolyMesh& mesh, int face) {
-  const auto& f = mesh.faces[face];
+namespace {
+/// Half the norm of the vector area of polygon `face`, corner v at point(v).
+template <class Point>
+double vector_area_norm(const std::vector<int>& face, Point point) {
   Vec3 a = Vec3::Zero();
-  for (std::size_t k = 0; k < f.size(); ++k)
-    a += mesh.vertex(f[k]).cross(mesh.vertex(f[(k + 1) % f.size()]));
+  for (std::size_t k = 0; k < face.size(); ++k)
+    a += point(face[k]).cross(point(face[(k + 1) % face.size()]));
   return 0.5 * a.norm();
+}
+}  // namespace
+
+double polygon_area(const PolyMesh& mesh, int face) {
+  return vector_area_norm(mesh.faces[face], [&](int v) { return Vec3(mesh.vertex(v)); });
+}
+
+double polygon_area(const std::vector<Vec3>& pos, const std::vector<int>& face) {
+  return vector_area_norm(face, [&](int v) { return pos[v]; });
 }
 
 double surface_area(const TriMesh& mesh) {

@@ -115,6 +115,8 @@ std::vector<char> boundary_corners(const Points& V, const std::vector<std::vecto
 
 /// Area of a (possibly non-planar) polygon: the norm of its vector area.
 double polygon_area(const PolyMesh& mesh, int face);
+/// The same for a polygon whose corners `face` index the points `pos`.
+double polygon_area(const std::vector<Vec3>& pos, const std::vector<int>& face);
 /// Signed area of a polygon in the plane (shoelace formula): positive when counter-clockwise.
 double signed_area_2d(const std::vector<Eigen::Vector2d>& polygon);
 /// Total area of a triangle mesh: the sum of triangle_area over its triangles, in order.
