@@ -1,10 +1,11 @@
-// gridshell info SURFACE [--json]: counts, extent, area, Euler characteristic, validity.
+// gridshell info SURFACE [--json]: counts, extent, area, Euler characteristic, overlaps, validity.
 
 #include <iostream>
 
 #include <fmt/format.h>
 
 #include "common.h"
+#include "gridshell/mesh/overlaps.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell::app {
@@ -27,6 +28,7 @@ int run_info(const InfoArgs& a) {
   std::map<std::string, int> sides;
   for (const auto& f : s.mesh.faces) ++sides[std::to_string(f.size())];
   const int euler = euler_characteristic(s.mesh, topo);
+  const int overlaps = find_overlaps(s.mesh, topo).count();
   if (a.json) {
     nlohmann::json j;
     j["file"] = a.surface;
@@ -41,6 +43,7 @@ int run_info(const InfoArgs& a) {
     j["area"] = area;
     j["euler_characteristic"] = euler;
     j["face_sides"] = sides;
+    j["overlaps"] = overlaps;
     j["problems"] = problems.describe();
     j["valid"] = problems.ok();
     std::cout << j.dump(2) << "\n";
@@ -59,6 +62,8 @@ int run_info(const InfoArgs& a) {
     std::string fs;
     for (const auto& [k, v] : sides) fs += fmt::format(" {}-gons: {}", k, v);
     std::cout << "  faces by sides " << fs << "\n";
+    std::cout << fmt::format("  overlaps        {} (beams that cross, joints inside a face)\n",
+                             overlaps);
     if (problems.ok()) {
       std::cout << "  validity        no problems found\n";
     } else {

@@ -160,7 +160,20 @@ TEST(Builtin, InfoReportsNoProblems) {
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("\"valid\": true"), std::string::npos) << name;
     EXPECT_NE(r.out.find("\"problems\": []"), std::string::npos) << name;
+    EXPECT_NE(r.out.find("\"overlaps\": 0"), std::string::npos) << name;
   }
+}
+
+TEST(Info, CountsTheOverlapsOfAGrid) {
+  // Two unit squares, the second shifted by half a side along x and y: two pairs of crossing
+  // sides, and a corner of each inside the other (mesh/overlaps.h).
+  const std::filesystem::path p = test::temp_dir("overlaps") / "stacked.obj";
+  std::ofstream(p) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                      "v 0.5 0.5 0\nv 1.5 0.5 0\nv 1.5 1.5 0\nv 0.5 1.5 0\n"
+                      "f 1 2 3 4\nf 5 6 7 8\n";
+  const test::RunResult r = test::run_gridshell("info " + p.string() + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\"overlaps\": 4"), std::string::npos) << r.out;
 }
 
 TEST(Info, JsonHasTheContractKeys) {

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "gridshell/io/files.h"
+#include "gridshell/mesh/overlaps.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
@@ -17,6 +18,7 @@ PolyStats poly_stats(const PolyMesh& mesh) {
   s.edges = t.num_edges();
   s.boundary_loops = static_cast<int>(t.boundary_loops.size());
   s.euler = euler_characteristic(mesh, t);
+  s.overlaps = find_overlaps(mesh, t).count();
   double sum = 0, sum2 = 0;
   s.min_edge = 1e300;
   for (const auto& e : t.edges) {
@@ -72,6 +74,7 @@ nlohmann::json mesh_block(const GridShellOutput& out) {
   j["valence3_share_interior"] = s.valence3_share_interior;
   j["boundary_loops"] = s.boundary_loops;
   j["euler_characteristic"] = s.euler;
+  j["overlaps"] = s.overlaps;
   j["supports"] = out.supports.size();
   j["support_joints"] = out.supports;
   if (!out.planarity.empty()) j["planarity_mean"] = mean_of(out.planarity);

@@ -46,6 +46,9 @@ struct PolyStats {
   double hex_share_interior = 0;       ///< hexagons among faces with no boundary vertex
   double valence3_share_interior = 0;  ///< valence-3 vertices among non-boundary vertices
   int boundary_loops = 0, euler = 0;
+  /// Beams that cross and joints inside a panel not their own (mesh/overlaps.h): 0 for a grid
+  /// that can be built.
+  int overlaps = 0;
 };
 PolyStats poly_stats(const PolyMesh& mesh);
 
