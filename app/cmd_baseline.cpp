@@ -117,6 +117,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                   {"interior_faces", st.interior_faces},
                   {"quad_share", st.quad_share},
                   {"non_simple_faces", st.non_simple_faces},
+                  {"overlaps", st.overlaps},
                   {"min_edge_ratio", st.min_edge_ratio},
                   {"min_area_ratio", st.min_area_ratio},
                   {"strong_beams", st.strong_beams},

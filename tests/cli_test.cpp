@@ -33,6 +33,7 @@ TEST(Cli, QuadBaselineWritesTheContractFilesAndReplaysFromConfig) {
   const double len = report["mesh"]["total_length_m"].get<double>();
   EXPECT_NEAR(len, 600, 30);
   EXPECT_EQ(report["mesh"]["euler_characteristic"].get<int>(), 0);
+  EXPECT_EQ(report["mesh"]["overlaps"].get<int>(), 0);
   EXPECT_TRUE(report["timings_s"].contains("total"));
   // cells.csv has one row per face plus the header.
   std::string cells = slurp(d / "a" / "cells.csv");
@@ -66,6 +67,7 @@ TEST(Cli, VoronoiAndTriangleBaselinesHitTheLength) {
     auto report = nlohmann::json::parse(slurp(d / "report.json"));
     EXPECT_NEAR(report["mesh"]["total_length_m"].get<double>(), 400, 20);
     EXPECT_GT(report["structure"]["delta_max_m"].get<double>(), 0);
+    EXPECT_EQ(report["mesh"]["overlaps"].get<int>(), 0);  // no beams crossing, no stacked panels
     if (std::string(kind) == "tri") {
       EXPECT_EQ(report["mesh"]["face_sides"].size(), 1u);
       EXPECT_GT(report["mesh"]["face_sides"]["3"].get<int>(), 0);
@@ -76,6 +78,7 @@ TEST(Cli, VoronoiAndTriangleBaselinesHitTheLength) {
       // session 13), simple faces, no stub beams.
       EXPECT_GE(report["quad_aniso"]["quad_share"].get<double>(), 0.6);
       EXPECT_EQ(report["quad_aniso"]["non_simple_faces"].get<int>(), 0);
+      EXPECT_EQ(report["quad_aniso"]["overlaps"].get<int>(), 0);
       EXPECT_GE(report["quad_aniso"]["min_edge_ratio"].get<double>(), 0.1);
       EXPECT_GE(report["quad_aniso"]["min_area_ratio"].get<double>(), 0.02);  // no sliver panel
       // The spacing factor stays within --max-size-change (1.25 by default).

@@ -6,6 +6,7 @@
 #include <complex>
 #include <deque>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <set>
 #include <tuple>
@@ -20,6 +21,7 @@
 #include "gridshell/grids/supports.h"
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/nearest.h"
+#include "gridshell/mesh/overlaps.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/optimize/projector.h"
 
@@ -279,8 +281,13 @@ std::vector<int> join_across(const std::vector<int>& poly, const std::vector<int
 /// quads and valences nearest 4 (faces of 6 or 8 sides alone likewise). Cheapest first, each
 /// face used once; a split whose quads are far from square (badness > 4 × 0.4² per quad: a
 /// corner outside about 50°–130°) is not made.
+///
+/// `h` is the length a new beam should have; h = 0 takes each polygon's mean side instead (on M,
+/// where cells vary in size and shape). With `on_rim` (one flag per face) non-empty, only pairs
+/// with a face on the rim are made (and faces of 6 or 8 sides on the rim alone).
 void pair_odd_faces(std::vector<std::vector<int>>& faces, const std::vector<Vec3>& p,
-                    const std::vector<Vec3>& normal, double h, int max_quads_between = 2) {
+                    const std::vector<Vec3>& normal, double h, int max_quads_between = 2,
+                    const std::vector<char>& on_rim = {}) {
   const int nf = static_cast<int>(faces.size());
   std::map<std::pair<int, int>, std::vector<int>> edge_faces;
   std::map<int, int> degree;
@@ -320,15 +327,22 @@ void pair_odd_faces(std::vector<std::vector<int>>& faces, const std::vector<Vec3
                       const std::vector<std::pair<int, int>>& removed) {
     for (const auto& e : removed) --degree[e.first], --degree[e.second], beams.erase(e);
     std::vector<std::array<int, 4>> quads;
+    double step = h;
+    if (!(step > 0)) {
+      step = 0;
+      for (size_t k = 0; k < poly.size(); ++k)
+        step += (p[poly[k]] - p[poly[(k + 1) % poly.size()]]).norm() / poly.size();
+    }
     const double c =
-        best_quad_split(poly, p, face_normal(poly), degree, beams, kValenceWeight, h, quads);
+        best_quad_split(poly, p, face_normal(poly), degree, beams, kValenceWeight, step, quads);
     for (const auto& e : removed) ++degree[e.first], ++degree[e.second], beams.insert(e);
     const int nq = static_cast<int>(poly.size() - 2) / 2;
     if (c <= max_badness * nq) cands.push_back({c / nq, path, quads});
   };
   for (int f = 0; f < nf; ++f) {
     const int m = static_cast<int>(faces[f].size());
-    if (m == 6 || m == 8) consider(faces[f], {f}, {});
+    const bool rim = on_rim.empty() || on_rim[f];
+    if ((m == 6 || m == 8) && rim) consider(faces[f], {f}, {});
     if (m % 2 == 0) continue;
     // Depth-first over paths f, quad, …, quad, g with g odd (g > f: each pair once).
     struct State {
@@ -349,7 +363,7 @@ void pair_odd_faces(std::vector<std::vector<int>>& faces, const std::vector<Vec3
         t.path.push_back(g);
         t.removed.push_back(e);
         if (mg % 2 == 1) {
-          if (g > f) consider(t.poly, t.path, t.removed);
+          if (g > f && (rim || on_rim[g])) consider(t.poly, t.path, t.removed);
         } else if (static_cast<int>(t.path.size()) <= max_quads_between) {
           stack.push_back(std::move(t));
         }
@@ -1246,6 +1260,70 @@ void fill_boundary_gaps(PolyMesh& g, const Points& mv, const std::vector<std::ve
   }
 }
 
+/// Faces that cover part of the roof twice (mesh/overlaps.h: beams that cross, a joint inside a
+/// panel not its own) are left out, one overlap at a time: of the two sides of an overlap — the
+/// faces on either crossing beam, or the panel over a joint — the side of the thinner faces
+/// (lower mean 4π·area / perimeter²) goes. Folds come from a walk that went round the wrong way
+/// where M′ is crushed, or from joints snapped onto M's boundary past their neighbours; the face
+/// walked across cells is the long thin one over the others. A grid with two panels one over
+/// the other, or two beams through one point without a joint, cannot be built: the hole left is
+/// the lesser defect. Each round leaves out at least one face, so this ends.
+void remove_overlaps(PolyMesh& g) {
+  while (g.num_faces() > 0) {
+    const Topology topo = build_topology(g);
+    const Overlaps ov = find_overlaps(g, topo);
+    if (ov.count() == 0) return;
+    auto compactness = [&](int f) {
+      const auto& poly = g.faces[f];
+      double perimeter = 0;
+      for (size_t k = 0; k < poly.size(); ++k)
+        perimeter += (g.vertex(poly[k]) - g.vertex(poly[(k + 1) % poly.size()])).norm();
+      return perimeter > 0 ? 4 * std::numbers::pi * polygon_area(g, f) / (perimeter * perimeter)
+                           : 0.0;
+    };
+    auto mean_compactness = [&](const std::vector<int>& faces) {
+      double sum = 0;
+      for (int f : faces) sum += compactness(f);
+      return faces.empty() ? std::numeric_limits<double>::infinity() : sum / faces.size();
+    };
+    std::vector<int> drop;
+    double worst = std::numeric_limits<double>::infinity();
+    auto propose = [&](const std::vector<int>& faces) {
+      const double c = mean_compactness(faces);
+      if (drop.empty() || c < worst) worst = c, drop = faces;
+    };
+    for (const auto& [e1, e2] : ov.crossing_edges) {
+      const std::vector<int> side1 = topo.edge_faces[e1], side2 = topo.edge_faces[e2];
+      propose(mean_compactness(side1) <= mean_compactness(side2) ? side1 : side2);
+    }
+    for (const auto& [v, f] : ov.covered_vertices) propose({f});
+    std::sort(drop.begin(), drop.end());
+    drop.erase(std::unique(drop.begin(), drop.end()), drop.end());
+    for (auto it = drop.rbegin(); it != drop.rend(); ++it) g.faces.erase(g.faces.begin() + *it);
+  }
+}
+
+/// A row of cells that ends inside the grid leaves an odd face there (a triangle, a pentagon) with
+/// no odd partner inside: its partner is across the rim, where the boundary cut the lattice. On
+/// the final grid (on M), odd faces are paired with odd faces of the rim (faces with a joint on
+/// the boundary) by `pair_odd_faces`, so the defect moves to the rim.
+void pair_with_rim(PolyMesh& g) {
+  const Topology topo = build_topology(g);
+  const int nv = g.num_vertices(), nf = g.num_faces();
+  std::vector<Vec3> p(nv), normal(nv, Vec3::Zero());
+  for (int v = 0; v < nv; ++v) p[v] = g.vertex(v);
+  std::vector<char> on_rim(nf, 0);
+  for (int f = 0; f < nf; ++f) {
+    const auto& poly = g.faces[f];
+    Vec3 area = Vec3::Zero();
+    for (size_t k = 0; k < poly.size(); ++k) area += p[poly[k]].cross(p[poly[(k + 1) % poly.size()]]);
+    for (int v : poly) normal[v] += area, on_rim[f] |= topo.on_boundary[v];
+  }
+  for (Vec3& n : normal)
+    if (n.norm() > 0) n.normalize();
+  pair_odd_faces(g.faces, p, normal, 0, 2, on_rim);
+}
+
 /// Leaves out the faces of less than `fraction` of the median face area: slivers where the
 /// joints of a boundary cell were all snapped onto a straight piece of M's boundary, or a gap
 /// between the grid's boundary and M's was filled by a face of almost no area (session 15: 16 of
@@ -1474,6 +1552,9 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
     c.grid = keep_largest(c.grid);
     fill_boundary_gaps(c.grid, mesh.V, proj.boundary_loops(), o.gap_joints, o.max_face_sides, proj);
     drop_slivers(c.grid, o.min_face_area);  // a gap filled by a face of almost no area
+    c.grid = keep_largest(c.grid);
+    pair_with_rim(c.grid);
+    remove_overlaps(c.grid);
     c.grid = keep_largest(c.grid);
     c.score = quad_grid_quality(quad_mesh_stats(c.grid, mesh, field));
     c.length = total_edge_length(c.grid);

@@ -40,7 +40,10 @@
 ///      a face a third of whose sample points lie over a hole of M is left out (the extraction
 ///      walks loops around M′'s holes like any other face); last, where a beam of the grid's
 ///      boundary cuts off a corner of M (or a notch, `gap_joints`), the gap becomes a face whose
-///      other side follows M's boundary, its corners new joints, so the grid reaches M's corners.
+///      other side follows M's boundary, its corners new joints, so the grid reaches M's corners;
+///      then step 3's pairing of odd faces once more on M, for odd faces inside whose partner is
+///      a face of the rim (a row of cells that ends at the boundary); and faces that overlap
+///      (mesh/overlaps.h: beams crossing, a joint inside a panel) are left out, thinner first.
 /// Supports: transfer_supports (grids/supports.h), as the other baselines.
 ///
 /// Cost: O(V · (orientation + position sweeps)) on M′ (the coarser levels add about as much again)
@@ -186,6 +189,9 @@ struct QuadMeshStats {
   int interior_faces = 0;     ///< faces with no joint on the grid's boundary
   double quad_share = 0;      ///< of interior faces
   int non_simple_faces = 0;   ///< faces whose plan (best-fit plane) self-intersects
+  /// Beams that cross and joints inside a panel not their own (mesh/overlaps.h): the grid covers
+  /// part of the roof twice, and cannot be built.
+  int overlaps = 0;
   double min_edge_ratio = 0;  ///< shortest beam / median beam
   /// Smallest face area / median face area: a sliver panel (joints of a boundary cell snapped
   /// onto a straight piece of M's boundary) shows here.

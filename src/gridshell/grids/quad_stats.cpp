@@ -8,6 +8,7 @@
 
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/nearest.h"
+#include "gridshell/mesh/overlaps.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
@@ -43,6 +44,7 @@ QuadMeshStats quad_mesh_stats(const PolyMesh& grid, const TriMesh& surface, cons
     if (topo.vertex_neighbors[v].size() == 4) ++valence4;
   }
   s.valence4_share = s.interior_joints ? static_cast<double>(valence4) / s.interior_joints : 0;
+  s.overlaps = find_overlaps(grid, topo).count();
   std::vector<double> lengths;
   for (const auto& e : topo.edges)
     lengths.push_back((grid.vertex(e[0]) - grid.vertex(e[1])).norm());
