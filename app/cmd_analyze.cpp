@@ -18,6 +18,8 @@
 #include "gridshell/io/files.h"
 #include "gridshell/io/frame_model_json.h"
 #include "gridshell/io/mesh_io.h"
+#include "gridshell/mesh/overlaps.h"
+#include "gridshell/mesh/topology.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/design_report.h"
 #include "gridshell/pipeline/frame_output.h"
@@ -130,6 +132,11 @@ LoadedFrame load_frame(const AnalyzeArgs& a) {
   PolySurface s = load_gridshell(a.input, a.surface_options);
   if (s.supports.empty())
     throw Error(a.input, "no support vertices: the grid-shell is a mechanism");
+  // The frame is analysed as given; a grid that covers part of the roof twice is said so.
+  if (const int overlaps = find_overlaps(s.mesh, build_topology(s.mesh)).count(); overlaps > 0)
+    spdlog::warn("{}: {} overlaps (beams that cross without a joint, joints inside a panel not "
+                 "their own): analysed as given, but not buildable as is",
+                 a.input, overlaps);
   f.model = analysis::gridshell_frame(s.mesh, s.supports, frame_options(a));
   f.supports = s.supports;
   return f;

@@ -384,6 +384,7 @@ TEST(DesignCli, AnalyzeJoinsAGridShellWrittenPanelByPanel) {
   const auto [welded, welded_log] = analyse(d / "design" / "gridshell.obj", "welded");
   const auto [panels, panels_log] = analyse(d / "panels.obj", "panels");
   EXPECT_EQ(welded_log.find("merged"), std::string::npos) << welded_log;
+  EXPECT_EQ(welded_log.find("overlaps"), std::string::npos) << welded_log;
   EXPECT_NE(panels_log.find(fmt::format("merged {} duplicate vertices",
                                         corners - file.mesh.num_vertices())),
             std::string::npos)
@@ -393,4 +394,21 @@ TEST(DesignCli, AnalyzeJoinsAGridShellWrittenPanelByPanel) {
                 welded.at("structure").at(k).get<double>(),
                 1e-9 * welded.at("structure").at(k).get<double>())
         << k;
+}
+
+// A grid whose two panels lie one over the other (a unit square shifted by half a side: two
+// pairs of crossing beams, a joint of each inside the other) is analysed as given, and the log
+// says it cannot be built as is.
+TEST(DesignCli, AnalyzeSaysWhenPanelsOverlap) {
+  const auto d = temp_dir("overlapping_panels");
+  {
+    std::ofstream out(d / "stacked.obj");
+    out << "# supports 0 1 2 3 4 5 6 7\n"
+           "v 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\nv 2 2 0\nv 6 2 0\nv 6 6 0\nv 2 6 0\n"
+           "f 1 2 3 4\nf 5 6 7 8\n";
+  }
+  const auto r = run_gridshell("analyze " + (d / "stacked.obj").string() +
+                               " --analyze linear --figures none -o " + (d / "out").string());
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("4 overlaps"), std::string::npos) << r.err;
 }
