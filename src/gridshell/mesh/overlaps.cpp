@@ -85,7 +85,10 @@ Overlaps find_overlaps(const PolyMesh& mesh, const Topology& topo) {
     if (a == c || a == d || b == c || b == d) continue;
     const Vec3 n = normal[a] + normal[b] + normal[c] + normal[d];
     if (!(n.norm() > 0)) continue;
-    const auto [r, s] = plane_axes(n.normalized());
+    // Plain variables, not a structured binding: the lambda below captures them (Clang before
+    // 16 cannot capture a binding).
+    const std::pair<Vec3, Vec3> axes = plane_axes(n.normalized());
+    const Vec3 r = axes.first, s = axes.second;
     auto view = [&](int v) {
       const Vec3 p = mesh.vertex(v);
       return Eigen::Vector2d(p.dot(r), p.dot(s));
@@ -136,7 +139,8 @@ Overlaps find_overlaps(const PolyMesh& mesh, const Topology& topo) {
     centre /= static_cast<double>(poly.size());
     const Vec3 p = mesh.vertex(v);
     if (std::abs((p - centre).dot(n)) > 0.5 * mean_side[f]) continue;
-    const auto [r, s] = plane_axes(n);
+    const std::pair<Vec3, Vec3> axes = plane_axes(n);
+    const Vec3 r = axes.first, s = axes.second;
     const Eigen::Vector2d x(p.dot(r), p.dot(s));
     std::vector<Eigen::Vector2d> q;
     for (int w : poly) q.emplace_back(mesh.vertex(w).dot(r), mesh.vertex(w).dot(s));
