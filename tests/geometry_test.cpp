@@ -163,6 +163,33 @@ TEST(Geometry, SignedArea2dIsPositiveCounterClockwise) {
   EXPECT_DOUBLE_EQ(signed_area_2d({}), 0.0);
 }
 
+// The frame of a plane is orthonormal and right-handed about its normal, for normals along and
+// near each axis (the frame switches from x̂ to ŷ at |n.x| = 0.6); orient_2d is twice the signed
+// area (the unit right triangle: ±1, three points on a line: 0).
+TEST(Geometry, PlaneAxesAndOrientation) {
+  for (Vec3 n : {Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0.6, 0.8, 0),
+                 Vec3(0.59, 0.1, 0.8), Vec3(-1, 2, 3)}) {
+    n.normalize();
+    const auto [r, s] = plane_axes(n);
+    EXPECT_NEAR(r.norm(), 1, 1e-15);
+    EXPECT_NEAR(s.norm(), 1, 1e-15);
+    EXPECT_NEAR(r.dot(n), 0, 1e-15);
+    EXPECT_NEAR(r.dot(s), 0, 1e-15);
+    EXPECT_NEAR((r.cross(s) - n).norm(), 0, 1e-15);
+  }
+  const Eigen::Vector2d o(0, 0), x(1, 0), y(0, 1);
+  EXPECT_EQ(orient_2d(o, x, y), 1.0);
+  EXPECT_EQ(orient_2d(o, y, x), -1.0);
+  EXPECT_EQ(orient_2d(o, x, Eigen::Vector2d(3, 0)), 0.0);
+  // The vector area of a unit square in the plane z = 2: ẑ counter-clockwise, −ẑ the other way.
+  PolyMesh m;
+  m.V.resize(4, 3);
+  m.V << 0, 0, 2, 1, 0, 2, 1, 1, 2, 0, 1, 2;
+  m.faces = {{0, 1, 2, 3}, {3, 2, 1, 0}};
+  EXPECT_NEAR((vector_area(m, 0) - Vec3(0, 0, 1)).norm(), 0, 1e-15);
+  EXPECT_NEAR((vector_area(m, 1) - Vec3(0, 0, -1)).norm(), 0, 1e-15);
+}
+
 // A simple polygon: a square in 3D is; a bow-tie (two sides crossing), a face that uses a corner
 // twice and a face of zero area are not.
 TEST(Geometry, SimplePolygon) {

@@ -30,10 +30,7 @@ namespace gridshell {
 namespace {
 
 /// A unit vector perpendicular to n (deterministic).
-Vec3 any_perpendicular(const Vec3& n) {
-  const Vec3 axis = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
-  return n.cross(axis).normalized();
-}
+Vec3 any_perpendicular(const Vec3& n) { return plane_axes(n).first; }
 
 /// The one of ±q, ±n×q closest to `target`: q's cross brought to agree with target's.
 Vec3 match_cross(const Vec3& q, const Vec3& n, const Vec3& target) {
@@ -1314,10 +1311,8 @@ void pair_with_rim(PolyMesh& g) {
   for (int v = 0; v < nv; ++v) p[v] = g.vertex(v);
   std::vector<char> on_rim(nf, 0);
   for (int f = 0; f < nf; ++f) {
-    const auto& poly = g.faces[f];
-    Vec3 area = Vec3::Zero();
-    for (size_t k = 0; k < poly.size(); ++k) area += p[poly[k]].cross(p[poly[(k + 1) % poly.size()]]);
-    for (int v : poly) normal[v] += area, on_rim[f] |= topo.on_boundary[v];
+    const Vec3 area = vector_area(g, f);
+    for (int v : g.faces[f]) normal[v] += area, on_rim[f] |= topo.on_boundary[v];
   }
   for (Vec3& n : normal)
     if (n.norm() > 0) n.normalize();
@@ -1438,7 +1433,8 @@ bool is_isotropic(const Field& field) {
 
 double quad_grid_quality(const QuadMeshStats& st) {
   const double aligned = st.strong_beams > 0 ? st.aligned_share : 1.0;
-  // Faces that overlap (a walk in the wrong order) cover more than the surface: as bad as less.
+  // Coverage over 1 (faces stacked; since session 19 they are left out before a grid is scored,
+  // so this is a guard) counts as much against as the same shortfall.
   const double covered = 1 - std::abs(1 - st.coverage);
   const int short_of_bars =
       (st.valence4_share < 0.85) + (st.quad_share < 0.85) + (aligned < 0.70) + (covered < 0.90);

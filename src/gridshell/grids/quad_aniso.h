@@ -219,8 +219,8 @@ QuadMeshStats quad_mesh_stats(const PolyMesh& grid, const TriMesh& surface, cons
 /// How the lattice starts are ranked (higher is better), from four shares of QuadMeshStats:
 /// interior joints of valence 4, interior faces with 4 sides, beams within 15° of u or u⊥ where
 /// a ≥ 2 (1 when there are none: an isotropic field, or a grid too coarse to have interior beams
-/// there), and the coverage of the surface (1 − |1 − coverage|: overlapping faces cover more
-/// than the surface, and that is as bad as less). First by how many of them fall short of
+/// there), and the coverage of the surface (1 − |1 − coverage|: stacked faces would cover more
+/// than the surface, as bad as less; they are left out before a grid is scored since session 19). First by how many of them fall short of
 /// the bars of a good field-aligned quad grid (85 % regular joints, 85 % quads, 70 % aligned
 /// beams, 90 % covered; docs/quad_aniso.md), then by their sum: a grid fair in all beats one
 /// perfect in some and poor in another, which the sum alone chose on grids of few cells, where

@@ -60,22 +60,24 @@ double signed_area_2d(const std::vector<Eigen::Vector2d>& polygon) {
 }
 
 namespace {
-/// Half the norm of the vector area of polygon `face`, corner v at point(v).
+/// The vector area of polygon `face`, corner v at point(v).
 template <class Point>
-double vector_area_norm(const std::vector<int>& face, Point point) {
+Vec3 vector_area_of(const std::vector<int>& face, Point point) {
   Vec3 a = Vec3::Zero();
   for (std::size_t k = 0; k < face.size(); ++k)
     a += point(face[k]).cross(point(face[(k + 1) % face.size()]));
-  return 0.5 * a.norm();
+  return 0.5 * a;  // halving is exact: the norm below is bit for bit 0.5 × |Σ|
 }
 }  // namespace
 
-double polygon_area(const PolyMesh& mesh, int face) {
-  return vector_area_norm(mesh.faces[face], [&](int v) { return Vec3(mesh.vertex(v)); });
+Vec3 vector_area(const PolyMesh& mesh, int face) {
+  return vector_area_of(mesh.faces[face], [&](int v) { return Vec3(mesh.vertex(v)); });
 }
 
+double polygon_area(const PolyMesh& mesh, int face) { return vector_area(mesh, face).norm(); }
+
 double polygon_area(const std::vector<Vec3>& pos, const std::vector<int>& face) {
-  return vector_area_norm(face, [&](int v) { return pos[v]; });
+  return vector_area_of(face, [&](int v) { return pos[v]; }).norm();
 }
 
 double surface_area(const TriMesh& mesh) {
@@ -91,12 +93,17 @@ double bbox_diagonal(const Points& V) {
   return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
 }
 
+std::pair<Vec3, Vec3> plane_axes(const Vec3& n) {
+  const Vec3 r = n.cross(std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY()).normalized();
+  return {r, n.cross(r)};
+}
+
 namespace {
 
 bool segments_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
                     const Eigen::Vector2d& d) {
   auto orient = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
-    const double v = (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
+    const double v = orient_2d(p, q, r);
     return (v > 0) - (v < 0);
   };
   return orient(a, b, c) * orient(a, b, d) < 0 && orient(c, d, a) * orient(c, d, b) < 0;
@@ -116,9 +123,7 @@ bool is_simple_polygon(const PolyMesh& mesh, const std::vector<int>& f) {
   }
   if (normal.norm() == 0) return false;
   normal.normalize();
-  const Vec3 r = normal.cross(std::abs(normal.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY())
-                     .normalized(),
-             s = normal.cross(r);
+  const auto [r, s] = plane_axes(normal);
   std::vector<Eigen::Vector2d> p(n);
   for (int k = 0; k < n; ++k) {
     const Vec3 d = mesh.vertex(f[k]) - centre / n;

@@ -9,6 +9,7 @@
 /// regularizer's reprojection. Connectivity (edges, boundary loops) is in topology.h.
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "gridshell/mesh/mesh.h"
@@ -113,6 +114,9 @@ std::vector<char> boundary_corners(const Points& V, const std::vector<std::vecto
 // ---------------------------------------------------------------------------------------------
 // Whole meshes
 
+/// Vector area of a (possibly non-planar) polygon: ½ Σ p_k × p_{k+1}; its direction is the
+/// polygon's normal (counter-clockwise about it), its norm the area below.
+Vec3 vector_area(const PolyMesh& mesh, int face);
 /// Area of a (possibly non-planar) polygon: the norm of its vector area.
 double polygon_area(const PolyMesh& mesh, int face);
 /// The same for a polygon whose corners `face` index the points `pos`.
@@ -123,6 +127,20 @@ double signed_area_2d(const std::vector<Eigen::Vector2d>& polygon);
 double surface_area(const TriMesh& mesh);
 /// Length of the bounding-box diagonal.
 double bbox_diagonal(const Points& V);
+
+// ---------------------------------------------------------------------------------------------
+// Planes
+
+/// An orthonormal frame (r, s) of the plane normal to the unit vector n, with r × s = n. The same
+/// n always gives the same frame (r is n × x̂, or n × ŷ when n is within about 53° of x̂).
+std::pair<Vec3, Vec3> plane_axes(const Vec3& n);
+
+/// Twice the signed area of the triangle (p, q, r) in the plane: positive when it turns
+/// counter-clockwise, 0 when the three are on a line.
+inline double orient_2d(const Eigen::Vector2d& p, const Eigen::Vector2d& q,
+                        const Eigen::Vector2d& r) {
+  return (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
+}
 
 /// True when face `face` of `mesh` (projected on the plane of its vector area) is a simple
 /// polygon: no repeated corner, a non-zero area, and no two non-adjacent sides crossing.
