@@ -47,6 +47,7 @@ struct AnalyzeArgs {
   double displacement_limit = 0;
   std::string sheet = "2.5x1.25";
   LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit
+  std::string section;      ///< --section (mesh input)
   bool single_path = false;
 };
 
@@ -78,6 +79,9 @@ void check_analyze_args(const AnalyzeArgs& a) {
   analysis::GridshellFrameOptions frame;
   analysis::FrameAnalysisOptions options;
   apply_load_check_options(a.checks, frame, options);
+  apply_section_option(a.section, frame);
+  if (!a.section.empty() && lower_ext(a.input) == ".json")
+    throw Error("--section", "a MODEL.json gives its own sections");
   if (frame.loads == analysis::LoadModel::eurocode && lower_ext(a.input) == ".json")
     throw Error("--loads", "eurocode load cases need a grid-shell mesh (MODEL.json has its loads)");
   if (a.analyze != "auto") {
@@ -104,6 +108,7 @@ analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a) {
   go.area_load_kN_m2 = a.area_load;
   analysis::FrameAnalysisOptions unused;
   apply_load_check_options(a.checks, go, unused);
+  apply_section_option(a.section, go);
   return go;
 }
 
@@ -229,8 +234,7 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   // results: written on the second core while this one writes the frame's files and the report.
   std::future<nlohmann::json> fabrication;
   if (gridshell_mesh) {
-    analysis::GridshellFrameOptions bars;
-    bars.diameter = a.diameter;
+    const analysis::GridshellFrameOptions bars = frame_options(a);
     fabrication = std::async(std::launch::async, [&, bars] {
       return fabrication_report(a.run.out_dir, mesh, f.supports, &r, bars,
                                 fabrication::parse_sheet(a.sheet));
@@ -246,6 +250,7 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["supports"] = f.supports.size();
   st["analysis"] = to_string(level);
   st["steel"] = a.checks.steel;
+  if (gridshell_mesh) st["section"] = section_block(frame_options(a));
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
   st["loads"] = gridshell_mesh ? a.checks.loads : f.combinations.empty() ? "model" : "load_cases";
@@ -334,6 +339,7 @@ void register_analyze(CLI::App& app, Action& action) {
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
   add_load_check_options(sub, a->checks);
+  add_section_option(sub, a->section);
   sub->add_flag("--single-path", a->single_path,
                 "non-linear analysis: follow only the path asked for (perfect, or imperfect with "
                 "--imperfection), not also the other");

@@ -43,6 +43,7 @@ struct BaselineArgs {
   SurfaceOptions surface_options;
   RunOptions run;
   LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit (as design)
+  std::string section;      ///< --section (as design)
 };
 
 int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
@@ -59,6 +60,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   analysis::GridshellFrameOptions frame;
   analysis::FrameAnalysisOptions options;
   apply_load_check_options(a.checks, frame, options);
+  apply_section_option(a.section, frame);
   DesignOptions field_options;  // quad-aniso: the design's field
   field_options.field = parse_field_input(a.field, &field_options.field_file);
   field_options.D = a.D, field_options.A = a.A;
@@ -182,7 +184,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   report["surface"] = a.surface;
   report["mesh"] = mesh_block(out);
   report["fabrication"] = fabrication_report(a.run.out_dir, out.mesh, out.supports,
-                                             structure ? &*structure : nullptr, {}, sheet);
+                                             structure ? &*structure : nullptr, frame, sheet);
   if (a.length > 0) {
     report["mesh"]["target_length_m"] = a.length;
     report["mesh"]["length_error"] = report["mesh"]["total_length_m"].get<double>() / a.length - 1;
@@ -190,6 +192,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   if (structure) {
     report["structure"] = structure_block(*structure);
     report["structure"]["steel"] = a.checks.steel;
+    report["structure"]["section"] = section_block(frame);
     report["structure"]["loads"] = a.checks.loads;
     report["structure"]["combinations"] =
         combinations_block(out.mesh, out.supports, frame, options, *structure);
@@ -264,6 +267,7 @@ void register_baseline(CLI::App& app, Action& action) {
       "panels.csv, panels.svg, figures/*.png (docs/figures.md), report.json, config.json\n"
       "and report.html (open it first: the 3D view, key figures and figures, offline).");
   add_load_check_options(sub, a->checks);
+  add_section_option(sub, a->section);
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   add_figure_option(sub, a->run);

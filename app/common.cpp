@@ -12,6 +12,7 @@
 #include <tbb/global_control.h>
 
 #include "gridshell/checks/member_checks.h"
+#include "gridshell/sections/sections.h"
 #include "gridshell/core/error.h"
 #include "gridshell/core/progress_display.h"
 #include "gridshell/figures/figures.h"
@@ -77,6 +78,19 @@ void apply_load_check_options(const LoadCheckOptions& o, analysis::GridshellFram
   frame.glass_kN_m2 = o.glass;
   frame.snow_kN_m2 = o.snow;
   analysis.deflection_limit_divisor = o.deflection_limit;
+}
+
+void add_section_option(CLI::App* sub, std::string& section) {
+  sub->add_option("--section", section,
+                  "member section: 'CHS 88.9x4.0', 'RHS 120x60x4', 'SHS 100x5', 'bar 37' (mm; "
+                  "add 'cold' for cold-formed EN 10219, default hot-finished EN 10210); default "
+                  "the solid bar of --diameter");
+}
+
+void apply_section_option(const std::string& section, analysis::GridshellFrameOptions& frame) {
+  if (section.empty()) return;
+  sections::parse_section(section, "--section");
+  frame.section = section;
 }
 
 RunGuard apply_run_options(const RunOptions& o) {

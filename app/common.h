@@ -44,6 +44,11 @@ struct LoadCheckOptions {
   double deflection_limit = 300;  ///< δ passes when at most span / this
 };
 void add_load_check_options(CLI::App* sub, LoadCheckOptions& options);
+/// --section "CHS 88.9x4.0" | "RHS 120x60x4" | "SHS 100x5" | "bar 37" [cold] (sections/sections.h;
+/// docs/checks.md): the grid-shell's members; empty = the solid bar of --diameter.
+void add_section_option(CLI::App* sub, std::string& section);
+/// Checks the designation (Error("--section"), exit 2, before any work) and sets frame.section.
+void apply_section_option(const std::string& section, analysis::GridshellFrameOptions& frame);
 /// Parses and checks them (Error naming the option) and sets `frame`'s load model, glass and
 /// snow, and `analysis`'s fy and deflection limit.
 void apply_load_check_options(const LoadCheckOptions& options,

@@ -171,6 +171,10 @@ function keyFigures() {
   html += row('joints', nJoints);
   html += row('supports', supports.length);
   html += row('total length', `${fmt(length)} m`);
+  if (st.section && st.section.designation) {
+    html += row('section', escapeHtml(st.section.designation) +
+      (st.section.standard === false ? ' (not a catalogue size)' : ''));
+  }
   if (mass != null) html += row('steel mass', `${fmt(mass)} kg`);
   if (st.delta_max_m != null) html += row('δ (linear)', `${fmt(st.delta_max_m * 1000)} mm`);
   if (st.lambda_linear_buckling != null) {
@@ -179,7 +183,14 @@ function keyFigures() {
   if (st.lambda_nonlinear != null) {
     html += row('λ non-linear', `${fmt(st.lambda_nonlinear)} (${escapeHtml(st.limit_type || '')})`);
   }
-  if (st.utilisation_max != null) html += row('utilisation max', fmt(st.utilisation_max));
+  if (st.utilisation_max != null) {
+    html += row('utilisation max', fmt(st.utilisation_max) +
+      (st.utilisation_check ? ` (${escapeHtml(st.utilisation_check)})` : ''));
+  }
+  if (st.buckling_utilisation_max != null) {
+    html += row('member buckling max', fmt(st.buckling_utilisation_max) +
+      (st.buckling_check ? ` (${escapeHtml(st.buckling_check)})` : ''));
+  }
   if (mesh.planarity_mean != null) html += row('planarity mean', fmt(mesh.planarity_mean));
   html += '</table>';
   document.getElementById('figures-table').innerHTML = html;

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell::analysis {
@@ -72,9 +73,46 @@ LoadCases eurocode_load_cases(const PolyMesh& mesh, const std::vector<double>& b
   return c;
 }
 
+fem::FrameSection member_section(const GridshellFrameOptions& o) {
+  if (!o.section.empty())
+    return fem::profile_section(sections::parse_section(o.section, "--section"));
+  if (!(o.diameter > 0) || !std::isfinite(o.diameter)) throw Error("--diameter", "must be > 0");
+  return fem::circle_section(o.diameter, "bar");
+}
+
+Points vertex_normals(const PolyMesh& mesh) {
+  Points n = Points::Zero(mesh.num_vertices(), 3);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const Vec3 a = vector_area(mesh, f);
+    for (int v : mesh.faces[f]) n.row(v) += a.transpose();
+  }
+  for (int v = 0; v < n.rows(); ++v) {
+    const double len = n.row(v).norm();
+    if (len > 0) n.row(v) /= len;
+  }
+  return n;
+}
+
+namespace {
+
+/// Each member's local z: the mean of its joints' normals made orthogonal to it, for sections
+/// whose axes matter (RHS).
+void set_member_axes(const PolyMesh& mesh, fem::FrameModel& m) {
+  const Points normals = vertex_normals(mesh);
+  for (fem::FrameMember& mb : m.members) {
+    Vec3 n = (normals.row(mb.i) + normals.row(mb.j)).transpose();
+    const Vec3 x = (mesh.vertex(mb.j) - mesh.vertex(mb.i)).normalized();
+    n -= n.dot(x) * x;
+    if (n.norm() < 1e-6) continue;  // no usable normal: the default rule
+    mb.up = n.normalized();
+  }
+}
+
+}  // namespace
+
 fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& supports,
                                 const GridshellFrameOptions& o) {
-  if (!(o.diameter > 0)) throw Error("--diameter", "must be > 0");
+  const fem::FrameSection section = member_section(o);
   if (o.elements < 1) throw Error("--elements", "must be >= 1");
   if (!(o.area_load_kN_m2 >= 0) && !(o.area_load_kN_m2 < 0))
     throw Error("--area-load", "is not a number");
@@ -82,7 +120,7 @@ fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& su
   fem::FrameModel m;
   m.nodes = mesh.V;
   m.faces = mesh.faces;
-  m.sections = {fem::circle_section(o.diameter, "bar")};
+  m.sections = {section};
   m.materials = {{"steel", o.E, o.nu, o.density}};
   for (const auto& e : topo.edges) {
     fem::FrameMember mb;
@@ -91,6 +129,7 @@ fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& su
     mb.elements = o.elements;
     m.members.push_back(mb);
   }
+  if (section.profile && section.profile->shape == sections::Shape::rhs) set_member_axes(mesh, m);
   for (int s : supports) {
     if (s < 0 || s >= mesh.num_vertices()) throw Error("supports", "a support id is out of range");
     m.supports.push_back({s, {true, true, true, false, false, false}});

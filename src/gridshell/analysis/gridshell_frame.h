@@ -46,7 +46,12 @@ std::pair<double, double> partial_factors(Combination combination);
 double snow_shape_factor(double slope_deg);
 
 struct GridshellFrameOptions {
-  double diameter = 0.037;  ///< [m]
+  double diameter = 0.037;  ///< [m] the solid bar's, when `section` is empty
+  /// The members' section as a designation (sections/sections.h: "CHS 88.9x4.0",
+  /// "RHS 120x60x4 cold", "bar 37"); empty = the solid bar of `diameter`. An RHS stands with its
+  /// height along the surface normal: each member's local z is the mean of its two joints'
+  /// normals (area-weighted face normals) made orthogonal to the member (docs/frame.md).
+  std::string section;
   double E = 210e9;         ///< [Pa]
   double nu = 0.3;
   double density = 7850;  ///< [kg/m³]
@@ -70,6 +75,14 @@ LoadCases eurocode_load_cases(const PolyMesh& mesh, const std::vector<double>& b
 
 fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& supports,
                                 const GridshellFrameOptions& options = {});
+
+/// The members' section of `options` (its `section`, else the bar of `diameter`). Throws
+/// Error("--section") / Error("--diameter") for a bad one.
+fem::FrameSection member_section(const GridshellFrameOptions& options);
+
+/// Per-vertex unit normals of a polygon mesh: the sum of the incident faces' vector areas,
+/// normalised (zero where they cancel).
+Points vertex_normals(const PolyMesh& mesh);
 
 /// Per-vertex tributary area: Σ over incident faces of area / (number of corners).
 std::vector<double> tributary_areas(const PolyMesh& mesh);

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "gridshell/checks/hollow_checks.h"
 #include "gridshell/core/error.h"
 
 namespace gridshell::checks {
@@ -82,32 +83,81 @@ void check_inputs(const fem::FrameModel& model, const std::vector<fem::MemberFor
 
 }  // namespace
 
+namespace {
+
+/// The member's hollow profile, or null for the bar's check.
+const sections::Section* hollow_profile(const fem::FrameModel& model, const fem::FrameMember& mb) {
+  const auto& p = model.sections[mb.section].profile;
+  return p && p->shape != sections::Shape::bar ? &*p : nullptr;
+}
+
+HollowCheckOptions hollow_options(const MemberCheckOptions& o) {
+  return {o.gamma_M0, o.gamma_M1, o.buckling_length_factor};
+}
+
+/// The bar's checks (§6.2.1(7) and §6.3.1 with curve `alpha`).
+MemberCheck bar_check(const fem::FrameModel& model, int m, const fem::MemberForces& f, double fy,
+                      const MemberCheckOptions& o) {
+  const fem::FrameMember& mb = model.members[m];
+  const SectionCapacity c = capacity(model, mb.section);
+  MemberCheck r;
+  r.section = section_utilisation(c, f, fy);
+  const double E = model.materials[mb.material].E;
+  const double L = o.buckling_length_factor * fem::member_length(model, m);
+  const double Ncr = std::numbers::pi * std::numbers::pi * E * c.Imin / (L * L);
+  r.slenderness = Ncr > 0 ? std::sqrt(c.A * fy / Ncr) : 0;
+  r.chi = buckling_reduction(r.slenderness, o.alpha);
+  const double compression = std::max(0.0, -f.N_min);
+  r.buckling = compression / (r.chi * c.A * fy);
+  if (compression > 0) r.buckling_governing = "6.3.1 flexural buckling";
+  return r;
+}
+
+MemberCheck hollow_check(const fem::FrameModel& model, int m, const sections::Section& profile,
+                         const fem::MemberForces& f, double fy, const MemberCheckOptions& o) {
+  const fem::FrameMember& mb = model.members[m];
+  const HollowCheck h =
+      check_hollow_member(profile, f, fy, model.materials[mb.material].E,
+                          fem::member_length(model, m), hollow_options(o));
+  MemberCheck r;
+  r.section = h.section;
+  r.buckling = h.buckling;
+  const bool y_governs = h.chi_y <= h.chi_z;
+  r.slenderness = y_governs ? h.slenderness_y : h.slenderness_z;
+  r.chi = y_governs ? h.chi_y : h.chi_z;
+  r.section_class = h.section_class;
+  r.section_governing = h.section_governing;
+  r.buckling_governing = h.buckling_governing;
+  return r;
+}
+
+}  // namespace
+
 MemberChecks check_members(const fem::FrameModel& model,
                            const std::vector<fem::MemberForces>& forces,
                            const MemberCheckOptions& o) {
   check_inputs(model, forces, o);
+  if (!(o.gamma_M0 > 0) || !(o.gamma_M1 > 0) || !std::isfinite(o.gamma_M0) ||
+      !std::isfinite(o.gamma_M1))
+    throw Error("checks", "gamma_M0 and gamma_M1 must be > 0");
   MemberChecks out;
   out.members.resize(forces.size());
   for (size_t m = 0; m < forces.size(); ++m) {
     const fem::FrameMember& mb = model.members[m];
-    const SectionCapacity c = capacity(model, mb.section);
-    MemberCheck& r = out.members[m];
     const double fy = member_fy(model, mb, o);
-    r.section = section_utilisation(c, forces[m], fy);
-    const double E = model.materials[mb.material].E;
-    const double L = o.buckling_length_factor * fem::member_length(model, static_cast<int>(m));
-    const double Ncr = std::numbers::pi * std::numbers::pi * E * c.Imin / (L * L);
-    r.slenderness = Ncr > 0 ? std::sqrt(c.A * fy / Ncr) : 0;
-    r.chi = buckling_reduction(r.slenderness, o.alpha);
-    const double compression = std::max(0.0, -forces[m].N_min);
-    r.buckling = compression / (r.chi * c.A * fy);
+    const sections::Section* profile = hollow_profile(model, mb);
+    MemberCheck& r = out.members[m];
+    r = profile ? hollow_check(model, static_cast<int>(m), *profile, forces[m], fy, o)
+                : bar_check(model, static_cast<int>(m), forces[m], fy, o);
     if (out.section_worst < 0 || r.section > out.section_max) {
       out.section_max = r.section;
       out.section_worst = static_cast<int>(m);
+      out.section_governing = r.section_governing;
     }
-    if (compression > 0 && (out.buckling_worst < 0 || r.buckling > out.buckling_max)) {
+    if (forces[m].N_min < 0 && (out.buckling_worst < 0 || r.buckling > out.buckling_max)) {
       out.buckling_max = r.buckling;
       out.buckling_worst = static_cast<int>(m);
+      out.buckling_governing = r.buckling_governing;
     }
   }
   return out;
@@ -118,9 +168,13 @@ double max_section_utilisation(const fem::FrameModel& model,
                                const MemberCheckOptions& o) {
   check_inputs(model, forces, o);
   double u = 0;
-  for (size_t m = 0; m < forces.size(); ++m)
-    u = std::max(u, section_utilisation(capacity(model, model.members[m].section), forces[m],
-                                        member_fy(model, model.members[m], o)));
+  for (size_t m = 0; m < forces.size(); ++m) {
+    const fem::FrameMember& mb = model.members[m];
+    const double fy = member_fy(model, mb, o);
+    const sections::Section* profile = hollow_profile(model, mb);
+    u = std::max(u, profile ? hollow_section_utilisation(*profile, forces[m], fy, hollow_options(o))
+                            : section_utilisation(capacity(model, mb.section), forces[m], fy));
+  }
   return u;
 }
 

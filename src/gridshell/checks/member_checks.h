@@ -18,6 +18,12 @@
 ///   conservative choice for the rigidly jointed bars of a grid-shell, whose global (snap-through)
 ///   buckling is the separate λ of the frame analysis. No bending–buckling interaction (§6.3.3).
 ///
+/// These two are the checks of the solid bar and of sections given only by their constants
+/// (MODEL.json {A, Iy, Iz, J}). Members of a hollow section (FrameSection::profile CHS or RHS)
+/// get the full EN 1993-1-1 checks of hollow_checks.h instead: class, plastic or elastic
+/// resistance, N + biaxial bending + shear + torsion (§6.2), member buckling with the curve of
+/// the process and the interaction (6.61)/(6.62) (§6.3.3, Annex B).
+///
 /// fy per grade for thickness t ≤ 40 mm (EN 1993-1-1 Table 3.1): S235 235, S275 275, S355 355 MPa.
 /// Cost: O(members).
 
@@ -47,13 +53,18 @@ struct MemberCheckOptions {
   double fy = 355e6;  ///< yield strength [Pa] of members whose material has none (fy = 0)
   double alpha = kCurveCAlpha;        ///< buckling curve imperfection factor
   double buckling_length_factor = 1;  ///< L_cr = factor × member length
+  double gamma_M0 = 1.0;  ///< partial factor of cross-sections (hollow sections; bar: 1)
+  double gamma_M1 = 1.0;  ///< partial factor of member buckling (hollow sections; bar: 1)
 };
 
 struct MemberCheck {
   double section = 0;      ///< cross-section utilisation (§6.2.1(7))
   double buckling = 0;     ///< flexural buckling utilisation (§6.3.1); 0 unless compressed
   double slenderness = 0;  ///< λ̄
-  double chi = 1;          ///< χ
+  double chi = 1;          ///< χ (hollow sections: the smaller of χy, χz)
+  int section_class = 0;   ///< EN 1993-1-1 class of a hollow section; 0 for the bar's check
+  const char* section_governing = "6.2.1(7) N+M";  ///< the clause that governs `section`
+  const char* buckling_governing = "";  ///< the clause that governs `buckling` ("" if none)
 };
 
 struct MemberChecks {
@@ -62,6 +73,8 @@ struct MemberChecks {
   int section_worst = -1;  ///< member id, −1 when there are no members
   double buckling_max = 0;
   int buckling_worst = -1;  ///< −1 when no member is compressed
+  const char* section_governing = "";   ///< the clause at section_worst
+  const char* buckling_governing = "";  ///< the clause at buckling_worst
 };
 
 /// Checks every member of `model` under `forces` (one per member). Throws Error("checks") when

@@ -53,6 +53,11 @@ FabricationData fabrication_data(const PolyMesh& mesh, const std::vector<int>& s
   d.axial_force = beams.axial_force;
   d.utilisation = beams.utilisation;
   d.buckling_utilisation = beams.buckling_utilisation;
+  d.governing = beams.governing;
+  if (!d.governing.empty() && static_cast<int>(d.governing.size()) != topo.num_edges())
+    throw Error("fabrication", "governing checks and beams disagree in number");
+  d.section = options.section.empty() ? fmt::format("bar {:g}", options.bar_diameter * 1000)
+                                      : options.section;
   std::vector<std::vector<Vec2>> outlines;
   outlines.reserve(d.parts.panels.size());
   for (const Panel& p : d.parts.panels) outlines.push_back(p.flat.outline);
@@ -72,14 +77,15 @@ std::string joints_csv(const FabricationData& d) {
 std::string beams_csv(const FabricationData& d) {
   std::string s =
       "beam,node_i,node_j,length,axial_force,utilisation,buckling_utilisation,length_class,"
-      "panels\n";
+      "panels,section,governing\n";
   const auto cell = [](const std::vector<double>& v, int id) {
     return v.empty() ? std::string() : num(v[id]);
   };
   for (const Beam& b : d.parts.beams)
-    s += fmt::format("{},{},{},{},{},{},{},{},{}\n", b.id, b.i, b.j, num(b.length),
+    s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", b.id, b.i, b.j, num(b.length),
                      cell(d.axial_force, b.id), cell(d.utilisation, b.id),
-                     cell(d.buckling_utilisation, b.id), b.length_class, ints(b.panels));
+                     cell(d.buckling_utilisation, b.id), b.length_class, ints(b.panels),
+                     d.section, d.governing.empty() ? std::string() : d.governing[b.id]);
   return s;
 }
 
@@ -200,7 +206,13 @@ nlohmann::json bill_of_materials(const FabricationData& d, const FabricationFile
   j["total_length_m"] = f.total_length;
   j["bar_diameter_m"] = o.bar_diameter;
   j["bar_density_kg_m3"] = o.bar_density;
-  j["mass_kg"] = o.bar_density * kPi * o.bar_diameter * o.bar_diameter / 4 * f.total_length;
+  const double section_area =
+      o.section_area > 0 ? o.section_area : kPi * o.bar_diameter * o.bar_diameter / 4;
+  j["section"] = d.section;
+  j["section_area_m2"] = section_area;
+  j["mass_kg"] = o.section.empty()
+                     ? o.bar_density * kPi * o.bar_diameter * o.bar_diameter / 4 * f.total_length
+                     : o.bar_density * section_area * f.total_length;
   j["distinct_beam_lengths"] = f.distinct_lengths;
   j["length_resolution_m"] = o.parts.length_resolution;
   double lmin = f.beams.empty() ? 0 : 1e300, lmax = 0;

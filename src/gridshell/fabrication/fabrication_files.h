@@ -7,11 +7,13 @@
 ///   counter-clockwise about the joint's normal, space-separated; angles_deg: the angle from
 ///   each of them to the next in the joint's tangent plane (same order, cyclic, Σ = 360).
 /// - beams.csv   `beam,node_i,node_j,length,axial_force,utilisation,buckling_utilisation,
-///   length_class,panels` — the CONTRACT's analyze columns first (length = cut length =
+///   length_class,panels,section,governing` — the CONTRACT's analyze columns first (length = cut length =
 ///   centre-line length [m]; axial_force [N], tension positive, empty when not analysed), the
 ///   member checks (cross-section and flexural buckling utilisation, checks/member_checks.h;
 ///   empty when not analysed), then the beam's length class (distinct lengths at
-///   `length_resolution`, 0 = shortest) and the panels on either side (space-separated).
+///   `length_resolution`, 0 = shortest), the panels on either side (space-separated), the
+///   beam's section (its designation, sections/sections.h) and the clause that governs its
+///   checks (empty when not analysed).
 /// - panels.csv  `panel,sides,joints,area,planarity,edge_length_error,sheet,rotation_deg,
 ///   offset_x,offset_y,outline` — joints in face order; outline: the flattened corners as
 ///   space-separated x y pairs in the panel's own plane [m]; on the sheet a corner p lands at
@@ -38,6 +40,10 @@ struct FabricationFileOptions {
   FabricationOptions parts;
   double bar_diameter = 0.037;  ///< solid circular bars [m], for the mass
   double bar_density = 7850;    ///< [kg/m³]
+  /// The members' section: its designation for beams.csv and the bill of materials, and its area
+  /// [m²] for the mass; empty / 0 = the bar of `bar_diameter`.
+  std::string section;
+  double section_area = 0;
 };
 
 /// What an analysis says per beam (topology edge order); each empty when not analysed.
@@ -45,6 +51,7 @@ struct BeamResults {
   std::vector<double> axial_force;           ///< [N], tension positive
   std::vector<double> utilisation;           ///< cross-section utilisation
   std::vector<double> buckling_utilisation;  ///< flexural buckling utilisation
+  std::vector<std::string> governing;        ///< the clause governing the larger of the two
 };
 
 /// Everything the files show, computed once.
@@ -53,6 +60,8 @@ struct FabricationData {
   Nesting nesting;
   std::vector<double> axial_force;  ///< per beam [N], empty when not analysed
   std::vector<double> utilisation, buckling_utilisation;  ///< per beam, empty when not analysed
+  std::vector<std::string> governing;                     ///< per beam, empty when not analysed
+  std::string section;                                    ///< the members' designation
 };
 
 /// Parts and nesting of `mesh`. `beams`: each per topology edge (the frame's member order), or

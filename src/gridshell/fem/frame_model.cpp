@@ -1,5 +1,6 @@
 #include "gridshell/fem/frame_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -17,6 +18,22 @@ FrameSection circle_section(double diameter, const std::string& name) {
   s.A = pi * diameter * diameter / 4;
   s.Iy = s.Iz = pi * std::pow(diameter, 4) / 64;
   s.J = 2 * s.Iy;
+  s.profile = sections::bar(diameter);
+  return s;
+}
+
+FrameSection profile_section(const sections::Section& profile, const std::string& name) {
+  if (profile.shape == sections::Shape::bar)
+    return circle_section(profile.h, name.empty() ? sections::designation(profile) : name);
+  const sections::SectionProperties p = sections::properties(profile);
+  FrameSection s;
+  s.name = name.empty() ? sections::designation(profile) : name;
+  s.A = p.A;
+  s.Iy = p.Iy;
+  s.Iz = p.Iz;
+  s.J = p.It;
+  s.c = std::max(profile.h, profile.b) / 2;
+  s.profile = profile;
   return s;
 }
 
@@ -81,6 +98,7 @@ void validate(const FrameModel& model, const std::string& subject) {
       throw Error(subject, fmt::format("member {} has an unknown material", k));
     if (mb.elements < 1 || mb.elements > 1000)
       throw Error(subject, fmt::format("member {}: elements must be in 1..1000", k));
+    if (!mb.up.allFinite()) throw Error(subject, fmt::format("member {}: 'up' is not finite", k));
     const double L = member_length(model, k);
     if (!(L > 1e-12 * std::max(diag, 1e-300)))
       throw Error(subject, fmt::format("member {} (nodes {}–{}) has zero length", k, mb.i, mb.j));

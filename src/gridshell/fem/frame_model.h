@@ -4,15 +4,18 @@
 /// sections and materials, supports and nodal loads. SI units unless a model file says
 /// otherwise (then every quantity is in that file's consistent units).
 ///
-/// Section axes: local x runs from node i to node j; `up` gives local z (made orthogonal to x;
-/// zero = default: global z, or global x for a vertical member); local y = z × x. Iy resists
-/// deflection along local z, Iz along local y, J is the torsion constant.
+/// Section axes: local x runs from node i to node j; local z is the member's `up` when it has one,
+/// else its section's `up`, else the default (global z, or global x for a (nearly) vertical
+/// member), made orthogonal to x; local y = z × x. Iy resists deflection along local z (an RHS's
+/// height h lies along z), Iz along local y, J is the torsion constant. docs/frame.md.
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "gridshell/mesh/mesh.h"
+#include "gridshell/sections/sections.h"
 
 namespace gridshell::fem {
 
@@ -26,10 +29,17 @@ struct FrameSection {
   /// Outer-fibre distance [m] for the elastic section modulus W = I / c of the member checks
   /// (checks/member_checks.h); 0 = that of the solid circle of area A (√(A/π)).
   double c = 0;
+  /// The shape it was made from (sections/sections.h): a bar, CHS or RHS, which the member checks
+  /// use (class, plastic moduli, buckling curve); empty = given only by its constants (MODEL.json
+  /// {A, Iy, Iz, J}), checked like the solid bar.
+  std::optional<sections::Section> profile;
 };
 
-/// Solid circular section of diameter d: A = πd²/4, Iy = Iz = πd⁴/64, J = 2I.
+/// Solid circular section of diameter d: A = πd²/4, Iy = Iz = πd⁴/64, J = 2I (profile: bar d).
 FrameSection circle_section(double diameter, const std::string& name = "circle");
+/// The section of a profile: A, Iy, Iz and J = It from sections::properties, c = the outer-fibre
+/// distance; `name` empty = its designation. Throws Error("section") for an invalid profile.
+FrameSection profile_section(const sections::Section& profile, const std::string& name = "");
 
 struct FrameMaterial {
   std::string name;
@@ -47,6 +57,9 @@ struct FrameMember {
   int material = 0;    ///< index into FrameModel::materials
   MemberType type = MemberType::beam;
   int elements = 1;  ///< number of beam elements the member is subdivided into (trusses: 1)
+  /// Local z hint of this member (e.g. the surface normal at a grid-shell beam); zero = the
+  /// section's `up` rule (frame_model.h's axes).
+  Vec3 up = Vec3::Zero();
 };
 
 /// Restrained degrees of freedom of a node: ux, uy, uz, rx, ry, rz.

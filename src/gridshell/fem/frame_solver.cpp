@@ -40,7 +40,7 @@ FrameMesh discretize(const FrameModel& model, const std::string& subject) {
     const FrameSection& s = model.sections[m.section];
     const FrameMaterial& mat = model.materials[m.material];
     const Vec3 a = model.nodes.row(m.i).transpose(), b = model.nodes.row(m.j).transpose();
-    const Mat3 R0 = element_frame(a, b, s.up);
+    const Mat3 R0 = element_frame(a, b, m.up.squaredNorm() > 0 ? m.up : s.up);
     const int ne = m.type == MemberType::beam ? m.elements : 1;
     const double G = mat.E / (2 * (1 + mat.nu));
     int prev = m.i;
@@ -740,6 +740,17 @@ std::vector<MemberForces> member_forces(const FrameMesh& mesh,
         f.T = std::max(f.T, std::abs(s.T[end]));
         f.M = std::max(f.M, std::hypot(s.My[end], s.Mz[end]));
       }
+      const double l = mesh.elements[k].beam.l0;
+      if (l > 0) {
+        f.Vy = std::max(f.Vy, std::abs(s.Mz[0] + s.Mz[1]) / l);
+        f.Vz = std::max(f.Vz, std::abs(s.My[0] + s.My[1]) / l);
+      }
+    }
+    if (!mesh.member_elements[m].empty()) {
+      const ElementSectionForces& a = elements[mesh.member_elements[m].front()];
+      const ElementSectionForces& b = elements[mesh.member_elements[m].back()];
+      f.My_end = {-a.My[0], b.My[1]};
+      f.Mz_end = {-a.Mz[0], b.Mz[1]};
     }
   }
   return out;

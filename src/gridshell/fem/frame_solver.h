@@ -184,6 +184,13 @@ struct MemberForces {
   double My = 0, Mz = 0;  ///< largest |My|, |Mz| [N·m]
   double M = 0;           ///< largest resultant bending moment √(My² + Mz²) at one end [N·m]
   double T = 0;           ///< largest |T| [N·m]
+  /// Largest |shear force| along local y and z [N]: per element |Mz_i + Mz_j| / l and
+  /// |My_i + My_j| / l (no loads between an element's nodes).
+  double Vy = 0, Vz = 0;
+  /// Bending moments at the member's ends i and j [N·m], signed so that equal values bend the
+  /// member in single curvature (uniform moment): −(end-force moment) at i, +(end-force moment)
+  /// at j. Their ratio ψ gives the equivalent uniform moment factor Cm (EN 1993-1-1 Table B.3).
+  std::array<double, 2> My_end{}, Mz_end{};
 };
 std::vector<MemberForces> member_forces(const FrameMesh& mesh,
                                         const std::vector<ElementSectionForces>& elements);

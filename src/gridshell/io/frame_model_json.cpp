@@ -70,7 +70,47 @@ void read_nodes(const json& j, const std::string& subject, fem::FrameModel& m) {
     m.nodes.row(i) = vec3(j["nodes"][i], fmt::format("nodes[{}]", i), subject).transpose();
 }
 
-/// "sections": {NAME: {"shape": "circle", "diameter": d} or {"A", "Iy", "Iz", "J"}, "up"?}.
+/// A shaped section's dimension [model units].
+double dim(const json& s, const char* key, const std::string& what, const std::string& subject) {
+  if (!s.contains(key)) throw Error(subject, what + fmt::format(": needs '{}'", key));
+  return num(s[key], what + "." + key, subject);
+}
+
+sections::Process process_of(const json& s, const std::string& what, const std::string& subject) {
+  if (!s.contains("process")) return sections::Process::hot;
+  if (s["process"] == "hot") return sections::Process::hot;
+  if (s["process"] == "cold") return sections::Process::cold;
+  throw Error(subject, what + ".process must be 'hot' or 'cold'");
+}
+
+/// {"shape": "circle", "diameter"} | {"shape": "chs", "d", "t", "process"?} |
+/// {"shape": "rhs", "h", "b", "t", "process"?} (sections/sections.h).
+fem::FrameSection shaped_section(const json& s, const std::string& name, const std::string& what,
+                                 const std::string& subject) {
+  sections::Section profile;
+  if (s["shape"] == "circle") {
+    profile = sections::bar(dim(s, "diameter", what, subject));
+    if (!(profile.h > 0)) throw Error(subject, what + ": diameter must be > 0");
+    return fem::circle_section(profile.h, name);
+  }
+  if (s["shape"] == "chs") {
+    profile = sections::chs(dim(s, "d", what, subject), dim(s, "t", what, subject),
+                            process_of(s, what, subject));
+  } else if (s["shape"] == "rhs") {
+    profile = sections::rhs(dim(s, "h", what, subject), dim(s, "b", what, subject),
+                            dim(s, "t", what, subject), process_of(s, what, subject));
+  } else {
+    throw Error(subject, what + ": shape must be 'circle', 'chs' or 'rhs'");
+  }
+  try {
+    sections::validate(profile, what);
+  } catch (const Error& e) {
+    throw Error(subject, e.message());
+  }
+  return fem::profile_section(profile, name);
+}
+
+/// "sections": {NAME: {"shape": …} (shaped_section) or {"A", "Iy", "Iz", "J"}, "up"?}.
 NameIndex read_sections(const json& j, const std::string& subject, fem::FrameModel& m) {
   NameIndex sections;
   if (!j.contains("sections") || !j["sections"].is_object())
@@ -80,11 +120,7 @@ NameIndex read_sections(const json& j, const std::string& subject, fem::FrameMod
     if (!s.is_object()) throw Error(subject, what + " must be an object");
     fem::FrameSection sec;
     if (s.contains("shape")) {
-      if (s["shape"] != "circle") throw Error(subject, what + ": only shape 'circle' is known");
-      if (!s.contains("diameter")) throw Error(subject, what + ": a circle needs 'diameter'");
-      const double d = num(s["diameter"], what + ".diameter", subject);
-      if (!(d > 0)) throw Error(subject, what + ": diameter must be > 0");
-      sec = fem::circle_section(d, name);
+      sec = shaped_section(s, name, what, subject);
     } else {
       for (const char* k : {"A", "Iy", "Iz", "J"})
         if (!s.contains(k)) throw Error(subject, what + fmt::format(": missing '{}'", k));
@@ -138,7 +174,7 @@ int pick_name(const json& mj, const char* key, const NameIndex& names, const std
   return it->second;
 }
 
-/// "members": [{"nodes": [i, j], "section"?, "material"?, "type"?, "elements"?}].
+/// "members": [{"nodes": [i, j], "section"?, "material"?, "type"?, "elements"?, "up"?}].
 void read_members(const json& j, const std::string& subject, const NameIndex& sections,
                   const NameIndex& materials, int default_elements, fem::FrameModel& m) {
   if (!j.contains("members") || !j["members"].is_array() || j["members"].empty())
@@ -166,6 +202,7 @@ void read_members(const json& j, const std::string& subject, const NameIndex& se
     mb.elements = mj.contains("elements") ? index(mj["elements"], what + ".elements", subject)
                                           : default_elements;
     if (mb.type == fem::MemberType::truss) mb.elements = 1;
+    if (mj.contains("up")) mb.up = vec3(mj["up"], what + ".up", subject);
     m.members.push_back(mb);
   }
 }
@@ -415,6 +452,26 @@ std::vector<int> read_obj_supports_comment(const std::filesystem::path& path) {
     }
   }
   return ids;
+}
+
+nlohmann::json section_to_json(const fem::FrameSection& s) {
+  json j;
+  const auto& p = s.profile;
+  if (p && p->shape == sections::Shape::bar) {
+    j = {{"shape", "circle"}, {"diameter", p->h}};
+  } else if (p && p->shape == sections::Shape::chs) {
+    j = {{"shape", "chs"}, {"d", p->h}, {"t", p->t}, {"process", sections::to_string(p->process)}};
+  } else if (p && p->shape == sections::Shape::rhs) {
+    j = {{"shape", "rhs"},
+         {"h", p->h},
+         {"b", p->b},
+         {"t", p->t},
+         {"process", sections::to_string(p->process)}};
+  } else {
+    j = {{"A", s.A}, {"Iy", s.Iy}, {"Iz", s.Iz}, {"J", s.J}};
+  }
+  if (s.up.squaredNorm() > 0) j["up"] = {s.up.x(), s.up.y(), s.up.z()};
+  return j;
 }
 
 }  // namespace gridshell::io

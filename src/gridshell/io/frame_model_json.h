@@ -10,13 +10,18 @@
 /// Instead of "loads" a model may give named "load_cases" ({NAME: {"type": "permanent" |
 /// "variable", "loads": [...]}}) and "combinations" ({NAME: {CASE: factor}}; absent: EN 1990
 /// ULS = 1.35 Σ permanent + 1.5 Σ variable and SLS = Σ all, as `design --loads eurocode`).
-/// Materials may give "fy" [Pa] for the member checks.
+/// Materials may give "fy" [Pa] for the member checks. Sections are {"shape": "circle",
+/// "diameter"}, {"shape": "chs", "d", "t", "process": "hot"|"cold"}, {"shape": "rhs", "h", "b",
+/// "t", "process"} (hollow sections get the full EN 1993-1-1 checks, checks/hollow_checks.h) or
+/// {"A", "Iy", "Iz", "J"}; members may give "up": [x, y, z], their local z (frame_model.h).
 
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "gridshell/fem/frame_model.h"
 
@@ -61,6 +66,11 @@ struct FrameModelFile {
 FrameModelFile parse_frame_model(const std::string& text, const std::string& subject,
                                  int default_elements = 1);
 FrameModelFile read_frame_model(const std::filesystem::path& path, int default_elements = 1);
+
+/// A section in MODEL.json's form, as read_frame_model reads it back: {"shape": "circle",
+/// "diameter"}, {"shape": "chs", "d", "t", "process"}, {"shape": "rhs", "h", "b", "t",
+/// "process"} for sections made from a profile, else {"A", "Iy", "Iz", "J"}; "up" when set.
+nlohmann::json section_to_json(const fem::FrameSection& section);
 
 /// The vertex ids of a `# supports i j k ...` comment line in an OBJ file (empty if none).
 /// Throws Error for malformed ids.

@@ -580,6 +580,7 @@ void check_design_options(const DesignOptions& o) {
     if (!(o.frame.snow_kN_m2 >= 0) || !std::isfinite(o.frame.snow_kN_m2))
       throw Error("--snow", "must be a load >= 0 (kN/m²)");
   }
+  if (o.analyze != analysis::AnalysisLevel::none) analysis::member_section(o.frame);  // --section
   if (o.field == FieldInput::file && o.field_file.empty())
     throw Error("--field", "no field file given");
   if (!(o.analysis_edges_per_radius > 0) || !std::isfinite(o.analysis_edges_per_radius))

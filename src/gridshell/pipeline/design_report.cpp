@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "gridshell/fabrication/fabrication_files.h"
+#include "gridshell/sections/sections.h"
 
 namespace gridshell {
 
@@ -50,6 +51,9 @@ void add_checks_block(nlohmann::json& st, const analysis::FrameResult& r) {
   st["buckling_utilisation_max"] = c.buckling_max;
   st["buckling_utilisation_beam"] =
       c.buckling_worst >= 0 ? nlohmann::json(c.buckling_worst) : nlohmann::json();
+  // The EN 1993-1-1 clause that governs each (checks/member_checks.h, hollow_checks.h).
+  st["utilisation_check"] = c.section_governing;
+  st["buckling_check"] = c.buckling_governing;
   // Stability: read together (λ_LBA alone overstates a grid-shell's capacity).
   st["lambda_lba"] = optional_number(r.lambda_linear_buckling);
   st["lambda_perfect"] = optional_number(r.lambda_perfect);
@@ -144,7 +148,10 @@ nlohmann::json design_report(const DesignResult& r, const DesignOptions& options
   report["design"]["restretch"] = options.regularize_options.restretch;
   report["design"]["size_evening"] = options.regularize_options.size_evening;
   report["design"]["analysis"] = to_string(options.analyze);
-  if (r.structure) report["structure"] = structure_block(*r.structure);
+  if (r.structure) {
+    report["structure"] = structure_block(*r.structure);
+    report["structure"]["section"] = section_block(options.frame);
+  }
   return report;
 }
 
@@ -165,15 +172,37 @@ nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMe
   o.sheet = sheet;
   o.bar_diameter = frame.diameter;
   o.bar_density = frame.density;
+  const fem::FrameSection section = analysis::member_section(frame);
+  o.section = section.name == "bar" ? std::string() : section.name;
+  o.section_area = section.A;
   fabrication::BeamResults beams;
   if (structure) {
     beams.axial_force = structure->axial_force;
     for (const checks::MemberCheck& c : structure->checks.members) {
       beams.utilisation.push_back(c.section);
       beams.buckling_utilisation.push_back(c.buckling);
+      beams.governing.emplace_back(c.buckling > c.section ? c.buckling_governing
+                                                          : c.section_governing);
     }
   }
   return fabrication::write_fabrication_files(dir, mesh, supports, beams, o);
+}
+
+nlohmann::json section_block(const analysis::GridshellFrameOptions& frame) {
+  const fem::FrameSection s = analysis::member_section(frame);
+  const sections::Section& p = *s.profile;
+  const sections::SectionProperties q = sections::properties(p);
+  nlohmann::json j;
+  j["designation"] = sections::designation(p);
+  j["shape"] = sections::to_string(p.shape);
+  if (p.shape != sections::Shape::bar) j["process"] = sections::to_string(p.process);
+  j["standard"] = sections::is_standard(p);
+  j["A_m2"] = q.A;
+  j["mass_kg_per_m"] = q.mass;
+  j["Iy_m4"] = q.Iy;
+  j["Iz_m4"] = q.Iz;
+  j["It_m4"] = q.It;
+  return j;
 }
 
 }  // namespace gridshell

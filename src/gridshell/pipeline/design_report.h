@@ -41,4 +41,9 @@ nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMe
                                   const analysis::GridshellFrameOptions& frame,
                                   const fabrication::SheetOptions& sheet);
 
+/// report.json's `structure.section`: the members' section (`frame.section`, else the bar of
+/// `frame.diameter`) — designation, shape, process, whether a catalogue size, A, mass per metre,
+/// Iy, Iz, It (sections/sections.h).
+nlohmann::json section_block(const analysis::GridshellFrameOptions& frame);
+
 }  // namespace gridshell

@@ -15,6 +15,12 @@ namespace {
 std::string fmt_num(double x) {
   return io::format_number(x);
 }
+/// A name as one CSV cell: separators and quotes (possible in a MODEL.json's names) as spaces.
+std::string csv_name(std::string name) {
+  for (char& c : name)
+    if (c == ',' || c == '"' || c == '\n' || c == '\r') c = ' ';
+  return name;
+}
 }  // namespace
 
 void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel& model,
@@ -33,12 +39,17 @@ void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel
     io::write_file_atomic(dir / "nodes.csv", s);
   }
   if (beams == BeamsCsv::Write) {
-    std::string s = "beam,node_i,node_j,length,axial_force,utilisation,buckling_utilisation\n";
-    for (size_t m = 0; m < model.members.size(); ++m)
-      s += fmt::format("{},{},{},{},{},{},{}\n", m, model.members[m].i, model.members[m].j,
+    std::string s =
+        "beam,node_i,node_j,length,axial_force,utilisation,buckling_utilisation,section,"
+        "governing\n";
+    for (size_t m = 0; m < model.members.size(); ++m) {
+      const checks::MemberCheck& c = r.checks.members[m];
+      s += fmt::format("{},{},{},{},{},{},{},{},{}\n", m, model.members[m].i, model.members[m].j,
                        fmt_num(fem::member_length(model, static_cast<int>(m))),
-                       fmt_num(r.axial_force[m]), fmt_num(r.checks.members[m].section),
-                       fmt_num(r.checks.members[m].buckling));
+                       fmt_num(r.axial_force[m]), fmt_num(c.section), fmt_num(c.buckling),
+                       csv_name(model.sections[model.members[m].section].name),
+                       c.buckling > c.section ? c.buckling_governing : c.section_governing);
+    }
     io::write_file_atomic(dir / "beams.csv", s);
   }
   {
