@@ -125,6 +125,8 @@ TEST(Sections, ParsesTheSeriesDesignations) {
   EXPECT_EQ(designation(parse_section("SHS 100x5")), "SHS 100x100x5.0");
   EXPECT_EQ(parse_section("bar 37"), bar(0.037));
   EXPECT_EQ(designation(bar(0.037)), "bar 37");
+  EXPECT_TRUE(is_standard(bar(0.037)));
+  EXPECT_FALSE(is_standard(bar(0.0375)));
   // A geometrically valid size outside the catalogue is accepted and flagged.
   const Section odd = parse_section("CHS 90x4.2");
   EXPECT_FALSE(is_standard(odd));
@@ -163,9 +165,7 @@ TEST(Sections, CataloguesAreSortedByMassAndValid) {
         const double m = properties(s).mass;
         EXPECT_GE(m, last);
         last = m;
-        if (shape != Shape::bar) {
-          EXPECT_TRUE(is_standard(s));
-        }
+        EXPECT_TRUE(is_standard(s));
       }
     }
   EXPECT_EQ(designation(series(Shape::chs).front()), "CHS 21.3x2.3");

@@ -2,7 +2,8 @@
 /// \file frame_output.h
 /// The files of a frame analysis (`gridshell analyze`), per the CONTRACT: nodes.csv
 /// (`node,x,y,z,ux,uy,uz,support`), beams.csv (`beam,node_i,node_j,length,axial_force,utilisation,
-/// buckling_utilisation`: the member checks after the CONTRACT's columns),
+/// buckling_utilisation,section,governing`: the member checks after the CONTRACT's columns, the
+/// member's section name and the EN 1993-1-1 clause governing the larger utilisation),
 /// path.csv (`lambda,displacement` of the non-linear path), modes.csv (write_buckling_modes),
 /// nodes_nonlinear.csv (with `rx,ry,rz`, when a non-linear equilibrium was asked for) and frame.vtp
 /// (ParaView lines with displacement, support flags and axial forces). All written atomically.

@@ -340,7 +340,10 @@ std::vector<Section> parse_series(const std::string& word, const std::string& su
 }
 
 bool is_standard(const Section& s) {
-  if (s.shape == Shape::bar) return false;
+  if (s.shape == Shape::bar) {  // the bar series: whole millimetres, Ø10 … Ø80
+    const double mm = s.h * 1000;
+    return std::abs(mm - std::round(mm)) < 1e-6 && mm >= 10 - 1e-6 && mm <= 80 + 1e-6;
+  }
   for (const Row& r : s.shape == Shape::chs ? chs_rows() : rhs_rows()) {
     if (!same(r.h / 1000, s.h) || !same(r.b / 1000, s.b)) continue;
     for (double t : r.t)

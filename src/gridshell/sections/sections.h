@@ -97,9 +97,11 @@ std::vector<Section> series(Shape shape, Process process = Process::hot);
 std::vector<Section> parse_series(const std::string& word,
                                   const std::string& subject = "--sections");
 
-/// True when the section is one of its series' catalogue sizes (dimensions within 0.01 mm).
+/// True when the section is one of its series' catalogue sizes (dimensions within 0.01 mm; a bar:
+/// a whole number of millimetres, 10 … 80).
 bool is_standard(const Section& section);
-/// The catalogue section of a designation, or nullopt when it is not a catalogue size.
+/// The catalogue section of a designation, or nullopt when it is not a catalogue size; throws
+/// Error("--section") when it does not parse.
 std::optional<Section> find_standard(const std::string& designation);
 
 }  // namespace gridshell::sections
