@@ -47,7 +47,7 @@ struct AnalyzeArgs {
   double displacement_limit = 0;
   std::string sheet = "2.5x1.25";
   LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit
-  std::string section;      ///< --section (mesh input)
+  MemberOptions members;    ///< --section (mesh input), --buckling-length-factor
   bool single_path = false;
 };
 
@@ -79,8 +79,8 @@ void check_analyze_args(const AnalyzeArgs& a) {
   analysis::GridshellFrameOptions frame;
   analysis::FrameAnalysisOptions options;
   apply_load_check_options(a.checks, frame, options);
-  apply_section_option(a.section, frame);
-  if (!a.section.empty() && lower_ext(a.input) == ".json")
+  apply_member_options(a.members, frame, options);
+  if (!a.members.section.empty() && lower_ext(a.input) == ".json")
     throw Error("--section", "a MODEL.json gives its own sections");
   if (frame.loads == analysis::LoadModel::eurocode && lower_ext(a.input) == ".json")
     throw Error("--loads", "eurocode load cases need a grid-shell mesh (MODEL.json has its loads)");
@@ -108,7 +108,7 @@ analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a) {
   go.area_load_kN_m2 = a.area_load;
   analysis::FrameAnalysisOptions unused;
   apply_load_check_options(a.checks, go, unused);
-  apply_section_option(a.section, go);
+  apply_member_options(a.members, go, unused);
   return go;
 }
 
@@ -183,6 +183,7 @@ analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a, analysis::
   o.displacement_limit = a.displacement_limit;
   analysis::GridshellFrameOptions unused;
   apply_load_check_options(a.checks, unused, o);
+  apply_member_options(a.members, unused, o);
   o.stability = !a.single_path;
   if (o.imperfection && !o.buckling) o.buckling = true;
   return o;
@@ -339,7 +340,7 @@ void register_analyze(CLI::App& app, Action& action) {
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
   add_load_check_options(sub, a->checks);
-  add_section_option(sub, a->section);
+  add_member_options(sub, a->members);
   sub->add_flag("--single-path", a->single_path,
                 "non-linear analysis: follow only the path asked for (perfect, or imperfect with "
                 "--imperfection), not also the other");

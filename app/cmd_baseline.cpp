@@ -43,7 +43,7 @@ struct BaselineArgs {
   SurfaceOptions surface_options;
   RunOptions run;
   LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit (as design)
-  std::string section;      ///< --section (as design)
+  MemberOptions members;    ///< --section, --buckling-length-factor (as design)
 };
 
 int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
@@ -60,7 +60,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   analysis::GridshellFrameOptions frame;
   analysis::FrameAnalysisOptions options;
   apply_load_check_options(a.checks, frame, options);
-  apply_section_option(a.section, frame);
+  apply_member_options(a.members, frame, options);
   DesignOptions field_options;  // quad-aniso: the design's field
   field_options.field = parse_field_input(a.field, &field_options.field_file);
   field_options.D = a.D, field_options.A = a.A;
@@ -267,7 +267,7 @@ void register_baseline(CLI::App& app, Action& action) {
       "panels.csv, panels.svg, figures/*.png (docs/figures.md), report.json, config.json\n"
       "and report.html (open it first: the 3D view, key figures and figures, offline).");
   add_load_check_options(sub, a->checks);
-  add_section_option(sub, a->section);
+  add_member_options(sub, a->members);
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   add_figure_option(sub, a->run);

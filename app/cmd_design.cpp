@@ -36,7 +36,7 @@ struct DesignArgs {
   std::string field = "stress", analyze = "nonlinear", symmetry = "none";
   std::string sheet = "2.5x1.25";  ///< fabrication: panels nested on sheets of W x H m
   LoadCheckOptions checks;         ///< --steel, --loads, --glass, --snow, --deflection-limit
-  std::string section;             ///< --section
+  MemberOptions members;           ///< --section, --buckling-length-factor
   bool single_path = false;        ///< non-linear: skip the second (imperfect) path
   /// --analysis-resolution: cells | input
   std::string resolution = "cells";
@@ -70,7 +70,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   if (!response) options.field = parse_field_input(a.field, &options.field_file);
   options.analyze = analysis::parse_analysis_level(a.analyze);
   apply_load_check_options(a.checks, options.frame, options.frame_analysis);
-  apply_section_option(a.section, options.frame);
+  apply_member_options(a.members, options.frame, options.frame_analysis);
   options.frame_analysis.stability = !a.single_path;
   options.symmetry = parse_symmetry(a.symmetry);
   options.analysis_resolution = parse_analysis_resolution(a.resolution);
@@ -231,7 +231,7 @@ void register_design(CLI::App& app, Action& action) {
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
   add_load_check_options(sub, a->checks);
-  add_section_option(sub, a->section);
+  add_member_options(sub, a->members);
   sub->add_flag("--single-path", a->single_path,
                 "non-linear analysis: follow only the perfect path (no lambda_imperfect; half "
                 "the cost)");

@@ -30,7 +30,7 @@ struct SweepArgs {
   std::string D = "1:4", A = "1:4", shard, analyze = "nonlinear", field = "stress";
   std::string measure = "magnitude", stretch = "along", density = "rising";
   std::string resolution = "cells";
-  std::string section;  ///< --section (as design)
+  MemberOptions members;  ///< --section, --buckling-length-factor (as design)
   int repeats = 3;
   double length = 0;
   int cells = 0;
@@ -50,7 +50,8 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   const analysis::AnalysisLevel level = analysis::parse_analysis_level(a.analyze);
   const AnalysisResolution resolution = parse_analysis_resolution(a.resolution);
   analysis::GridshellFrameOptions frame;
-  apply_section_option(a.section, frame);
+  analysis::FrameAnalysisOptions member_checks;
+  apply_member_options(a.members, frame, member_checks);
   FieldOptions conventions;
   conventions.measure = parse_stress_measure(a.measure);
   conventions.stretch = parse_stretch_axis(a.stretch);
@@ -91,6 +92,7 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
     o.D = c.D, o.A = c.A;
     o.analyze = level;
     o.frame.section = frame.section;
+    o.frame_analysis.checks.buckling_length_factor = member_checks.checks.buckling_length_factor;
     // The table reads δ and λ only: with `nonlinear` that is the perfect path to its first
     // critical point (no imperfect path, no steps past it: arc_length stops there), so the
     // stability block's second path is not asked for.
@@ -203,7 +205,7 @@ void register_sweep(CLI::App& app, Action& action) {
   sub->add_option("--stretch", a->stretch, "along | across (as in design)")->default_str("along");
   sub->add_option("--density", a->density, "rising | falling (as in design)")
       ->default_str("rising");
-  add_section_option(sub, a->section);
+  add_member_options(sub, a->members);
   sub->add_option("--analyze", a->analyze, "linear | buckling | nonlinear")
       ->default_str("nonlinear");
   sub->add_option("--analysis-resolution", a->resolution, "cells | input (as in design)")

@@ -80,17 +80,24 @@ void apply_load_check_options(const LoadCheckOptions& o, analysis::GridshellFram
   analysis.deflection_limit_divisor = o.deflection_limit;
 }
 
-void add_section_option(CLI::App* sub, std::string& section) {
-  sub->add_option("--section", section,
+void add_member_options(CLI::App* sub, MemberOptions& o) {
+  sub->add_option("--section", o.section,
                   "member section: 'CHS 88.9x4.0', 'RHS 120x60x4', 'SHS 100x5', 'bar 37' (mm; "
                   "add 'cold' for cold-formed EN 10219, default hot-finished EN 10210); default "
                   "the solid bar of --diameter");
+  sub->add_option("--buckling-length-factor", o.buckling_length_factor,
+                  "member checks: buckling length = this × member length (joint to joint)")
+      ->default_str("1");
 }
 
-void apply_section_option(const std::string& section, analysis::GridshellFrameOptions& frame) {
-  if (section.empty()) return;
-  sections::parse_section(section, "--section");
-  frame.section = section;
+void apply_member_options(const MemberOptions& o, analysis::GridshellFrameOptions& frame,
+                          analysis::FrameAnalysisOptions& analysis) {
+  if (!(o.buckling_length_factor > 0) || !(o.buckling_length_factor <= 10))
+    throw Error("--buckling-length-factor", "must be a factor in (0, 10]");
+  analysis.checks.buckling_length_factor = o.buckling_length_factor;
+  if (o.section.empty()) return;
+  sections::parse_section(o.section, "--section");
+  frame.section = o.section;
 }
 
 RunGuard apply_run_options(const RunOptions& o) {

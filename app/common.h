@@ -44,11 +44,18 @@ struct LoadCheckOptions {
   double deflection_limit = 300;  ///< δ passes when at most span / this
 };
 void add_load_check_options(CLI::App* sub, LoadCheckOptions& options);
-/// --section "CHS 88.9x4.0" | "RHS 120x60x4" | "SHS 100x5" | "bar 37" [cold] (sections/sections.h;
-/// docs/checks.md): the grid-shell's members; empty = the solid bar of --diameter.
-void add_section_option(CLI::App* sub, std::string& section);
-/// Checks the designation (Error("--section"), exit 2, before any work) and sets frame.section.
-void apply_section_option(const std::string& section, analysis::GridshellFrameOptions& frame);
+/// The members (docs/checks.md): --section "CHS 88.9x4.0" | "RHS 120x60x4" | "SHS 100x5" |
+/// "bar 37" [cold] (sections/sections.h; empty = the solid bar of --diameter) and
+/// --buckling-length-factor F (L_cr = F × member length, default 1).
+struct MemberOptions {
+  std::string section;
+  double buckling_length_factor = 1;
+};
+void add_member_options(CLI::App* sub, MemberOptions& options);
+/// Checks them (Error naming the option, exit 2, before any work) and sets frame.section and
+/// analysis.checks.buckling_length_factor.
+void apply_member_options(const MemberOptions& options, analysis::GridshellFrameOptions& frame,
+                          analysis::FrameAnalysisOptions& analysis);
 /// Parses and checks them (Error naming the option) and sets `frame`'s load model, glass and
 /// snow, and `analysis`'s fy and deflection limit.
 void apply_load_check_options(const LoadCheckOptions& options,

@@ -238,6 +238,73 @@ TEST(HollowChecks, Class3ChsUsesElasticResistanceAndClass3Factors) {
   EXPECT_NEAR(c.members[0].buckling, u61, 0.005 * u61);
 }
 
+/// A column along +x, pinned at both ends (node 0: translations and twist, node 1: transverse
+/// translations), compressed by N at node 1, with nodal moments Mi at node 0 and Mj at node 1
+/// (global = local axes: y, z); 4 elements.
+FrameModel column(const sections::Section& s, double L, double N, const Vec3& Mi, const Vec3& Mj) {
+  FrameModel m;
+  m.nodes.resize(2, 3);
+  m.nodes << 0.0, 0.0, 0.0, L, 0.0, 0.0;
+  m.sections = {profile_section(s)};
+  m.materials = {{"steel", kE, 0.3, 7850}};
+  FrameMember mb;
+  mb.i = 0, mb.j = 1, mb.elements = 4;
+  m.members = {mb};
+  m.supports = {{0, {true, true, true, true, false, false}}, {1, {false, true, true, false, false, false}}};
+  m.loads = {{0, Vec3::Zero(), Mi}, {1, Vec3(-N, 0, 0), Mj}};
+  return m;
+}
+
+// RHS 150x100x6.3 hot (class 1), pinned column 3 m (L_cr = L): equal-sense end moments about y
+// bend it in double curvature, ψ = −0.5 → C_my = 0.4; opposite moments about z bend it
+// uniformly, ψ = 1 → C_mz = 1 (Table B.3). Curve a.
+TEST(HollowChecks, HotRhsColumnTakesCmFromItsEndMoments) {
+  const double hh = 0.150, b = 0.100, t = 0.0063, L = 3.0, N = 300e3;
+  const double My = 15e3, Mz = 3e3;
+  const checks::MemberChecks c = checked(
+      column(sections::rhs(hh, b, t), L, N, Vec3(0, My, Mz), Vec3(0, 0.5 * My, -Mz)));
+  const Hand h = hand_rhs(hh, b, t, 1.5 * t, t);
+  const double Npl = h.A * kFy, Mply = h.Wply * kFy, Mplz = h.Wplz * kFy;
+  const double lam_y = std::sqrt(h.A * kFy / (kPi * kPi * kE * h.Iy / (L * L)));
+  const double lam_z = std::sqrt(h.A * kFy / (kPi * kPi * kE * h.Iz / (L * L)));
+  const double ny = N / (chi(lam_y, 0.21) * Npl), nz = N / (chi(lam_z, 0.21) * Npl);
+  const double kyy = 0.4 * std::min(1 + (lam_y - 0.2) * ny, 1 + 0.8 * ny);
+  const double kzz = 1.0 * std::min(1 + (lam_z - 0.2) * nz, 1 + 0.8 * nz);
+  const double u61 = ny + kyy * My / Mply + 0.6 * kzz * Mz / Mplz;
+  const double u62 = nz + 0.6 * kyy * My / Mply + kzz * Mz / Mplz;
+  EXPECT_EQ(c.members[0].section_class, 1);
+  EXPECT_NEAR(c.members[0].buckling, std::max(u61, u62), 0.005 * std::max(u61, u62));
+  // The cross-section at the end with both largest moments (node 0).
+  const double aw = std::min(0.5, (h.A - 2 * b * t) / h.A), af = std::min(0.5, (h.A - 2 * hh * t) / h.A);
+  const double u_cs = one_over_lambda(
+      [&](double l) {
+        const double n = l * N / Npl;
+        if (n >= 1) return 2.0;
+        const double a = std::min(6.0, 1.66 / (1 - 1.13 * n * n));
+        return std::pow(l * My / std::min(Mply, Mply * (1 - n) / (1 - 0.5 * aw)), a) +
+               std::pow(l * Mz / std::min(Mplz, Mplz * (1 - n) / (1 - 0.5 * af)), a);
+      },
+      std::min({Npl / N, Mply / My, Mplz / Mz}));
+  EXPECT_NEAR(c.members[0].section, u_cs, 0.005 * u_cs);
+}
+
+// CHS 114.3x5.0 cold (class 1), pinned column 4 m under N and a uniform moment about y
+// (ψ = 1, C_m = 1): (6.61) with curve c.
+TEST(HollowChecks, ColdChsColumnUnderUniformMoment) {
+  const double d = 0.1143, t = 0.005, L = 4.0, N = 150e3, M = 5e3;
+  const checks::MemberChecks c = checked(column(sections::chs(d, t, sections::Process::cold), L, N,
+                                                Vec3(0, M, 0), Vec3(0, -M, 0)));
+  const Hand h = hand_chs(d, t);
+  const double Npl = h.A * kFy, Mpl = h.Wply * kFy;
+  const double lam = std::sqrt(h.A * kFy / (kPi * kPi * kE * h.Iy / (L * L)));
+  const double x = chi(lam, 0.49), n = N / (x * Npl);
+  const double k = std::min(1 + (lam - 0.2) * n, 1 + 0.8 * n);
+  const double u61 = n + k * M / Mpl;
+  EXPECT_NEAR(c.members[0].buckling, u61, 0.005 * u61);
+  EXPECT_STREQ(c.members[0].buckling_governing, "6.3.3 (6.61)");
+  EXPECT_NEAR(c.members[0].chi, x, 1e-3 * x);
+}
+
 TEST(HollowChecks, Class4FailsWithAReason) {
   // CHS 508x6.3 in S355: d/t = 80.6 > 90ε² = 59.6.
   const checks::MemberChecks c =
