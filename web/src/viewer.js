@@ -180,6 +180,18 @@ function keyFigures() {
     html += row('λ non-linear', `${fmt(st.lambda_nonlinear)} (${escapeHtml(st.limit_type || '')})`);
   }
   if (st.utilisation_max != null) html += row('utilisation max', fmt(st.utilisation_max));
+  const gov = st.governing || {};
+  if (gov.lambda != null && st.combinations && Object.keys(st.combinations).length > 1) {
+    const g = (name, value, unit) => `${escapeHtml(name)} (${value})${unit}`;
+    html += row('governing λ', g(gov.lambda, fmt(gov.lambda_value), ''));
+    if (gov.utilisation != null) {
+      html += row('governing utilisation', g(gov.utilisation, fmt(gov.utilisation_value), ''));
+    }
+    if (gov.delta != null) html += row('governing δ', g(gov.delta, fmt(gov.delta_m * 1000), ' mm'));
+  }
+  if (st.imperfection && st.imperfection.note) {
+    html += row('λ imperfect > λ perfect', escapeHtml(st.imperfection.note));
+  }
   if (mesh.planarity_mean != null) html += row('planarity mean', fmt(mesh.planarity_mean));
   html += '</table>';
   document.getElementById('figures-table').innerHTML = html;

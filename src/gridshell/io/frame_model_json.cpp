@@ -5,6 +5,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -388,6 +389,86 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
   if (j.contains("analysis")) read_analysis(j["analysis"], subject, out.analysis);
   fem::validate(m, subject);
   return out;
+}
+
+nlohmann::json section_to_json(const fem::FrameSection& s) {
+  json j;
+  const double d = std::sqrt(4 * s.A / std::numbers::pi);
+  const fem::FrameSection circle = fem::circle_section(d);
+  const auto close = [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(b); };
+  if (s.A > 0 && close(s.Iy, circle.Iy) && close(s.Iz, circle.Iz) && close(s.J, circle.J) &&
+      (s.c == 0 || close(s.c, d / 2))) {
+    j["shape"] = "circle";
+    j["diameter"] = d;
+    return j;
+  }
+  j["A"] = s.A;
+  j["Iy"] = s.Iy;
+  j["Iz"] = s.Iz;
+  j["J"] = s.J;
+  if (s.up.squaredNorm() > 0) j["up"] = {s.up.x(), s.up.y(), s.up.z()};
+  if (s.c > 0) j["c"] = s.c;
+  return j;
+}
+
+namespace {
+json nodal_loads_json(const std::vector<fem::NodalLoad>& loads) {
+  json list = json::array();
+  for (const fem::NodalLoad& l : loads) {
+    json lj{{"node", l.node}, {"force", {l.force.x(), l.force.y(), l.force.z()}}};
+    if (l.moment.squaredNorm() > 0) lj["moment"] = {l.moment.x(), l.moment.y(), l.moment.z()};
+    list.push_back(lj);
+  }
+  return list;
+}
+}  // namespace
+
+nlohmann::json frame_model_to_json(
+    const fem::FrameModel& m, const std::vector<NodalLoadCase>& cases,
+    const std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>>&
+        combinations) {
+  static const char* kDofs[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+  json j;
+  j["nodes"] = json::array();
+  for (int v = 0; v < m.num_nodes(); ++v) j["nodes"].push_back({m.nodes(v, 0), m.nodes(v, 1), m.nodes(v, 2)});
+  j["members"] = json::array();
+  for (const fem::FrameMember& mb : m.members) {
+    json mj{{"nodes", {mb.i, mb.j}},
+            {"section", m.sections[mb.section].name},
+            {"material", m.materials[mb.material].name}};
+    if (mb.type == fem::MemberType::truss) {
+      mj["type"] = "truss";
+    } else {
+      mj["elements"] = mb.elements;
+    }
+    j["members"].push_back(mj);
+  }
+  j["sections"] = json::object();
+  for (const fem::FrameSection& s : m.sections) j["sections"][s.name] = section_to_json(s);
+  j["materials"] = json::object();
+  for (const fem::FrameMaterial& mat : m.materials) {
+    json mj{{"E", mat.E}, {"nu", mat.nu}, {"density", mat.density}};
+    if (mat.fy > 0) mj["fy"] = mat.fy;
+    j["materials"][mat.name] = mj;
+  }
+  j["supports"] = json::array();
+  for (const fem::FrameSupport& s : m.supports) {
+    json fix = json::array();
+    for (int c = 0; c < 6; ++c)
+      if (s.fix[c]) fix.push_back(kDofs[c]);
+    j["supports"].push_back({{"node", s.node}, {"fix", fix}});
+  }
+  if (!m.faces.empty()) j["faces"] = m.faces;
+  if (cases.empty()) {
+    j["loads"] = nodal_loads_json(m.loads);
+    return j;
+  }
+  for (const NodalLoadCase& c : cases)
+    j["load_cases"][c.name] = {{"type", c.permanent ? "permanent" : "variable"},
+                               {"loads", nodal_loads_json(c.loads)}};
+  for (const auto& [name, factors] : combinations)
+    for (const auto& [case_name, f] : factors) j["combinations"][name][case_name] = f;
+  return j;
 }
 
 FrameModelFile read_frame_model(const std::filesystem::path& path, int default_elements) {
