@@ -250,7 +250,7 @@ void write_analyze_frame_json(const AnalyzeArgs& a, const LoadedFrame& f,
     combos.push_back({c.name, {{c.name, 1.0}}});
   }
   nlohmann::json j = io::frame_model_to_json(f.model, cases, combos);
-  io::write_file_atomic(std::filesystem::path(a.run.out_dir) / "frame.json", j.dump(1) + "\n");
+  io::write_file_atomic(std::filesystem::path(a.run.out_dir) / "frame.json", j.dump() + "\n");
 }
 
 int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {

@@ -132,7 +132,7 @@ TEST(EurocodeCombinations, LoadCaseFilesEnterTheCombinations) {
   // frame.json carries the file cases as load cases.
   const auto frame = read_json(a / "frame.json");
   EXPECT_TRUE(frame.at("load_cases").contains("P"));
-  EXPECT_DOUBLE_EQ(frame.at("combinations").at("ULS").at("P").get<double>(), 0.9);
+  EXPECT_DOUBLE_EQ(frame.at("combinations").at("ULS").at("P").get<double>(), 1.5 * 0.6);
 
   // Bad files and specs: one line, exit 2.
   const fs::path bad = d / "bad.csv";

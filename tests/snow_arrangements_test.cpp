@@ -108,7 +108,9 @@ TEST(SnowArrangements, CombinationsFollowEn1990WithPsiFactors) {
       "W=" + write_file("wind_up.csv", "panel,pressure_kN_m2\n0,-2\n1,-2\n"));
   wind.given = FileLoadCase::Given::panel;
   o.load_cases = {wind};
-  const std::vector<LoadCase> cases = eurocode_cases(m, std::vector<double>(40, 10.0), o);
+  // The bars' weight per metre as gridshell_frame takes it (40 bars in the 4 × 4 grid).
+  const double w = o.density * o.g * fem::circle_section(o.diameter).A;
+  const std::vector<LoadCase> cases = eurocode_cases(m, std::vector<double>(40, w), o);
   ASSERT_EQ(cases.size(), 8u);  // G1 G2 S S_x- S_x+ S_y- S_y+ W
   const std::vector<LoadCombination> combos = eurocode_combinations(cases);
   std::map<std::string, LoadCombination> by;
@@ -117,9 +119,9 @@ TEST(SnowArrangements, CombinationsFollowEn1990WithPsiFactors) {
   // 5 snow + 1 wind (+ the suction one with γG,inf) ULS, 5 + 1 SLS.
   EXPECT_EQ(combos.size(), 13u);
   using F = std::map<std::string, double>;
-  EXPECT_EQ(factors(by.at("ULS")), (F{{"G1", 1.35}, {"G2", 1.35}, {"S", 1.5}, {"W", 0.9}}));
+  EXPECT_EQ(factors(by.at("ULS")), (F{{"G1", 1.35}, {"G2", 1.35}, {"S", 1.5}, {"W", 1.5 * 0.6}}));
   EXPECT_EQ(factors(by.at("ULS_S_x+")),
-            (F{{"G1", 1.35}, {"G2", 1.35}, {"S_x+", 1.5}, {"W", 0.9}}));
+            (F{{"G1", 1.35}, {"G2", 1.35}, {"S_x+", 1.5}, {"W", 1.5 * 0.6}}));
   EXPECT_EQ(factors(by.at("ULS_W")), (F{{"G1", 1.35}, {"G2", 1.35}, {"W", 1.5}, {"S", 0.75}}));
   EXPECT_EQ(factors(by.at("ULS_W_Ginf")), (F{{"G1", 1.0}, {"G2", 1.0}, {"W", 1.5}, {"S", 0.75}}));
   EXPECT_EQ(factors(by.at("SLS_W")), (F{{"G1", 1.0}, {"G2", 1.0}, {"W", 1.0}, {"S", 0.5}}));
@@ -135,7 +137,9 @@ TEST(SnowArrangements, CombinationsFollowEn1990WithPsiFactors) {
   EXPECT_NEAR(fem::total_load(model).z(), expect, 1e-9 * std::abs(expect));
   // Suction on panels 0 and 1 (1 m² each): 2 kN/m² up.
   for (const LoadCase& c : cases) {
-    if (c.name == "W") EXPECT_NEAR(total_z(c.F), 2 * 2e3, 1e-9);
+    if (c.name == "W") {
+      EXPECT_NEAR(total_z(c.F), 2 * 2e3, 1e-9);
+    }
   }
 }
 
@@ -226,11 +230,13 @@ TEST(FileLoadCases, BadFilesAreOneLineErrors) {
 }
 
 TEST(Imperfection, TheUnfavourableSignOfASymmetricModeGoverns) {
-  // A shallow circular arch (span 10 m, rise 0.4 m) of 20 pinned-end segments in the xz plane,
-  // held out of plane, under equal vertical loads at its joints: its first buckling mode is the
-  // symmetric snap-through, and the imperfection that flattens the arch lowers the limit load.
+  // A shallow circular arch (span 10 m, rise 0.2 m, Ø100 mm) of 20 segments in the xz plane,
+  // pinned at its ends, held out of plane and at the crown horizontally (which rules out the
+  // antisymmetric modes), under equal vertical loads at its joints: its first buckling mode is
+  // the symmetric snap-through, and the imperfection that flattens the arch lowers the limit
+  // load (measured: 2.15 against 2.87 for the other sign; λ_perfect 4.58, λ_LBA 7.42).
   const int n = 20;
-  const double span = 10, rise = 0.4, R = (span * span / 4 + rise * rise) / (2 * rise);
+  const double span = 10, rise = 0.2, R = (span * span / 4 + rise * rise) / (2 * rise);
   fem::FrameModel m;
   m.nodes.resize(n + 1, 3);
   for (int k = 0; k <= n; ++k) {
@@ -247,8 +253,8 @@ TEST(Imperfection, TheUnfavourableSignOfASymmetricModeGoverns) {
     m.members.push_back(mb);
   }
   for (int k = 0; k <= n; ++k) {
-    const bool end = k == 0 || k == n;
-    m.supports.push_back({k, {end, true, end, true, false, true}});
+    const bool end = k == 0 || k == n, crown = k == n / 2;
+    m.supports.push_back({k, {end || crown, true, end, true, false, true}});
     if (!end) m.loads.push_back({k, Vec3(0, 0, -1e3), Vec3::Zero()});
   }
   FrameAnalysisOptions o;

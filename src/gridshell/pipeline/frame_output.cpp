@@ -129,7 +129,7 @@ void write_frame_json(const std::filesystem::path& dir, const fem::FrameModel& m
   }
   a["max_steps"] = options.arc.max_steps;
   j["analysis"] = a;
-  io::write_file_atomic(dir / "frame.json", j.dump(1) + "\n");
+  io::write_file_atomic(dir / "frame.json", j.dump() + "\n");
 }
 
 }  // namespace gridshell
