@@ -100,7 +100,7 @@ struct LoadedFrame {
 };
 
 /// The grid-shell frame options the arguments ask for.
-analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a) {
+analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a, const PolyMesh* mesh) {
   analysis::GridshellFrameOptions go;
   go.diameter = a.diameter;
   go.elements = a.elements;
@@ -109,6 +109,18 @@ analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a) {
   analysis::FrameAnalysisOptions unused;
   apply_load_check_options(a.checks, go, unused);
   apply_member_options(a.members, go, unused);
+  // `vertex` rows of a load case refer to the grid-shell's own joints (its panels fanned).
+  if (mesh) {
+    TriMesh t;
+    t.V = mesh->V;
+    std::vector<std::array<int, 3>> tris;
+    for (const auto& f : mesh->faces)
+      for (std::size_t k = 1; k + 1 < f.size(); ++k) tris.push_back({f[0], f[k], f[k + 1]});
+    t.F.resize(static_cast<Eigen::Index>(tris.size()), 3);
+    for (std::size_t k = 0; k < tris.size(); ++k)
+      for (int c = 0; c < 3; ++c) t.F(static_cast<Eigen::Index>(k), c) = tris[k][c];
+    attach_load_case_surface(go, t);
+  }
   return go;
 }
 
@@ -142,7 +154,7 @@ LoadedFrame load_frame(const AnalyzeArgs& a) {
     spdlog::warn("{}: {} overlaps (beams that cross without a joint, joints inside a panel not "
                  "their own): analysed as given, but not buildable as is",
                  a.input, overlaps);
-  f.model = analysis::gridshell_frame(s.mesh, s.supports, frame_options(a));
+  f.model = analysis::gridshell_frame(s.mesh, s.supports, frame_options(a, &s.mesh));
   f.supports = s.supports;
   return f;
 }
@@ -208,16 +220,43 @@ nlohmann::json model_combinations(const LoadedFrame& f, analysis::FrameAnalysisO
   }
   block[f.combinations.front().name] =
       with_factors(combination_block(primary, 1, 1), &f.combinations.front());
+  // The other combinations: linear, with LBA where the primary has one (not for SLS ones).
+  const bool buckling = options.buckling;
   options = analysis::at_level(options, analysis::AnalysisLevel::linear);
   options.nonlinear_static = 0;
   for (std::size_t k = 1; k < f.combinations.size(); ++k) {
     fem::FrameModel model = f.model;
     model.loads = f.combinations[k].loads;
-    spdlog::info("[analysis] {} combination: linear", f.combinations[k].name);
+    const bool sls = f.combinations[k].name.rfind("SLS", 0) == 0;
+    options.buckling = buckling && !sls;
+    spdlog::info("[analysis] {} combination: {}", f.combinations[k].name,
+                 options.buckling ? "buckling" : "linear");
     block[f.combinations[k].name] = with_factors(
         combination_block(analysis::analyze_frame(model, options), 1, 1), &f.combinations[k]);
   }
   return block;
+}
+
+/// frame.json: a grid-shell mesh's frame with its load cases (write_frame_json); a MODEL.json as
+/// read, one load case per combination (its resolved loads) when it has combinations.
+void write_analyze_frame_json(const AnalyzeArgs& a, const LoadedFrame& f,
+                              const analysis::GridshellFrameOptions& frame,
+                              const analysis::FrameAnalysisOptions& options,
+                              analysis::AnalysisLevel level) {
+  if (lower_ext(a.input) != ".json" || f.combinations.empty()) {
+    analysis::GridshellFrameOptions paper = frame;
+    if (lower_ext(a.input) == ".json") paper.loads = analysis::LoadModel::paper;
+    write_frame_json(a.run.out_dir, f.model, paper, options, level);
+    return;
+  }
+  std::vector<io::NodalLoadCase> cases;
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>> combos;
+  for (const io::ModelCombination& c : f.combinations) {
+    cases.push_back({c.name, true, c.loads});
+    combos.push_back({c.name, {{c.name, 1.0}}});
+  }
+  nlohmann::json j = io::frame_model_to_json(f.model, cases, combos);
+  io::write_file_atomic(std::filesystem::path(a.run.out_dir) / "frame.json", j.dump() + "\n");
 }
 
 int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
@@ -255,11 +294,14 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
   st["loads"] = gridshell_mesh ? a.checks.loads : f.combinations.empty() ? "model" : "load_cases";
+  const analysis::GridshellFrameOptions frame = frame_options(a, gridshell_mesh ? &mesh : nullptr);
   if (!gridshell_mesh)
     st["combinations"] = model_combinations(f, analysis_options(a, level, f.request), r);
   else
-    st["combinations"] = combinations_block(mesh, f.supports, frame_options(a),
-                                            analysis_options(a, level, f.request), r);
+    st["combinations"] =
+        combinations_block(mesh, f.supports, frame, analysis_options(a, level, f.request), r);
+  st["governing"] = governing_block(st["combinations"]);
+  write_analyze_frame_json(a, f, frame, analysis_options(a, level, f.request), level);
   report["structure"] = st;
   if (gridshell_mesh) {
     GridShellOutput out;

@@ -23,6 +23,7 @@
 #include "gridshell/pipeline/baseline_field.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/design_report.h"
+#include "gridshell/pipeline/frame_output.h"
 #include "gridshell/pipeline/gridshell_output.h"
 
 namespace gridshell::app {
@@ -70,6 +71,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   if (!(a.max_size_change >= 1) || !std::isfinite(a.max_size_change))
     throw Error("--max-size-change", "must be a number ≥ 1");
   Surface surface = load_surface(a.surface, a.surface_options);
+  attach_load_case_surface(frame, surface.mesh);
   lap("load", t0);
   GridShellOutput out;
   nlohmann::json quad_stats;
@@ -196,6 +198,9 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     report["structure"]["loads"] = a.checks.loads;
     report["structure"]["combinations"] =
         combinations_block(out.mesh, out.supports, frame, options, *structure);
+    report["structure"]["governing"] = governing_block(report["structure"]["combinations"]);
+    write_frame_json(a.run.out_dir, analysis::gridshell_frame(out.mesh, out.supports, frame),
+                     frame, options, level);
   }
   if (!quad_stats.is_null()) report["quad_aniso"] = quad_stats;
   const auto t3 = Clock::now();

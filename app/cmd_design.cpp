@@ -85,6 +85,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const fabrication::SheetOptions sheet = fabrication::parse_sheet(a.sheet);
   spdlog::info("[load] {}", a.surface);
   const Surface surface = load_surface(a.surface, a.surface_options);
+  attach_load_case_surface(options.frame, surface.mesh);
   const double t_load = std::chrono::duration<double>(Clock::now() - start).count();
   std::optional<ObjectiveResult> searched;
   if (a.search) searched = design_for_objective(surface, options, objective);
@@ -122,6 +123,9 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
     report["structure"]["loads"] = a.checks.loads;
     report["structure"]["combinations"] =
         combinations_block(r.mesh, r.supports, options.frame, options.frame_analysis, *r.structure);
+    report["structure"]["governing"] = governing_block(report["structure"]["combinations"]);
+    write_frame_json(dir, analysis::gridshell_frame(r.mesh, r.supports, options.frame),
+                     options.frame, options.frame_analysis, options.analyze);
     write_buckling_modes(dir, *r.structure);
   }
   if (searched) report["objective"] = searched->report();

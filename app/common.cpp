@@ -59,6 +59,12 @@ void add_load_check_options(CLI::App* sub, LoadCheckOptions& o) {
                   "--loads eurocode: characteristic snow s_k in kN/m² of plan (times the shape "
                   "factor of the roof slope)")
       ->default_str("1.0");
+  sub->add_option("--load-case", o.load_cases,
+                  "--loads eurocode: a load case from a file, NAME=FILE.csv (repeatable; "
+                  "NAME:permanent=FILE.csv for a permanent one): vertex,pressure_kN_m2 on the "
+                  "input surface's vertices (analyze also joint,fx_kN,fy_kN,fz_kN or "
+                  "panel,pressure_kN_m2); pressure normal to the roof, positive pushing onto it; "
+                  "variable (psi0 0.6, gamma_Q 1.5) unless marked (docs/checks.md)");
   sub->add_option("--deflection-limit", o.deflection_limit,
                   "serviceability: delta passes when at most span / this (span = largest plan "
                   "extent)")
@@ -78,6 +84,20 @@ void apply_load_check_options(const LoadCheckOptions& o, analysis::GridshellFram
   frame.glass_kN_m2 = o.glass;
   frame.snow_kN_m2 = o.snow;
   analysis.deflection_limit_divisor = o.deflection_limit;
+  frame.load_cases.clear();
+  if (!o.load_cases.empty() && frame.loads != analysis::LoadModel::eurocode)
+    throw Error("--load-case", "load cases are combined per EN 1990: give --loads eurocode");
+  for (const std::string& spec : o.load_cases) {
+    analysis::FileLoadCase c = analysis::read_load_case_file(spec);
+    for (const analysis::FileLoadCase& other : frame.load_cases)
+      if (other.name == c.name) throw Error("--load-case", "two load cases named " + c.name);
+    frame.load_cases.push_back(std::move(c));
+  }
+}
+
+void attach_load_case_surface(analysis::GridshellFrameOptions& frame, const TriMesh& surface) {
+  for (analysis::FileLoadCase& c : frame.load_cases)
+    if (c.given == analysis::FileLoadCase::Given::surface_vertex) analysis::attach_surface(c, surface);
 }
 
 void add_member_options(CLI::App* sub, MemberOptions& o) {

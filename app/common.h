@@ -42,6 +42,7 @@ struct LoadCheckOptions {
   double glass = 0.4;             ///< eurocode G2 [kN/m² of surface]
   double snow = 1.0;              ///< eurocode Q: s_k [kN/m² of plan]
   double deflection_limit = 300;  ///< δ passes when at most span / this
+  std::vector<std::string> load_cases;  ///< --load-case NAME=FILE.csv (repeatable)
 };
 void add_load_check_options(CLI::App* sub, LoadCheckOptions& options);
 /// The members (docs/checks.md): --section "CHS 88.9x4.0" | "RHS 120x60x4" | "SHS 100x5" |
@@ -56,11 +57,15 @@ void add_member_options(CLI::App* sub, MemberOptions& options);
 /// analysis.checks.buckling_length_factor.
 void apply_member_options(const MemberOptions& options, analysis::GridshellFrameOptions& frame,
                           analysis::FrameAnalysisOptions& analysis);
-/// Parses and checks them (Error naming the option) and sets `frame`'s load model, glass and
-/// snow, and `analysis`'s fy and deflection limit.
+/// Parses and checks them (Error naming the option) and sets `frame`'s load model, glass,
+/// snow and file load cases (read here: a bad file is an Error before any work), and
+/// `analysis`'s fy and deflection limit.
 void apply_load_check_options(const LoadCheckOptions& options,
                               analysis::GridshellFrameOptions& frame,
                               analysis::FrameAnalysisOptions& analysis);
+
+/// Gives the file load cases on the input surface's vertices that surface (checks the ids).
+void attach_load_case_surface(analysis::GridshellFrameOptions& frame, const TriMesh& surface);
 
 /// What a run holds while it works: the thread limit, and the progress display on stderr.
 struct RunGuard {

@@ -191,6 +191,18 @@ function keyFigures() {
     html += row('member buckling max', fmt(st.buckling_utilisation_max) +
       (st.buckling_check ? ` (${escapeHtml(st.buckling_check)})` : ''));
   }
+  const gov = st.governing || {};
+  if (gov.lambda != null && st.combinations && Object.keys(st.combinations).length > 1) {
+    const g = (name, value, unit) => `${escapeHtml(name)} (${value})${unit}`;
+    html += row('governing λ', g(gov.lambda, fmt(gov.lambda_value), ''));
+    if (gov.utilisation != null) {
+      html += row('governing utilisation', g(gov.utilisation, fmt(gov.utilisation_value), ''));
+    }
+    if (gov.delta != null) html += row('governing δ', g(gov.delta, fmt(gov.delta_m * 1000), ' mm'));
+  }
+  if (st.imperfection && st.imperfection.note) {
+    html += row('λ imperfect > λ perfect', escapeHtml(st.imperfection.note));
+  }
   if (mesh.planarity_mean != null) html += row('planarity mean', fmt(mesh.planarity_mean));
   html += '</table>';
   document.getElementById('figures-table').innerHTML = html;

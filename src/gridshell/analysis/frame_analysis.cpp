@@ -3,9 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 
+#include <fmt/format.h>
+
 #include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
 
 #include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
@@ -192,12 +196,13 @@ struct PathRun {
   ArcLengthResult al;
   std::vector<double> lambdas, utilisation;
 };
+/// `mode` < 0: the perfect path; else the geometry perturbed by `sign` × that buckling mode.
 PathRun follow_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysisOptions& o,
-                    const BucklingResult& lba, const FrameResult& res, bool imperfect) {
+                    const BucklingResult& lba, const FrameResult& res, int mode, double sign) {
   const double span = plan_span(mesh.X);
   FrameMesh nl_mesh = mesh;
-  if (imperfect && !lba.modes.empty())
-    perturb_geometry(nl_mesh, lba.modes.front(), res.imperfection_amplitude_m);
+  if (mode >= 0 && mode < static_cast<int>(lba.modes.size()))
+    perturb_geometry(nl_mesh, lba.modes[mode], sign * res.imperfection_amplitude_m);
   const FrameAssembler nl_asm(nl_mesh);
   ArcLengthOptions ao = o.arc;
   if (!(ao.initial_lambda > 0)) {
@@ -221,8 +226,40 @@ PathRun follow_path(const FrameModel& model, const FrameMesh& mesh, const FrameA
   return run;
 }
 
+/// The imperfections tried (FrameAnalysisOptions::imperfection_mode_margin): both signs of the
+/// first mode, and of the next modes whose λ is within the margin of the first.
+std::vector<std::pair<int, double>> imperfection_candidates(const FrameAnalysisOptions& o,
+                                                            const BucklingResult& lba) {
+  std::vector<std::pair<int, double>> out;
+  for (std::size_t k = 0; k < lba.modes.size() && k < lba.lambdas.size(); ++k) {
+    if (k > 0 && (static_cast<int>(k) >= o.imperfection_max_modes ||
+                  lba.lambdas[k] > (1 + o.imperfection_mode_margin) * lba.lambdas.front()))
+      break;
+    out.emplace_back(static_cast<int>(k), 1.0);
+    if (o.imperfection_both_signs) out.emplace_back(static_cast<int>(k), -1.0);
+  }
+  return out;
+}
+
+/// Why λ_imperfect came out above λ_perfect (report.json structure.imperfection.note).
+std::string imperfection_note(const ArcLengthResult& perfect, const ArcLengthResult& imperfect) {
+  if (perfect.limit_type == "none")
+    return fmt::format("the perfect path stopped before a critical point ({}) at lambda {:.4g}; "
+                       "its lambda is where it stopped, not a critical load",
+                       perfect.stop_reason, perfect.lambda_critical);
+  if (perfect.limit_type == "bifurcation")
+    return "the perfect structure's critical point is a bifurcation; the imperfect paths (both "
+           "signs of the modes tried) pass it on a stable branch and reach a higher limit point";
+  if (imperfect.limit_type == "none")
+    return fmt::format("every imperfect path tried stopped before a critical point ({})",
+                       imperfect.stop_reason);
+  return "every imperfection tried (both signs of the modes within the margin) stiffens the "
+         "structure: the perfect limit point is the lower one";
+}
+
 /// The non-linear path the options ask for (perfect, or imperfect with `imperfection`), λ at
-/// the displacement limit and λ_y; with `stability` also the other path.
+/// the displacement limit and λ_y; with `stability` also the other path. The imperfect path is
+/// the lowest of imperfection_candidates (the unfavourable direction).
 void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysisOptions& o,
               const BucklingResult& lba, FrameResult& res) {
   const double span = plan_span(mesh.X);
@@ -242,32 +279,57 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
     return;
   }
   const bool can_perturb = !lba.modes.empty();
-  const PathRun main = follow_path(model, mesh, o, lba, res, o.imperfection && can_perturb);
-  const ArcLengthResult& al = main.al;
   const bool main_imperfect = o.imperfection && can_perturb;
-  (main_imperfect ? res.lambda_imperfect : res.lambda_perfect) = critical_lambda(al);
+  // The paths are independent: followed in parallel (each the same whatever the threads).
+  std::vector<std::pair<int, double>> tasks;  // (mode, sign); mode −1: the perfect path
+  if (!main_imperfect || o.stability) tasks.emplace_back(-1, 1.0);
+  if (can_perturb && (main_imperfect || o.stability))
+    for (const auto& c : imperfection_candidates(o, lba)) tasks.push_back(c);
+  std::vector<std::optional<PathRun>> runs(tasks.size());
+  tbb::parallel_for(0, static_cast<int>(tasks.size()), [&](int i) {
+    FrameAnalysisOptions oi = o;
+    if (i > 0) oi.arc.progress = {};  // one progress display
+    runs[i] = follow_path(model, mesh, oi, lba, res, tasks[i].first, tasks[i].second);
+  });
+  std::optional<PathRun> perfect, imperfect;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    const int mode = tasks[i].first;
+    const double sign = tasks[i].second;
+    if (mode < 0) {
+      perfect = std::move(runs[i]);
+      continue;
+    }
+    const ArcLengthResult& al = runs[i]->al;
+    const double l = critical_lambda(al).value_or(std::numeric_limits<double>::infinity());
+    res.imperfections_tried.push_back({mode, sign, critical_lambda(al)});
+    spdlog::info("non-linear (imperfect, mode {} sign {:+}): lambda = {:.6g} ({})", mode + 1, sign,
+                 al.lambda_critical, al.limit_type);
+    if (!imperfect || l < best) {
+      best = l;
+      imperfect = std::move(runs[i]);
+      res.imperfection_mode = mode;
+      res.imperfection_sign = sign;
+    }
+  }
   const auto largest = [](const std::vector<double>& u) {
     return u.empty() ? 0.0 : *std::max_element(u.begin(), u.end());
   };
-  res.lambda_yield = lambda_at_utilisation(main.lambdas, main.utilisation);
-  res.lambda_yield_path = main_imperfect ? "imperfect" : "perfect";
-  res.path_utilisation_max = largest(main.utilisation);
-  if (!main_imperfect) res.lambda_yield_perfect = res.lambda_yield;
-  if (o.stability && can_perturb) {
-    const PathRun other = follow_path(model, mesh, o, lba, res, !main_imperfect);
-    (main_imperfect ? res.lambda_perfect : res.lambda_imperfect) = critical_lambda(other.al);
-    const std::optional<double> other_yield =
-        lambda_at_utilisation(other.lambdas, other.utilisation);
-    if (main_imperfect) {
-      res.lambda_yield_perfect = other_yield;
-    } else {
-      res.lambda_yield = other_yield;
-      res.lambda_yield_path = "imperfect";
-      res.path_utilisation_max = largest(other.utilisation);
-    }
-    spdlog::info("non-linear ({}): lambda = {:.6g} ({})", main_imperfect ? "perfect" : "imperfect",
-                 other.al.lambda_critical, other.al.limit_type);
+  if (perfect) {
+    res.lambda_perfect = critical_lambda(perfect->al);
+    res.lambda_yield_perfect = lambda_at_utilisation(perfect->lambdas, perfect->utilisation);
   }
+  const PathRun& main = main_imperfect ? *imperfect : *perfect;
+  const PathRun* yield_run = imperfect ? &*imperfect : &main;
+  res.lambda_yield = lambda_at_utilisation(yield_run->lambdas, yield_run->utilisation);
+  res.lambda_yield_path = imperfect ? "imperfect" : "perfect";
+  res.path_utilisation_max = largest(yield_run->utilisation);
+  if (imperfect) {
+    res.lambda_imperfect = critical_lambda(imperfect->al);
+    if (res.lambda_perfect && res.lambda_imperfect && *res.lambda_imperfect > *res.lambda_perfect)
+      res.imperfection_note = imperfection_note(perfect->al, imperfect->al);
+  }
+  const ArcLengthResult& al = main.al;
   res.path = al.path;
   res.lambda_nonlinear = critical_lambda(al);
   res.limit_type = al.limit_type;

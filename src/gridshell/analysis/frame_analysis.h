@@ -50,6 +50,13 @@ struct FrameAnalysisOptions {
   int buckling_modes = 5;
   bool imperfection = false;          ///< perturb the geometry by the first LBA mode for the path
   double imperfection_amplitude = 0;  ///< [m]; 0 = span / 300 (span = largest plan extent)
+  /// The imperfect path in the unfavourable direction: both signs of the first mode and of the
+  /// next modes whose λ_LBA is within `imperfection_mode_margin` (10 %) of the first, at most
+  /// `imperfection_max_modes` modes; the lowest critical λ is λ_imperfect. Each is one path
+  /// (followed in parallel with the perfect one: 5 paths at most by default).
+  bool imperfection_both_signs = true;
+  double imperfection_mode_margin = 0.10;
+  int imperfection_max_modes = 2;
   /// Arc-length settings and the path's stop rule: initial_lambda ≤ 0 = automatic (λ_LBA / 10,
   /// or the factor giving a linear displacement of span / 2000); max_displacement ≤ 0 = the
   /// automatic stop of `path_reach`; max_lambda ≥ 1e9 = 20 λ_LBA (when there is one); max_steps
@@ -135,6 +142,18 @@ struct FrameResult {
   // imperfect structure, and the imperfection amplitude used [m].
   std::optional<double> lambda_perfect, lambda_imperfect;
   double imperfection_amplitude_m = 0;
+  /// The imperfection that gave λ_imperfect: buckling mode (0-based) and sign (relative to the
+  /// mode's shape in `buckling_modes` / modes.csv), and every one tried with its critical λ.
+  int imperfection_mode = -1;
+  double imperfection_sign = 0;
+  struct ImperfectionTry {
+    int mode = 0;
+    double sign = 1;
+    std::optional<double> lambda;
+  };
+  std::vector<ImperfectionTry> imperfections_tried;
+  /// Why λ_imperfect > λ_perfect, when it is (empty otherwise).
+  std::string imperfection_note;
   /// λ_y: the load factor at which the largest cross-section utilisation first reaches 1 along
   /// the non-linear path (section forces of the corotational states, linear between path
   /// points); taken on the imperfect path when one is followed. Empty when the path ends first

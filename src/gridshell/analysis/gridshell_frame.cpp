@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <fmt/format.h>
+
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
@@ -110,6 +112,40 @@ void set_member_axes(const PolyMesh& mesh, fem::FrameModel& m) {
 
 }  // namespace
 
+std::vector<LoadCase> eurocode_cases(const PolyMesh& mesh,
+                                     const std::vector<double>& bar_weight_per_m,
+                                     const GridshellFrameOptions& o) {
+  const LoadCases base = eurocode_load_cases(mesh, bar_weight_per_m, o);
+  const auto vertical = [](const std::vector<double>& fz) {
+    std::vector<Vec3> F(fz.size(), Vec3::Zero());
+    for (std::size_t v = 0; v < fz.size(); ++v) F[v].z() = fz[v];
+    return F;
+  };
+  std::vector<LoadCase> cases;
+  cases.push_back({"G1", true, 1.0, "G1", "EN 1991-1-1 self-weight of the bars", vertical(base.G1)});
+  cases.push_back({"G2", true, 1.0, "G2", "glass and cladding (--glass)", vertical(base.G2)});
+  // Snow: EN 1990 Table A1.1, ψ0 = 0.5 (CEN, sites at most 1000 m above sea level).
+  constexpr double kSnowPsi0 = 0.5;
+  cases.push_back({"S", false, kSnowPsi0, "snow", "EN 1991-1-3 5.3.3 (i): undrifted, mu1",
+                   vertical(base.Q)});
+  for (int axis = 0; axis < 2; ++axis)
+    for (int side : {-1, 1}) {
+      bool cylindrical = false;
+      const std::vector<double> mu = snow_shape_factors(mesh, axis, side, &cylindrical);
+      const std::string name =
+          fmt::format("S_{}{}", axis == 0 ? "x" : "y", side < 0 ? "-" : "+");
+      cases.push_back({name, false, kSnowPsi0, "snow",
+                       cylindrical ? "EN 1991-1-3 5.3.5 Figure 5.6 (ii): drifted, mu3 and 0.5 mu3"
+                                   : "EN 1991-1-3 5.3.3 Figure 5.3 (ii)/(iii): drifted, mu1 and "
+                                     "0.5 mu1",
+                       snow_forces(mesh, mu, o.snow_kN_m2)});
+    }
+  for (const FileLoadCase& f : o.load_cases)
+    cases.push_back({f.name, f.permanent, f.permanent ? 1.0 : f.psi0, f.name,
+                     "file " + f.path, load_case_forces(mesh, f)});
+  return cases;
+}
+
 fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& supports,
                                 const GridshellFrameOptions& o) {
   const fem::FrameSection section = member_section(o);
@@ -145,11 +181,18 @@ fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& su
       throw Error("--area-load",
                   "with --loads eurocode give the surface loads as --glass and --snow");
     const double w = o.self_weight ? o.density * o.g * m.sections[0].A : 0.0;
-    const LoadCases c = eurocode_load_cases(mesh, std::vector<double>(topo.edges.size(), w), o);
-    const auto [gG, gQ] = partial_factors(o.combination);
-    for (int v = 0; v < n; ++v) fz[v] = gG * (c.G1[v] + c.G2[v]) + gQ * c.Q[v];
+    const std::vector<LoadCase> cases =
+        eurocode_cases(mesh, std::vector<double>(topo.edges.size(), w), o);
+    const std::string name = !o.combination_name.empty() ? o.combination_name
+                             : o.combination == Combination::uls ? "ULS"
+                                                                 : "SLS";
+    const std::vector<LoadCombination> combinations = eurocode_combinations(cases);
+    const auto it = std::find_if(combinations.begin(), combinations.end(),
+                                 [&](const LoadCombination& c) { return c.name == name; });
+    if (it == combinations.end()) throw Error("combination", "no combination named " + name);
+    const std::vector<Vec3> F = combine(cases, *it);
     for (int v = 0; v < n; ++v)
-      if (fz[v] != 0) m.loads.push_back({v, Vec3(0, 0, fz[v]), Vec3::Zero()});
+      if (F[v].squaredNorm() > 0) m.loads.push_back({v, F[v], Vec3::Zero()});
     return m;
   }
   const double A = m.sections[0].A;

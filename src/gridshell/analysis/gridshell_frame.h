@@ -20,11 +20,15 @@
 ///   share it. Wind is out of scope.
 /// * combinations (EN 1990 6.4.3.2 / 6.5.3, one variable action): ULS = 1.35 (G1 + G2) + 1.5 Q,
 ///   SLS (characteristic) = G1 + G2 + Q.
+/// The frame carries one combination of the load cases of analysis/load_cases.h (the drifted
+/// snow arrangements and file cases beside these): `combination_name`, or "ULS"/"SLS" by
+/// `combination` (the primary: undrifted snow leading).
 
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "gridshell/analysis/load_cases.h"
 #include "gridshell/fem/frame_model.h"
 #include "gridshell/mesh/mesh.h"
 
@@ -64,7 +68,17 @@ struct GridshellFrameOptions {
   double glass_kN_m2 = 0.4;  ///< eurocode G2 [kN/m² of surface]
   double snow_kN_m2 = 1.0;   ///< eurocode Q: s_k [kN/m² of plan]; set it for the site
   Combination combination = Combination::uls;  ///< eurocode: which combination to build
+  /// eurocode: a combination of eurocode_combinations by name; empty = by `combination`.
+  std::string combination_name;
+  /// eurocode: load cases from files (--load-case), beside G1, G2 and the snow arrangements.
+  std::vector<FileLoadCase> load_cases;
 };
+
+/// Every eurocode load case of the grid (G1, G2, S, S_x-, S_x+, S_y-, S_y+, the file cases)
+/// as nodal forces, and their combinations (load_cases.h). `bar_weight_per_m` per topology edge.
+std::vector<LoadCase> eurocode_cases(const PolyMesh& mesh,
+                                     const std::vector<double>& bar_weight_per_m,
+                                     const GridshellFrameOptions& options);
 
 /// The eurocode load cases as vertical joint forces [N, negative down], one per vertex.
 struct LoadCases {

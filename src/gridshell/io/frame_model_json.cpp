@@ -5,6 +5,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -128,6 +129,7 @@ NameIndex read_sections(const json& j, const std::string& subject, fem::FrameMod
       sec.Iy = num(s["Iy"], what + ".Iy", subject);
       sec.Iz = num(s["Iz"], what + ".Iz", subject);
       sec.J = num(s["J"], what + ".J", subject);
+      if (s.contains("c")) sec.c = num(s["c"], what + ".c", subject);
     }
     if (s.contains("up")) sec.up = vec3(s["up"], what + ".up", subject);
     sec.name = name;
@@ -427,6 +429,67 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
   return out;
 }
 
+namespace {
+json nodal_loads_json(const std::vector<fem::NodalLoad>& loads) {
+  json list = json::array();
+  for (const fem::NodalLoad& l : loads) {
+    json lj{{"node", l.node}, {"force", {l.force.x(), l.force.y(), l.force.z()}}};
+    if (l.moment.squaredNorm() > 0) lj["moment"] = {l.moment.x(), l.moment.y(), l.moment.z()};
+    list.push_back(lj);
+  }
+  return list;
+}
+}  // namespace
+
+nlohmann::json frame_model_to_json(
+    const fem::FrameModel& m, const std::vector<NodalLoadCase>& cases,
+    const std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>>&
+        combinations) {
+  static const char* kDofs[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+  json j;
+  j["nodes"] = json::array();
+  for (int v = 0; v < m.num_nodes(); ++v) j["nodes"].push_back({m.nodes(v, 0), m.nodes(v, 1), m.nodes(v, 2)});
+  j["members"] = json::array();
+  for (const fem::FrameMember& mb : m.members) {
+    json mj{{"nodes", {mb.i, mb.j}},
+            {"section", m.sections[mb.section].name},
+            {"material", m.materials[mb.material].name}};
+    if (mb.up.squaredNorm() > 0) mj["up"] = {mb.up.x(), mb.up.y(), mb.up.z()};
+    if (mb.type == fem::MemberType::truss) {
+      mj["type"] = "truss";
+    } else {
+      mj["elements"] = mb.elements;
+    }
+    j["members"].push_back(mj);
+  }
+  j["sections"] = json::object();
+  for (const fem::FrameSection& s : m.sections) j["sections"][s.name] = section_to_json(s);
+  j["materials"] = json::object();
+  for (const fem::FrameMaterial& mat : m.materials) {
+    json mj{{"E", mat.E}, {"nu", mat.nu}, {"density", mat.density}};
+    if (mat.fy > 0) mj["fy"] = mat.fy;
+    j["materials"][mat.name] = mj;
+  }
+  j["supports"] = json::array();
+  for (const fem::FrameSupport& s : m.supports) {
+    json fix = json::array();
+    for (int c = 0; c < 6; ++c)
+      if (s.fix[c]) fix.push_back(kDofs[c]);
+    j["supports"].push_back({{"node", s.node}, {"fix", fix}});
+  }
+  if (!m.faces.empty()) j["faces"] = m.faces;
+  if (cases.empty()) {
+    j["loads"] = nodal_loads_json(m.loads);
+    return j;
+  }
+  for (const NodalLoadCase& c : cases)
+    j["load_cases"][c.name] = {{"type", c.permanent ? "permanent" : "variable"},
+                               {"loads", nodal_loads_json(c.loads)}};
+  for (const auto& [name, factors] : combinations)
+    for (const auto& [case_name, f] : factors) j["combinations"][name][case_name] = f;
+  return j;
+}
+
 FrameModelFile read_frame_model(const std::filesystem::path& path, int default_elements) {
   return parse_frame_model(read_file(path), path.string(), default_elements);
 }
@@ -469,6 +532,7 @@ nlohmann::json section_to_json(const fem::FrameSection& s) {
          {"process", sections::to_string(p->process)}};
   } else {
     j = {{"A", s.A}, {"Iy", s.Iy}, {"Iz", s.Iz}, {"J", s.J}};
+    if (s.c > 0) j["c"] = s.c;
   }
   if (s.up.squaredNorm() > 0) j["up"] = {s.up.x(), s.up.y(), s.up.z()};
   return j;

@@ -72,6 +72,24 @@ FrameModelFile read_frame_model(const std::filesystem::path& path, int default_e
 /// "process"} for sections made from a profile, else {"A", "Iy", "Iz", "J"}; "up" when set.
 nlohmann::json section_to_json(const fem::FrameSection& section);
 
+/// A named load case of frame.json: "permanent" or "variable", and its nodal loads.
+struct NodalLoadCase {
+  std::string name;
+  bool permanent = false;
+  std::vector<fem::NodalLoad> loads;
+};
+
+/// The frame as MODEL.json (CONTRACT.md): nodes, members (section, material, elements), sections
+/// (section_to_json), materials (E, nu, density, fy when set), supports (their fixed dofs),
+/// faces, and either "loads" (the model's nodal loads, when `cases` is empty) or "load_cases"
+/// and "combinations" ({NAME: {CASE: factor}}). Numbers keep full precision (17 significant
+/// digits), so that reading it back gives the same model bit for bit up to the circle's
+/// diameter (one rounding).
+nlohmann::json frame_model_to_json(
+    const fem::FrameModel& model, const std::vector<NodalLoadCase>& cases = {},
+    const std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>>&
+        combinations = {});
+
 /// The vertex ids of a `# supports i j k ...` comment line in an OBJ file (empty if none).
 /// Throws Error for malformed ids.
 std::vector<int> read_obj_supports_comment(const std::filesystem::path& path);

@@ -171,11 +171,20 @@ nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g,
 
 /// report.json's `structure.combinations`: one block per load combination with δ, its limit and
 /// pass/fail, the member checks and the stability figures (add_checks_block's keys that apply).
-/// paper load: {"paper": from `primary`}; eurocode: {"ULS": from `primary` (analysed with
-/// frame.combination = ULS), "SLS": a linear analysis of the SLS combination, run here}.
+/// paper load: {"paper": from `primary`}; eurocode: every combination of
+/// analysis::eurocode_combinations: "ULS" from `primary` (analysed with frame.combination =
+/// ULS), the other ULS combinations analysed here linearly with LBA (when `primary` has one),
+/// the SLS ones linearly; the ULS combinations whose λ_LBA is within 15 % of the lowest also
+/// get the non-linear paths (when `primary` has them: `nonlinear_followed`). Each ULS block has
+/// `lambda` (λ_imperfect, else λ_perfect, else λ_LBA: `lambda_source`), `leading`, `factors`.
 nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
                                   const analysis::GridshellFrameOptions& frame,
                                   const analysis::FrameAnalysisOptions& options,
                                   const analysis::FrameResult& primary);
+/// report.json's `structure.governing` from `structure.combinations`: {"utilisation": the ULS
+/// combination with the largest utilisation_max, "lambda": the ULS one with the smallest
+/// `lambda` (else lambda_imperfect, else lambda_lba), "delta": the SLS one with the largest
+/// δ (the only combination when there is one), and their values}.
+nlohmann::json governing_block(const nlohmann::json& combinations);
 
 }  // namespace gridshell

@@ -1,6 +1,7 @@
 #include "gridshell/pipeline/design_report.h"
 
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include <spdlog/spdlog.h>
@@ -35,6 +36,18 @@ nlohmann::json structure_block(const analysis::FrameResult& r) {
   st["dofs"] = r.num_dofs;
   st["timings_s"] = r.timings;
   add_checks_block(st, r);
+  if (r.imperfection_mode >= 0) {
+    nlohmann::json imp;
+    imp["mode"] = r.imperfection_mode + 1;  // as modes.csv numbers them
+    imp["sign"] = r.imperfection_sign;
+    imp["amplitude_m"] = r.imperfection_amplitude_m;
+    nlohmann::json tried = nlohmann::json::array();
+    for (const auto& t : r.imperfections_tried)
+      tried.push_back({{"mode", t.mode + 1}, {"sign", t.sign}, {"lambda", optional_number(t.lambda)}});
+    imp["tried"] = tried;
+    if (!r.imperfection_note.empty()) imp["note"] = r.imperfection_note;
+    st["imperfection"] = imp;
+  }
   return st;
 }
 
@@ -87,6 +100,70 @@ nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g,
   return c;
 }
 
+namespace {
+/// A combination's governing λ: λ_imperfect, else λ_perfect, else λ_LBA (and which).
+std::pair<std::optional<double>, const char*> combination_lambda(const analysis::FrameResult& r) {
+  if (r.lambda_imperfect) return {r.lambda_imperfect, "lambda_imperfect"};
+  if (r.lambda_perfect) return {r.lambda_perfect, "lambda_perfect"};
+  if (r.lambda_nonlinear) return {r.lambda_nonlinear, "lambda_nonlinear"};
+  return {r.lambda_linear_buckling, "lambda_lba"};
+}
+
+/// One eurocode combination's block: the figures of `r`, its factors, and its governing λ.
+nlohmann::json eurocode_block(const analysis::LoadCombination& c, const analysis::FrameResult& r,
+                              bool nonlinear) {
+  double gamma_g = 0, gamma_q = 0;
+  for (const auto& [name, f] : c.factors) {
+    if (name == "G1") gamma_g = f;
+    if (name == c.leading) gamma_q = f;
+  }
+  nlohmann::json b = combination_block(r, gamma_g, gamma_q);
+  b["uls"] = c.uls;
+  b["leading"] = c.leading;
+  for (const auto& [name, f] : c.factors) b["factors"][name] = f;
+  if (c.uls) {
+    const auto [lambda, source] = combination_lambda(r);
+    b["lambda"] = optional_number(lambda);
+    b["lambda_source"] = source;
+    b["nonlinear_followed"] = nonlinear;
+  }
+  return b;
+}
+}  // namespace
+
+nlohmann::json governing_block(const nlohmann::json& combinations) {
+  nlohmann::json g;
+  double u = -1, l = std::numeric_limits<double>::infinity(), d = -1;
+  const auto number = [](const nlohmann::json& c, const char* key) -> std::optional<double> {
+    if (c.contains(key) && c[key].is_number()) return c[key].get<double>();
+    return std::nullopt;
+  };
+  for (const auto& [name, c] : combinations.items()) {
+    const bool named_sls = name.rfind("SLS", 0) == 0;
+    const bool uls = c.contains("uls") ? c["uls"].get<bool>() : !named_sls;
+    const bool sls = !uls || combinations.size() == 1;
+    std::optional<double> lambda = number(c, "lambda");
+    for (const char* key : {"lambda_imperfect", "lambda_perfect", "lambda_lba"})
+      if (!c.contains("lambda") && !lambda) lambda = number(c, key);
+    if (uls && number(c, "utilisation_max") && *number(c, "utilisation_max") > u) {
+      u = *number(c, "utilisation_max");
+      g["utilisation"] = name;
+    }
+    if (uls && lambda && *lambda < l) {
+      l = *lambda;
+      g["lambda"] = name;
+    }
+    if (sls && number(c, "delta_max_m") && *number(c, "delta_max_m") > d) {
+      d = *number(c, "delta_max_m");
+      g["delta"] = name;
+    }
+  }
+  if (g.contains("lambda")) g["lambda_value"] = l;
+  if (g.contains("utilisation")) g["utilisation_value"] = u;
+  if (g.contains("delta")) g["delta_m"] = d;
+  return g;
+}
+
 nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
                                   const analysis::GridshellFrameOptions& frame,
                                   const analysis::FrameAnalysisOptions& options,
@@ -98,15 +175,50 @@ nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& 
     block["paper"].erase("gamma_Q");
     return block;
   }
-  const auto [uG, uQ] = analysis::partial_factors(analysis::Combination::uls);
-  block["ULS"] = combination_block(primary, uG, uQ);
-  analysis::GridshellFrameOptions sls = frame;
-  sls.combination = analysis::Combination::sls;
-  spdlog::info("[analysis] SLS combination: linear");
-  const analysis::FrameResult r =
-      analyze_gridshell(mesh, supports, analysis::AnalysisLevel::linear, sls, options);
-  const auto [sG, sQ] = analysis::partial_factors(analysis::Combination::sls);
-  block["SLS"] = combination_block(r, sG, sQ);
+  const fem::FrameModel model = analysis::gridshell_frame(mesh, supports, frame);
+  const double w = frame.self_weight ? frame.density * frame.g * model.sections[0].A : 0.0;
+  const std::vector<analysis::LoadCase> cases =
+      analysis::eurocode_cases(mesh, std::vector<double>(model.members.size(), w), frame);
+  const std::vector<analysis::LoadCombination> combos = analysis::eurocode_combinations(cases);
+  const bool buckling = primary.lambda_linear_buckling.has_value() || !primary.buckling_lambdas.empty();
+  const bool nonlinear = !primary.path.empty() || primary.lambda_perfect || primary.lambda_imperfect;
+  // Every combination: linear (SLS) or linear + LBA (ULS), K factorised per combination.
+  std::vector<analysis::FrameResult> results(combos.size());
+  std::vector<char> followed(combos.size(), 0);
+  double lba_min = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < combos.size(); ++k) {
+    const analysis::LoadCombination& c = combos[k];
+    if (c.name == "ULS") {
+      followed[k] = nonlinear;
+    } else {
+      analysis::GridshellFrameOptions f = frame;
+      f.combination_name = c.name;
+      const auto level = c.uls && buckling ? analysis::AnalysisLevel::buckling
+                                           : analysis::AnalysisLevel::linear;
+      spdlog::info("[analysis] {} combination: {}", c.name, to_string(level));
+      results[k] = analyze_gridshell(mesh, supports, level, f, options);
+    }
+    const analysis::FrameResult& r = c.name == "ULS" ? primary : results[k];
+    if (c.uls && r.lambda_linear_buckling) lba_min = std::min(lba_min, *r.lambda_linear_buckling);
+  }
+  // The non-linear paths only where they can govern: ULS combinations whose λ_LBA is within
+  // kNonlinearMargin of the smallest (docs/checks.md).
+  constexpr double kNonlinearMargin = 0.15;
+  for (std::size_t k = 0; k < combos.size() && nonlinear; ++k) {
+    const analysis::LoadCombination& c = combos[k];
+    if (c.name == "ULS" || !c.uls || !results[k].lambda_linear_buckling ||
+        *results[k].lambda_linear_buckling > (1 + kNonlinearMargin) * lba_min)
+      continue;
+    analysis::GridshellFrameOptions f = frame;
+    f.combination_name = c.name;
+    spdlog::info("[analysis] {} combination: nonlinear (lambda_LBA within {:.0f} % of the lowest)",
+                 c.name, 100 * kNonlinearMargin);
+    results[k] = analyze_gridshell(mesh, supports, analysis::AnalysisLevel::nonlinear, f, options);
+    followed[k] = 1;
+  }
+  for (std::size_t k = 0; k < combos.size(); ++k)
+    block[combos[k].name] =
+        eurocode_block(combos[k], combos[k].name == "ULS" ? primary : results[k], followed[k]);
   return block;
 }
 

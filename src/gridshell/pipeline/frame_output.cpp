@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "gridshell/io/files.h"
+#include "gridshell/io/frame_model_json.h"
 #include "gridshell/io/mesh_io.h"
 
 namespace gridshell {
@@ -97,6 +98,49 @@ void write_buckling_modes(const std::filesystem::path& dir, const analysis::Fram
                        fmt_num(shape(v, 0)), fmt_num(shape(v, 1)), fmt_num(shape(v, 2)));
   }
   io::write_file_atomic(dir / "modes.csv", s);
+}
+
+void write_frame_json(const std::filesystem::path& dir, const fem::FrameModel& model,
+                      const analysis::GridshellFrameOptions& frame,
+                      const analysis::FrameAnalysisOptions& options,
+                      analysis::AnalysisLevel level) {
+  fem::FrameModel m = model;
+  for (fem::FrameMaterial& mat : m.materials)
+    if (!(mat.fy > 0)) mat.fy = options.checks.fy;
+  std::vector<io::NodalLoadCase> cases;
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>> combinations;
+  if (frame.loads == analysis::LoadModel::eurocode) {
+    const PolyMesh mesh{model.nodes, model.faces};
+    const double w = frame.self_weight ? frame.density * frame.g * model.sections[0].A : 0.0;
+    const std::vector<analysis::LoadCase> lc =
+        analysis::eurocode_cases(mesh, std::vector<double>(model.members.size(), w), frame);
+    for (const analysis::LoadCase& c : lc) {
+      io::NodalLoadCase out{c.name, c.permanent, {}};
+      for (int v = 0; v < static_cast<int>(c.F.size()); ++v)
+        if (c.F[v].squaredNorm() > 0) out.loads.push_back({v, c.F[v], Vec3::Zero()});
+      cases.push_back(std::move(out));
+    }
+    for (const analysis::LoadCombination& c : analysis::eurocode_combinations(lc))
+      combinations.emplace_back(c.name, c.factors);
+  }
+  nlohmann::json j = io::frame_model_to_json(m, cases, combinations);
+  nlohmann::json a;
+  a["linear"] = level != analysis::AnalysisLevel::none;
+  a["buckling"] = level == analysis::AnalysisLevel::buckling ||
+                  level == analysis::AnalysisLevel::nonlinear;
+  a["nonlinear"] = level == analysis::AnalysisLevel::nonlinear;
+  if (model.num_nodes() > 0) {
+    const Eigen::RowVector3d lo = model.nodes.colwise().minCoeff(),
+                             hi = model.nodes.colwise().maxCoeff();
+    const double span = std::max(hi(0) - lo(0), hi(1) - lo(1));
+    a["stop_displacement"] = options.arc.max_displacement > 0 ? options.arc.max_displacement
+                             : options.path_reach > 0 || !(span > 0)
+                                 ? (hi - lo).maxCoeff() * std::max(options.path_reach, 1.0)
+                                 : span / 5;
+  }
+  a["max_steps"] = options.arc.max_steps;
+  j["analysis"] = a;
+  io::write_file_atomic(dir / "frame.json", j.dump() + "\n");
 }
 
 }  // namespace gridshell

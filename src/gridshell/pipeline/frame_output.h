@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gridshell/analysis/frame_analysis.h"
+#include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/fem/frame_model.h"
 
 namespace gridshell {
@@ -29,5 +30,14 @@ void write_frame_outputs(const std::filesystem::path& dir, const fem::FrameModel
 /// translations, largest 1, sign arbitrary) with their λ. Nothing when there are no modes.
 void write_buckling_modes(const std::filesystem::path& dir, const analysis::FrameResult& r,
                           int count = 3);
+
+/// frame.json: the analysed frame as MODEL.json (io::frame_model_to_json), with the eurocode load
+/// cases and combinations of `frame` (analysis/load_cases.h) or the paper's nodal loads, and an
+/// "analysis" block asking for what `level` did with the grid-shell's path stop (span / 5 of
+/// the joints' plan extent, the same step cap), so that `gridshell analyze frame.json` gives
+/// the same δ, λ_LBA and utilisation (tests: 1e-6 relative).
+void write_frame_json(const std::filesystem::path& dir, const fem::FrameModel& model,
+                      const analysis::GridshellFrameOptions& frame,
+                      const analysis::FrameAnalysisOptions& options, analysis::AnalysisLevel level);
 
 }  // namespace gridshell
