@@ -466,6 +466,13 @@ def main():
 
     rows = {}
     tang = None
+    # The paper's point-supported surfaces and the sweeps first: they are what the table parts
+    # below do not depend on, and the sweeps are the longest part.
+    if "supports" in parts:
+        for key, rep in runner.run_all(variant_jobs(variants, SUPPORTS_ANALYSIS)).items():
+            rows[key] = row_of(rep)
+    sweeps = tuning(runner, a.repeats) if "tuning" in parts else {}
+    log(f"supports and sweeps done: {time.time() - started:.0f} s")
     if parts & {"table", "regularization", "paper"}:
         size_for = {n: s for n, _, _, s, _ in SURFACES if s}
         if any(s[0] == "British Quad" for s in SURFACES):
@@ -578,8 +585,6 @@ def main():
         md += section
 
     if "supports" in parts:
-        for key, rep in runner.run_all(variant_jobs(variants, SUPPORTS_ANALYSIS)).items():
-            rows[key] = row_of(rep)
         section, claims["supports"] = supports_section(rows, variants, fmt)
         md += section
 
@@ -646,7 +651,6 @@ def main():
                "buckling factor λ_LBA (why: section 1's note), the paper's is its non-linear λ. "
                "CV = the standard deviation of λ_LBA over a setting's repeats divided by their "
                "mean. Heatmaps: `results_work/sweep_*/lambda.svg`, `delta.svg`.", ""]
-        sweeps = tuning(runner, a.repeats)
         tun = {}
         for label, _, length, extra, paper_key in TUNING:
             if label not in sweeps:

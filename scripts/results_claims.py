@@ -97,8 +97,13 @@ def supports_claims(groups, tun):
             if o and o["lambda_lba"]:
                 parts.append(f"{name} λ_LBA ×{v['lambda_lba'] / o['lambda_lba']:.2f}, "
                              f"δ ×{v['delta_mm'] / o['delta_mm']:.2f}")
+        below = [k for k, r in g.items() if r["lambda_lba"] and r["lambda_lba"] < 1]
         out.append(f"- **{label} (section 1c), Voronoi (D, A) against** " + "; ".join(parts)
-                   + " (ratios Voronoi / other; λ_LBA higher and δ lower is better).")
+                   + " (ratios Voronoi / other; λ_LBA higher and δ lower is better). Pinned "
+                   "joints: " + ", ".join(f"{k} {r.get('supports')}" for k, r in g.items())
+                   + " — the same 12 surface vertices give each grid the joints that fall on "
+                   "them, so the grids do not stand on equal supports. λ_LBA below 1 (the "
+                   "structure cannot carry its own weight): " + listing(below) + ".")
     pairs = [("Shell, whole boundary", "Shell, 4 low points"),
              ("Paraboloid, whole boundary", "Paraboloid, 4 corners")]
     for whole, pts in pairs:
