@@ -138,7 +138,9 @@ def tuning_findings(tun):
                      f"{(m[bl][0] / iso[0] - 1) * 100:+.0f} % λ_LBA and "
                      f"{(1 - m[bd][1] / iso[1]) * 100:.0f} % δ")
         words = trend_with_A(s)
-        if len(set(words)) == 1:
+        if words == ["mixed"] * len(words):
+            line += ". λ_LBA is not monotone in A at any D"
+        elif len(set(words)) == 1:
             line += f". λ_LBA {words[0]} with A at every D"
         else:
             line += ". λ_LBA with A, D = 1..4: " + ", ".join(words)
