@@ -95,14 +95,12 @@ def paper_setting_change(a, b):
         return ""
     ga = a["means"][k][0] / a["means"][(1.0, 1.0)][0] - 1
     gb = b["means"][k][0] / b["means"][(1.0, 1.0)][0] - 1
+    verdict = ("So it beats the isotropic grid only off the whole boundary." if gb > 0 >= ga else
+               "It beats the isotropic grid under both." if gb > 0 and ga > 0 else
+               "It beats the isotropic grid under neither." if gb <= 0 and ga <= 0 else
+               "It beats the isotropic grid on the whole boundary only.")
     return (f" The paper's best-λ setting ({k[0]:g}, {k[1]:g}) against (1, 1): λ_LBA "
-            f"{ga * 100:+.0f} % on the whole boundary, {gb * 100:+.0f} % on points. Whether the "
-            "paper's best-λ setting beats the isotropic grid depends on the supports: it does " + ("on points only" if gb > 0 >= ga else
-                                                    "on both" if gb > 0 and ga > 0 else
-                                                    "on neither" if gb <= 0 and ga <= 0 else
-                                                    "on the boundary only").replace(
-                                                        "on both", "on both choices").replace(
-                                                        "on neither", "on neither choice") + ".")
+            f"{ga * 100:+.0f} % on the whole boundary, {gb * 100:+.0f} % in this row. " + verdict)
 
 
 def supports_claims(groups, tun):
@@ -121,19 +119,24 @@ def supports_claims(groups, tun):
         below = [k for k, r in g.items() if r["lambda_lba"] and r["lambda_lba"] < 1]
         out.append(f"- **{label} (section 1c), Voronoi (D, A) against** " + "; ".join(parts)
                    + " (ratios Voronoi / other; λ_LBA higher and δ lower is better). Pinned "
-                   "joints: " + ", ".join(f"{k} {r.get('supports')}" for k, r in g.items())
+                   "joints: " + ", ".join(f"{k.replace('_bfield', ', boundary field')} "
+                                          f"{r.get('supports')}" for k, r in g.items())
                    + ("" if "boundary" in label else
                       " — the same 12 surface vertices give each grid the joints that fall on "
                       "them, so the grids do not stand on equal supports")
                    + ". λ_LBA below 1 (the structure cannot carry its own weight): "
-                   + listing(below) + ".")
+                   + listing([k.replace('_bfield', ', boundary field') for k in below]) + ".")
     pairs = [("Shell, whole boundary", "Shell, 4 low points"),
-             ("Paraboloid, whole boundary", "Paraboloid, 4 corners")]
+             ("Shell, whole boundary", "Shell, 4 low points, field of the boundary-pinned shell"),
+             ("Paraboloid, whole boundary", "Paraboloid, 4 corners"),
+             ("Paraboloid, whole boundary",
+              "Paraboloid, 4 corners, field of the boundary-pinned shell")]
     for whole, pts in pairs:
         if whole in tun and pts in tun:
             a, b = tun[whole], tun[pts]
             out.append(
-                f"- **Supports and the tuning ({whole.split(',')[0]}, section 3).** Best mean "
+                f"- **Supports and the tuning ({pts} against the whole boundary, section 3).** "
+                "Best mean "
                 f"λ_LBA at ({a['best_lambda'][0]:g}, {a['best_lambda'][1]:g}) on the whole "
                 f"boundary, at ({b['best_lambda'][0]:g}, {b['best_lambda'][1]:g}) on points; "
                 f"lowest δ at ({a['best_delta'][0]:g}, {a['best_delta'][1]:g}) and "
@@ -260,9 +263,11 @@ def setup_section(rows, tang, supports_groups):
           "British Quad 224: the whole boundary; Aquadom 252 and Lilium 113 red vertices, "
           "interior ones among them), or a supports file. So section 1's Shell rests on its "
           "whole boundary, unlike the paper's; section 1c and the point-supported sweeps of "
-          "section 3 put Shell and the paraboloid on a few points, but then the field too comes "
-          "from the point-supported shell (a field from the boundary-pinned shell with the frame "
-          "on points, the paper's combination, would need `--field FILE`; not run).",
+          "section 3 put Shell and the paraboloid on a few points, with the field of the shell "
+          "on those points, and also — the paper's combination — with the field of the shell "
+          "pinned on its whole boundary (`gridshell stress --supports boundary`, its stresses "
+          "given back as a `--field` file; rows and sweeps \"field of the boundary-pinned "
+          "shell\").",
           "- **Loads.** Field: the shell under 1 kN/m² of plan area (the paper's uniform "
           "projected load; docs/shell.md). Frame: the bars' own weight spread over the joints "
           "by tributary area, as the paper describes; no panels, snow or wind. λ is a multiple "

@@ -127,13 +127,22 @@ def support_variants(work, shell_ply):
     ]
 
 
-def variant_jobs(variants, analyze):
+BFIELD_LABEL = {"shell": "Shell, 4 low points, field of the boundary-pinned shell",
+                "paraboloid": "Paraboloid, 4 corners, field of the boundary-pinned shell"}
+
+
+def variant_jobs(variants, analyze, bfield=None):
     """Section 1c's runs: the Voronoi design at the paper's (D, A) and the comparison grids, all at
-    the paper's length, for each support variant."""
+    the paper's length, for each support variant; on points, also the design whose field comes
+    from the shell pinned on its whole boundary (bfield: surface → BLK file)."""
     jobs = []
     for name, _, args, (D, A), length, _ in variants:
         size = ["--length", f"{length:.0f}", "--analyze", analyze]
         jobs.append((f"{name}_voronoi", ["design"] + args + ["-D", str(D), "-A", str(A)] + size))
+        field = (bfield or {}).get(name.split("_")[0])
+        if field and name.endswith("_points"):
+            jobs.append((f"{name}_voronoi_bfield", ["design"] + args +
+                         ["-D", str(D), "-A", str(A), "--field", str(field)] + size))
         for kind in ("voronoi-iso", "quad", "tri"):
             jobs.append((f"{name}_{kind}", ["baseline"] + args + ["--kind", kind] + size))
     return jobs
@@ -155,8 +164,9 @@ def supports_section(rows, variants, fmt):
           "plan) and the built-in paraboloid's four corners (z = 0), each with its two "
           "neighbours along the boundary — 12 surface vertices; a grid's joints on the boundary "
           "between two of them are pinned (the `supports` column). The supports are those of "
-          "the shell analysis that gives the stress field too (the paper pinned the whole "
-          "boundary for that analysis). Paraboloid: `" + PARABOLOID + "` (the paper gives no "
+          "the shell analysis that gives the stress field too; the paper pinned the whole "
+          "boundary for that analysis, which the row \"field of the boundary-pinned shell\" "
+          "does (`gridshell stress --supports boundary`, its stresses as a `--field` file). Paraboloid: `" + PARABOLOID + "` (the paper gives no "
           "dimensions; at 40 m span the paper's 2156 m gives about its 745 cells), (D, A) = "
           f"{PARABOLOID_DA}, all rows at the paper's length. Same frame as section 1; λ = "
           "non-linear (λ_LBA in brackets).", "",
@@ -169,9 +179,13 @@ def supports_section(rows, variants, fmt):
         counts = PAPER_COUNTS[name.split("_")[0]]
         md.append(f"| {label} | *paper: Voronoi ({D}, {A})* | {counts[0]} | {counts[1]} | "
                   f"{counts[2]} | {counts[3]} | | {paper[0]:g} | {paper[1]:g} | | |")
-        for key, structure in (("voronoi", f"voronoi ({D}, {A})"), ("voronoi-iso", "voronoi-iso"),
+        for key, structure in (("voronoi", f"voronoi ({D}, {A})"),
+                               ("voronoi_bfield", f"voronoi ({D}, {A}), field of the "
+                                "boundary-pinned shell"), ("voronoi-iso", "voronoi-iso"),
                                ("quad", "quad (isotropic)"), ("tri", "tri")):
             r = rows.get(f"{name}_{key}")
+            if r is None and key == "voronoi_bfield":
+                continue
             if r is None:
                 md.append(f"| {label} | {structure} | failed | | | | | | | | |")
                 continue
@@ -184,3 +198,65 @@ def supports_section(rows, variants, fmt):
         groups.append((label, group))
     md.append("")
     return md, groups
+
+
+# ---------------------------------------------------------------------------------------------
+# The paper's combination: the stress field of the shell pinned on its whole boundary, the
+# grid-shell standing on a few points (`--field FILE` with `--supports FILE.json`).
+
+
+def paraboloid_mesh(span=PARABOLOID_SPAN, rise=PARABOLOID_RISE, n=PARABOLOID_RES):
+    """The built-in paraboloid's vertices and triangles, in its own order (surfaces/builtin.cpp
+    make_grid)."""
+    h = span / 2
+    V = []
+    for j in range(n + 1):
+        for i in range(n + 1):
+            x, y = -h + span * i / n, -h + span * j / n
+            V.append((x, y, rise * (1 - (x * x + y * y) / (2 * h * h))))
+    F = []
+    for j in range(n):
+        for i in range(n):
+            a, b = j * (n + 1) + i, j * (n + 1) + i + 1
+            c, d = (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i
+            if (2 * i + 1 < n) == (2 * j + 1 < n):
+                F += [[a, b, c], [a, c, d]]
+            else:
+                F += [[a, b, d], [b, c, d]]
+    return V, F
+
+
+def stress_to_blk(stress_csv, V, F, out):
+    """`gridshell stress`'s per-triangle principal stresses as a BLK field file (one point per
+    triangle, at its centroid; field/field_io.h): what `--field FILE` reads."""
+    import csv
+    lines = ["x y z s1 v1x v1y v1z s2 v2x v2y v2z"]
+    with open(stress_csv) as f:
+        rows = list(csv.DictReader(f))
+    if len(rows) != len(F):
+        raise ValueError(f"{stress_csv}: {len(rows)} triangles, the surface has {len(F)}")
+    for r, tri in zip(rows, F):
+        c = [sum(V[v][k] for v in tri) / 3 for k in range(3)]
+        lines.append(" ".join(f"{x:.9g}" for x in c + [float(r["s1"]), float(r["d1x"]),
+                                                          float(r["d1y"]), float(r["d1z"]),
+                                                          float(r["s2"]), float(r["d2x"]),
+                                                          float(r["d2y"]), float(r["d2z"])]))
+    Path(out).write_text("\n".join(lines) + "\n")
+    return Path(out)
+
+
+def boundary_fields(runner, shell_ply):
+    """BLK fields of Shell and the paraboloid pinned on their whole boundary: name → path."""
+    out = {}
+    for name, surface, mesh in (("shell", str(shell_ply), lambda: read_ascii_ply(shell_ply)),
+                                ("paraboloid", PARABOLOID, paraboloid_mesh)):
+        blk = runner.work / f"field_{name}_boundary.blk"
+        if not blk.exists():
+            rep = runner.run(f"stress_{name}_boundary", ["stress", surface, "--supports",
+                                                         "boundary"])
+            if rep is None:
+                continue
+            V, F = mesh()
+            stress_to_blk(runner.work / f"stress_{name}_boundary" / "stress.csv", V, F, blk)
+        out[name] = blk
+    return out
