@@ -658,7 +658,7 @@ def main():
     if "tuning" in parts:
         md += ["## 3. Tuning experiment: D, A ∈ {1, 2, 3, 4} at equal length", "",
                "`gridshell sweep SURFACE --D 1:4 --A 1:4 --repeats N --length L --analyze "
-               f"{TUNING_ANALYSIS} [--supports FILE]`, N = {a.repeats} repeats; every case has "
+               f"{TUNING_ANALYSIS} [--supports FILE] [--field FILE]`, N = {a.repeats} repeats; every case has "
                "its own seed; values are means over the repeats. λ here is the linearised "
                "buckling factor λ_LBA (why: section 1's note), the paper's is its non-linear λ. "
                "CV = the standard deviation of λ_LBA over a setting's repeats divided by their "
