@@ -2,27 +2,29 @@
 """Regenerates docs/results.md: the paper's experiments run with our build on ../shared/data.
 
     python3 scripts/results.py [--exe build/gridshell] [--work results_work] [--jobs 2]
-                               [--parts table,paper,regularization,tuning] [--repeats 3]
+                               [--parts table,paper,supports,regularization,tuning] [--repeats 3]
     python3 scripts/results.py --parts paper      # section 1b alone, spliced into docs/results.md
 
-Parts (all by default):
+Parts (the first five by default):
   table           the paper's Table 1 analogue: for each shared surface, our stress-driven Voronoi
                   (D, A) grid-shell against the isotropic quad grid, the triangulation and the
                   isotropic Voronoi tessellation, all at the paper's total beam length, analysed
-                  as the same steel frame (vertices, faces, edges, length, lambda, delta, mass);
-                  plus Tang's own quad mesh for British Quad.
+                  as the same steel frame; plus Tang's own quad mesh for British Quad.
   paper           the paper's own Table 1 rows (section 1b): the original quad grid-shell where the
-                  shared data holds it (Botanic: `baseline --kind original`; British Quad: Tang's
-                  quads), the anisotropic quad mesh at the design's (D, A) (`--kind quad-aniso`),
-                  the isotropic quad grid, voronoi-iso, Voronoi (D, A) and triangles, all at equal
-                  length, with the paper's own λ and δ beside ours and its claim checked. Run
-                  alone (`--parts paper`) it needs only those runs and replaces section 1b of
-                  --out in place (the rest of the file is kept).
-  regularization  the same Voronoi designs with and without regularization (mesh quality, lambda,
-                  delta): the paper's "regularization helps slightly".
-  tuning          the paper's tuning experiment on Shell and Neumunster: D, A in 1..4, 3 repeats
-                  at equal length (gridshell sweep), averaged; the best settings.
-The claims section is derived from the numbers of the parts that ran.
+                  shared data holds it, the anisotropic quad mesh at the design's (D, A)
+                  (`--kind quad-aniso`), with the paper's own λ and δ beside ours. Run alone
+                  (`--parts paper`) it replaces section 1b of --out in place.
+  supports        section 1c: Shell on its 4 low points and the paper's Paraboloid (built-in, 40 m
+                  span) on its 4 corners and on its whole boundary, Voronoi (D, A) against the
+                  comparison grids at the paper's lengths (supports files written by
+                  scripts/results_supports.py).
+  regularization  the Voronoi designs with and without regularization (mesh quality, λ, δ).
+  tuning          the paper's tuning experiment: D, A in 1..4, --repeats seeds each at equal
+                  length (gridshell sweep, λ_LBA): Shell on its whole boundary and on 4 points,
+                  Neumünster, the paraboloid on its corners and on its whole boundary.
+  objectives      (not by default) `design --objective balanced|lambda|delta` rows in section 1.
+Sections 4-6 (claims checked, set-up differences, problems in the paper's table) are derived
+from the parts that ran (scripts/results_claims.py).
 
 Every run's folder under --work is kept (report.json, meshes); a run whose report.json exists is
 not repeated, so an interrupted regeneration resumes. Delete --work to start afresh.
@@ -40,6 +42,11 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+
+from results_claims import claim_text, setup_and_paper_sections
+from results_supports import (BFIELD_LABEL, boundary_fields, support_variants,
+                              supports_section, variant_jobs)
+from results_tuning import TUNING, TUNING_ANALYSIS, tuning, tuning_findings, tuning_tables
 
 ROOT = Path(__file__).resolve().parent.parent
 SHARED = ROOT.parent / "shared" / "data"
@@ -60,14 +67,8 @@ SURFACES = [
      "scaled ×16 to real size (96 × 77 m); length of Tang's recovered quad mesh"),
 ]
 BRITISH_SCALE = 16.0
-TUNING = [("Shell", "Shell.ply", 415.0), ("Neumunster", "Neumunster.ply", 975.0)]
-# Conventions swept besides the paper's (magnitude/along/rising): the one that mattered most in
-# the objective search (docs/field.md): tension only.
-TUNING_CONVENTIONS = [("magnitude", []), ("tension", ["--stress-measure", "tension"])]
-# The tuning grid uses the linearised buckling factor: on these stiff 37 mm-bar structures the
-# non-linear path of most designs has no critical point until very large displacements (see the
-# note under the table), which makes it both slow (~1 min per design) and a poor ranking.
-TUNING_ANALYSIS = "buckling"
+# Section 1c's rows get the same analyses as section 1's (non-linear λ and λ_LBA).
+SUPPORTS_ANALYSIS = "nonlinear"
 
 
 def log(msg):
@@ -77,12 +78,16 @@ def log(msg):
 class Runner:
     def __init__(self, exe, work, jobs):
         self.exe, self.work, self.jobs = exe, work, jobs
+        self.ran = self.reused = self.sweeps_ran = self.sweeps_reused = 0
 
     def run(self, name, args, threads=1):
         """Runs gridshell with args into work/name unless its report exists; returns the report."""
         out = self.work / name
         report = out / "report.json"
-        if not report.exists():
+        if report.exists():
+            self.reused += 1
+        else:
+            self.ran += 1
             if out.exists():
                 shutil.rmtree(out)
             cmd = [str(self.exe)] + args + ["--quiet", "--threads", str(threads), "-o", str(out)]
@@ -163,8 +168,9 @@ def design_jobs(size_for):
     return jobs
 
 
-def baseline_jobs(length_for):
-    """The comparison grids at the length each surface's Voronoi design is held to."""
+def baseline_jobs(length_for, objectives):
+    """The comparison grids at the length each surface's Voronoi design is held to (and, with
+    objectives, the objective searches)."""
     jobs = []
     for name, file, _, _, _ in SURFACES:
         if length_for.get(name) is None:
@@ -172,6 +178,8 @@ def baseline_jobs(length_for):
         for kind in ("voronoi-iso", "quad", "tri"):
             jobs.append((f"{slug(name)}_{kind}", ["baseline"] + surface_args(file) +
                          ["--kind", kind, "--length", f"{length_for[name]:.1f}"]))
+        if not objectives:
+            continue
         # The default design: the objective search (docs/field.md "Objective search"), at the
         # same length as the other rows.
         size = ["--length", f"{length_for[name]:.1f}"]
@@ -203,6 +211,7 @@ def row_of(report, mesh=None):
         "surface_distance": report.get("design", {}).get("regularization", {}).get(
             "max_surface_distance"),
         "euler": m.get("euler_characteristic"), "loops": m.get("boundary_loops"),
+        "supports": m.get("supports"),
     }
 
 
@@ -303,7 +312,7 @@ def paper_section(rows, length_for, tang):
           "same field does; docs/quad_aniso.md), the isotropic quad grid, the isotropic Voronoi tessellation, the "
           "Voronoi design and the triangulation. Same frame model as section 1; the original "
           "rows keep their own length (the grid-shell as built). The paper's λ and δ are beside "
-          "ours: its frame differs (section 1's note), so compare orderings within a surface, "
+          "ours: its set-up differs (section 5), so compare orderings within a surface, "
           "not values.", "",
           "| Surface | Structure | Vertices | Faces | Edges | Length (m) | vs target | "
           "λ (λ_LBA) | δ (mm) | paper: λ, δ (mm) | valence 4 / quads |",
@@ -358,14 +367,15 @@ def paper_section(rows, length_for, tang):
                    t["voronoi"][1] < t["quad-aniso"][1]]
         claims.append(
             "- **\"Voronoi beats the anisotropic quads\" (the paper's Table 1), equal length, "
-            "same field and (D, A).** Ours: Voronoi has the higher λ on "
-            f"{tally('lambda', lambda x, y: x > y)}, the higher λ_LBA on "
-            f"{tally('lambda_lba', lambda x, y: x > y)} and the lower δ on "
-            f"{tally('delta_mm', lambda x, y: x < y)} surfaces; λ_LBA ratio Voronoi / quads "
+            "same field and (D, A).** Ours: Voronoi (D, A) has the higher λ_LBA on "
+            f"{tally('lambda_lba', lambda x, y: x > y)} surfaces and the lower δ on "
+            f"{tally('delta_mm', lambda x, y: x < y)}; λ_LBA ratio Voronoi / quads "
             + ", ".join(f"{n} {rl:.2f}" for n, rl, _ in ratios) + "; δ ratio "
             + ", ".join(f"{n} {rd:.2f}" for n, _, rd in ratios)
-            + f". The paper: higher λ on {len(paper_l)} of 4 ({', '.join(paper_l)}), lower δ on "
-            f"{len(paper_d)} of 4 ({', '.join(paper_d)}).")
+            + ". One seed each: a ratio within a few per cent of 1 is not a verdict (the spread "
+            "between seeds is in section 3). The paper (its non-linear λ): Voronoi higher on "
+            f"{len(paper_l)} of 4 ({', '.join(paper_l)}), lower δ on {len(paper_d)} of 4 "
+            f"({', '.join(paper_d)}).")
         both = [n for n, v, q, _ in pairs if v["lambda_lba"] and q["lambda_lba"] and
                 v["lambda_lba"] > q["lambda_lba"] and v["delta_mm"] < q["delta_mm"]]
         stiffer = [n for n, v, q, _ in pairs if q["delta_mm"] < v["delta_mm"]]
@@ -380,91 +390,25 @@ def paper_section(rows, length_for, tang):
         for n, v, q, o in pairs:
             if o is None:
                 continue
+            pt = PAPER_TABLE[n]
+            ours = "better" if (q["lambda_lba"] > o["lambda_lba"] and
+                                q["delta_mm"] < o["delta_mm"]) else "not better on both"
+            theirs = "better" if (pt["quad-aniso"][0] > pt["original"][0] and
+                                  pt["quad-aniso"][1] < pt["original"][1]) else "not better on both"
             claims.append(
-                f"- **{n}: the original quads against the anisotropic quads.** Original λ_LBA "
-                f"{fmt(o['lambda_lba'])}, δ {fmt(o['delta_mm'])} mm; quad-aniso λ_LBA "
+                f"- **{n}: the original quads against the anisotropic quads.** Ours: original "
+                f"λ_LBA {fmt(o['lambda_lba'])}, δ {fmt(o['delta_mm'])} mm; quad-aniso λ_LBA "
                 f"{fmt(q['lambda_lba'])}, δ {fmt(q['delta_mm'])} mm; Voronoi λ_LBA "
-                f"{fmt(v['lambda_lba'])}, δ {fmt(v['delta_mm'])} mm (the paper: "
-                + ", ".join(f"{k} λ {PAPER_TABLE[n][k][0]:g}, δ {PAPER_TABLE[n][k][1]:g} mm"
-                            for k in ("original", "quad-aniso", "voronoi")) + ").")
+                f"{fmt(v['lambda_lba'])}, δ {fmt(v['delta_mm'])} mm — the anisotropic quads "
+                f"are {ours} than the original. The paper (non-linear λ): "
+                + ", ".join(f"{k} λ {pt[k][0]:g}, δ {pt[k][1]:g} mm"
+                            for k in ("original", "quad-aniso", "voronoi"))
+                + f" — its anisotropic quads are {theirs} than the original.")
     if claims:
-        md += ["Checked (λ is the non-linear one; λ_LBA and δ are the steadier figures, section "
-               "1's note):", ""] + claims + [""]
-    md.append(f"Section generated by `python3 scripts/results.py --parts paper` with gridshell "
-              f"{git_describe()}; rows other than quad-aniso and Botanic's original are the runs "
-              "of section 1, reused.")
+        md += ["Checked on λ_LBA and δ (section 1's note says why not on the non-linear λ):",
+               ""] + claims + [""]
+    md.append("Rows other than quad-aniso and the originals are the runs of section 1, reused.")
     return md, claims
-
-
-# ---------------------------------------------------------------------------------------------
-# Tuning sweep
-
-
-def tuning(runner, repeats):
-    """(surface, convention) → sweep rows."""
-    results = {}
-    for name, file, length in TUNING:
-        for conv, extra in TUNING_CONVENTIONS:
-            out = runner.work / f"sweep_{slug(name)}{'' if conv == 'magnitude' else '_' + conv}"
-            csv_path = out / "sweep.csv"
-            if not csv_path.exists():
-                t = time.time()
-                cmd = [str(runner.exe), "sweep", str(SURF / file), "--D", "1:4", "--A", "1:4",
-                       "--repeats", str(repeats), "--length", str(length), "--analyze",
-                       TUNING_ANALYSIS, "--quiet", "-o", str(out)] + extra
-                p = subprocess.run(cmd, capture_output=True, text=True)
-                if p.returncode != 0:
-                    log(f"FAILED sweep {name} {conv}: {p.stderr.strip()}")
-                    continue
-                log(f"sweep {name} {conv}: {time.time() - t:.0f} s")
-            with open(csv_path) as f:
-                rows = list(csv.DictReader(f))
-            results[(name, conv)] = rows
-    return results
-
-
-def tuning_tables(rows, length):
-    by = {}
-    for r in rows:
-        by.setdefault((float(r["D"]), float(r["A"])), []).append(r)
-    Ds = sorted({k[0] for k in by})
-    As = sorted({k[1] for k in by})
-
-    def mean(key, D, A):
-        vals = [float(r[key]) for r in by.get((D, A), [])]
-        return statistics.mean(vals) if vals else float("nan")
-
-    out = []
-    lengths = [float(r["total_length"]) for r in rows]
-    out.append(f"{len(rows)} designs; total length {min(lengths):.0f}–{max(lengths):.0f} m "
-               f"(target {length:.0f} m, largest deviation "
-               f"{max(abs(x / length - 1) for x in lengths) * 100:.1f} %).\n")
-    for key, title, scale in (("lambda", "mean buckling factor λ_LBA", 1),
-                              ("delta", "mean deflection δ (mm)", 1000)):
-        out.append(f"\n{title} (rows D, columns A):\n")
-        out.append("| D \\ A | " + " | ".join(f"{A:g}" for A in As) + " |")
-        out.append("|---" * (len(As) + 1) + "|")
-        for D in Ds:
-            out.append(f"| {D:g} | " + " | ".join(fmt(mean(key, D, A) * scale)
-                                                for A in As) + " |")
-    best_l = max(by, key=lambda k: mean("lambda", *k))
-    best_d = min(by, key=lambda k: mean("delta", *k))
-    spread = []
-    for k, rs in by.items():
-        ls = [float(r["lambda"]) for r in rs]
-        if len(ls) > 1 and statistics.mean(ls) > 0:
-            spread.append(statistics.stdev(ls) / statistics.mean(ls))
-    summary = {"best_lambda": best_l, "best_lambda_value": mean("lambda", *best_l),
-               "best_delta": best_d, "best_delta_value": mean("delta", *best_d) * 1000,
-               "iso_lambda": mean("lambda", 1.0, 1.0), "iso_delta": mean("delta", 1.0, 1.0) * 1000,
-               "repeat_cv": statistics.mean(spread) if spread else float("nan")}
-    out.append(f"\nBest λ: (D, A) = ({best_l[0]:g}, {best_l[1]:g}), λ = "
-               f"{summary['best_lambda_value']:.3g}; lowest δ: ({best_d[0]:g}, {best_d[1]:g}), "
-               f"δ = {summary['best_delta_value']:.3g} mm; isotropic (1, 1): λ = "
-               f"{summary['iso_lambda']:.3g}, δ = {summary['iso_delta']:.3g} mm. Spread between "
-               f"repeats (mean coefficient of variation of λ per setting): "
-               f"{summary['repeat_cv'] * 100:.1f} %.")
-    return "\n".join(out), summary
 
 
 # ---------------------------------------------------------------------------------------------
@@ -476,7 +420,7 @@ def main():
     ap.add_argument("--work", default=str(ROOT / "results_work"))
     ap.add_argument("--out", default=str(ROOT / "docs" / "results.md"))
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
-    ap.add_argument("--parts", default="table,paper,regularization,tuning")
+    ap.add_argument("--parts", default="table,paper,supports,regularization,tuning")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--only", help="comma-separated surface names (a quick partial check)")
     a = ap.parse_args()
@@ -485,7 +429,7 @@ def main():
         keep = set(a.only.split(","))
         skipped = [s[0] for s in SURFACES if s[0] not in keep]
         SURFACES[:] = [s for s in SURFACES if s[0] in keep]
-        TUNING[:] = [t for t in TUNING if t[0] in keep]
+        TUNING[:] = [t for t in TUNING if t[0].split(",")[0] in keep]
     if not SURF.is_dir():
         log(f"{SURF} is absent: nothing to do")
         return 0
@@ -498,6 +442,23 @@ def main():
     work.mkdir(parents=True, exist_ok=True)
     runner = Runner(exe, work, a.jobs)
     started = time.time()
+    variants = support_variants(work, SURF / "Shell.ply")
+    fields = (boundary_fields(runner, SURF / "Shell.ply")
+              if parts & {"supports", "tuning"} else {})
+    bfield = {"shell": fields.get("shell"), "paraboloid": fields.get("paraboloid")}
+    if not a.only or "Shell" in a.only:
+        TUNING.insert(1, ("Shell, 4 low points", variants[0][2][:1], 415.0, variants[0][2][1:],
+                          "Shell"))
+        if bfield["shell"]:
+            TUNING.insert(2, (BFIELD_LABEL["shell"], variants[0][2][:1], 415.0,
+                              variants[0][2][1:] + ["--field", str(bfield["shell"])], "Shell"))
+    if not a.only or "Paraboloid" in a.only:
+        TUNING.extend((label, args[:1], length, args[1:], "Paraboloid")
+                      for name, label, args, _, length, _ in variants[1:])
+        if bfield["paraboloid"]:
+            TUNING.append((BFIELD_LABEL["paraboloid"], variants[1][2][:1], 2156.0,
+                           variants[1][2][1:] + ["--field", str(bfield["paraboloid"])],
+                           "Paraboloid"))
     md = ["# Results: the paper's experiments, re-run", "",
           f"Generated by `python3 scripts/results.py` from `../shared/data` with gridshell "
           f"{git_describe()} on a {os.cpu_count()}-core machine. Every number below comes from a "
@@ -516,6 +477,14 @@ def main():
 
     rows = {}
     tang = None
+    # The paper's point-supported surfaces and the sweeps first: they are what the table parts
+    # below do not depend on, and the sweeps are the longest part.
+    if "supports" in parts:
+        for key, rep in runner.run_all(variant_jobs(variants, SUPPORTS_ANALYSIS,
+                                                    bfield)).items():
+            rows[key] = row_of(rep)
+    sweeps = tuning(runner, a.repeats) if "tuning" in parts else {}
+    log(f"supports and sweeps done: {time.time() - started:.0f} s")
     if parts & {"table", "regularization", "paper"}:
         size_for = {n: s for n, _, _, s, _ in SURFACES if s}
         if any(s[0] == "British Quad" for s in SURFACES):
@@ -535,7 +504,7 @@ def main():
             size = size_for[name]
             length_for[name] = float(size[1]) if size[0] == "--length" else (
                 v["length"] if v else None)
-        jobs = baseline_jobs(length_for)
+        jobs = baseline_jobs(length_for, "objectives" in parts)
         if "table" not in parts:  # the baselines of section 1b only
             jobs = [(k, args) for k, args in jobs if args[0] == "baseline"]
         if "paper" in parts:
@@ -547,11 +516,14 @@ def main():
 
     if "table" in parts:
         md += ["## 1. Table 1 analogue: stress-driven Voronoi against the comparison grids", "",
-               "Each group: one surface, all structures at the same total length (±5 %). "
-               "`voronoi (D, A)` is `gridshell design` with the paper's (D, A); `voronoi, "
-               "objective X` is `gridshell design --objective X` (the search of docs/field.md; "
-               "balanced is the default; lambda and delta rows analysed to LBA only, so λ is "
-               "–); the others are `gridshell baseline --kind ...` at the same length.", "",
+               "Each group: one surface, all structures at the same total length (±5 %), each "
+               "on the file's own supports (section 5). `voronoi (D, A)` is `gridshell design` "
+               "with the paper's (D, A)"
+               + ("; `voronoi, objective X` is `gridshell design --objective X` (the search of "
+                  "docs/field.md; balanced is the default; lambda and delta rows analysed to LBA "
+                  "only, so λ is –)" if "objectives" in parts else "")
+               + "; the others are `gridshell baseline --kind ...` at the same length. One seed "
+               "each. λ = non-linear, λ_LBA in brackets, λ_δ: see the note below.", "",
                "| Surface | Structure | Vertices | Faces | Edges | Length (m) | vs target | "
                "λ (λ_LBA) | λ_δ | δ (mm) | Mass (t) | Time (s) |",
                "|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -561,11 +533,12 @@ def main():
                 "iso_lambda": [], "iso_delta": [], "objective": []}
         for name, _, (D, A), _, note in SURFACES:
             s = slug(name)
-            group = [(f"voronoi ({D}, {A})", rows.get(f"{s}_voronoi")),
-                     ("voronoi, objective balanced (default)", rows.get(f"{s}_balanced")),
-                     ("voronoi, objective lambda", rows.get(f"{s}_lambda")),
-                     ("voronoi, objective delta", rows.get(f"{s}_delta")),
-                     ("voronoi-iso", rows.get(f"{s}_voronoi-iso")),
+            group = [(f"voronoi ({D}, {A})", rows.get(f"{s}_voronoi"))]
+            if "objectives" in parts:
+                group += [("voronoi, objective balanced (default)", rows.get(f"{s}_balanced")),
+                          ("voronoi, objective lambda", rows.get(f"{s}_lambda")),
+                          ("voronoi, objective delta", rows.get(f"{s}_delta"))]
+            group += [("voronoi-iso", rows.get(f"{s}_voronoi-iso")),
                      ("quad (isotropic)", rows.get(f"{s}_quad")),
                      ("tri", rows.get(f"{s}_tri"))]
             if name == "British Quad":
@@ -589,8 +562,8 @@ def main():
             for kind, key in (("quad", f"{s}_quad"), ("tri", f"{s}_tri"),
                               ("iso", f"{s}_voronoi-iso")):
                 o = rows.get(key)
-                if v and o and v["lambda"] and o["lambda"]:
-                    wins[f"{kind}_lambda"].append((name, v["lambda"], o["lambda"]))
+                if v and o and v["lambda_lba"] and o["lambda_lba"]:
+                    wins[f"{kind}_lambda"].append((name, v["lambda_lba"], o["lambda_lba"]))
                     wins[f"{kind}_delta"].append((name, v["delta_mm"], o["delta_mm"]))
             iso = rows.get(f"{s}_voronoi-iso")
             objs = {k: rows.get(f"{s}_{k}") for k in ("lambda", "delta", "balanced")}
@@ -614,13 +587,17 @@ def main():
                "(in brackets) and λ_δ are the better figures of merit; the tuning grid "
                "(section 3) uses λ_LBA. λ_δ is the load factor at which the non-linear path's "
                "largest displacement reaches span/100, or the first critical point's λ if that "
-               "comes first (`lambda_displacement_limit` in report.json). The paper's own figures (e.g. Shell λ = 3.05, δ = 46.65 mm "
-               "at 415 m) imply a structure about 40× softer relative to its load than ours; "
-               "its section and load cannot be recovered from the text, so compare ratios "
-               "between rows, not absolute values with the paper.", ""]
+               "comes first (`lambda_displacement_limit` in report.json). Shell here rests on "
+               "its whole boundary (the file's red vertices), the paper's on a few points: "
+               "section 1c has both. The other differences of set-up are in section 5: compare "
+               "orderings within a surface, not values with the paper.", ""]
 
     if "paper" in parts:
         section, claims["paper"] = paper_section(rows, length_for, tang)
+        md += section
+
+    if "supports" in parts:
+        section, claims["supports"] = supports_section(rows, variants, fmt)
         md += section
 
     if "regularization" in parts:
@@ -660,8 +637,9 @@ def main():
                "and with regularization (`--no-regularize`), same seed. Regularity = mean "
                "deviation of the cells from their stretched-regular targets (lower is better); "
                "CV = coefficient of variation of the edge lengths.", "",
-               "| Surface | Hex share | CV raw → reg | Regularity raw → reg | λ raw → reg | "
-               "λ_δ raw → reg | δ (mm) raw → reg |", "|---|---|---|---|---|---|---|"]
+               "| Surface | Hex share | CV raw → reg | Regularity raw → reg | λ_LBA raw → reg | "
+               "λ raw → reg | λ_δ raw → reg | δ (mm) raw → reg |",
+               "|---|---|---|---|---|---|---|---|"]
         reg = []
         for name, _, _, _, _ in SURFACES:
             s = slug(name)
@@ -669,7 +647,8 @@ def main():
             if not (r and n):
                 continue
             md.append(f"| {name} | {fmt(r['hex'])} | {fmt(r['cv_raw'])} → {fmt(r['cv'])} | "
-                      f"{fmt(r['reg_raw'])} → {fmt(r['reg'])} | {fmt(n['lambda'])} → "
+                      f"{fmt(r['reg_raw'])} → {fmt(r['reg'])} | {fmt(n['lambda_lba'])} → "
+                      f"{fmt(r['lambda_lba'])} | {fmt(n['lambda'])} → "
                       f"{fmt(r['lambda'])} | {fmt(n['lambda_d'])} → {fmt(r['lambda_d'])} | "
                       f"{fmt(n['delta_mm'])} → {fmt(r['delta_mm'])} |")
             reg.append((name, n, r))
@@ -677,32 +656,26 @@ def main():
         md.append("")
 
     if "tuning" in parts:
-        md += ["## 3. Tuning experiment: D, A ∈ {1, 2, 3, 4}, "
-               f"{a.repeats} repeats, equal length", "",
+        md += ["## 3. Tuning experiment: D, A ∈ {1, 2, 3, 4} at equal length", "",
                "`gridshell sweep SURFACE --D 1:4 --A 1:4 --repeats N --length L --analyze "
-               f"{TUNING_ANALYSIS}`; every case has its own seed; values are means over the "
-               "repeats; λ here is the linearised buckling factor λ_LBA (why: section 1's note). "
-               "Heatmaps: `results_work/sweep_*/lambda.svg`, `delta.svg`.", ""]
-        sweeps = tuning(runner, a.repeats)
+               f"{TUNING_ANALYSIS} [--supports FILE] [--field FILE]`, N = {a.repeats} repeats; every case has "
+               "its own seed; values are means over the repeats. λ here is the linearised "
+               "buckling factor λ_LBA (why: section 1's note), the paper's is its non-linear λ. "
+               "CV = the standard deviation of λ_LBA over a setting's repeats divided by their "
+               "mean. Heatmaps: `results_work/sweep_*/lambda.svg`, `delta.svg`.", ""]
         tun = {}
-        for name, _, length in TUNING:
-            for conv, extra in TUNING_CONVENTIONS:
-                label = name if conv == "magnitude" else f"{name}, {conv} only"
-                if (name, conv) not in sweeps:
-                    md.append(f"### {label}\n\nsweep failed.\n")
-                    continue
-                text, summary = tuning_tables(sweeps[(name, conv)], length)
-                tun[label] = summary
-                flag = f" (`{' '.join(extra)}`)" if extra else " (the paper's convention)"
-                md += [f"### {label} ({length:.0f} m){flag}", "", text, ""]
-        paper = {"Shell": "highest λ at (3, 3), lowest δ at (3, 1)",
-                 "Neumunster": "highest λ at (2, 1), lowest δ at (4, 1)"}
-        for name, s in tun.items():
-            md.append(f"- {name}: ours — highest λ at ({s['best_lambda'][0]:g}, "
-                      f"{s['best_lambda'][1]:g}), lowest δ at ({s['best_delta'][0]:g}, "
-                      f"{s['best_delta'][1]:g})"
-                      + (f"; the paper — {paper[name]}." if name in paper else "."))
+        for label, _, length, extra, paper_key in TUNING:
+            if label not in sweeps:
+                md.append(f"### {label}\n\nsweep failed.\n")
+                continue
+            text, summary = tuning_tables(sweeps[label], length)
+            summary["paper_key"] = paper_key
+            tun[label] = summary
+            sup = next((x for x in extra if x.endswith(".json")), None)
+            flag = f" (supports `{os.path.relpath(sup, ROOT)}`)" if sup else ""
+            md += [f"### {label} ({length:.0f} m){flag}", "", text, ""]
         claims["tuning"] = tun
+        md += tuning_findings(tun)
         md.append("")
 
     if parts == {"paper"}:  # splice section 1b into the existing document
@@ -722,92 +695,45 @@ def main():
         log(f"spliced section 1b into {out} ({time.time() - started:.0f} s)")
         return 0
 
-    md += ["## 4. The paper's claims, checked", ""]
-    md += claim_text(claims)
-    table = ROOT / "docs" / "objective_table.md"
-    if table.exists():
-        md += ["", "## 5. The objective search on more surfaces", "",
-               "From `docs/objective_table.md` (`python3 scripts/objective_table.py`: the shared "
-               "surfaces at the paper's lengths and the built-ins at 300 cells; ratios to the "
-               "isotropic Voronoi design at the same length and seed):", "",
-               table.read_text().strip()]
-    md += ["", f"Regeneration time: {time.time() - started:.0f} s (runs already in "
-           f"`{os.path.relpath(work, ROOT)}/` are reused)."]
+    md += ["## 4. The paper's claims, checked", "",
+           "Each line restates what a table above shows; λ_LBA and δ are counted separately, "
+           "the non-linear λ is never counted (section 1's note).", ""]
+    md += claim_text(claims) + [""]
+    if parts & {"table", "paper"}:
+        md += setup_and_paper_sections(rows, tang, claims.get("supports") or [])
+    md += ["## 7. Elsewhere", "",
+           "The objective search on more surfaces (the shared ones and the built-ins) is "
+           "docs/objective_table.md (`python3 scripts/objective_table.py`); the anisotropic quad "
+           "baseline's own measurements are docs/quad_aniso.md.", "",
+           f"This regeneration: {time.time() - started:.0f} s wall-clock with --jobs {a.jobs}; "
+           f"{runner.ran} runs made, {runner.reused} reused from "
+           f"`{os.path.relpath(work, ROOT)}/`; sweeps made: {runner.sweeps_ran}, reused: "
+           f"{runner.sweeps_reused}."] + from_scratch(runner, work, started, a.jobs)
     Path(a.out).write_text("\n".join(md) + "\n")
     log(f"wrote {a.out}")
     return 0
 
 
-def claim_text(claims):
-    out = list(claims.get("paper") or [])
-    t = claims.get("table")
-    if t:
-        def tally(pairs, better):
-            won = [n for n, v, o in pairs if better(v, o)]
-            return won, [n for n, _, _ in pairs if n not in won]
-
-        for kind, label in (("quad", "the isotropic quad grid"), ("iso", "isotropic Voronoi")):
-            wl, ll = tally(t[f"{kind}_lambda"], lambda v, o: v > o)
-            wd, ld = tally(t[f"{kind}_delta"], lambda v, o: v < o)
-            out.append(f"- **Voronoi (D, A) vs {label}, equal length.** Higher λ on "
-                       f"{len(wl)} of {len(wl) + len(ll)} surfaces"
-                       f"{' (not on ' + ', '.join(ll) + ')' if ll else ''}; lower δ on "
-                       f"{len(wd)} of {len(wd) + len(ld)}"
-                       f"{' (not on ' + ', '.join(ld) + ')' if ld else ''}.")
-        wl, ll = tally(t["tri_lambda"], lambda v, o: v < o)
-        wd, ld = tally(t["tri_delta"], lambda v, o: v > o)
-        out.append(f"- **Triangles beat Voronoi.** The triangulation has the higher λ on "
-                   f"{len(wl)} of {len(wl) + len(ll)} surfaces and the lower δ on "
-                   f"{len(wd)} of {len(wd) + len(ld)}.")
-        ratios = [o / v for _, v, o in t["tri_lambda"] if v]
-        if ratios:
-            out.append(f"  λ_tri / λ_voronoi ranges {min(ratios):.2g}–{max(ratios):.2g}.")
-    if t and t.get("objective"):
-        rows = t["objective"]
-        for key, label in (("lambda", "`--objective lambda` raises λ_LBA by ≥ 10 %"),
-                           ("delta", "`--objective delta` lowers δ by ≥ 10 %")):
-            won = [n for n, iso, o in rows if (o[key]["lambda_lba"] >= 1.10 * iso["lambda_lba"]
-                                               if key == "lambda" else
-                                               o[key]["delta_mm"] <= 0.90 * iso["delta_mm"])]
-            lost = [n for n, _, _ in rows if n not in won]
-            out.append(f"- **Stronger for the same steel: {label}** over the isotropic Voronoi "
-                       f"design at equal length on {len(won)} of {len(rows)} surfaces"
-                       f"{' (not on ' + ', '.join(lost) + ')' if lost else ''}.")
-
-        def balanced_ok(iso, o):
-            gl = o["lambda_lba"] / iso["lambda_lba"] - 1
-            gd = 1 - o["delta_mm"] / iso["delta_mm"]
-            return (gl >= 0.10 and gd >= -0.02) or (gd >= 0.10 and gl >= -0.02)
-        won = [n for n, iso, o in rows if balanced_ok(iso, o["balanced"])]
-        lost = [n for n, _, _ in rows if n not in won]
-        out.append(f"- **`--objective balanced` (the default)** improves one of λ_LBA, δ by "
-                   f"≥ 10 % with the other ≤ 2 % worse on {len(won)} of {len(rows)} surfaces"
-                   f"{' (not on ' + ', '.join(lost) + ')' if lost else ''}; elsewhere it returns "
-                   "the isotropic design (or the best admissible smaller gain).")
-    reg = claims.get("regularization")
-    if reg:
-        better_l = [n for n, raw, r in reg if r["lambda"] and raw["lambda"] and
-                    r["lambda"] > raw["lambda"]]
-        better_d = [n for n, raw, r in reg if r["delta_mm"] < raw["delta_mm"]]
-        changes = [(r["lambda"] / raw["lambda"] - 1) * 100 for _, raw, r in reg
-                   if r["lambda"] and raw["lambda"]]
-        better_ld = [n for n, raw, r in reg if r["lambda_d"] and raw["lambda_d"] and
-                     r["lambda_d"] > raw["lambda_d"]]
-        out.append(f"- **Regularization helps slightly.** λ rises on {len(better_l)} of {len(reg)} "
-                   f"surfaces (λ_δ on {len(better_ld)}), δ falls on {len(better_d)} of "
-                   f"{len(reg)}; λ changes by {min(changes):+.0f} % to {max(changes):+.0f} %. "
-                   "The default regularization evens cell sizes out (`--size-evening`, "
-                   "docs/regularization.md), which gives back stiffness where the field asked "
-                   "for small cells." if changes else "- Regularization: no comparable runs.")
-    tun = claims.get("tuning")
-    if tun:
-        for name, s in tun.items():
-            gain = (s["best_lambda_value"] / s["iso_lambda"] - 1) * 100 if s["iso_lambda"] else 0
-            out.append(f"- **Tuning ({name}).** The best (D, A) for λ is "
-                       f"({s['best_lambda'][0]:g}, {s['best_lambda'][1]:g}), {gain:+.0f} % over "
-                       f"the isotropic (1, 1); repeats scatter λ by "
-                       f"{s['repeat_cv'] * 100:.0f} % (CV), so differences below that are noise.")
-    return out
+def from_scratch(runner, work, started, jobs):
+    """Records the time of a regeneration that made every run (none reused) in
+    work/from_scratch.json, and reports the last such record."""
+    record = work / "from_scratch.json"
+    if runner.reused == 0 and runner.sweeps_reused == 0 and runner.ran > 0:
+        import resource
+        ru = resource.getrusage(resource.RUSAGE_CHILDREN)
+        record.write_text(json.dumps({
+            "wall_s": round(time.time() - started), "cpu_s": round(ru.ru_utime + ru.ru_stime),
+            "runs": runner.ran, "sweeps": runner.sweeps_ran, "jobs": jobs,
+            "load_average": round(os.getloadavg()[0], 1), "commit": git_describe()}))
+    if not record.exists():
+        return []
+    r = json.loads(record.read_text())
+    return ["", f"From scratch (an empty `{os.path.relpath(work, ROOT)}/`, every run made: "
+            f"{r['runs']} runs and {r['sweeps']} sweeps, --jobs {r['jobs']}, gridshell "
+            f"{r['commit']}): {r['wall_s']} s wall-clock ({r['wall_s'] / 60:.0f} min), "
+            f"{r['cpu_s']} s of CPU in the runs, on this 2-core machine at a load average of "
+            f"{r['load_average']} (other work beside it)" + (f"; {r['note']}" if r.get("note")
+                                                              else "") + "."]
 
 
 def git_describe():
