@@ -271,6 +271,7 @@ void read_ply(const std::string& data, const std::string& name, std::vector<Cgal
     break;
   }
   const bool has_colour = std::find(role.begin(), role.end(), 3) != role.end();
+  const unsigned long long vertex_count = ve.count;
   const PlyElement& fe = h.elements[h.face];
   const PlyProperty* ids = fe.find("vertex_indices");
   if (!ids) ids = fe.find("vertex_index");
@@ -285,12 +286,18 @@ void read_ply(const std::string& data, const std::string& name, std::vector<Cgal
         if (p.is_list()) {
           const std::size_t n = in.next_length(p, fmt::format("{} {}", el.name, i));
           const bool corners = e == h.face && &p == ids;
+          // Refused as read, so memory stays proportional to the file: an empty face is one
+          // byte in a binary file but a vector in memory.
+          if (corners && n < 3)
+            throw Error(name, fmt::format("face {} has {} vertices (at least 3 needed)", i, n));
           if (corners) polygons.emplace_back().reserve(n);
           for (std::size_t j = 0; j < n; ++j) {
             const double v = in.next(p.type);
             if (!corners) continue;
-            if (!(v >= 0) || v != std::floor(v) || v >= 4294967296.0)
-              throw Error(name, fmt::format("face {} refers to vertex {}", i, v));
+            if (!(v >= 0) || v != std::floor(v) || v >= static_cast<double>(vertex_count))
+              throw Error(name, fmt::format("face {} refers to vertex {} but there are only {} "
+                                            "vertices",
+                                            i, v, vertex_count));
             polygons.back().push_back(static_cast<std::size_t>(v));
           }
         } else {
@@ -403,6 +410,9 @@ void read_off(const std::string& data, const std::string& name, std::vector<Cgal
       throw Error(name, fmt::format("line {}: face {} does not start with its number of "
                                     "corners followed by that many vertex ids",
                                     line_no, f));
+    if (n < 3)  // refused as read (an empty face is two bytes in the file, a vector in memory)
+      throw Error(name, fmt::format("line {}: face {} has {} vertices (at least 3 needed)",
+                                    line_no, f, n));
     std::vector<std::size_t> poly(static_cast<std::size_t>(n));
     for (long long k = 0; k < n; ++k) {
       long long id = -1;
