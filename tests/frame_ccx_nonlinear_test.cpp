@@ -32,14 +32,15 @@ bool have_ccx() {
 
 constexpr double kSide = 0.032;  // m: the solid square section of both models
 
-/// A triangulated dome (span 20 m, rise 5 m, 4 rings: 61 joints, 156 beams) as the paper's
-/// frame, 2 elements per beam, with the square section.
+/// A shallow triangulated dome (span 20 m, rise 1.5 m, 4 rings: 61 joints, 156 beams) as the
+/// paper's frame, 2 elements per beam, with the square section: shallow, so that its path
+/// softens visibly before the critical point and the comparison tests the non-linear terms.
 struct Dome {
   fem::FrameModel model;
   std::vector<int> supports;
 };
 Dome small_dome() {
-  const Surface s = make_builtin("dome:res=8");
+  const Surface s = make_builtin("dome:res=8,rise=1.5");
   Dome d;
   analysis::GridshellFrameOptions go;
   go.elements = 2;
@@ -159,5 +160,10 @@ TEST(FrameCcxNonlinear, DomeDisplacementsAlongThePathMatchCalculix) {
     RecordProperty(fmt::format("delta_ours_{:.0f}", 10 * share), fmt::format("{:.6g}", dours));
     RecordProperty(fmt::format("delta_ccx_{:.0f}", 10 * share), fmt::format("{:.6g}", dccx));
     EXPECT_NEAR(dours / dccx, 1.0, 0.03) << share << " λ";
+    // The test means something only where the path is not linear: at 0.8 λ the displacement
+    // exceeds the linear one by more than the tolerance.
+    if (share > 0.7) {
+      EXPECT_GT(dours / dlinear, 1.03) << "the path is nearly linear here";
+    }
   }
 }

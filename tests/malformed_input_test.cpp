@@ -184,8 +184,8 @@ TEST(MalformedInput, BuiltinParameterBounds) {
   expect_clean_error("info builtin:funicular:edge_q=1e9", "edge_q must be");
   expect_clean_error("info builtin:funicular:corner=2001", "corner must be");
   expect_clean_error("info builtin:barrel:rise=1e6", "rise must be");
-  // At the bounds: a long thin barrel of 60 003 vertices is a valid surface.
-  test::RunResult r = test::run_gridshell("info builtin:barrel:span=0.1,rise=0.05,length=1000,res=2");
+  // At the bounds: a barrel 1000 times as long as its span (6 003 vertices) is a valid surface.
+  test::RunResult r = test::run_gridshell("info builtin:barrel:span=1,rise=0.5,length=1000,res=2");
   EXPECT_EQ(r.status, 0) << r.err;
 }
 
