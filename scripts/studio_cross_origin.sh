@@ -23,7 +23,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-"$exe" studio builtin:dome:res=8 --port 0 2>"$work/studio.log" >/dev/null </dev/null &
+"$exe" studio builtin:dome:res=8 --port 0 >"$work/studio.log" 2>&1 </dev/null &
 studio_pid=$!
 port=""
 for _ in $(seq 1 600); do
@@ -124,19 +124,20 @@ print(m.group(1) if m else "")
 PY
 )
 echo "--- what the attacking page saw"
-sed -n '/<pre id="log">/,/<\/pre>/p' "$work/dom.html" | sed 's/<[^>]*>//g'
+sed -n '/<pre id="log">/,/<\/pre>/p' "$work/dom.html" | sed 's/<[^>]*>//g' >"$work/seen.txt"
+cat "$work/seen.txt"
 echo "--- what the studio answered"
-grep -E '^\[.*studio: ' "$work/studio.log" | sed 's/^.*studio: /studio: /' | sort | uniq -c
+{ grep -E 'studio: [A-Z]+ /' "$work/studio.log" || true; } | sed 's/^.*studio: /studio: /' | sort | uniq -c
 fail=0
 grep -q 'data-done="1"' "$work/dom.html" || { echo "FAIL: the attacking page did not finish"; fail=1; }
-grep -q 'READ' "$work/dom.html" && { echo "FAIL: the page read an answer of the studio"; fail=1; }
+grep -q 'READ' "$work/seen.txt" && { echo "FAIL: the page read an answer of the studio"; fail=1; }
 [ -n "$token" ] && grep -q "$token" "$work/dom.html" && { echo "FAIL: the token leaked"; fail=1; }
 attempts=$(grep -cE 'studio: (GET|POST|OPTIONS|[A-Z]+) /' "$work/studio.log" || true)
 [ "$attempts" -gt 0 ] || { echo "FAIL: no request reached the studio (nothing was tried)"; fail=1; }
 if grep -E 'studio: [A-Z]+ /api/[^ ]* → ' "$work/studio.log" | grep -vqE '→ (403|405)'; then
   echo "FAIL: an /api request from the other origin was answered"; fail=1
 fi
-if grep -qE '(tessellation|objective search|analysis):' "$work/studio.log"; then
+if grep -qE '^\[(stress|field|metric|tessellation|regularization|analysis|objective)' "$work/studio.log"; then
   echo "FAIL: the studio designed something"; fail=1
 fi
 if [ "$fail" = 0 ]; then
