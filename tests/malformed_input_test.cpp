@@ -203,6 +203,12 @@ TEST(MalformedInput, ImpossibleFacesAndDeepJsonAreRefusedWhileReading) {
   std::ofstream(d / "empty_faces.off") << "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0\n#" +
                                              std::string(40, ' ') + "\n";
   expect_clean_error("info " + (d / "empty_faces.off").string(), "face 1 has 0 vertices");
+  std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  for (int k = 0; k < 100000; ++k) obj += "f\n";
+  std::ofstream(d / "empty_faces.obj") << obj;
+  expect_clean_error("info " + (d / "empty_faces.obj").string(), "line 5: face has 0 vertices");
+  std::ofstream(d / "short_face.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\n  f 1 2 # 3\n";
+  expect_clean_error("info " + (d / "short_face.obj").string(), "line 4: face has 2 vertices");
   const std::string deep = std::string(1000000, '[') + std::string(1000000, ']');
   std::ofstream(d / "deep.json") << deep;
   expect_clean_error("info builtin:dome --supports " + (d / "deep.json").string(),

@@ -437,6 +437,33 @@ std::string detect_format(const fs::path& path, const std::string& data) {
 
 }  // namespace
 
+/// Refuses an OBJ face line (`f …`) with fewer than 3 corners before CGAL's reader turns each
+/// such two-byte line into a vector: memory stays proportional to the file.
+void check_obj_faces(const std::string& data, const std::string& name) {
+  std::size_t line_no = 0;
+  for (std::size_t at = 0; at < data.size();) {
+    const std::size_t end = std::min(data.find('\n', at), data.size());
+    ++line_no;
+    std::string_view line(data.data() + at, end - at);
+    at = end + 1;
+    const auto is_space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    std::size_t i = 0;
+    while (i < line.size() && is_space(line[i])) ++i;
+    if (i >= line.size() || line[i] != 'f' || (i + 1 < line.size() && !is_space(line[i + 1])))
+      continue;
+    int corners = 0;  // whitespace-separated tokens after `f`, up to a comment
+    for (++i; i < line.size() && line[i] != '#' && corners < 3;) {
+      while (i < line.size() && is_space(line[i])) ++i;
+      if (i >= line.size() || line[i] == '#') break;
+      ++corners;
+      while (i < line.size() && !is_space(line[i])) ++i;
+    }
+    if (corners < 3)
+      throw Error(name, fmt::format("line {}: face has {} vertices (at least 3 needed)", line_no,
+                                    corners));
+  }
+}
+
 MeshFile read_mesh(const fs::path& path) {
   const std::string name = path.string();
   std::string data = read_file(path);
@@ -462,6 +489,7 @@ MeshFile read_mesh(const fs::path& path) {
       ok = CGAL::IO::read_STL(in, points, triangles);
       for (const auto& t : triangles) polygons.push_back({t[0], t[1], t[2]});
     } else {
+      check_obj_faces(data, name);
       ok = CGAL::IO::read_OBJ(in, points, polygons);
     }
   }
