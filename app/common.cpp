@@ -17,6 +17,7 @@
 #include "gridshell/core/progress_display.h"
 #include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
+#include "gridshell/io/json.h"
 
 namespace gridshell::app {
 
@@ -202,7 +203,7 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
   if (path.empty()) return args;
   nlohmann::json cfg;
   try {
-    cfg = nlohmann::json::parse(io::read_file(path));
+    cfg = io::parse_json(io::read_file(path), path);
   } catch (const nlohmann::json::exception&) {
     throw Error(path, "not a valid config.json");
   }

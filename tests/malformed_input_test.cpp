@@ -160,6 +160,70 @@ TEST(MalformedInput, BadOptions) {
   expect_clean_error("info", "surface");
 }
 
+// Built-in parameters out of their bounds (surfaces/builtin.h): each refused before anything is
+// allocated, never a crash (length=85899346 once wrapped the grid size in int and wrote past
+// the mesh).
+TEST(MalformedInput, BuiltinParameterBounds) {
+  expect_clean_error("info builtin:barrel:length=85899346", "length must be");
+  expect_clean_error("info builtin:barrel:span=0.1,rise=0.05,length=1000,res=100", "vertices");
+  expect_clean_error("info builtin:court:span=0.1,width=1000,hole=0.01", "vertices");
+  expect_clean_error("info builtin:paraboloid:res=1000", "1000000");
+  expect_clean_error("info builtin:dome:res=1154", "vertices");
+  expect_clean_error("info builtin:funicular:res=2002", "res must be");
+  expect_clean_error("info builtin:dome:res=32.0", "whole number");
+  expect_clean_error("info builtin:dome:res=1e3", "whole number");
+  expect_clean_error("info builtin:dome:res=99999999999999999999", "whole number");
+  expect_clean_error("info builtin:dome:res=-4", "whole number");
+  expect_clean_error("info builtin:dome:span=nan", "not a number");
+  expect_clean_error("info builtin:dome:span=inf", "not a number");
+  expect_clean_error("info builtin:dome:span=0x10", "not a number");
+  expect_clean_error("info builtin:dome:span=1e400", "not a number");
+  expect_clean_error("info builtin:dome:span=1e-300", "span must be");
+  expect_clean_error("info builtin:dome:span=", "not a number");
+  expect_clean_error("info builtin:court:hole=1e9", "hole must be");
+  expect_clean_error("info builtin:funicular:edge_q=1e9", "edge_q must be");
+  expect_clean_error("info builtin:funicular:corner=2001", "corner must be");
+  expect_clean_error("info builtin:barrel:rise=1e6", "rise must be");
+  // At the bounds: a barrel 1000 times as long as its span (6 003 vertices) is a valid surface.
+  test::RunResult r = test::run_gridshell("info builtin:barrel:span=1,rise=0.5,length=1000,res=2");
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
+// Refused while reading, so memory stays proportional to the file: a binary PLY of a million
+// empty faces (one byte each), and JSON nested a million deep (each `[` one byte).
+TEST(MalformedInput, ImpossibleFacesAndDeepJsonAreRefusedWhileReading) {
+  const fs::path d = test::temp_dir("deep");
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
+      "y\nproperty float z\nelement face 1000000\nproperty list uchar int vertex_indices\n"
+      "end_header\n";
+  ply += std::string(36, '\0') + std::string(1000000, '\0');
+  std::ofstream(d / "empty_faces.ply", std::ios::binary) << ply;
+  expect_clean_error("info " + (d / "empty_faces.ply").string(), "face 0 has 0 vertices");
+  std::ofstream(d / "empty_faces.off") << "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0\n#" +
+                                             std::string(40, ' ') + "\n";
+  expect_clean_error("info " + (d / "empty_faces.off").string(), "face 1 has 0 vertices");
+  std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  for (int k = 0; k < 100000; ++k) obj += "f\n";
+  std::ofstream(d / "empty_faces.obj") << obj;
+  expect_clean_error("info " + (d / "empty_faces.obj").string(), "line 5: face has 0 vertices");
+  std::ofstream(d / "short_face.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\n  f 1 2 # 3\n";
+  expect_clean_error("info " + (d / "short_face.obj").string(), "line 4: face has 2 vertices");
+  const std::string deep = std::string(1000000, '[') + std::string(1000000, ']');
+  std::ofstream(d / "deep.json") << deep;
+  expect_clean_error("info builtin:dome --supports " + (d / "deep.json").string(),
+                     "nested deeper than 64");
+  expect_clean_error("design --config " + (d / "deep.json").string() + " -o " +
+                         (d / "out").string(),
+                     "nested deeper than 64");
+  std::ofstream(d / "MODEL.json") << "{\"nodes\": " + deep + "}";
+  expect_clean_error("analyze " + (d / "MODEL.json").string() + " -o " + (d / "out2").string(),
+                     "nested deeper than 64");
+  // 64 levels are fine as JSON (and then not a supports list).
+  std::ofstream(d / "ok.json") << std::string(64, '[') + std::string(64, ']');
+  expect_clean_error("info builtin:dome --supports " + (d / "ok.json").string(), "integers");
+}
+
 TEST(MalformedInput, BadSupportFiles) {
   fs::path d = test::temp_dir("badsup");
   std::ofstream(d / "range.json") << "[0, 1, 100000]";

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <thread>
+
 #include <nlohmann/json.hpp>
 
 #include "gridshell/core/enum_words.h"
@@ -38,17 +41,22 @@ TEST(Timings, WritesAnObjectOfStageSeconds) {
   EXPECT_TRUE(nlohmann::json(Timings{}).is_object());
 }
 
+// sleep_for waits at least its duration on the steady clock (never less, however loaded the
+// machine), so each lap has a lower bound a stopwatch that returned 0 (or a lap that did not
+// restart) would miss; no upper bound is asserted.
 TEST(Timings, StopwatchLapsAddUpToItsTotal) {
   Stopwatch total, lap;
   double laps = 0;
-  for (int i = 0; i < 3; ++i) {
-    volatile double x = 0;
-    for (int k = 0; k < 100000; ++k) x = x + k;
+  for (int i = 1; i <= 3; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2 * i));
     const double s = lap.lap();
-    EXPECT_GE(s, 0.0);
+    EXPECT_GE(s, 0.002 * i) << "lap " << i;
     laps += s;
   }
+  EXPECT_GE(laps, 0.012);
   EXPECT_LE(laps, total.seconds());
+  // A lap restarts: right after one, the next is shorter than the whole.
+  EXPECT_LT(lap.seconds(), total.seconds());
 }
 
 namespace {

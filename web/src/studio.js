@@ -21,6 +21,27 @@ import {
 const root = document.documentElement;
 const $ = (id) => document.getElementById(id);
 
+// The server's per-run token, written into the page it served (docs/studio.md, "What the
+// studio protects"): every /api request carries it in a header, which a page of another origin
+// cannot send to the studio without the browser asking the studio first (it does not agree).
+const token = document.querySelector('meta[name="gridshell-token"]')?.content || '';
+const api = (path, init = {}) =>
+  fetch(path, { ...init, headers: { ...(init.headers || {}), 'X-Gridshell-Token': token } });
+
+// A file answer of the API saved through a link (a plain link cannot carry the token).
+async function download(path, name) {
+  const response = await api(path);
+  const body = await response.blob();
+  if (!response.ok) { showError((await body.text()).trim()); return; }
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(body);
+  a.download = name;
+  document.body.appendChild(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 60000);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Scene
 
@@ -168,8 +189,8 @@ async function redesign() {
   const objective = $('objective').value !== 'none';
   $('D').disabled = objective;
   $('A').disabled = objective;
-  $('export-zip').href = `/api/export.zip?${q}`;
-  $('export-config').href = `/api/config.json?${q}`;
+  $('export-zip').dataset.path = `/api/export.zip?${q}`;
+  $('export-config').dataset.path = `/api/config.json?${q}`;
   const mine = ++sequence;
   if (inflight) inflight.abort();
   const abort = new AbortController();
@@ -177,7 +198,7 @@ async function redesign() {
   setStatus('busy', objective ? 'searching the field settings…' : 'designing…');
   let response, body;
   try {
-    response = await fetch(`/api/design?${q}`, { signal: abort.signal });
+    response = await api(`/api/design?${q}`, { signal: abort.signal });
     body = await response.text();
   } catch (e) {
     if (mine === sequence) showError(`no answer from the server (${e.message})`);
@@ -197,7 +218,7 @@ async function redesign() {
 
 async function upload(file) {
   setStatus('busy', `reading ${file.name}…`);
-  const response = await fetch(`/api/surface?name=${encodeURIComponent(file.name)}`,
+  const response = await api(`/api/surface?name=${encodeURIComponent(file.name)}`,
     { method: 'POST', body: file });
   const body = await response.text();
   if (!response.ok) { showError(body.trim()); return; }
@@ -234,6 +255,12 @@ function setupControls(surfaces) {
   });
   $('show-panels').addEventListener('change', applyColours);
   $('reset').addEventListener('click', resetView);
+  for (const [id, name] of [['export-zip', 'gridshell_design.zip'], ['export-config', 'config.json']]) {
+    $(id).addEventListener('click', (e) => {
+      e.preventDefault();
+      if ($(id).dataset.path) download($(id).dataset.path, name);
+    });
+  }
   $('file').addEventListener('change', (e) => { if (e.target.files[0]) upload(e.target.files[0]); });
   view.addEventListener('dragover', (e) => { e.preventDefault(); view.classList.add('drop'); });
   view.addEventListener('dragleave', () => view.classList.remove('drop'));
@@ -298,7 +325,7 @@ function loop() {
 
 async function main() {
   setStatus('busy', 'loading');
-  const surfaces = await (await fetch('/api/surfaces')).json();
+  const surfaces = await (await api('/api/surfaces')).json();
   setupControls(surfaces);
   const h = applyLink();
   resize();

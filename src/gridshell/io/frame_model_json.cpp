@@ -13,6 +13,7 @@
 
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
+#include "gridshell/io/json.h"
 
 namespace gridshell::io {
 
@@ -397,8 +398,8 @@ FrameModelFile parse_frame_model(const std::string& text, const std::string& sub
                                  int default_elements) {
   json j;
   try {
-    j = json::parse(text);
-  } catch (const std::exception& e) {
+    j = parse_json(text, subject);
+  } catch (const json::exception& e) {
     throw Error(subject, std::string("not valid JSON: ") + e.what());
   }
   if (!j.is_object()) throw Error(subject, "the model must be a JSON object");

@@ -271,6 +271,7 @@ void read_ply(const std::string& data, const std::string& name, std::vector<Cgal
     break;
   }
   const bool has_colour = std::find(role.begin(), role.end(), 3) != role.end();
+  const unsigned long long vertex_count = ve.count;
   const PlyElement& fe = h.elements[h.face];
   const PlyProperty* ids = fe.find("vertex_indices");
   if (!ids) ids = fe.find("vertex_index");
@@ -285,12 +286,18 @@ void read_ply(const std::string& data, const std::string& name, std::vector<Cgal
         if (p.is_list()) {
           const std::size_t n = in.next_length(p, fmt::format("{} {}", el.name, i));
           const bool corners = e == h.face && &p == ids;
+          // Refused as read, so memory stays proportional to the file: an empty face is one
+          // byte in a binary file but a vector in memory.
+          if (corners && n < 3)
+            throw Error(name, fmt::format("face {} has {} vertices (at least 3 needed)", i, n));
           if (corners) polygons.emplace_back().reserve(n);
           for (std::size_t j = 0; j < n; ++j) {
             const double v = in.next(p.type);
             if (!corners) continue;
-            if (!(v >= 0) || v != std::floor(v) || v >= 4294967296.0)
-              throw Error(name, fmt::format("face {} refers to vertex {}", i, v));
+            if (!(v >= 0) || v != std::floor(v) || v >= static_cast<double>(vertex_count))
+              throw Error(name, fmt::format("face {} refers to vertex {} but there are only {} "
+                                            "vertices",
+                                            i, v, vertex_count));
             polygons.back().push_back(static_cast<std::size_t>(v));
           }
         } else {
@@ -403,6 +410,9 @@ void read_off(const std::string& data, const std::string& name, std::vector<Cgal
       throw Error(name, fmt::format("line {}: face {} does not start with its number of "
                                     "corners followed by that many vertex ids",
                                     line_no, f));
+    if (n < 3)  // refused as read (an empty face is two bytes in the file, a vector in memory)
+      throw Error(name, fmt::format("line {}: face {} has {} vertices (at least 3 needed)",
+                                    line_no, f, n));
     std::vector<std::size_t> poly(static_cast<std::size_t>(n));
     for (long long k = 0; k < n; ++k) {
       long long id = -1;
@@ -426,6 +436,33 @@ std::string detect_format(const fs::path& path, const std::string& data) {
 }
 
 }  // namespace
+
+/// Refuses an OBJ face line (`f …`) with fewer than 3 corners before CGAL's reader turns each
+/// such two-byte line into a vector: memory stays proportional to the file.
+void check_obj_faces(const std::string& data, const std::string& name) {
+  std::size_t line_no = 0;
+  for (std::size_t at = 0; at < data.size();) {
+    const std::size_t end = std::min(data.find('\n', at), data.size());
+    ++line_no;
+    std::string_view line(data.data() + at, end - at);
+    at = end + 1;
+    const auto is_space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    std::size_t i = 0;
+    while (i < line.size() && is_space(line[i])) ++i;
+    if (i >= line.size() || line[i] != 'f' || (i + 1 < line.size() && !is_space(line[i + 1])))
+      continue;
+    int corners = 0;  // whitespace-separated tokens after `f`, up to a comment
+    for (++i; i < line.size() && line[i] != '#' && corners < 3;) {
+      while (i < line.size() && is_space(line[i])) ++i;
+      if (i >= line.size() || line[i] == '#') break;
+      ++corners;
+      while (i < line.size() && !is_space(line[i])) ++i;
+    }
+    if (corners < 3)
+      throw Error(name, fmt::format("line {}: face has {} vertices (at least 3 needed)", line_no,
+                                    corners));
+  }
+}
 
 MeshFile read_mesh(const fs::path& path) {
   const std::string name = path.string();
@@ -452,6 +489,7 @@ MeshFile read_mesh(const fs::path& path) {
       ok = CGAL::IO::read_STL(in, points, triangles);
       for (const auto& t : triangles) polygons.push_back({t[0], t[1], t[2]});
     } else {
+      check_obj_faces(data, name);
       ok = CGAL::IO::read_OBJ(in, points, polygons);
     }
   }

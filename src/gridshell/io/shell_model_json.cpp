@@ -11,6 +11,7 @@
 
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
+#include "gridshell/io/json.h"
 
 namespace gridshell::io {
 
@@ -169,7 +170,7 @@ fem::ShellModel read_shell_model(const std::filesystem::path& path) {
   const std::string s = path.string();
   json j;
   try {
-    j = json::parse(read_file(path));
+    j = parse_json(read_file(path), s);
   } catch (const json::exception& e) {
     throw Error(s, std::string("invalid JSON: ") + e.what());
   }

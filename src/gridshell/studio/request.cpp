@@ -15,6 +15,8 @@
 #include "gridshell/pipeline/design_report.h"
 #include "gridshell/pipeline/gridshell_output.h"
 #include "gridshell/report/report_html.h"
+#include "gridshell/surfaces/builtin.h"
+#include "gridshell/mesh/geometry.h"
 
 namespace gridshell::studio {
 
@@ -22,6 +24,8 @@ namespace {
 
 /// The largest cell count a request may ask for (a design of 5000 cells takes about a minute).
 constexpr int kMaxCells = 5000;
+/// The largest D and A (the page's sliders end at 4; the objective search's at 4 too).
+constexpr double kMaxRatio = 10;
 
 double parse_number(const std::string& text, const std::string& subject, const std::string& what) {
   std::size_t used = 0;
@@ -48,11 +52,14 @@ StudioRequest parse_request(const Params& params) {
   for (const auto& [name, value] : p) {
     if (name == "surface") {
       if (value.empty()) throw Error("surface", "no surface given");
-      r.surface = value;
+      r.surface = value.rfind("builtin:", 0) == 0 ? "builtin:" + canonical_builtin(value.substr(8))
+                                                  : value;
     } else if (name == "D") {
       r.D = parse_number(value, "-D", "must be a number ≥ 1");
+      if (r.D > kMaxRatio) throw Error("-D", fmt::format("at most {} in the studio", kMaxRatio));
     } else if (name == "A") {
       r.A = parse_number(value, "-A", "must be a number ≥ 1");
+      if (r.A > kMaxRatio) throw Error("-A", fmt::format("at most {} in the studio", kMaxRatio));
     } else if (name == "cells") {
       const double c = parse_number(value, "--cells", "must be positive");
       if (!(c >= 1) || c != std::floor(c)) throw Error("--cells", "must be positive");
@@ -83,6 +90,17 @@ StudioRequest parse_request(const Params& params) {
   if (r.length > 0) r.cells = 0;
   check_design_options(design_options(r));
   return r;
+}
+
+void check_request_size(const StudioRequest& r, const Surface& surface) {
+  if (!(r.length > 0)) return;
+  const double area = surface_area(surface.mesh);
+  const double D = r.objective ? std::max(r.D, 4.0) : r.D;
+  const double max_length = std::sqrt(6 * area * kMaxCells / (std::sqrt(3.0) * D));
+  if (r.length > max_length)
+    throw Error("--length", fmt::format("at most {:.0f} m on this surface in the studio (about "
+                                        "{} cells)",
+                                        std::floor(max_length), kMaxCells));
 }
 
 std::string request_query(const StudioRequest& r) {

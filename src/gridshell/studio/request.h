@@ -46,8 +46,16 @@ struct StudioRequest {
 };
 
 /// Parses and checks the parameters (unknown names are an error too). Throws Error with the
-/// command line's subject (`-D`, `--cells`, `--objective`, …) and message.
+/// command line's subject (`-D`, `--cells`, `--objective`, …) and message. The studio's own
+/// bounds: cells ≤ 5000, D and A ≤ 10; a built-in surface's spec is checked and written in its
+/// canonical form (canonical_builtin).
 StudioRequest parse_request(const Params& params);
+
+/// Refuses (Error) a request whose `length` would make more than the studio's cell cap on
+/// `surface`: a tessellation of total length L over area S has about (√3/6)·L²/S cells when
+/// uniform and at most D times that when graded (D = 4, the search's largest, with an
+/// objective), so L may be at most √(6·S·5000 / (√3·D)).
+void check_request_size(const StudioRequest& request, const Surface& surface);
 
 /// The same request as query text (a canonical key: equal requests give equal text).
 std::string request_query(const StudioRequest& request);

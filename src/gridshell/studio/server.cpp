@@ -1,7 +1,11 @@
 #include "gridshell/studio/server.h"
 
+#include <sys/random.h>
 #include <sys/socket.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
 
 #include <atomic>
 #include <chrono>
@@ -10,6 +14,7 @@
 #include <optional>
 #include <thread>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "gridshell/core/error.h"
@@ -32,9 +37,21 @@ struct NamedSurface {
   Surface surface;
 };
 
+/// Answered 503: the server is busy with what this request would need.
+struct Busy {
+  std::string what;
+};
+/// Answered 409: a newer design request came in.
+struct Superseded {};
+
 /// The CLI's line for an Error.
 std::string error_line(const Error& e) {
   return "gridshell: error: " + e.message() + "\n";
+}
+
+void answer_text(httplib::Response& res, int status, const std::string& text) {
+  res.status = status;
+  res.set_content(text, "text/plain; charset=utf-8");
 }
 
 Params query_params(const httplib::Request& req) {
@@ -43,14 +60,55 @@ Params query_params(const httplib::Request& req) {
   return p;
 }
 
-/// A fresh private folder under the system's temporary folder.
-std::filesystem::path scratch_folder(const std::string& what, std::uint64_t n) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() /
-      ("gridshell-studio-" + std::to_string(::getpid()) + "-" + what + "-" + std::to_string(n));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+/// A fresh private folder (mode 0700, an unpredictable name) under the temporary folder.
+std::filesystem::path scratch_folder() {
+  std::string t = (std::filesystem::temp_directory_path() / "gridshell-studio-XXXXXX").string();
+  if (::mkdtemp(t.data()) == nullptr)
+    throw Error("studio", "cannot make a scratch folder in " +
+                              std::filesystem::temp_directory_path().string());
+  return t;
+}
+
+/// 32 hex digits from the kernel's random source.
+std::string random_token() {
+  unsigned char bytes[16];
+  std::size_t got = 0;
+  while (got < sizeof bytes) {
+    const ssize_t n = ::getrandom(bytes + got, sizeof bytes - got, 0);
+    if (n <= 0) throw Error("studio", "no random bytes for the token");
+    got += static_cast<std::size_t>(n);
+  }
+  std::string hex;
+  for (unsigned char b : bytes) hex += fmt::format("{:02x}", b);
+  return hex;
+}
+
+/// Equal strings, in a time that does not depend on where they differ.
+bool same_secret(const std::string& a, const std::string& b) {
+  if (a.size() != b.size()) return false;
+  unsigned char diff = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    diff |= static_cast<unsigned char>(a[i] ^ b[i]);
+  return diff == 0;
+}
+
+/// The name an upload is shown by: its last path component, printable characters only, at most
+/// 100 bytes; its extension picks the reader (.ply, .obj, .off, .stl).
+std::pair<std::string, std::string> upload_name(const std::string& given) {
+  std::string name = given.substr(given.find_last_of("/\\") == std::string::npos
+                                      ? 0
+                                      : given.find_last_of("/\\") + 1);
+  std::string clean;
+  for (char c : name)
+    if (static_cast<unsigned char>(c) >= 0x20 && c != 0x7f) clean += c;
+  if (clean.size() > 100) clean.erase(0, clean.size() - 100);
+  const auto dot = clean.rfind('.');
+  std::string ext = dot == std::string::npos ? "" : clean.substr(dot);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (clean.empty()) throw Error("upload", "no file name given (?name=FILE.ply)");
+  if (ext != ".ply" && ext != ".obj" && ext != ".off" && ext != ".stl")
+    throw Error("upload", "'" + clean + "': the name must end in .ply, .obj, .off or .stl");
+  return {clean, ext};
 }
 
 }  // namespace
@@ -60,93 +118,141 @@ struct Server::State {
   httplib::Server http;
   std::thread thread;
   int port = -1;
+  std::string token = random_token();
+  std::vector<std::string> hosts, origins;  // what Host and Origin may say (after bind)
 
-  std::mutex surfaces_mutex;  // guards surfaces and uploads
-  std::map<std::string, std::shared_ptr<const NamedSurface>> surfaces;
-  std::uint64_t uploads = 0;
+  /// The surface cache (server.h "Memory"): least recently used first out.
+  struct Cached {
+    std::shared_ptr<const NamedSurface> surface;
+    std::uint64_t used = 0;
+    bool pinned = false;
+  };
+  std::mutex surfaces_mutex;  // guards surfaces, uploads, clock (held for map access only)
+  std::map<std::string, Cached> surfaces;
+  std::uint64_t uploads = 0, clock = 0;
   std::string initial;
+  std::mutex load_mutex;  // one surface loads at a time
 
   std::mutex design_mutex;  // one design at a time; guards `last`
   std::atomic<std::uint64_t> latest{0};
   std::optional<StudioDesign> last;
   std::string last_query;
-  std::atomic<std::uint64_t> scratch{0};
 
-  std::shared_ptr<const NamedSurface> surface(const std::string& id) {
+  void hook(std::string_view point) const {
+    if (options.pause_hook) options.pause_hook(point);
+  }
+
+  std::shared_ptr<const NamedSurface> cached(const std::string& id) {
     std::lock_guard lock(surfaces_mutex);
     const auto it = surfaces.find(id);
-    if (it != surfaces.end()) return it->second;
+    if (it == surfaces.end()) return nullptr;
+    it->second.used = ++clock;
+    return it->second.surface;
+  }
+
+  void keep(const std::string& id, std::shared_ptr<const NamedSurface> s, bool pinned) {
+    std::lock_guard lock(surfaces_mutex);
+    surfaces[id] = Cached{std::move(s), ++clock, pinned};
+    for (;;) {
+      int count = 0;
+      long vertices = 0;
+      auto oldest = surfaces.end();
+      for (auto it = surfaces.begin(); it != surfaces.end(); ++it) {
+        vertices += it->second.surface->surface.mesh.num_vertices();
+        if (it->second.pinned) continue;
+        ++count;
+        if (it->first != id && (oldest == surfaces.end() || it->second.used < oldest->second.used))
+          oldest = it;
+      }
+      if ((count <= kMaxCachedSurfaces && vertices <= kMaxCachedVertices) ||
+          oldest == surfaces.end())
+        break;
+      surfaces.erase(oldest);
+    }
+  }
+
+  std::shared_ptr<const NamedSurface> surface(const std::string& id) {
+    if (auto s = cached(id)) return s;
     if (id.rfind("builtin:", 0) != 0)
       throw Error("surface", "unknown surface '" + id +
-                                 "' (builtin:NAME, or a file dropped on "
-                                 "the page)");
-    auto s = std::make_shared<NamedSurface>(NamedSurface{id, load_surface(id)});
-    surfaces[id] = s;
+                                 "' (builtin:NAME, or a file dropped on the page; the studio "
+                                 "keeps the last few)");
+    std::lock_guard load(load_mutex);
+    if (auto s = cached(id)) return s;  // loaded while this one waited
+    auto s = std::make_shared<const NamedSurface>(NamedSurface{id, load_surface(id)});
+    keep(id, s, false);
     return s;
   }
 
-  std::string add_upload(const std::string& name, const std::string& bytes) {
-    const std::filesystem::path file_name = std::filesystem::path(name).filename();
-    if (file_name.empty()) throw Error("upload", "no file name given (?name=FILE.ply)");
-    const std::filesystem::path dir = scratch_folder("upload", ++scratch);
-    const std::filesystem::path path = dir / file_name;
-    io::write_file_atomic(path, bytes);
+  std::pair<std::string, std::shared_ptr<const NamedSurface>> add_upload(
+      const std::string& given_name, const std::string& bytes) {
+    const auto [name, ext] = upload_name(given_name);
+    std::unique_lock load(load_mutex, std::try_to_lock);
+    if (!load.owns_lock()) throw Busy{"another surface is loading; try again when it is done"};
+    const std::filesystem::path dir = scratch_folder();
+    const std::filesystem::path path = dir / ("upload" + ext);
     std::shared_ptr<NamedSurface> s;
     try {
+      io::write_file_atomic(path, bytes);
       s = std::make_shared<NamedSurface>(
-          NamedSurface{file_name.string(), load_surface(path.string(), options.surface_options)});
+          NamedSurface{name, load_surface(path.string(), options.surface_options)});
     } catch (const Error& e) {
       // The message names the file as the user did, not our scratch copy.
       std::filesystem::remove_all(dir);
       std::string message = e.message();
       for (std::size_t at; (at = message.find(path.string())) != std::string::npos;)
-        message.replace(at, path.string().size(), file_name.string());
+        message.replace(at, path.string().size(), name);
       throw Error("", message);
     } catch (...) {
       std::filesystem::remove_all(dir);
       throw;
     }
     std::filesystem::remove_all(dir);
-    std::lock_guard lock(surfaces_mutex);
-    const std::string id = "upload:" + std::to_string(uploads++);
-    surfaces[id] = std::move(s);
-    return id;
+    std::string id;
+    {
+      std::lock_guard lock(surfaces_mutex);
+      id = "upload:" + std::to_string(uploads++);
+    }
+    keep(id, s, false);
+    return {id, s};
   }
 
-  /// Designs `request` unless a newer design request came in (nullopt: superseded).
-  std::optional<nlohmann::json> design(const StudioRequest& request, std::uint64_t generation) {
-    const auto surface_ptr = surface(request.surface);
-    std::lock_guard lock(design_mutex);
-    if (generation != latest) return std::nullopt;
+  /// Designs `request` into `last` (nothing when `last` is that request) unless a newer design
+  /// request than `generation` comes in (Superseded). Call with design_mutex held.
+  void designed(const StudioRequest& request, const NamedSurface& surface,
+                std::uint64_t generation) {
     const std::string query = request_query(request);
-    if (!last || last_query != query) {
-      last.reset();
-      // A newer request stops the design at its next step or candidate (request.h).
-      try {
-        last = design_request(surface_ptr->surface, request,
-                              [this, generation] { return generation != latest; });
-      } catch (const Stopped&) {
-        return std::nullopt;
-      }
-      last_query = query;
-    }
-    if (generation != latest) return std::nullopt;
-    return design_answer(*last, surface_ptr->name);
-  }
-
-  std::string export_zip(const StudioRequest& request) {
-    const auto surface_ptr = surface(request.surface);
-    std::lock_guard lock(design_mutex);
-    const std::string query = request_query(request);
-    if (!last || last_query != query) {
-      last.reset();
-      last = design_request(surface_ptr->surface, request);
-      last_query = query;
-    }
-    const std::filesystem::path dir = scratch_folder("export", ++scratch);
+    if (last && last_query == query) return;
+    last.reset();
+    // A newer request stops the design at its next step or candidate (request.h).
     try {
-      write_design_folder(dir, *last, surface_ptr->surface, surface_ptr->name);
-      std::string zip = zip_stored(zip_entries_of(dir));
+      last = design_request(surface.surface, request, [this, generation] {
+        hook("check");
+        return generation != latest;
+      });
+    } catch (const Stopped&) {
+      throw Superseded{};
+    }
+    last_query = query;
+  }
+
+  nlohmann::json design(const StudioRequest& request, const NamedSurface& surface,
+                        std::uint64_t generation) {
+    std::lock_guard lock(design_mutex);
+    if (generation != latest) throw Superseded{};
+    designed(request, surface, generation);
+    if (generation != latest) throw Superseded{};
+    return design_answer(*last, surface.name);
+  }
+
+  std::string export_zip(const StudioRequest& request, const NamedSurface& surface) {
+    std::unique_lock lock(design_mutex, std::try_to_lock);
+    if (!lock.owns_lock()) throw Busy{"a design is running; export when it is done"};
+    designed(request, surface, latest);  // a newer design request stops it
+    const std::filesystem::path dir = scratch_folder();
+    try {
+      write_design_folder(dir / "design", *last, surface.surface, surface.name);
+      std::string zip = zip_stored(zip_entries_of(dir / "design"));
       std::filesystem::remove_all(dir);
       return zip;
     } catch (...) {
@@ -154,108 +260,213 @@ struct Server::State {
       throw;
     }
   }
+
+  /// Whether a request may be answered at all (server.h "Who may ask"); else answers 403/404/413.
+  bool admit(const httplib::Request& req, httplib::Response& res) const;
+  void add_routes();
 };
+
+bool Server::State::admit(const httplib::Request& req, httplib::Response& res) const {
+  const auto listed = [](const std::vector<std::string>& list, const std::string& x) {
+    return std::find(list.begin(), list.end(), x) != list.end();
+  };
+  const bool api = req.path.rfind("/api/", 0) == 0;
+  std::string refused;
+  if (!listed(hosts, req.get_header_value("Host"))) {
+    refused = "this server answers only to its own address";
+  } else if (req.has_header("Origin") && !listed(origins, req.get_header_value("Origin"))) {
+    refused = "requests from other pages are refused";
+  } else if (req.has_header("Sec-Fetch-Site") &&
+             req.get_header_value("Sec-Fetch-Site") != "same-origin" &&
+             (api || req.get_header_value("Sec-Fetch-Site") != "none")) {
+    // The page only when the user opened it (none) or it reloads itself: a page of another
+    // origin that opens the studio's page (whose link can preset a design) is refused too.
+    refused = "requests from other pages are refused";
+  } else if (api && !same_secret(req.get_header_value("X-Gridshell-Token"), token)) {
+    refused = "missing or wrong X-Gridshell-Token (reload the page)";
+  }
+  if (!refused.empty()) {
+    answer_text(res, 403, "gridshell: error: studio: " + refused + "\n");
+    return false;
+  }
+  const bool upload = req.method == "POST" && req.path == "/api/surface";
+  const bool has_body = req.has_header("Transfer-Encoding") ||
+                        (req.has_header("Content-Length") &&
+                         req.get_header_value("Content-Length") != "0");
+  if (!upload && (req.method != "GET" || has_body)) {
+    answer_text(res, req.method == "GET" ? 413 : 405, "gridshell: error: studio: no such request\n");
+    return false;
+  }
+  if (upload && req.has_header("Content-Length")) {
+    const std::string n = req.get_header_value("Content-Length");
+    if (n.size() > 12 || n.find_first_not_of("0123456789") != std::string::npos ||
+        std::stoull(n) > 2 * kMaxUploadBytes) {  // up to twice: read and dropped (413)
+      answer_text(res, 413,
+                  fmt::format("gridshell: error: upload: larger than {} MiB\n", kMaxUploadBytes >> 20));
+      return false;
+    }
+  }
+  return true;
+}
 
 Server::Server(const ServerOptions& options) : state_(std::make_unique<State>()) {
   State& s = *state_;
   s.options = options;
   if (options.surface.rfind("builtin:", 0) == 0) {
-    (void)s.surface(options.surface);
-    s.initial = options.surface;
+    s.initial = "builtin:" + canonical_builtin(options.surface.substr(8));
+    s.keep(s.initial,
+           std::make_shared<const NamedSurface>(NamedSurface{s.initial, load_surface(s.initial)}),
+           true);
   } else {
-    auto named = std::make_shared<NamedSurface>(
-        NamedSurface{std::filesystem::path(options.surface).filename().string(),
-                     load_surface(options.surface, options.surface_options)});
-    s.surfaces["upload:0"] = std::move(named);
+    s.keep("upload:0",
+           std::make_shared<const NamedSurface>(
+               NamedSurface{std::filesystem::path(options.surface).filename().string(),
+                            load_surface(options.surface, options.surface_options)}),
+           true);
     s.uploads = 1;
     s.initial = "upload:0";
   }
   httplib::Server& http = s.http;
-  http.set_payload_max_length(256u << 20);
+  http.set_payload_max_length(kMaxUploadBytes);
+  // One request per connection: a refused request's unread body is never taken for the next.
+  http.set_keep_alive_max_count(1);
   // SO_REUSEADDR only: the library's default adds SO_REUSEPORT, with which a second studio on
   // the same port would start and share the requests instead of failing.
   http.set_socket_options([](int sock) {
     int yes = 1;
     ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
   });
+  http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    if (state_->admit(req, res)) return httplib::Server::HandlerResponse::Unhandled;
+    spdlog::info("studio: {} {} → {} (refused)", req.method, req.path, res.status);
+    return httplib::Server::HandlerResponse::Handled;
+  });
+  s.add_routes();
+}
 
-  // Every handler answers Error with 400 and the CLI's line; anything else with 500.
-  auto guarded = [this](auto body) {
-    return [this, body](const httplib::Request& req, httplib::Response& res) {
-      try {
-        body(req, res);
-      } catch (const Error& e) {
-        res.status = 400;
-        res.set_content(error_line(e), "text/plain; charset=utf-8");
-      } catch (const std::bad_alloc&) {
-        res.status = 500;
-        res.set_content("gridshell: error: out of memory\n", "text/plain; charset=utf-8");
-      } catch (const std::exception& e) {
-        res.status = 500;
-        res.set_content(std::string("gridshell: internal error: ") + e.what() + "\n",
-                        "text/plain; charset=utf-8");
+namespace {
+
+/// Runs a handler: Error → 400 with the CLI's line, Busy → 503, Superseded → 409, anything
+/// else → 500.
+template <typename Body>
+void answering(const httplib::Request& req, httplib::Response& res, const Body& body) {
+  try {
+    body();
+  } catch (const Error& e) {
+    answer_text(res, 400, error_line(e));
+  } catch (const Busy& b) {
+    answer_text(res, 503, "gridshell: busy: " + b.what + "\n");
+  } catch (const Superseded&) {
+    answer_text(res, 409, "superseded by a newer request\n");
+  } catch (const std::bad_alloc&) {
+    answer_text(res, 500, "gridshell: error: out of memory\n");
+  } catch (const std::exception& e) {
+    answer_text(res, 500, std::string("gridshell: internal error: ") + e.what() + "\n");
+  }
+  spdlog::info("studio: {} {} → {}", req.method, req.path, res.status < 0 ? 200 : res.status);
+}
+
+}  // namespace
+
+void Server::State::add_routes() {
+  using httplib::Request;
+  using httplib::Response;
+  http.Get("/", [this](const Request& req, Response& res) {
+    answering(req, res, [&] {
+      res.set_header("Cache-Control", "no-store");
+      res.set_header("X-Frame-Options", "DENY");
+      res.set_header("Content-Security-Policy", "frame-ancestors 'none'");
+      res.set_header("Referrer-Policy", "no-referrer");
+      res.set_content(studio_page(token), "text/html; charset=utf-8");
+    });
+  });
+  http.Get("/api/surfaces", [this](const Request& req, Response& res) {
+    answering(req, res, [&] {
+      nlohmann::json list = nlohmann::json::array();
+      for (const std::string& name : builtin_names())
+        list.push_back({{"id", "builtin:" + name}, {"name", name}});
+      {
+        std::lock_guard lock(surfaces_mutex);
+        for (const auto& [id, cached] : surfaces)
+          if (id.rfind("upload:", 0) == 0)
+            list.push_back({{"id", id}, {"name", cached.surface->name}});
       }
-      spdlog::info("studio: {} {} → {}", req.method, req.path, res.status < 0 ? 200 : res.status);
-    };
-  };
-
-  http.Get("/", guarded([](const httplib::Request&, httplib::Response& res) {
-             res.set_content(studio_page(), "text/html; charset=utf-8");
-           }));
-  http.Get("/api/surfaces", guarded([this](const httplib::Request&, httplib::Response& res) {
-             State& st = *state_;
-             nlohmann::json list = nlohmann::json::array();
-             for (const std::string& name : builtin_names())
-               list.push_back({{"id", "builtin:" + name}, {"name", name}});
-             {
-               std::lock_guard lock(st.surfaces_mutex);
-               for (const auto& [id, surface] : st.surfaces)
-                 if (id.rfind("upload:", 0) == 0)
-                   list.push_back({{"id", id}, {"name", surface->name}});
-             }
-             res.set_content(nlohmann::json{{"surfaces", list}, {"initial", st.initial}}.dump(),
-                             "application/json");
-           }));
-  http.Post("/api/surface", guarded([this](const httplib::Request& req, httplib::Response& res) {
-              const std::string name = req.get_param_value("name");
-              const std::string id = state_->add_upload(name, req.body);
-              const auto loaded = state_->surface(id);
-              res.set_content(nlohmann::json{{"surface", id},
-                                             {"name", loaded->name},
-                                             {"vertices", loaded->surface.mesh.num_vertices()},
-                                             {"triangles", loaded->surface.mesh.num_faces()},
-                                             {"supports", loaded->surface.supports.size()}}
-                                  .dump(),
-                              "application/json");
-            }));
-  http.Get("/api/design", guarded([this](const httplib::Request& req, httplib::Response& res) {
-             State& st = *state_;
-             const std::uint64_t generation = ++st.latest;
-             const StudioRequest request = parse_request(query_params(req));
-             const auto start = std::chrono::steady_clock::now();
-             std::optional<nlohmann::json> answer = st.design(request, generation);
-             if (!answer) {
-               res.status = 409;
-               res.set_content("superseded by a newer request\n", "text/plain; charset=utf-8");
-               return;
-             }
-             (*answer)["generation"] = generation;
-             (*answer)["seconds"] =
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-             res.set_content(answer->dump(), "application/json");
-           }));
-  http.Get("/api/config.json", guarded([this](const httplib::Request& req, httplib::Response& res) {
-             const StudioRequest request = parse_request(query_params(req));
-             const auto loaded = state_->surface(request.surface);
-             res.set_header("Content-Disposition", "attachment; filename=\"config.json\"");
-             res.set_content(request_config(request, loaded->name).dump(2) + "\n",
-                             "application/json");
-           }));
-  http.Get("/api/export.zip", guarded([this](const httplib::Request& req, httplib::Response& res) {
-             const StudioRequest request = parse_request(query_params(req));
-             res.set_header("Content-Disposition", "attachment; filename=\"gridshell_design.zip\"");
-             res.set_content(state_->export_zip(request), "application/zip");
-           }));
+      res.set_content(nlohmann::json{{"surfaces", list}, {"initial", initial}}.dump(),
+                      "application/json");
+    });
+  });
+  http.Post("/api/surface", [this](const Request& req, Response& res,
+                                   const httplib::ContentReader& reader) {
+    answering(req, res, [&] {
+      // Counted as decoded: a chunked or compressed body is held to the same cap.
+      // Past the cap the rest is read and dropped, up to twice the cap, so that the client
+      // gets its 413 on a connection that is still sound; beyond that the reading stops.
+      std::string body;
+      bool over = false;
+      std::size_t received = 0;
+      const bool read = reader([&](const char* data, std::size_t n) {
+        received += n;
+        if (received > kMaxUploadBytes) {
+          over = true;
+          body.clear();
+          body.shrink_to_fit();
+          return received <= 2 * kMaxUploadBytes;
+        }
+        body.append(data, n);
+        return true;
+      });
+      if (over || res.status == 413) {
+        answer_text(res, 413,
+                    fmt::format("gridshell: error: upload: larger than {} MiB\n",
+                                kMaxUploadBytes >> 20));
+        return;
+      }
+      if (!read) throw Error("upload", "the file did not arrive whole");
+      const auto [id, loaded] = add_upload(req.get_param_value("name"), body);
+      res.set_content(nlohmann::json{{"surface", id},
+                                     {"name", loaded->name},
+                                     {"vertices", loaded->surface.mesh.num_vertices()},
+                                     {"triangles", loaded->surface.mesh.num_faces()},
+                                     {"supports", loaded->surface.supports.size()}}
+                          .dump(),
+                      "application/json");
+    });
+  });
+  http.Get("/api/design", [this](const Request& req, Response& res) {
+    answering(req, res, [&] {
+      // Checked whole (parameters, surface, size) before it takes a number: a bad request
+      // never stops the running design.
+      const StudioRequest request = parse_request(query_params(req));
+      const auto named = surface(request.surface);
+      check_request_size(request, named->surface);
+      const std::uint64_t generation = ++latest;
+      hook("queued");
+      const auto start = std::chrono::steady_clock::now();
+      nlohmann::json answer = design(request, *named, generation);
+      answer["generation"] = generation;
+      answer["seconds"] =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      res.set_content(answer.dump(), "application/json");
+    });
+  });
+  http.Get("/api/config.json", [this](const Request& req, Response& res) {
+    answering(req, res, [&] {
+      const StudioRequest request = parse_request(query_params(req));
+      const auto named = surface(request.surface);
+      check_request_size(request, named->surface);  // the same refusal as its design's
+      res.set_header("Content-Disposition", "attachment; filename=\"config.json\"");
+      res.set_content(request_config(request, named->name).dump(2) + "\n", "application/json");
+    });
+  });
+  http.Get("/api/export.zip", [this](const Request& req, Response& res) {
+    answering(req, res, [&] {
+      const StudioRequest request = parse_request(query_params(req));
+      const auto named = surface(request.surface);
+      check_request_size(request, named->surface);
+      res.set_header("Content-Disposition", "attachment; filename=\"gridshell_design.zip\"");
+      res.set_content(export_zip(request, *named), "application/zip");
+    });
+  });
 }
 
 Server::~Server() {
@@ -272,6 +483,11 @@ int Server::bind() {
   if (s.port <= 0)
     throw Error("--port", "cannot listen on " + s.options.host + ":" +
                               std::to_string(s.options.port) + " (in use?)");
+  const std::string port = ":" + std::to_string(s.port);
+  s.hosts = {s.options.host + port};
+  if (s.options.host == "127.0.0.1") s.hosts.push_back("localhost" + port);
+  s.origins.clear();
+  for (const std::string& h : s.hosts) s.origins.push_back("http://" + h);
   return s.port;
 }
 
@@ -296,9 +512,20 @@ int Server::port() const {
   return state_->port;
 }
 
-std::string studio_page() {
+const std::string& Server::token() const {
+  return state_->token;
+}
+
+int Server::cached_surfaces() const {
+  std::lock_guard lock(state_->surfaces_mutex);
+  return static_cast<int>(state_->surfaces.size());
+}
+
+std::string studio_page(const std::string& token) {
   std::string page(studio_template());
-  const std::string key = "@STUDIO@";
+  const std::string key = "@STUDIO@", token_key = "@TOKEN@";
+  const std::size_t t = page.find(token_key);  // in the head, before the script
+  if (t != std::string::npos) page.replace(t, token_key.size(), token);
   const std::size_t at = page.find(key);
   if (at != std::string::npos) page.replace(at, key.size(), studio_script());
   return page;

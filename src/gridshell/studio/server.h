@@ -12,6 +12,14 @@
 ///   GET  /api/config.json?…  its config.json (for `gridshell design --config`)
 ///   GET  /api/export.zip?…   the files `gridshell design -o` writes for it, zipped
 ///
+/// Who may ask (docs/studio.md, "What the studio protects"): a request whose Host is not the
+/// server's own `127.0.0.1:PORT` (or `localhost:PORT`), whose Origin, when sent, is not its own
+/// page, or whose Sec-Fetch-Site, when sent, is not same-origin (or none: the user opened the
+/// page itself; not for /api), is answered 403
+/// without work; every /api request must carry the per-run token (`X-Gridshell-Token`, random,
+/// written into the page at GET /) or gets 403. Uploads are capped at kMaxUploadBytes however
+/// they are sent (chunked, compressed: counted as read, 413); other requests have no body.
+///
 /// Bad input (an unknown parameter or surface, D = 0, a malformed upload) → HTTP 400 with the
 /// command line's line `gridshell: error: SUBJECT: WHAT` as text/plain; the server never stops
 /// on it. Surfaces are `builtin:NAME` or `upload:N`; no path on the server's disk is read on a
@@ -21,21 +29,43 @@
 /// request that is no longer the newest when its turn comes, or when its design ends, is
 /// answered HTTP 409 `superseded` without (further) work, so fast slider changes never build a
 /// queue of stale designs; a running design stops when a newer request arrives — a non-linear
-/// path at its next step, an objective search before its next candidate (request.h). The last design is kept, so that an export of it costs only the
-/// files.
+/// path at its next step, an objective search before its next candidate (request.h). Only a
+/// valid request (parsed, its surface loaded) takes a number: a bad one never stops a design.
+/// The last design is kept, so that an export of it costs only the files; an export while a
+/// design or another export runs is answered 503 (busy), and an export that has to design is
+/// stopped (409) by a newer design request like a design is.
+///
+/// Memory: loaded surfaces are kept in a least-recently-used cache of at most
+/// kMaxCachedSurfaces built-ins and uploads and kMaxCachedVertices vertices (the page's first
+/// surface is always kept); built-in specs are cached under their canonical text
+/// (canonical_builtin: `span=20` and `span=20.0` are one entry). Surfaces load one at a time
+/// outside the lock that guards the cache; an upload while another loads is answered 503.
 
+#include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "gridshell/surfaces/load.h"
 
 namespace gridshell::studio {
+
+inline constexpr std::size_t kMaxUploadBytes = 64u << 20;  ///< an uploaded file, after decoding
+inline constexpr int kMaxCachedSurfaces = 8;               ///< besides the page's first surface
+inline constexpr long kMaxCachedVertices = 4'000'000;
 
 struct ServerOptions {
   std::string surface = kDefaultSurface;  ///< what the page opens with (builtin:NAME or a file)
   SurfaceOptions surface_options;         ///< for that file and for uploads
   std::string host = "127.0.0.1";
   int port = 8080;  ///< 0: any free port (port() tells which)
+  /// Tests only: called at named points of a design request, on the request's thread —
+  /// "queued" (a valid /api/design request took its number) and "check" (a running design asks
+  /// whether a newer request came in: before each candidate of an objective search, at each step
+  /// of a non-linear path). A hook that blocks holds the server there, so a test can order
+  /// events without watching the clock.
+  std::function<void(std::string_view point)> pause_hook;
 };
 
 class Server {
@@ -55,13 +85,17 @@ class Server {
   /// Stops serving and joins the thread of start(). Idempotent.
   void stop();
   int port() const;
+  /// The per-run token the page sends in `X-Gridshell-Token` (32 hex digits from getrandom).
+  const std::string& token() const;
+  /// Surfaces in the cache now (the page's first one included).
+  int cached_surfaces() const;
 
  private:
   struct State;
   std::unique_ptr<State> state_;
 };
 
-/// The page with its script inlined.
-std::string studio_page();
+/// The page with its script inlined and `token` written into it.
+std::string studio_page(const std::string& token = "");
 
 }  // namespace gridshell::studio

@@ -1,7 +1,11 @@
 #include "gridshell/surfaces/builtin.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <numbers>
 #include <sstream>
 
@@ -50,10 +54,21 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw Error("builtin", what);
 }
 
+/// Refuses a mesh of more than kMaxBuiltinVertices vertices before anything is allocated
+/// (`count` in double: the product of two sizes cannot wrap).
+void require_vertices(const char* name, double count) {
+  if (!(count <= static_cast<double>(kMaxBuiltinVertices)))
+    throw Error("builtin",
+                fmt::format("{}: these parameters make {:.0f} vertices, more than the {} a built-in "
+                            "may make (lower res, or the ratio of length or width to span)",
+                            name, count, kMaxBuiltinVertices));
+}
+
 Surface paraboloid(const BuiltinOptions& o) {
   const double span = or_default(o.span, 20), rise = or_default(o.rise, 4);
   const int n = o.res > 0 ? o.res : 32;
   require(n >= 2 && n % 2 == 0, "paraboloid: res must be even and ≥ 2");
+  require_vertices("paraboloid", (n + 1.0) * (n + 1.0));
   const double h = span / 2;
   Surface s;
   s.mesh = make_grid(n, n, [&](int i, int j) {
@@ -68,6 +83,7 @@ Surface dome(const BuiltinOptions& o) {
   const double span = or_default(o.span, 20), rise = or_default(o.rise, 5);
   const int n = o.res > 0 ? o.res / 2 : 16;  // rings
   require(n >= 1, "dome: res must be ≥ 2");
+  require_vertices("dome", 1.0 + 3.0 * n * (n + 1.0));
   const double a = span / 2;
   require(rise <= a,
           "dome: rise must not exceed half the span (a cap, not more than a hemisphere)");
@@ -115,7 +131,9 @@ Surface barrel(const BuiltinOptions& o) {
   require(rise <= span / 2, "barrel: rise must not exceed half the span");
   const double c = span / 2, R = (c * c + rise * rise) / (2 * rise);
   const double half_angle = std::asin(c / R);
-  int nl = std::max(2, static_cast<int>(std::lround(n * length / span / 2)) * 2);
+  const double rows = std::max(2.0, 2 * std::round(n * length / span / 2));
+  require_vertices("barrel", (n + 1.0) * (rows + 1));
+  const int nl = static_cast<int>(rows);
   Surface s;
   s.mesh = make_grid(n, nl, [&](int i, int j) {
     const double th = -half_angle + 2 * half_angle * i / n;
@@ -137,7 +155,9 @@ Surface court(const BuiltinOptions& o) {
   require(n >= 4 && n % 2 == 0, "court: res must be even and ≥ 4");
   // Perimeter samples, corners included, walking counter-clockwise from (+span/2, 0).
   const double hx = span / 2, hy = width / 2;
-  const int nx = n, ny = std::max(2, static_cast<int>(std::lround(n * width / span / 2)) * 2);
+  const double rows = std::max(2.0, 2 * std::round(n * width / span / 2));
+  require_vertices("court", 2.0 * (n + rows));  // perimeter samples, before the layers
+  const int nx = n, ny = static_cast<int>(rows);
   std::vector<Eigen::Vector2d> per;
   for (int j = 0; j < ny / 2; ++j) per.emplace_back(hx, width * j / ny);
   for (int i = 0; i < nx; ++i) per.emplace_back(hx - span * i / nx, hy);
@@ -147,7 +167,9 @@ Surface court(const BuiltinOptions& o) {
   const int np = static_cast<int>(per.size());
   // Radial layers: enough that triangles are not too stretched.
   const double dr = 2 * (span + width) / np;
-  const int nr = std::max(2, static_cast<int>(std::ceil((std::min(hx, hy) - hole) / dr)));
+  const double layers = std::max(2.0, std::ceil((std::min(hx, hy) - hole) / dr));
+  require_vertices("court", np * (layers + 1));
+  const int nr = static_cast<int>(layers);
   TriMesh m;
   m.V.resize(np * (nr + 1), 3);
   for (int k = 0; k <= nr; ++k)
@@ -182,13 +204,87 @@ Surface court(const BuiltinOptions& o) {
 
 }  // namespace
 
+namespace {
+
+/// One key of the spec: where it goes and the values it may take (builtin.h's table).
+struct BuiltinKey {
+  const char* name;
+  double low, high;
+  bool integer;
+  double BuiltinOptions::*real = nullptr;
+  int BuiltinOptions::*whole = nullptr;
+};
+
+const std::vector<BuiltinKey>& builtin_keys() {
+  static const std::vector<BuiltinKey> keys = {
+      {"span", kBuiltinMinSize, kBuiltinMaxSize, false, &BuiltinOptions::span},
+      {"rise", kBuiltinMinRise, kBuiltinMaxSize, false, &BuiltinOptions::rise},
+      {"width", kBuiltinMinSize, kBuiltinMaxSize, false, &BuiltinOptions::width},
+      {"length", kBuiltinMinSize, kBuiltinMaxSize, false, &BuiltinOptions::length},
+      {"hole", kBuiltinMinRise, kBuiltinMaxSize / 2, false, &BuiltinOptions::hole},
+      {"edge_q", 0.01, 100, false, &BuiltinOptions::edge_q},
+      {"res", 2, kBuiltinMaxRes, true, nullptr, &BuiltinOptions::res},
+      {"corner", 0, kBuiltinMaxRes, true, nullptr, &BuiltinOptions::corner},
+  };
+  return keys;
+}
+
+std::string bounds_message(const BuiltinKey& key, const std::string& value) {
+  return fmt::format("{} must be {} in [{}, {}], got {}", key.name,
+                     key.integer ? "a whole number" : "a positive number", key.low, key.high,
+                     value);
+}
+
+/// A key's value: a whole number in digits for an integer key, else a finite decimal number;
+/// within the key's bounds.
+double parse_builtin_value(const std::string& spec, const BuiltinKey& key,
+                           const std::string& value) {
+  double x = 0;
+  if (key.integer) {
+    long long n = 0;
+    const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), n);
+    if (value.empty() || ec != std::errc{} || end != value.data() + value.size())
+      throw Error("builtin:" + spec,
+                  fmt::format("{} must be a whole number, got '{}'", key.name, value));
+    x = static_cast<double>(n);
+  } else {
+    std::size_t used = 0;
+    try {
+      x = std::stod(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    // stod also reads hexadecimal, "inf" and "nan": only plain decimal numbers are taken.
+    const bool plain = value.find_first_not_of("0123456789.eE+-") == std::string::npos;
+    if (value.empty() || used != value.size() || !plain || !std::isfinite(x))
+      throw Error("builtin:" + spec, fmt::format("'{}' is not a number", value));
+  }
+  if (!(x >= key.low && x <= key.high))
+    throw Error("builtin:" + spec, bounds_message(key, value));
+  return x;
+}
+
+/// Refuses options outside builtin.h's bounds (0 and corner −1 mean the default).
+void check_builtin_options(const BuiltinOptions& o) {
+  for (const BuiltinKey& key : builtin_keys()) {
+    const double x = key.integer ? o.*(key.whole) : o.*(key.real);
+    const double unset = key.whole == &BuiltinOptions::corner ? -1 : 0;
+    if (x != unset && !(x >= key.low && x <= key.high))
+      throw Error("builtin", bounds_message(key, fmt::format("{}", x)));
+  }
+}
+
+}  // namespace
+
 FunicularResult make_funicular(const BuiltinOptions& o) {
+  check_builtin_options(o);
   const double span = or_default(o.span, 20), rise = or_default(o.rise, 5);
   const int n = o.res > 0 ? o.res : 32;
   const double edge_q = or_default(o.edge_q, 4.0);
   const int corner = o.corner >= 0 ? o.corner : std::max(1, n / 16);
   require(n >= 4 && n % 2 == 0, "funicular: res must be even and ≥ 4");
   require(2 * corner < n, "funicular: corner supports would cover a whole edge");
+  require_vertices("funicular", (n + 1.0) * (n + 1.0));
   const double h = span / 2;
   TriMesh grid =
       make_grid(n, n, [&](int i, int j) { return Vec3(-h + span * i / n, -h + span * j / n, 0); });
@@ -235,6 +331,7 @@ std::vector<std::string> builtin_names() {
 }
 
 Surface make_builtin(const std::string& name, const BuiltinOptions& o) {
+  check_builtin_options(o);
   if (name == "paraboloid") return paraboloid(o);
   if (name == "dome") return dome(o);
   if (name == "barrel") return barrel(o);
@@ -244,53 +341,71 @@ Surface make_builtin(const std::string& name, const BuiltinOptions& o) {
               "unknown built-in surface (choose funicular, paraboloid, dome, barrel, court)");
 }
 
-Surface make_builtin(const std::string& spec) {
+namespace {
+
+/// A spec's name and its keys' values (the last of a repeated key), checked against the bounds.
+struct ParsedSpec {
+  std::string name;
+  std::map<std::string, double> values;
+};
+
+ParsedSpec parse_spec(const std::string& spec) {
   const auto colon = spec.find(':');
-  const std::string name = spec.substr(0, colon);
-  BuiltinOptions o;
-  if (colon != std::string::npos) {
-    std::stringstream ss(spec.substr(colon + 1));
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-      const auto eq = item.find('=');
-      if (eq == std::string::npos)
-        throw Error("builtin:" + spec, fmt::format("expected key=value, got '{}'", item));
-      const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
-      double x = 0;
-      try {
-        std::size_t used = 0;
-        x = std::stod(value, &used);
-        if (used != value.size()) throw std::invalid_argument(value);
-      } catch (const std::exception&) {
-        throw Error("builtin:" + spec, fmt::format("'{}' is not a number", value));
-      }
-      if (!std::isfinite(x) || x < 0 || (x <= 0 && key != "corner"))
-        throw Error("builtin:" + spec, fmt::format("{} must be positive", key));
-      if (key == "span")
-        o.span = x;
-      else if (key == "rise")
-        o.rise = x;
-      else if (key == "res")
-        o.res = static_cast<int>(x);
-      else if (key == "width")
-        o.width = x;
-      else if (key == "length")
-        o.length = x;
-      else if (key == "hole")
-        o.hole = x;
-      else if (key == "edge_q")
-        o.edge_q = x;
-      else if (key == "corner")
-        o.corner = static_cast<int>(x);
-      else
-        throw Error("builtin:" + spec, fmt::format("unknown key '{}' (span, rise, res, width, "
-                                                   "length, hole, edge_q, corner)",
-                                                   key));
-      if ((key == "res" || key == "corner") && x > 2000)
-        throw Error("builtin:" + spec, fmt::format("{} is too large", key));
-    }
+  ParsedSpec p;
+  p.name = spec.substr(0, colon);
+  if (colon == std::string::npos) return p;
+  std::stringstream ss(spec.substr(colon + 1));
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos)
+      throw Error("builtin:" + spec, fmt::format("expected key=value, got '{}'", item));
+    const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+    const auto& keys = builtin_keys();
+    const auto it = std::find_if(keys.begin(), keys.end(),
+                                 [&key](const BuiltinKey& k) { return key == k.name; });
+    if (it == keys.end())
+      throw Error("builtin:" + spec, fmt::format("unknown key '{}' (span, rise, res, width, "
+                                                 "length, hole, edge_q, corner)",
+                                                 key));
+    p.values[key] = parse_builtin_value(spec, *it, value);
   }
-  return make_builtin(name, o);
+  return p;
+}
+
+void require_known_name(const std::string& name) {
+  const auto names = builtin_names();
+  if (std::find(names.begin(), names.end(), name) == names.end())
+    throw Error("builtin:" + name,
+                "unknown built-in surface (choose funicular, paraboloid, dome, barrel, court)");
+}
+
+}  // namespace
+
+Surface make_builtin(const std::string& spec) {
+  const ParsedSpec p = parse_spec(spec);
+  BuiltinOptions o;
+  for (const BuiltinKey& key : builtin_keys()) {
+    const auto it = p.values.find(key.name);
+    if (it == p.values.end()) continue;
+    if (key.integer)
+      o.*(key.whole) = static_cast<int>(it->second);
+    else
+      o.*(key.real) = it->second;
+  }
+  return make_builtin(p.name, o);
+}
+
+std::string canonical_builtin(const std::string& spec) {
+  const ParsedSpec p = parse_spec(spec);
+  require_known_name(p.name);
+  std::string text = p.name;
+  char sep = ':';
+  for (const auto& [key, value] : p.values) {  // sorted by key
+    text += fmt::format("{}{}={}", sep, key, value);
+    sep = ',';
+  }
+  return text;
 }
 
 }  // namespace gridshell

@@ -17,6 +17,14 @@
 ///
 /// Keys: span, rise, res (divisions along the span), and width / length / hole / edge_q /
 /// corner where they apply. Defaults give meshes of a few thousand triangles.
+///
+/// Bounds (anything else is an Error naming the key, from the command line and the studio):
+/// span, width and length in [0.1, 1000] m; rise in [0.01, 1000] m (and at most half the span
+/// for dome and barrel); hole in [0.01, 500] m and inside the rectangle; edge_q in [0.01, 100];
+/// res and corner whole numbers written as digits, res in [2, 2000], corner in [0, 2000]. The
+/// mesh's vertex count is computed before anything is allocated and may not exceed
+/// kMaxBuiltinVertices (e.g. res ≤ 998 for paraboloid and funicular, ≤ 1153 for dome; a barrel's
+/// rows grow with length / span).
 
 #include <string>
 #include <vector>
@@ -24,6 +32,13 @@
 #include "gridshell/mesh/mesh.h"
 
 namespace gridshell {
+
+/// The most vertices a built-in surface may have (about 100 MB of mesh and topology).
+inline constexpr long kMaxBuiltinVertices = 1'000'000;
+inline constexpr double kBuiltinMinSize = 0.1;   ///< m: span, width, length
+inline constexpr double kBuiltinMaxSize = 1000;  ///< m: span, width, length, rise
+inline constexpr double kBuiltinMinRise = 0.01;  ///< m: rise, hole
+inline constexpr int kBuiltinMaxRes = 2000;      ///< res, corner
 
 struct BuiltinOptions {
   double span = 0;    ///< m; 0 = the surface's default
@@ -43,7 +58,15 @@ std::vector<std::string> builtin_names();
 /// Throws Error for an unknown name, key or an invalid value.
 Surface make_builtin(const std::string& spec);
 
-/// Builds a named surface with explicit options.
+/// The canonical text of a spec `NAME[:key=value,...]`: keys sorted, the last of a repeated key,
+/// numbers in their shortest exact form (`dome:span=20.0,res=12` → `dome:res=12,span=20`), so
+/// equal specs give equal text (a cache key). Throws as make_builtin does for an unknown name, key
+/// or a value out of bounds; does not build the surface (limits that depend on several keys, such
+/// as the vertex count, are checked by make_builtin).
+std::string canonical_builtin(const std::string& spec);
+
+/// Builds a named surface with explicit options (0, and corner −1, take the default; set values
+/// obey the bounds above).
 Surface make_builtin(const std::string& name, const BuiltinOptions& options);
 
 /// The funicular shell and its force-density equilibrium residual (relative), for tests.

@@ -14,6 +14,7 @@
 
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
+#include "gridshell/io/json.h"
 #include "gridshell/io/frame_model_json.h"
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/mesh/repair.h"
@@ -45,7 +46,7 @@ void reorient(Points& V, const std::string& up, double scale) {
 std::vector<int> supports_from_json(const std::string& path, int nv) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(io::read_file(path));
+    j = io::parse_json(io::read_file(path), path);
   } catch (const nlohmann::json::exception& e) {
     throw Error(path, "not valid JSON (expected a list of vertex ids)");
   }
