@@ -274,7 +274,7 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   // results: written on the second core while this one writes the frame's files and the report.
   std::future<nlohmann::json> fabrication;
   if (gridshell_mesh) {
-    const analysis::GridshellFrameOptions bars = frame_options(a);
+    const analysis::GridshellFrameOptions bars = frame_options(a, nullptr);
     fabrication = std::async(std::launch::async, [&, bars] {
       return fabrication_report(a.run.out_dir, mesh, f.supports, &r, bars,
                                 fabrication::parse_sheet(a.sheet));
@@ -290,7 +290,7 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["supports"] = f.supports.size();
   st["analysis"] = to_string(level);
   st["steel"] = a.checks.steel;
-  if (gridshell_mesh) st["section"] = section_block(frame_options(a));
+  if (gridshell_mesh) st["section"] = section_block(frame_options(a, nullptr));
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
   st["loads"] = gridshell_mesh ? a.checks.loads : f.combinations.empty() ? "model" : "load_cases";
