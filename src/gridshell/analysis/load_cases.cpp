@@ -360,7 +360,9 @@ std::vector<LoadCombination> eurocode_combinations(const std::vector<LoadCase>& 
 
 std::vector<Vec3> combine(const std::vector<LoadCase>& cases, const LoadCombination& c) {
   std::vector<Vec3> F;
-  for (const auto& [name, factor] : c.factors) {
+  for (const auto& term : c.factors) {
+    const std::string& name = term.first;  // (a plain name: Clang 14 captures no bindings)
+    const double factor = term.second;
     const auto it = std::find_if(cases.begin(), cases.end(),
                                  [&](const LoadCase& lc) { return lc.name == name; });
     if (it == cases.end()) throw Error("combination " + c.name, "unknown load case " + name);

@@ -176,7 +176,8 @@ nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g,
 /// ULS), the other ULS combinations analysed here linearly with LBA (when `primary` has one),
 /// the SLS ones linearly; the ULS combinations whose λ_LBA is within 15 % of the lowest also
 /// get the non-linear paths (when `primary` has them: `nonlinear_followed`). Each ULS block has
-/// `lambda` (λ_imperfect, else λ_perfect, else λ_LBA: `lambda_source`), `leading`, `factors`.
+/// `lambda` (the smaller of λ_imperfect and λ_perfect, else λ_LBA: `lambda_source`), `leading`,
+/// `factors`, `imperfection`.
 nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
                                   const analysis::GridshellFrameOptions& frame,
                                   const analysis::FrameAnalysisOptions& options,

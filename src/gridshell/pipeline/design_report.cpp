@@ -17,6 +17,23 @@ nlohmann::json optional_number(const std::optional<double>& v) {
 }
 }  // namespace
 
+namespace {
+/// structure.imperfection: the unfavourable imperfection's mode (1-based, as modes.csv), sign,
+/// amplitude, every one tried, and the note when λ_imperfect > λ_perfect.
+nlohmann::json imperfection_block(const analysis::FrameResult& r) {
+  nlohmann::json imp;
+  imp["mode"] = r.imperfection_mode + 1;
+  imp["sign"] = r.imperfection_sign;
+  imp["amplitude_m"] = r.imperfection_amplitude_m;
+  nlohmann::json tried = nlohmann::json::array();
+  for (const auto& t : r.imperfections_tried)
+    tried.push_back({{"mode", t.mode + 1}, {"sign", t.sign}, {"lambda", optional_number(t.lambda)}});
+  imp["tried"] = tried;
+  if (!r.imperfection_note.empty()) imp["note"] = r.imperfection_note;
+  return imp;
+}
+}  // namespace
+
 nlohmann::json structure_block(const analysis::FrameResult& r) {
   nlohmann::json st;
   st["delta_max_m"] = r.delta_max_m;
@@ -36,18 +53,7 @@ nlohmann::json structure_block(const analysis::FrameResult& r) {
   st["dofs"] = r.num_dofs;
   st["timings_s"] = r.timings;
   add_checks_block(st, r);
-  if (r.imperfection_mode >= 0) {
-    nlohmann::json imp;
-    imp["mode"] = r.imperfection_mode + 1;  // as modes.csv numbers them
-    imp["sign"] = r.imperfection_sign;
-    imp["amplitude_m"] = r.imperfection_amplitude_m;
-    nlohmann::json tried = nlohmann::json::array();
-    for (const auto& t : r.imperfections_tried)
-      tried.push_back({{"mode", t.mode + 1}, {"sign", t.sign}, {"lambda", optional_number(t.lambda)}});
-    imp["tried"] = tried;
-    if (!r.imperfection_note.empty()) imp["note"] = r.imperfection_note;
-    st["imperfection"] = imp;
-  }
+  if (r.imperfection_mode >= 0) st["imperfection"] = imperfection_block(r);
   return st;
 }
 
@@ -101,9 +107,11 @@ nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g,
 }
 
 namespace {
-/// A combination's governing λ: λ_imperfect, else λ_perfect, else λ_LBA (and which).
+/// A combination's governing λ: the smaller of λ_imperfect and λ_perfect (the imperfect one
+/// can come out above: structure.imperfection.note), else λ_nonlinear, else λ_LBA (and which).
 std::pair<std::optional<double>, const char*> combination_lambda(const analysis::FrameResult& r) {
-  if (r.lambda_imperfect) return {r.lambda_imperfect, "lambda_imperfect"};
+  if (r.lambda_imperfect && (!r.lambda_perfect || *r.lambda_imperfect <= *r.lambda_perfect))
+    return {r.lambda_imperfect, "lambda_imperfect"};
   if (r.lambda_perfect) return {r.lambda_perfect, "lambda_perfect"};
   if (r.lambda_nonlinear) return {r.lambda_nonlinear, "lambda_nonlinear"};
   return {r.lambda_linear_buckling, "lambda_lba"};
@@ -126,6 +134,7 @@ nlohmann::json eurocode_block(const analysis::LoadCombination& c, const analysis
     b["lambda"] = optional_number(lambda);
     b["lambda_source"] = source;
     b["nonlinear_followed"] = nonlinear;
+    if (r.imperfection_mode >= 0) b["imperfection"] = imperfection_block(r);
   }
   return b;
 }
@@ -143,8 +152,11 @@ nlohmann::json governing_block(const nlohmann::json& combinations) {
     const bool uls = c.contains("uls") ? c["uls"].get<bool>() : !named_sls;
     const bool sls = !uls || combinations.size() == 1;
     std::optional<double> lambda = number(c, "lambda");
-    for (const char* key : {"lambda_imperfect", "lambda_perfect", "lambda_lba"})
-      if (!c.contains("lambda") && !lambda) lambda = number(c, key);
+    if (!c.contains("lambda")) {  // the smaller non-linear λ, else λ_LBA
+      for (const char* key : {"lambda_imperfect", "lambda_perfect"})
+        if (number(c, key) && (!lambda || *number(c, key) < *lambda)) lambda = number(c, key);
+      if (!lambda) lambda = number(c, "lambda_lba");
+    }
     if (uls && number(c, "utilisation_max") && *number(c, "utilisation_max") > u) {
       u = *number(c, "utilisation_max");
       g["utilisation"] = name;
