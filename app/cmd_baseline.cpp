@@ -220,8 +220,9 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   report["surface"] = a.surface;
   report["mesh"] = mesh_block(out);
   add_panel_keys(report["mesh"], panel_shape(out.mesh, &projector),
-                 flat_info.value("panels", "") == std::string("flat") ? PanelMode::flat
-                                                                      : PanelMode::free);
+                 flat_info.is_object() && flat_info.value("panels", "") == std::string("flat")
+                     ? PanelMode::flat
+                     : PanelMode::free);
   if (!flat_info.is_null()) report["flat_panels"] = flat_info;
   report["fabrication"] = fabrication_report(a.run.out_dir, out.mesh, out.supports,
                                              structure ? &*structure : nullptr, {}, sheet);
