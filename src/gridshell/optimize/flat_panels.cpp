@@ -741,6 +741,18 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
                                        1e3 * options.max_out_of_plane));
   if (shape.self_intersecting > 0)
     throw FlatPanelsFailed(fmt::format("{} panels self-intersect", shape.self_intersecting));
+  // A beam the planes have collapsed (two joints at one point) is no frame member.
+  double shortest_design = INFINITY, shortest = INFINITY;
+  for (int e = 0; e < topo.num_edges(); ++e)
+    shortest_design = std::min(
+        shortest_design, (design.vertex(topo.edges[e][0]) - design.vertex(topo.edges[e][1])).norm());
+  for (int f = 0; f < nf; ++f)
+    for (std::size_t k = 0; k < L.faces[f].size(); ++k)
+      shortest = std::min(shortest, (x[L.faces[f][k]] - x[L.faces[f][(k + 1) % L.faces[f].size()]])
+                                        .norm());
+  if (!(shortest >= options.min_beam_ratio * shortest_design))
+    throw FlatPanelsFailed(fmt::format("a beam shrank to {:.3g} m (the design's shortest: {:.3g} m)",
+                                       shortest, shortest_design));
   const Eigen::RowVector3d extent = surface.V.colwise().maxCoeff() - surface.V.colwise().minCoeff();
   const double span = std::max(extent.x(), extent.y());
   double farthest = 0;

@@ -37,7 +37,7 @@
 /// After the last step the joints are computed once more and checked: every corner within
 /// `max_out_of_plane` of its panel's plane and of its best-fit plane, every joint finite, no
 /// panel self-intersecting, no joint farther from the surface than `max_surface_distance` × its
-/// span; otherwise FlatPanelsFailed (never a silent pass).
+/// span, no beam collapsed (`min_beam_ratio`); otherwise FlatPanelsFailed (never a silent pass).
 ///
 /// Cost: O(joints) per iteration plus one sparse Cholesky of 3 × panels unknowns (analysed once);
 /// Botanic (1200 panels) well under a second per design (bench/flat_panels_bench.cpp).
@@ -84,6 +84,9 @@ struct FlatPanelOptions {
   double max_out_of_plane = 5e-4; ///< m: the post-check (0.5 mm)
   /// The post-check: no joint farther from the surface than this × its span (larger plan side).
   double max_surface_distance = 0.01;
+  /// The post-check: no beam shorter than this × the design's shortest beam (a collapsed beam
+  /// would be a mechanism in the frame analysis; the beams of split joints are held to it too).
+  double min_beam_ratio = 0.25;
   /// A step may not add self-intersecting panels (off: only the energy decides; measured: on
   /// gives fewer failures).
   bool guard = true;
