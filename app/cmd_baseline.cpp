@@ -20,6 +20,8 @@
 #include "gridshell/grids/supports.h"
 #include "gridshell/io/files.h"
 #include "gridshell/mesh/topology.h"
+#include "gridshell/optimize/flat_panels.h"
+#include "gridshell/optimize/projector.h"
 #include "gridshell/pipeline/baseline_field.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/design_report.h"
@@ -37,6 +39,7 @@ struct BaselineArgs {
   int cells = 0;
   std::string analyze = "nonlinear";
   std::string sheet = "2.5x1.25";
+  std::string panels = "free";  ///< --panels flat | free (as design)
   // quad-aniso: the field of design
   double D = 3, A = 3;
   double max_size_change = QuadAnisoOptions{}.max_scale_change;
@@ -46,6 +49,32 @@ struct BaselineArgs {
   LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit (as design)
   MemberOptions members;    ///< --section, --buckling-length-factor (as design)
 };
+
+/// --panels flat for a grid built here (optimize/flat_panels.h): the panels made planar, or kept
+/// free with a warning when that fails its post-check. Returns report.json's `flat_panels`.
+nlohmann::json flat_baseline(GridShellOutput& out, const TriMesh& surface,
+                             const SurfaceProjector& projector) {
+  nlohmann::json info = {{"requested", "flat"}};
+  try {
+    FlatPanelResult f = flat_panels(out.mesh, out.supports, surface, projector);
+    spdlog::info("[flat panels] {} panels flat to {:.2g} mm, {} joints split", f.mesh.num_faces(),
+                 1e3 * f.stats.out_of_plane_max, f.stats.split_joints);
+    if (out.raw.num_faces() == 0) out.raw = out.mesh;
+    out.mesh = std::move(f.mesh);
+    out.supports = std::move(f.supports);
+    out.planarity.clear();
+    out.regularity.clear();
+    info["panels"] = "flat";
+    info["iterations"] = f.stats.iterations;
+    info["split_joints"] = f.stats.split_joints;
+    info["added_joints"] = f.stats.added_joints;
+  } catch (const FlatPanelsFailed& e) {
+    spdlog::warn("{}: keeping the free panels", e.what());
+    info["panels"] = "free";
+    info["failure"] = e.what();
+  }
+  return info;
+}
 
 int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   auto guard = apply_run_options(a.run);
@@ -58,6 +87,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   const analysis::AnalysisLevel level = analysis::parse_analysis_level(a.analyze);
   const fabrication::SheetOptions sheet = fabrication::parse_sheet(a.sheet);
   const BaselineKind kind = parse_baseline_kind(a.kind);
+  const PanelMode panels = parse_panel_mode(a.panels);
   analysis::GridshellFrameOptions frame;
   analysis::FrameAnalysisOptions options;
   apply_load_check_options(a.checks, frame, options);
@@ -74,7 +104,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   attach_load_case_surface(frame, surface.mesh);
   lap("load", t0);
   GridShellOutput out;
-  nlohmann::json quad_stats;
+  nlohmann::json quad_stats, flat_info;
   const auto t1 = Clock::now();
   if (kind == BaselineKind::quad) {
     QuadGridOptions qo;
@@ -147,7 +177,9 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     o.tessellation.length = a.length;
     o.tessellation.radius = a.radius;
     o.tessellation.cells = a.cells;
+    o.panels = panels;
     DesignResult r = run_design(surface, o);
+    flat_info = r.details.value("flat_panels", nlohmann::json());
     out.mesh = std::move(r.mesh);
     out.raw = std::move(r.raw);
     out.supports = std::move(r.supports);
@@ -164,6 +196,12 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     out.supports = std::move(g.supports);
   }
   lap("grid", t1);
+  const SurfaceProjector projector(surface.mesh);
+  if (panels == PanelMode::flat && kind != BaselineKind::voronoi_iso) {
+    const auto t = Clock::now();
+    flat_info = flat_baseline(out, surface.mesh, projector);
+    lap("flat_panels", t);
+  }
   if (out.raw.num_faces() == 0) out.raw = out.mesh;
   if (out.planarity.empty()) {
     const MeshMetrics m = mesh_metrics(out.mesh);
@@ -185,6 +223,11 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   report["kind"] = a.kind;
   report["surface"] = a.surface;
   report["mesh"] = mesh_block(out);
+  add_panel_keys(report["mesh"], panel_shape(out.mesh, &projector),
+                 flat_info.is_object() && flat_info.value("panels", "") == std::string("flat")
+                     ? PanelMode::flat
+                     : PanelMode::free);
+  if (!flat_info.is_null()) report["flat_panels"] = flat_info;
   report["fabrication"] = fabrication_report(a.run.out_dir, out.mesh, out.supports,
                                              structure ? &*structure : nullptr, frame, sheet);
   if (a.length > 0) {
@@ -263,6 +306,9 @@ void register_baseline(CLI::App& app, Action& action) {
   sub->add_option("--cells", a->cells, "voronoi-iso/tri: number of cells instead of --length");
   sub->add_option("--analyze", a->analyze, "none | linear | buckling | nonlinear")
       ->default_str("nonlinear");
+  sub->add_option("--panels", a->panels,
+                  "flat: every panel exactly planar (docs/panels.md) | free (as design)")
+      ->default_str("free");
   sub->add_option("--sheet", a->sheet,
                   "fabrication: sheet size WxH in metres on which the panels are nested")
       ->default_str("2.5x1.25");

@@ -40,6 +40,7 @@ struct DesignArgs {
   bool single_path = false;        ///< non-linear: skip the second (imperfect) path
   /// --analysis-resolution: cells | input
   std::string resolution = "cells";
+  std::string panels = "free";  ///< --panels flat | free
   bool search = true;  ///< no -D/-A/convention/--field given: search for the objective
 };
 
@@ -74,6 +75,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   options.frame_analysis.stability = !a.single_path;
   options.symmetry = parse_symmetry(a.symmetry);
   options.analysis_resolution = parse_analysis_resolution(a.resolution);
+  options.panels = parse_panel_mode(a.panels);
   options.field_options.measure = parse_stress_measure(a.measure);
   options.field_options.stretch = parse_stretch_axis(a.stretch);
   options.field_options.density = parse_density_trend(a.density);
@@ -208,6 +210,10 @@ void register_design(CLI::App& app, Action& action) {
                   "input is much finer than the cells need; the joints on the input) | input")
       ->default_str("cells");
   sub->add_flag("--no-regularize", a->no_regularize, "keep the raw tessellation");
+  sub->add_option("--panels", a->panels,
+                  "flat: every panel exactly planar (joints at plane intersections, "
+                  "docs/panels.md) | free: joints on the surface")
+      ->default_str("free");
   sub->add_flag("--planarize", a->design.planarize,
                 "ShapeUp planarity projection instead of regularization");
   sub->add_option("--restretch", a->design.regularize_options.restretch,

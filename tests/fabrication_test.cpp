@@ -378,12 +378,12 @@ TEST(Fabrication, DesignAnalyzeAndBaselineWriteTheFiles) {
   const Table panels = read_csv(slurp(d / "panels.csv"), &header);
   EXPECT_EQ(header,
             "panel,sides,joints,area,planarity,edge_length_error,sheet,rotation_deg,offset_x,"
-            "offset_y,outline");
+            "offset_y,outline,out_of_plane_mm");
   ASSERT_EQ(panels.size(), m.faces.size());
   int placed = 0;
   for (std::size_t f = 0; f < panels.size(); ++f) {
     const auto& row = panels[f];
-    ASSERT_EQ(row.size(), 11u);
+    ASSERT_EQ(row.size(), 12u);
     std::vector<int> ids;
     for (double x : numbers(row[2])) ids.push_back(static_cast<int>(x));
     EXPECT_EQ(ids, m.faces[f]);

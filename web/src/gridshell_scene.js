@@ -100,6 +100,11 @@ export function colourModes(data) {
     modes.push({ key: 'planarity', label: 'panel planarity', unit: '–', on: 'panel',
       values: data.planarity, note: 'mean distance to the plane / half perimeter; 0 = flat' });
   }
+  if (data.out_of_plane_mm && data.out_of_plane_mm.length === panels.length && panels.length) {
+    modes.push({ key: 'out_of_plane', label: 'panel out of plane', unit: 'mm', on: 'panel',
+      values: data.out_of_plane_mm,
+      note: 'largest corner distance to the panel\'s best-fit plane; flat glass needs ≲ 0.5 mm' });
+  }
   if (nBeams && data.utilisation && data.utilisation.length === nBeams) {
     modes.push({ key: 'utilisation', label: 'utilisation', unit: '–', on: 'beam',
       values: data.utilisation, note: '1 = the member check is just met' });
@@ -117,7 +122,7 @@ export function colourModes(data) {
       lo = -a; hi = a;
     }
     if (m.key === 'utilisation') { lo = 0; hi = Math.max(1, hi); }
-    if (m.key === 'planarity') lo = 0;
+    if (m.key === 'planarity' || m.key === 'out_of_plane') lo = 0;
     if (!(hi > lo)) hi = lo + 1;
     m.lo = lo; m.hi = hi;
     m.stops = m.diverging ? DIVERGING : SEQUENTIAL;

@@ -204,6 +204,10 @@ function keyFigures() {
     html += row('λ imperfect > λ perfect', escapeHtml(st.imperfection.note));
   }
   if (mesh.planarity_mean != null) html += row('planarity mean', fmt(mesh.planarity_mean));
+  if (mesh.out_of_plane_max_m != null) {
+    html += row(`panels (${escapeHtml(mesh.panels || '')}) out of plane`,
+      `${fmt(mesh.out_of_plane_max_m * 1000)} mm max, ${fmt(mesh.out_of_plane_median_m * 1000)} mm median`);
+  }
   html += '</table>';
   document.getElementById('figures-table').innerHTML = html;
 

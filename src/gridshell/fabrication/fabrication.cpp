@@ -88,6 +88,7 @@ FlatPanel flatten_panel(const std::vector<Vec3>& p, int iterations) {
   std::vector<double> L(n);
   for (int k = 0; k < n; ++k) L[k] = (p[(k + 1) % n] - p[k]).norm();
   f.planarity = panel_planarity(p);
+  for (const Vec3& x : p) f.out_of_plane = std::max(f.out_of_plane, std::abs(pl.signed_distance(x)));
   double err = max_edge_error(q, L);
   // Minimum-norm Gauss–Newton on r_k = |q_{k+1} − q_k| − L_k: restores the edge lengths with
   // the least movement of the projected corners. Only when the projection changed them.

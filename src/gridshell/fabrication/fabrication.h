@@ -52,6 +52,7 @@ struct FlatPanel {
   std::vector<Vec2> outline;      ///< one point per corner, counter-clockwise, [m]
   double planarity = 0;           ///< mean distance to the best-fit plane / half perimeter
   double edge_length_error = 0;   ///< max |flat edge − 3D edge| / 3D edge
+  double out_of_plane = 0;        ///< largest corner distance to the best-fit plane [m]
 };
 
 struct Panel {

@@ -92,7 +92,7 @@ std::string beams_csv(const FabricationData& d) {
 std::string panels_csv(const FabricationData& d) {
   std::string s =
       "panel,sides,joints,area,planarity,edge_length_error,sheet,rotation_deg,offset_x,offset_y,"
-      "outline\n";
+      "outline,out_of_plane_mm\n";
   for (const Panel& p : d.parts.panels) {
     const Placement& pl = d.nesting.placements[p.id];
     std::string outline;
@@ -102,10 +102,10 @@ std::string panels_csv(const FabricationData& d) {
       outline += ' ';
       outline += num(p.flat.outline[k].y());
     }
-    s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", p.id, p.joints.size(), ints(p.joints),
-                     num(p.area), num(p.flat.planarity), num(p.flat.edge_length_error), pl.sheet,
-                     num(pl.rotation * 180 / kPi), num(pl.offset.x()), num(pl.offset.y()),
-                     outline);
+    s += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", p.id, p.joints.size(),
+                     ints(p.joints), num(p.area), num(p.flat.planarity),
+                     num(p.flat.edge_length_error), pl.sheet, num(pl.rotation * 180 / kPi),
+                     num(pl.offset.x()), num(pl.offset.y()), outline, num(1e3 * p.flat.out_of_plane));
   }
   return s;
 }
@@ -219,14 +219,16 @@ nlohmann::json bill_of_materials(const FabricationData& d, const FabricationFile
   for (const Beam& b : f.beams) lmin = std::min(lmin, b.length), lmax = std::max(lmax, b.length);
   j["beam_length_min_m"] = lmin;
   j["beam_length_max_m"] = lmax;
-  double area = 0, planarity = 0, edge_error = 0;
+  double area = 0, planarity = 0, edge_error = 0, out_of_plane = 0;
   for (const Panel& p : f.panels) {
     area += p.area;
+    out_of_plane = std::max(out_of_plane, p.flat.out_of_plane);
     planarity = std::max(planarity, p.flat.planarity);
     edge_error = std::max(edge_error, p.flat.edge_length_error);
   }
   j["panel_area_m2"] = area;
   j["planarity_max"] = planarity;
+  j["out_of_plane_max_mm"] = 1e3 * out_of_plane;
   j["flat_edge_length_error_max"] = edge_error;
   j["sheet_m"] = {o.sheet.width, o.sheet.height};
   j["sheets_used"] = d.nesting.sheets;

@@ -15,9 +15,11 @@
 ///   beam's section (its designation, sections/sections.h) and the clause that governs its
 ///   checks (empty when not analysed).
 /// - panels.csv  `panel,sides,joints,area,planarity,edge_length_error,sheet,rotation_deg,
-///   offset_x,offset_y,outline` — joints in face order; outline: the flattened corners as
-///   space-separated x y pairs in the panel's own plane [m]; on the sheet a corner p lands at
-///   R(rotation_deg) p + offset (sheet −1: larger than a sheet, not nested).
+///   offset_x,offset_y,outline,out_of_plane_mm` — joints in face order; outline: the flattened
+///   corners as space-separated x y pairs in the panel's own plane [m]; on the sheet a corner p
+///   lands at R(rotation_deg) p + offset (sheet −1: larger than a sheet, not nested);
+///   out_of_plane_mm: the largest corner distance to the panel's best-fit plane (what the glass
+///   and its bedding must take up; ~1e-9 for `--panels flat`).
 /// - panels.svg  every panel flattened, labelled with its id, nested on its sheet (millimetres).
 ///
 /// All numbers SI; files written atomically. Cost: linear in the mesh (nesting O(panels ·

@@ -536,6 +536,37 @@ void on_input_surface(const TriMesh& coarse, InputSurface& M, const DesignOption
   lap(r.timings, "coarsen", t);
 }
 
+/// Stage 6b (--panels flat): every panel exactly planar (optimize/flat_panels.h). When that fails
+/// its post-check the free panels stay: a warning and design.flat_panels.failure say so.
+void make_panels_flat(InputSurface& M, const DesignOptions& o, DesignResult& r) {
+  auto t = Clock::now();
+  nlohmann::json info = {{"requested", "flat"}};
+  try {
+    FlatPanelResult f = flat_panels(r.mesh, r.supports, M.mesh(), M.projector(), o.flat);
+    spdlog::info("[flat panels] {} panels flat to {:.2g} mm in {} iterations, {} joints split",
+                 f.mesh.num_faces(), 1e3 * f.stats.out_of_plane_max, f.stats.iterations,
+                 f.stats.split_joints);
+    r.mesh = std::move(f.mesh);
+    r.supports = std::move(f.supports);
+    r.metrics = mesh_metrics(r.mesh);
+    info["panels"] = "flat";
+    info["iterations"] = f.stats.iterations;
+    info["converged"] = f.stats.converged;
+    info["split_joints"] = f.stats.split_joints;
+    info["added_joints"] = f.stats.added_joints;
+    info["energy_start"] = f.stats.energy_start;
+    info["energy"] = f.stats.energy;
+    info["min_det"] = f.stats.min_det;
+    info["out_of_own_plane_max_m"] = f.stats.out_of_plane_max;
+  } catch (const FlatPanelsFailed& e) {
+    spdlog::warn("{}: keeping the free panels", e.what());
+    info["panels"] = "free";
+    info["failure"] = e.what();
+  }
+  r.details["flat_panels"] = info;
+  lap(r.timings, "flat_panels", t);
+}
+
 constexpr EnumWords<AnalysisResolution, 2> kAnalysisResolutionWords{
     {{"cells", AnalysisResolution::cells}, {"input", AnalysisResolution::input}}};
 
@@ -704,6 +735,8 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
     r.details["length_retry"] = {{"first_length_m", first}, {"tessellation_target_m", target}};
   }
   if (coarse) on_input_surface(S.mesh, M, o, r);
+  if (o.panels == PanelMode::flat) make_panels_flat(M, o, r);
+  r.panels = panel_shape(r.mesh, &M.projector());
 
   // Stage 7: the steel frame.
   if (o.analyze != analysis::AnalysisLevel::none) {

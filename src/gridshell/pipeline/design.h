@@ -11,6 +11,7 @@
 ///   tessellation  centroidal Voronoi tessellation on M′, mapped back to M   voronoi/tessellation.h
 ///   symmetry reflect the sector's cells and weld them                       optimize/symmetry.h
 ///   regularization  stretched-regular faces (or --planarize)                 optimize/regularize.h
+///   flat_panels (--panels flat) every panel exactly planar                  optimize/flat_panels.h
 ///   analysis δ, λ_LBA, λ_nonlinear of the steel frame                       analysis/
 ///
 /// With D = A = 1 (or `--field uniform`) the stress analysis is skipped and M′ = M.
@@ -29,6 +30,7 @@
 #include "gridshell/fem/shell_solver.h"
 #include "gridshell/field/field.h"
 #include "gridshell/metric/deform.h"
+#include "gridshell/optimize/flat_panels.h"
 #include "gridshell/optimize/metrics.h"
 #include "gridshell/optimize/regularize.h"
 #include "gridshell/optimize/symmetry.h"
@@ -80,6 +82,11 @@ struct DesignOptions {
   AnalysisResolution analysis_resolution = AnalysisResolution::cells;
   double analysis_edges_per_radius = 3;
   RegularizeOptions regularize_options;
+  /// flat: after the finishing step every panel is made exactly planar (optimize/flat_panels.h;
+  /// docs/panels.md); when that fails its post-check the free panels stay, with a warning and
+  /// report.json `design.flat_panels.failure`.
+  PanelMode panels = PanelMode::free;
+  FlatPanelOptions flat;
   analysis::GridshellFrameOptions frame;
   analysis::FrameAnalysisOptions frame_analysis;  ///< linear/buckling/nonlinear set from analyze
 };
@@ -94,6 +101,7 @@ struct DesignResult {
   Tessellation tessellation;  ///< engine output (of the sector when symmetric)
   Field field;                ///< on the input surface, per triangle
   std::optional<analysis::FrameResult> structure;
+  PanelShape panels;  ///< out-of-plane, convexity, angles, joints to the input surface (mesh)
   nlohmann::json details;                               ///< per-stage figures for report.json
   Timings timings;  ///< stage → seconds, in the order they ran (core/timings.h)
 };

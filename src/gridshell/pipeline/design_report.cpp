@@ -265,8 +265,12 @@ nlohmann::json design_report(const DesignResult& r, const DesignOptions& options
     mesh["target_length_m"] = options.tessellation.length;
     mesh["length_error"] = r.metrics.total_length / options.tessellation.length - 1;
   }
+  const bool flat = r.details.contains("flat_panels") &&
+                    r.details["flat_panels"].value("panels", "") == std::string("flat");
+  add_panel_keys(mesh, r.panels, flat ? PanelMode::flat : PanelMode::free);
   report["mesh"] = mesh;
   report["design"] = r.details;
+  report["design"]["panels_requested"] = to_string(options.panels);
   report["design"]["regularized"] = options.regularize && !options.planarize;
   report["design"]["planarized"] = options.planarize;
   report["design"]["restretch"] = options.regularize_options.restretch;
@@ -277,6 +281,17 @@ nlohmann::json design_report(const DesignResult& r, const DesignOptions& options
     report["structure"]["section"] = section_block(options.frame);
   }
   return report;
+}
+
+void add_panel_keys(nlohmann::json& mesh, const PanelShape& s, PanelMode built) {
+  mesh["panels"] = to_string(built);
+  mesh["out_of_plane_max_m"] = s.out_of_plane_max;
+  mesh["out_of_plane_median_m"] = s.out_of_plane_median;
+  mesh["surface_distance_max_m"] = s.surface_distance_max;
+  mesh["surface_distance_mean_m"] = s.surface_distance_mean;
+  mesh["nonconvex_panels"] = s.nonconvex;
+  mesh["self_intersecting_panels"] = s.self_intersecting;
+  mesh["panel_angle_min_deg"] = s.min_angle_deg;
 }
 
 nlohmann::json timings_block(const Timings& timings, const Timings& extra, double total) {

@@ -25,6 +25,12 @@ GridShellOutput design_output(const DesignResult& r);
 /// report.json without `surface`, `objective` and `timings_s` (the command adds those).
 nlohmann::json design_report(const DesignResult& r, const DesignOptions& options);
 
+/// The panel keys of report.json `mesh` (docs/panels.md): `panels` (flat | free, what was built),
+/// out_of_plane_max_m / _median_m (largest corner distance to the panel's best-fit plane),
+/// surface_distance_max_m / _mean_m (joints to the input surface), nonconvex_panels,
+/// self_intersecting_panels, panel_angle_min_deg.
+void add_panel_keys(nlohmann::json& mesh, const PanelShape& shape, PanelMode built);
+
 /// report.json's `timings_s`: the stages in `timings` and the extra ones given (a stage in both
 /// is summed), and `total`.
 nlohmann::json timings_block(const Timings& timings, const Timings& extra, double total);

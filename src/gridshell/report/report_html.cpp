@@ -11,6 +11,7 @@
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
 #include "gridshell/mesh/topology.h"
+#include "gridshell/optimize/flat_panels.h"
 #include "gridshell/optimize/metrics.h"
 #include "gridshell/report/assets.h"
 
@@ -100,6 +101,7 @@ void check_input(const ReportInput& in) {
   check_size(static_cast<std::size_t>(in.displacement.rows()), n, "displacement", "joints");
   check_size(in.density.size(), in.panels.size(), "density", "panels");
   check_size(in.planarity.size(), in.panels.size(), "planarity", "panels");
+  check_size(in.out_of_plane_mm.size(), in.panels.size(), "out_of_plane_mm", "panels");
   if (in.buckling_modes.size() != in.buckling_lambdas.size())
     throw Error(kSubject, "buckling modes and their lambdas differ in number");
   for (const Points& m : in.buckling_modes)
@@ -164,7 +166,11 @@ ReportInput gridshell_report_input(const PolyMesh& mesh, const std::vector<int>&
   in.beams = build_topology(mesh).edges;
   in.panels = mesh.faces;
   in.supports = supports;
-  if (mesh.num_faces() > 0) in.planarity = mesh_metrics(mesh).planarity;
+  if (mesh.num_faces() > 0) {
+    in.planarity = mesh_metrics(mesh).planarity;
+    in.out_of_plane_mm = panel_shape(mesh).out_of_plane;
+    for (double& d : in.out_of_plane_mm) d *= 1e3;
+  }
   if (structure) fill_structure(in, *structure);
   return in;
 }
@@ -221,6 +227,8 @@ std::string report_data_json(const ReportInput& in, const std::vector<Figure>& f
   numbers(out, in.density, 5, "a density");
   out += ",\"planarity\":";
   numbers(out, in.planarity, 5, "a planarity");
+  out += ",\"out_of_plane_mm\":";
+  numbers(out, in.out_of_plane_mm, 5, "an out-of-plane distance");
   out += ",\"utilisation\":";
   numbers(out, in.utilisation, 5, "a utilisation");
   out += ",\"buckling\":{\"lambdas\":";

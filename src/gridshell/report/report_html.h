@@ -42,6 +42,7 @@ struct ReportInput {
   Points displacement;                    ///< per joint [m], linear under the reference load
   std::vector<double> density;            ///< per panel: d_target (≥ 1)
   std::vector<double> planarity;          ///< per panel (optimize/metrics.h)
+  std::vector<double> out_of_plane_mm;    ///< per panel: largest corner distance to its plane
   std::vector<double> utilisation;        ///< per beam: member check utilisation
   std::vector<double> buckling_lambdas;   ///< per mode
   std::vector<Points> buckling_modes;     ///< per mode, per joint translation (largest 1)

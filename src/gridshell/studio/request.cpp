@@ -72,6 +72,8 @@ StudioRequest parse_request(const Params& params) {
       if (!value.empty() && value != "none") r.objective = parse_objective(value);
     } else if (name == "symmetry") {
       r.symmetry = parse_symmetry(value);
+    } else if (name == "panels") {
+      r.panels = parse_panel_mode(value);
     } else if (name == "analyze") {
       r.analyze = analysis::parse_analysis_level(value);
     } else if (name == "seed") {
@@ -82,7 +84,7 @@ StudioRequest parse_request(const Params& params) {
     } else {
       throw Error(name,
                   "unknown parameter (surface, D, A, cells, length, objective, symmetry, "
-                  "analyze, seed)");
+                  "panels, analyze, seed)");
     }
   }
   if (p.count("length") && p.count("cells"))
@@ -112,6 +114,7 @@ std::string request_query(const StudioRequest& r) {
   }
   q += r.length > 0 ? "&length=" + number_text(r.length) : "&cells=" + std::to_string(r.cells);
   q += std::string("&symmetry=") + to_string(r.symmetry);
+  if (r.panels == PanelMode::flat) q += "&panels=flat";
   q += std::string("&analyze=") + analysis::to_string(r.analyze);
   q += "&seed=" + std::to_string(r.seed);
   return q;
@@ -125,6 +128,7 @@ DesignOptions design_options(const StudioRequest& r) {
   o.tessellation.length = r.length;
   o.tessellation.seed = r.seed;
   o.symmetry = r.symmetry;
+  o.panels = r.panels;
   o.analyze = r.analyze;
   return o;
 }
@@ -171,6 +175,7 @@ nlohmann::json request_config(const StudioRequest& r, const std::string& surface
     options["cells"] = std::to_string(r.cells);
   }
   options["symmetry"] = to_string(r.symmetry);
+  if (r.panels == PanelMode::flat) options["panels"] = "flat";
   options["analyze"] = analysis::to_string(r.analyze);
   options["seed"] = std::to_string(r.seed);
   return {{"command", "design"}, {"positional", {surface_arg}}, {"options", options}};

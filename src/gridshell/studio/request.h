@@ -3,7 +3,7 @@
 /// What one studio request asks for, and what it answers (docs/studio.md, CONTRACT "studio").
 ///
 /// A request is the query of `GET /api/design?surface=builtin:funicular&D=2&A=2&cells=200`:
-/// surface, D, A, cells (or length), objective, symmetry, analysis level and seed. It is parsed
+/// surface, D, A, cells (or length), objective, symmetry, panels, analysis level and seed. It is parsed
 /// with the command line's own parse_* functions and checked by check_design_options, so a bad
 /// parameter gives the same one-line Error as `gridshell design` (`-D: must be a number ≥ 1`).
 /// With an objective the field settings are searched (pipeline/objective.h) and D, A are not
@@ -41,6 +41,7 @@ struct StudioRequest {
   double length = 0;                   ///< total beam length (m), 0 = by cells
   std::optional<Objective> objective;  ///< set: search the field settings, D and A unused
   Symmetry symmetry = Symmetry::none;
+  PanelMode panels = PanelMode::free;  ///< `panels=flat`: every panel exactly planar
   analysis::AnalysisLevel analyze = analysis::AnalysisLevel::buckling;
   std::uint64_t seed = 1;
 };

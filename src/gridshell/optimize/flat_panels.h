@@ -1,0 +1,142 @@
+#pragma once
+/// \file flat_panels.h
+/// Flat glass: every panel of a grid-shell exactly planar, by construction (`--panels flat`).
+///
+/// Method (planar hexagonal meshes by plane intersection: Wang, Liu et al. 2008; Li, Liu, Wang,
+/// "Planar hexagonal meshing for architecture", IEEE TVCG 2015). The unknowns are one plane per
+/// panel, n_f·x = d_f with |n_f| = 1; every joint is the intersection of exactly three planes, so
+/// every panel is flat to round-off whatever the planes are. Which three planes:
+/// - interior joint of valence 3: its three panels' planes;
+/// - interior joint of valence k ≥ 4 (faces f1 … fk around it): split into k − 2 joints
+///   u_i = f1 ∩ f(i+1) ∩ f(i+2), joined by short beams along f1 (a fan from f1);
+/// - boundary joint with two panels: the two planes and its boundary plane — the plane through
+///   the design joint that holds the boundary curve's tangent t and the surface normal n_s
+///   (normal n_s × t; it cuts the panels' common edge at right angles); with one panel (a
+///   corner): the panel's plane, the boundary plane and the plane through the joint normal to t,
+///   so the joint stays on the surface normal through its design position; with k ≥ 3 panels:
+///   split into k − 1 joints u_i = boundary plane ∩ f_i ∩ f(i+1), joined along the boundary.
+/// - supports: on the boundary, as boundary joints (on their boundary plane, near their design
+///   position like any joint); interior supports (columns) held at their design position by a
+///   strong spring (`support_weight`); a split support stays a support at its first part.
+/// The planes minimise, by Levenberg–Marquardt (Gauss–Newton steps, exact Jacobians of the
+/// 3-plane intersection, sparse Cholesky by CHOLMOD; tangent-space updates of each normal):
+///   Σ_j w_s (n_c·(x_j − c_j))²/h² + w_0 |x_j − x0_j|²/h² + w_fair Σ_f |n_f − mean_g n_g|²
+///   + w_b Σ_j max(0, log(τ/|det_j|))²
+/// (x_j the joints, c_j their closest points on the input surface M and n_c its normal there,
+/// x0_j the design's joints, h the mean beam length, det_j = det(n_1, n_2, n_3) of a joint's
+/// planes): closeness to M, closeness to the design (the cells' shape and size), fair planes (a
+/// Laplacian of the normals: constant curvature costs nothing), and a barrier against nearly
+/// parallel planes (joints running away). A step is refused when a joint's planes become nearly
+/// parallel (|det| < min_det) or a panel that was simple self-intersects.
+/// Start: nearly planar panels by a ShapeUp-like alternation with a rising planarity weight
+/// (best-fit plane per panel, then each joint nearest to its three planes, the surface and its
+/// design position); their planes start the Levenberg–Marquardt steps. When two of a joint's
+/// start planes are parallel (a flat part), the alternation starts again from the design joints
+/// lifted by a shallow paraboloid (`lift`): the tangent planes of a paraboloid meet over the
+/// circumcentres of neighbouring cells (a power diagram), so joint positions are well defined.
+/// After the last step the joints are computed once more and checked: every corner within
+/// `max_out_of_plane` of its panel's plane and of its best-fit plane, every joint finite, no
+/// panel self-intersecting, no joint farther from the surface than `max_surface_distance` × its
+/// span, no beam collapsed (`min_beam_ratio`); otherwise FlatPanelsFailed (never a silent pass).
+///
+/// Cost: O(joints) per iteration plus one sparse Cholesky of 3 × panels unknowns (analysed once);
+/// Botanic (1200 panels) well under a second per design (bench/flat_panels_bench.cpp).
+
+#include <string>
+#include <vector>
+
+#include "gridshell/core/error.h"
+#include "gridshell/mesh/mesh.h"
+
+namespace gridshell {
+
+class SurfaceProjector;
+
+/// How the panels of a design are made.
+enum class PanelMode {
+  free,  ///< joints on the surface, panels as they come (today's grid-shells; the paper)
+  flat,  ///< every panel exactly planar (flat_panels below)
+};
+PanelMode parse_panel_mode(const std::string& word);
+const char* to_string(PanelMode mode);
+
+/// The intersection x of the planes n_i·x = d_i (i = 0, 1, 2) and det(n_0, n_1, n_2). Returns
+/// false (x untouched) when |det| ≤ min_det (nearly parallel planes).
+/// `jacobian` (optional, 3 × 12): ∂x/∂(n_0, d_0, n_1, d_1, n_2, d_2). From A x = d with the rows
+/// of A the normals: ∂x/∂d_i = A⁻¹ e_i = c_i, ∂x/∂n_i = −c_i xᵀ.
+bool intersect_planes(const Vec3 n[3], const double d[3], Vec3& x, double& det,
+                      double min_det = 1e-14, Eigen::Matrix<double, 3, 12>* jacobian = nullptr);
+
+struct FlatPanelOptions {
+  double surface_weight = 1.0;   ///< w_s: joint to the input surface (normal distance)
+  /// w_0: joint to the design's joint. Measured (docs/panels.md): 0.1 lets boundary cells slide
+  /// their inner joints past the boundary (self-intersecting panels on all six shared surfaces);
+  /// 1 keeps the cells' shape.
+  double design_weight = 1.0;
+  double support_weight = 100;   ///< interior supports (columns) to their design position
+  double fairness_weight = 0.01; ///< w_fair: Laplacian of the normals
+  double barrier_weight = 1e-4;  ///< w_b
+  double barrier_det = 1e-5;     ///< τ: the barrier acts below this |det|
+  double min_det = 1e-10;        ///< hard: no step makes a joint's |det| smaller
+  double lift = 0.05;            ///< κ × bbox diagonal: the start's lift (lifted_targets)
+  int max_iterations = 60;
+  double tolerance = 1e-7;        ///< stop when the energy falls by less than this fraction
+  double max_out_of_plane = 5e-4; ///< m: the post-check (0.5 mm)
+  /// The post-check: no joint farther from the surface than this × its span (larger plan side).
+  double max_surface_distance = 0.01;
+  /// The post-check: no beam shorter than this × the design's shortest beam (a collapsed beam
+  /// would be a mechanism in the frame analysis; the beams of split joints are held to it too).
+  double min_beam_ratio = 0.25;
+  /// A step may not add self-intersecting panels (off: only the energy decides; measured: on
+  /// gives fewer failures).
+  bool guard = true;
+};
+
+/// Shape of panels and joints, for any grid-shell (free or flat).
+struct PanelShape {
+  std::vector<double> out_of_plane;  ///< per panel: largest corner distance to its best-fit plane (m)
+  double out_of_plane_max = 0, out_of_plane_median = 0;  ///< m
+  int nonconvex = 0;           ///< panels with a reflex corner (in the best-fit plane)
+  int self_intersecting = 0;   ///< panels that are not simple polygons
+  double min_angle_deg = 0;    ///< smallest interior corner angle of any panel
+  double surface_distance_max = 0, surface_distance_mean = 0;  ///< joints to M (m; 0 without M)
+};
+/// Measures `mesh`; `surface` (optional) for the joints' distance to it.
+PanelShape panel_shape(const PolyMesh& mesh, const SurfaceProjector* surface = nullptr);
+
+struct FlatPanelStats {
+  int iterations = 0;
+  bool converged = false;
+  int split_joints = 0;      ///< joints of valence ≥ 4 (or boundary joints of ≥ 3 panels) split
+  int added_joints = 0;      ///< joints the splits added
+  bool lifted = false;       ///< the start needed the lift (planes parallel at a joint)
+  double energy_start = 0, energy = 0;
+  double min_det = 0;        ///< smallest |det| of a joint's three planes
+  double out_of_plane_max = 0;  ///< m, corner to its panel's own plane (the post-check)
+  double seconds = 0;
+};
+
+struct FlatPanelResult {
+  PolyMesh mesh;              ///< same faces (ids), joints at plane intersections
+  std::vector<int> supports;  ///< support joints of `mesh` (sorted)
+  std::vector<int> source_vertex;  ///< per joint of `mesh`: the design joint it comes from
+  std::vector<Vec3> normal;   ///< per panel: unit normal of its plane
+  std::vector<double> offset; ///< per panel: n·x = offset
+  FlatPanelStats stats;
+};
+
+/// What flat_panels throws when the result fails its post-check or the mesh cannot be made flat
+/// this way (a non-manifold joint); the pipeline then keeps the free panels and says so.
+class FlatPanelsFailed : public Error {
+ public:
+  explicit FlatPanelsFailed(const std::string& what) : Error("--panels flat", what) {}
+};
+
+/// Planar panels for `design` (joints on or near the surface `projector` projects on; faces
+/// consistently oriented; `projector` built on `surface`). `supports`: joints of `design` that are
+/// supported.
+FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supports,
+                            const TriMesh& surface, const SurfaceProjector& projector,
+                            const FlatPanelOptions& options = {});
+
+}  // namespace gridshell
