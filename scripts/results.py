@@ -704,7 +704,8 @@ def main():
     md += ["## 7. Elsewhere", "",
            "The objective search on more surfaces (the shared ones and the built-ins) is "
            "docs/objective_table.md (`python3 scripts/objective_table.py`); the anisotropic quad "
-           "baseline's own measurements are docs/quad_aniso.md.", "",
+           "baseline's own measurements are docs/quad_aniso.md; flat glass panels (`--panels flat`) "
+           "against the free ones, with where the flat stage falls back, are docs/panels.md.", "",
            f"This regeneration: {time.time() - started:.0f} s wall-clock with --jobs {a.jobs}; "
            f"{runner.ran} runs made, {runner.reused} reused from "
            f"`{os.path.relpath(work, ROOT)}/`; sweeps made: {runner.sweeps_ran}, reused: "
