@@ -221,7 +221,7 @@ const std::vector<BuiltinKey>& builtin_keys() {
       {"rise", kBuiltinMinRise, kBuiltinMaxSize, false, &BuiltinOptions::rise},
       {"width", kBuiltinMinSize, kBuiltinMaxSize, false, &BuiltinOptions::width},
       {"length", kBuiltinMinSize, kBuiltinMaxSize, false, &BuiltinOptions::length},
-      {"hole", kBuiltinMinRise, kBuiltinMaxSize / 2, false, &BuiltinOptions::hole},
+      {"hole", kBuiltinMinHole, kBuiltinMaxSize / 2, false, &BuiltinOptions::hole},
       {"edge_q", 0.01, 100, false, &BuiltinOptions::edge_q},
       {"res", 2, kBuiltinMaxRes, true, nullptr, &BuiltinOptions::res},
       {"corner", 0, kBuiltinMaxRes, true, nullptr, &BuiltinOptions::corner},

@@ -37,7 +37,8 @@ namespace gridshell {
 inline constexpr long kMaxBuiltinVertices = 1'000'000;
 inline constexpr double kBuiltinMinSize = 0.1;   ///< m: span, width, length
 inline constexpr double kBuiltinMaxSize = 1000;  ///< m: span, width, length, rise
-inline constexpr double kBuiltinMinRise = 0.01;  ///< m: rise, hole
+inline constexpr double kBuiltinMinRise = 1e-6;  ///< m: rise (a nearly flat plate is a valid test surface)
+inline constexpr double kBuiltinMinHole = 0.01;  ///< m: hole
 inline constexpr int kBuiltinMaxRes = 2000;      ///< res, corner
 
 struct BuiltinOptions {
