@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "common.h"
+#include "gridshell/analysis/combination_runs.h"
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/checks/member_checks.h"
@@ -220,20 +221,22 @@ nlohmann::json model_combinations(const LoadedFrame& f, analysis::FrameAnalysisO
   }
   block[f.combinations.front().name] =
       with_factors(combination_block(primary, 1, 1), &f.combinations.front());
-  // The other combinations: linear, with LBA where the primary has one (not for SLS ones).
-  const bool buckling = options.buckling;
-  options = analysis::at_level(options, analysis::AnalysisLevel::linear);
+  // The other combinations by the design's rule (analysis/combination_runs.h), so that a
+  // design's frame.json governs by the same combinations.
+  std::vector<analysis::CombinationRun> runs;
+  for (std::size_t k = 0; k < f.combinations.size(); ++k)
+    runs.push_back({f.combinations[k].name.rfind("SLS", 0) != 0, k == 0});
   options.nonlinear_static = 0;
-  for (std::size_t k = 1; k < f.combinations.size(); ++k) {
-    fem::FrameModel model = f.model;
-    model.loads = f.combinations[k].loads;
-    const bool sls = f.combinations[k].name.rfind("SLS", 0) == 0;
-    options.buckling = buckling && !sls;
-    spdlog::info("[analysis] {} combination: {}", f.combinations[k].name,
-                 options.buckling ? "buckling" : "linear");
-    block[f.combinations[k].name] = with_factors(
-        combination_block(analysis::analyze_frame(model, options), 1, 1), &f.combinations[k]);
-  }
+  const analysis::CombinationRunsResult done = analysis::run_combinations(
+      runs, primary, [&](std::size_t k, analysis::AnalysisLevel level) {
+        fem::FrameModel model = f.model;
+        model.loads = f.combinations[k].loads;
+        spdlog::info("[analysis] {} combination: {}", f.combinations[k].name, to_string(level));
+        return analysis::analyze_frame(model, analysis::at_level(options, level));
+      });
+  for (std::size_t k = 1; k < f.combinations.size(); ++k)
+    block[f.combinations[k].name] =
+        with_factors(combination_block(done.results[k], 1, 1), &f.combinations[k]);
   return block;
 }
 

@@ -165,3 +165,24 @@ TEST(EurocodeCombinations, LoadCaseFilesEnterTheCombinations) {
   EXPECT_EQ(paper.status, 2);
   EXPECT_NE(paper.err.find("--load-case"), std::string::npos) << paper.err;
 }
+
+TEST(FrameJson, ReanalysisGovernsByTheSameCombinations) {
+  // A design whose drifted snow governs through its non-linear paths: re-analysing its
+  // frame.json follows the same paths (analysis/combination_runs.h), so the governing λ, the
+  // governing utilisation and δ and their combinations come back the same.
+  const fs::path d = test::temp_dir("frame_json_governing_design");
+  const auto r = test::run_gridshell(
+      "design builtin:barrel --cells 40 --seed 3 --field uniform --analyze nonlinear --loads "
+      "eurocode --quiet -o " +
+      d.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const fs::path a = test::temp_dir("frame_json_governing_analyze");
+  const auto ra = test::run_gridshell("analyze " + (d / "frame.json").string() +
+                                      " --analyze nonlinear --quiet -o " + a.string());
+  ASSERT_EQ(ra.status, 0) << ra.err;
+  const auto g = read_json(d / "report.json").at("structure").at("governing");
+  const auto ga = read_json(a / "report.json").at("structure").at("governing");
+  for (const char* name : {"lambda", "utilisation", "delta"}) EXPECT_EQ(ga.at(name), g.at(name));
+  for (const char* value : {"lambda_value", "utilisation_value", "delta_m"})
+    EXPECT_LT(rel(ga.at(value).get<double>(), g.at(value).get<double>()), 1e-6) << value;
+}

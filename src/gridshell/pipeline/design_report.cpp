@@ -1,5 +1,7 @@
 #include "gridshell/pipeline/design_report.h"
 
+#include "gridshell/analysis/combination_runs.h"
+
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -192,45 +194,17 @@ nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& 
   const std::vector<analysis::LoadCase> cases =
       analysis::eurocode_cases(mesh, std::vector<double>(model.members.size(), w), frame);
   const std::vector<analysis::LoadCombination> combos = analysis::eurocode_combinations(cases);
-  const bool buckling = primary.lambda_linear_buckling.has_value() || !primary.buckling_lambdas.empty();
-  const bool nonlinear = !primary.path.empty() || primary.lambda_perfect || primary.lambda_imperfect;
-  // Every combination: linear (SLS) or linear + LBA (ULS), K factorised per combination.
-  std::vector<analysis::FrameResult> results(combos.size());
-  std::vector<char> followed(combos.size(), 0);
-  double lba_min = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < combos.size(); ++k) {
-    const analysis::LoadCombination& c = combos[k];
-    if (c.name == "ULS") {
-      followed[k] = nonlinear;
-    } else {
-      analysis::GridshellFrameOptions f = frame;
-      f.combination_name = c.name;
-      const auto level = c.uls && buckling ? analysis::AnalysisLevel::buckling
-                                           : analysis::AnalysisLevel::linear;
-      spdlog::info("[analysis] {} combination: {}", c.name, to_string(level));
-      results[k] = analyze_gridshell(mesh, supports, level, f, options);
-    }
-    const analysis::FrameResult& r = c.name == "ULS" ? primary : results[k];
-    if (c.uls && r.lambda_linear_buckling) lba_min = std::min(lba_min, *r.lambda_linear_buckling);
-  }
-  // The non-linear paths only where they can govern: ULS combinations whose λ_LBA is within
-  // kNonlinearMargin of the smallest (docs/checks.md).
-  constexpr double kNonlinearMargin = 0.15;
-  for (std::size_t k = 0; k < combos.size() && nonlinear; ++k) {
-    const analysis::LoadCombination& c = combos[k];
-    if (c.name == "ULS" || !c.uls || !results[k].lambda_linear_buckling ||
-        *results[k].lambda_linear_buckling > (1 + kNonlinearMargin) * lba_min)
-      continue;
-    analysis::GridshellFrameOptions f = frame;
-    f.combination_name = c.name;
-    spdlog::info("[analysis] {} combination: nonlinear (lambda_LBA within {:.0f} % of the lowest)",
-                 c.name, 100 * kNonlinearMargin);
-    results[k] = analyze_gridshell(mesh, supports, analysis::AnalysisLevel::nonlinear, f, options);
-    followed[k] = 1;
-  }
+  std::vector<analysis::CombinationRun> runs;
+  for (const analysis::LoadCombination& c : combos) runs.push_back({c.uls, c.name == "ULS"});
+  const analysis::CombinationRunsResult done = analysis::run_combinations(
+      runs, primary, [&](std::size_t k, analysis::AnalysisLevel level) {
+        analysis::GridshellFrameOptions f = frame;
+        f.combination_name = combos[k].name;
+        spdlog::info("[analysis] {} combination: {}", combos[k].name, to_string(level));
+        return analyze_gridshell(mesh, supports, level, f, options);
+      });
   for (std::size_t k = 0; k < combos.size(); ++k)
-    block[combos[k].name] =
-        eurocode_block(combos[k], combos[k].name == "ULS" ? primary : results[k], followed[k]);
+    block[combos[k].name] = eurocode_block(combos[k], done.results[k], done.nonlinear[k]);
   return block;
 }
 
