@@ -50,32 +50,6 @@ struct BaselineArgs {
   MemberOptions members;    ///< --section, --buckling-length-factor (as design)
 };
 
-/// --panels flat for a grid built here (optimize/flat_panels.h): the panels made planar, or kept
-/// free with a warning when that fails its post-check. Returns report.json's `flat_panels`.
-nlohmann::json flat_baseline(GridShellOutput& out, const TriMesh& surface,
-                             const SurfaceProjector& projector) {
-  nlohmann::json info = {{"requested", "flat"}};
-  try {
-    FlatPanelResult f = flat_panels(out.mesh, out.supports, surface, projector);
-    spdlog::info("[flat panels] {} panels flat to {:.2g} mm, {} joints split", f.mesh.num_faces(),
-                 1e3 * f.stats.out_of_plane_max, f.stats.split_joints);
-    if (out.raw.num_faces() == 0) out.raw = out.mesh;
-    out.mesh = std::move(f.mesh);
-    out.supports = std::move(f.supports);
-    out.planarity.clear();
-    out.regularity.clear();
-    info["panels"] = "flat";
-    info["iterations"] = f.stats.iterations;
-    info["split_joints"] = f.stats.split_joints;
-    info["added_joints"] = f.stats.added_joints;
-  } catch (const FlatPanelsFailed& e) {
-    spdlog::warn("{}: keeping the free panels", e.what());
-    info["panels"] = "free";
-    info["failure"] = e.what();
-  }
-  return info;
-}
-
 int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   auto guard = apply_run_options(a.run);
   using Clock = std::chrono::steady_clock;
@@ -199,7 +173,15 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   const SurfaceProjector projector(surface.mesh);
   if (panels == PanelMode::flat && kind != BaselineKind::voronoi_iso) {
     const auto t = Clock::now();
-    flat_info = flat_baseline(out, surface.mesh, projector);
+    FlatPanelAttempt flat = attempt_flat_panels(out.mesh, out.supports, surface.mesh, projector);
+    if (flat.flat) {
+      if (out.raw.num_faces() == 0) out.raw = out.mesh;
+      out.mesh = std::move(flat.flat->mesh);
+      out.supports = std::move(flat.flat->supports);
+      out.planarity.clear();
+      out.regularity.clear();
+    }
+    flat_info = std::move(flat.info);
     lap("flat_panels", t);
   }
   if (out.raw.num_faces() == 0) out.raw = out.mesh;

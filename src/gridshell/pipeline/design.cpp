@@ -540,30 +540,13 @@ void on_input_surface(const TriMesh& coarse, InputSurface& M, const DesignOption
 /// its post-check the free panels stay: a warning and design.flat_panels.failure say so.
 void make_panels_flat(InputSurface& M, const DesignOptions& o, DesignResult& r) {
   auto t = Clock::now();
-  nlohmann::json info = {{"requested", "flat"}};
-  try {
-    FlatPanelResult f = flat_panels(r.mesh, r.supports, M.mesh(), M.projector(), o.flat);
-    spdlog::info("[flat panels] {} panels flat to {:.2g} mm in {} iterations, {} joints split",
-                 f.mesh.num_faces(), 1e3 * f.stats.out_of_plane_max, f.stats.iterations,
-                 f.stats.split_joints);
-    r.mesh = std::move(f.mesh);
-    r.supports = std::move(f.supports);
+  FlatPanelAttempt a = attempt_flat_panels(r.mesh, r.supports, M.mesh(), M.projector(), o.flat);
+  if (a.flat) {
+    r.mesh = std::move(a.flat->mesh);
+    r.supports = std::move(a.flat->supports);
     r.metrics = mesh_metrics(r.mesh);
-    info["panels"] = "flat";
-    info["iterations"] = f.stats.iterations;
-    info["converged"] = f.stats.converged;
-    info["split_joints"] = f.stats.split_joints;
-    info["added_joints"] = f.stats.added_joints;
-    info["energy_start"] = f.stats.energy_start;
-    info["energy"] = f.stats.energy;
-    info["min_det"] = f.stats.min_det;
-    info["out_of_own_plane_max_m"] = f.stats.out_of_plane_max;
-  } catch (const FlatPanelsFailed& e) {
-    spdlog::warn("{}: keeping the free panels", e.what());
-    info["panels"] = "free";
-    info["failure"] = e.what();
   }
-  r.details["flat_panels"] = info;
+  r.details["flat_panels"] = std::move(a.info);
   lap(r.timings, "flat_panels", t);
 }
 
@@ -617,6 +600,34 @@ void check_design_options(const DesignOptions& o) {
   if (!(o.analysis_edges_per_radius > 0) || !std::isfinite(o.analysis_edges_per_radius))
     throw Error("analysis resolution", "edges per cell radius must be a number > 0");
   check_tessellation_options(o.tessellation);
+}
+
+FlatPanelAttempt attempt_flat_panels(const PolyMesh& mesh, const std::vector<int>& supports,
+                                     const TriMesh& surface, const SurfaceProjector& projector,
+                                     const FlatPanelOptions& options) {
+  FlatPanelAttempt a;
+  a.info = {{"requested", "flat"}};
+  try {
+    FlatPanelResult f = flat_panels(mesh, supports, surface, projector, options);
+    spdlog::info("[flat panels] {} panels flat to {:.2g} mm in {} iterations, {} joints split",
+                 f.mesh.num_faces(), 1e3 * f.stats.out_of_plane_max, f.stats.iterations,
+                 f.stats.split_joints);
+    a.info["panels"] = "flat";
+    a.info["iterations"] = f.stats.iterations;
+    a.info["converged"] = f.stats.converged;
+    a.info["split_joints"] = f.stats.split_joints;
+    a.info["added_joints"] = f.stats.added_joints;
+    a.info["energy_start"] = f.stats.energy_start;
+    a.info["energy"] = f.stats.energy;
+    a.info["min_det"] = f.stats.min_det;
+    a.info["out_of_own_plane_max_m"] = f.stats.out_of_plane_max;
+    a.flat = std::move(f);
+  } catch (const FlatPanelsFailed& e) {
+    spdlog::warn("{}: keeping the free panels", e.what());
+    a.info["panels"] = "free";
+    a.info["failure"] = e.what();
+  }
+  return a;
 }
 
 analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,

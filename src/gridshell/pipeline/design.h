@@ -158,6 +158,18 @@ DesignResult run_design(const Surface& surface, const DesignOptions& options,
 /// stress); designs never depend on who computed a value. Throws what the designs would.
 void prepare_design_cache(const Surface& surface, const DesignOptions& options, DesignCache& cache);
 
+/// The flat-panel stage with its fallback (docs/panels.md): `flat` holds the flat mesh when it
+/// passes the stage's post-check, else nothing (the free panels stay, with a warning); `info` is
+/// report.json's `flat_panels` block either way (`panels`, the stage's figures or `failure`).
+/// Used by design (after the finishing step) and by baseline.
+struct FlatPanelAttempt {
+  std::optional<FlatPanelResult> flat;
+  nlohmann::json info;
+};
+FlatPanelAttempt attempt_flat_panels(const PolyMesh& mesh, const std::vector<int>& supports,
+                                     const TriMesh& surface, const SurfaceProjector& projector,
+                                     const FlatPanelOptions& options = {});
+
 /// Analyses a grid-shell as the paper's steel frame at `level` (linear | buckling | nonlinear).
 analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,
                                         analysis::AnalysisLevel level,
