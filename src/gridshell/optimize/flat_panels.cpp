@@ -651,6 +651,24 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
   FlatPanelResult out;
   const int nv = design.num_vertices(), nf = design.num_faces();
   if (nf == 0) throw FlatPanelsFailed("no panels");
+  // Panels that are flat already (triangles; planar quads) are kept as they are: moving their
+  // joints could only make the grid worse.
+  const PanelShape given = panel_shape(design);
+  if (given.out_of_plane_max <= options.max_out_of_plane && given.self_intersecting == 0) {
+    out.mesh = design;
+    out.supports = supports;
+    std::sort(out.supports.begin(), out.supports.end());
+    out.source_vertex.resize(nv);
+    for (int v = 0; v < nv; ++v) out.source_vertex[v] = v;
+    for (int f = 0; f < nf; ++f) {
+      const Vec3 n = vector_area(design, f).normalized();
+      out.normal.push_back(n);
+      out.offset.push_back(n.dot(design.vertex(design.faces[f][0])));
+    }
+    out.stats.converged = true;
+    out.stats.out_of_plane_max = given.out_of_plane_max;
+    return out;
+  }
   std::vector<char> is_support(nv, 0);
   for (int v : supports)
     if (v >= 0 && v < nv) is_support[v] = 1;
