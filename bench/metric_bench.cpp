@@ -137,8 +137,7 @@ BENCHMARK(BM_CurvedVaultBlk)->Unit(benchmark::kMillisecond);
 
 /// Aquadom with a synthetic field (not a shell analysis): u along the steepest slope, density and
 /// anisotropy growing with the slope; D = A = 3; R chosen for ~1200 cells on M′ (hexagon area
-/// ≈ 0.866 R²), q = R / range(0): 5 is the paper's q, 1 what `design` uses since session 5
-/// (metric_edge = 1). Field + deformation + refinement time.
+/// ≈ 0.866 R²), q = R / range(0): 5 is the paper's q, 1 what `design` uses (metric_edge = 1). Field + deformation + refinement time.
 void BM_AquadomSynthetic(benchmark::State& state) {
   const std::filesystem::path file =
       std::filesystem::path(GRIDSHELL_SHARED_DIR) / "data" / "surfaces" / "aquadom_Vouga.ply";

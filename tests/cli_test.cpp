@@ -74,8 +74,8 @@ TEST(Cli, VoronoiAndTriangleBaselinesHitTheLength) {
     }
     if (std::string(kind) == "quad-aniso") {
       // Mostly quads even on this small grid (the dome's centre a singularity of the cross field:
-      // 72 % of 39 interior faces measured with 4 starts; 100 % of 31 as the best of 32 starts,
-      // session 13), simple faces, no stub beams.
+      // 72 % of 39 interior faces measured with 4 starts; 100 % of 31 as the best of 32
+      // starts), simple faces, no stub beams.
       EXPECT_GE(report["quad_aniso"]["quad_share"].get<double>(), 0.6);
       EXPECT_EQ(report["quad_aniso"]["non_simple_faces"].get<int>(), 0);
       EXPECT_EQ(report["quad_aniso"]["overlaps"].get<int>(), 0);

@@ -249,9 +249,9 @@ TEST(DesignCli, RegularizationMeetsTheAcceptanceRatiosOnBritishQuad) {
 
 // Shell.ply (415 m): its saddle-shaped panels lose planarity under regularization unless the
 // planarity guard moves the joints along the surface (without: 1.10–1.13× raw over four seeds).
-// With the guard the ratio is a seed lottery around 1.10 (seeds 1–5: 1.085–1.109 with the
-// session-6 tessellation, 1.076–1.117 with the one-run --length of session 7), so Shell is held
-// to 1.15 and the guard's effect is asserted against the same raw mesh without it.
+// With the guard the ratio is a seed lottery around 1.10 (seeds 1–5: 1.076–1.117 with the
+// one-run --length tessellation), so Shell is held to 1.15 and the guard's effect is asserted
+// against the same raw mesh without it.
 TEST(DesignCli, RegularizationKeepsShellPanelsFlatWithThePlanarityGuard) {
   SKIP_WITHOUT_SHARED_DATA();
   const fs::path d = check_regularization("Shell.ply", "--length 415", 1.15);

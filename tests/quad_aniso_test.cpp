@@ -137,7 +137,7 @@ TEST(QuadAniso, PlaneWithConstantFieldFollowsDirectionAndAspect) {
 }
 
 // d rising from 1 to 2 along x: quads half as big where d = 2, still stretched a = 2-fold
-// (the single-level position field of session 6 gave 1.5 here; the hierarchy gives 1.9).
+// (a single-level position field gives 1.5 here; the multiresolution hierarchy gives 1.9).
 TEST(QuadAniso, PlaneWithGradedDensityHasSizesInverseToD) {
   const Surface s = plane(40, 20, 80, 40);
   Field field;
@@ -190,7 +190,7 @@ TEST(QuadAniso, PlaneWithTurningFieldMeetsTheTargets) {
 // has a = 3 along x, the right half a = 1 with directions that swirl at the scale of a few cells
 // (as stress directions do where the two principal stresses are alike). The cross field follows
 // u in proportion to a − 1, so the right half stays a plain lattice; following the swirl there
-// as well, as closely as before session 11, costs lattice defects.
+// as well (full weight and a short smoothing length) costs lattice defects.
 TEST(QuadAniso, DirectionsWhereTheMetricIsIsotropicDoNotBendTheLattice) {
   const Surface s = plane(40, 20, 80, 40);
   Field field = test::synthetic_field(
@@ -205,8 +205,8 @@ TEST(QuadAniso, DirectionsWhereTheMetricIsIsotropicDoNotBendTheLattice) {
   QuadAnisoOptions o;
   o.spacing = 1.5;
   const QuadMeshStats weighted = quad_mesh_stats(quad_aniso(s, field, o).grid.mesh, s.mesh, field);
-  o.full_alignment_anisotropy = 1;  // coherence only, and the short smoothing length of before
-  o.direction_smoothing = 0.07;     // session 11 (data weight ≈ 4 per neighbour)
+  o.full_alignment_anisotropy = 1;  // coherence only, and a short smoothing length
+  o.direction_smoothing = 0.07;     // (data weight ≈ 4 per neighbour)
   const QuadMeshStats followed = quad_mesh_stats(quad_aniso(s, field, o).grid.mesh, s.mesh, field);
   EXPECT_GT(weighted.interior_joints, 100);
   EXPECT_GE(weighted.valence4_share, 0.98);  // measured 0.995 and 0.994
@@ -311,8 +311,8 @@ TEST(QuadAniso, HoopFieldOnADiskScalesTheSpacingAsRToTheKappa) {
                  std::to_string(a.valence4_share) + " " + std::to_string(a.quad_share));
   RecordProperty("scaled_valence4_quads",
                  std::to_string(b.valence4_share) + " " + std::to_string(b.quad_share));
-  // Measured: 0.898 + 0.871 at a constant spacing, 0.909 + 0.905 with κ = 0.5 (session 13: the
-  // best of 8 starts; 0.884 + 0.929 with 4 before).
+  // Measured: 0.898 + 0.871 at a constant spacing, 0.909 + 0.905 with κ = 0.5 (the best of 8
+  // starts; 0.884 + 0.929 as the best of 4).
   EXPECT_GT(b.valence4_share + b.quad_share, a.valence4_share + a.quad_share + 0.02);
 }
 
@@ -568,9 +568,9 @@ TEST(QuadAniso, LargeCellsBesideSmallOnesAreFaces) {
   expect_regular_quads(st);
 }
 
-// The built-in court at (1, 1) and 600 m: its best lattice start had 3 overlaps (beams that
-// cross, a joint inside a panel not its own) before session 19. Faces that overlap are left
-// out, and the grid can be built.
+// The built-in court at (1, 1) and 600 m: its best lattice start has 3 overlaps (beams that
+// cross, a joint inside a panel not its own) unless they are removed. Faces that overlap are
+// left out, and the grid can be built.
 TEST(QuadAniso, NoTwoPanelsOverlap) {
   const Surface s = make_builtin("court");
   Field field;

@@ -78,7 +78,7 @@ inline constexpr int kSmallBlas2Max = 32;
 // The kernels below: Eigen (through Map views of the BLAS arguments) where it is at least as
 // fast per call on CHOLMOD's typical shapes (L⁻¹ x, A x, A Bᵀ: 0.4–0.8× the loops' time), plain
 // loops where Eigen's small-size paths cost more (L⁻ᵀ x, Aᵀ x, B L⁻ᵀ and A Aᵀ: Eigen 1.2–2.4×
-// on ≤ 6 columns, where most calls are). Measured in session 11: docs/performance.md.
+// on ≤ 6 columns, where most calls are). Per-call timings: docs/performance.md.
 
 /// BLAS `dtrsv` for a lower-triangular, non-unit n × n block (column-major, leading dimension
 /// lda) and a contiguous x: x = L⁻¹ x (`trans` 'N') or L⁻ᵀ x ('T' or 'C'), in place.

@@ -1321,8 +1321,8 @@ void pair_with_rim(PolyMesh& g) {
 
 /// Leaves out the faces of less than `fraction` of the median face area: slivers where the
 /// joints of a boundary cell were all snapped onto a straight piece of M's boundary, or a gap
-/// between the grid's boundary and M's was filled by a face of almost no area (session 15: 16 of
-/// 198 grids of the stats tables had one, Botanic (3, 3) at 2018 m among them). A panel of a
+/// between the grid's boundary and M's was filled by a face of almost no area (without this step
+/// 16 of 198 grids of the stats tables had one, Botanic (3, 3) at 2018 m among them). A panel of a
 /// fiftieth of the others' area, or of none, is nothing anyone would cut glass for. Vertices are
 /// not touched (largest_component drops the unused ones).
 void drop_slivers(PolyMesh& g, double fraction) {
@@ -1433,8 +1433,8 @@ bool is_isotropic(const Field& field) {
 
 double quad_grid_quality(const QuadMeshStats& st) {
   const double aligned = st.strong_beams > 0 ? st.aligned_share : 1.0;
-  // Coverage over 1 (faces stacked; since session 19 they are left out before a grid is scored,
-  // so this is a guard) counts as much against as the same shortfall.
+  // Coverage over 1 (faces stacked; remove_overlaps leaves them out before a grid is scored, so
+  // this is a guard) counts as much against as the same shortfall.
   const double covered = 1 - std::abs(1 - st.coverage);
   const int short_of_bars =
       (st.valence4_share < 0.85) + (st.quad_share < 0.85) + (aligned < 0.70) + (covered < 0.90);

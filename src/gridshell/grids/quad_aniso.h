@@ -97,8 +97,9 @@ struct QuadAnisoOptions {
   /// neighbour is (e / 2ℓ)² × coherence × anisotropy weight, e the vertex's mean edge on M′, so
   /// the length does not depend on how finely M′ is meshed). A lattice cannot follow directions
   /// that turn within a cell: each turn it is made to follow costs dislocations, and their share
-  /// per cell grows with h. Until session 11 the weight was 4 per neighbour (ℓ ≈ e / 4 ≈ h / 15
-  /// on M′ refined to edges ≤ h / 2, mean edge ≈ 0.27 h): docs/quad_aniso.md has the sweep.
+  /// per cell grows with h. A fixed weight of 4 per neighbour (ℓ ≈ e / 4 ≈ h / 15 on M′ refined
+  /// to edges ≤ h / 2, mean edge ≈ 0.27 h) follows turns within a cell: docs/quad_aniso.md has
+  /// the sweep.
   double direction_smoothing = 0.25;
   /// The field's direction is data for the cross field in proportion to its anisotropy: weight
   /// (a − 1) / (a_full − 1), capped at 1, with a_full this value or the field's largest a if
@@ -107,19 +108,19 @@ struct QuadAnisoOptions {
   /// valence-4 joints and quads by 1.3 and 1.4 points over the 22 full-length anisotropic runs of
   /// docs/quad_aniso.md (a lower data weight without it: 0.3 at most). A field without
   /// anisotropy (A = 1) keeps full weight: its directions are then the only ones there are.
-  /// ≤ 1: full weight everywhere (coherence only, the behaviour before session 11).
+  /// ≤ 1: full weight everywhere (coherence only).
   double full_alignment_anisotropy = 3;
   /// The lattice's spacing on M′ is h × e^(κ s), κ this value: s is the conformal scale along
   /// which the cross field's turning needs no rows of cells to start (∇s = −J ∇θ; polar lines:
   /// cells ∝ r), so the lattice follows turning directions and M′'s curvature with fewer
   /// dislocations, at the price of cells departing from the size d asks for (bounded by
   /// `max_scale_change`). The field's own grading, log(d / √a), is taken out of s, so cells keep
-  /// the sizes d asks for. 0: constant spacing (the behaviour before session 12). κ = 0.5 with a
-  /// cap of 1.25 took the runs of docs/quad_aniso.md's table that meet every target at full
-  /// length from 31 to 33 of 33 (8 generated surfaces: 22 to 23 of 24) and the mean smaller share
-  /// of valence-4 joints and quads of the 22 anisotropic full-length runs from 92.1 % to 93.7 %
-  /// (session 12's sweep of κ and the cap is there: κ = 1 at ±25 % and κ = 0.5 at ±50 % tie with
-  /// this setting on the count).
+  /// the sizes d asks for. 0: constant spacing. Against constant spacing, κ = 0.5 with a cap of
+  /// 1.25 raised the runs of docs/quad_aniso.md's table that meet every target at full length
+  /// from 31 to 33 of 33 (8 generated surfaces: 22 to 23 of 24) and the mean smaller share of
+  /// valence-4 joints and quads of the 22 anisotropic full-length runs from 92.1 % to 93.7 %
+  /// (docs/quad_aniso.md has the sweep of κ and the cap: κ = 1 at ±25 % and κ = 0.5 at ±50 % tie
+  /// with this setting on the count).
   double integrable_scale = 0.5;
   /// The spacing factor stays within [1 / this, this] (≥ 1; 1: constant spacing).
   double max_scale_change = 1.25;
@@ -128,7 +129,7 @@ struct QuadAnisoOptions {
   /// Step 4's gaps between the grid's boundary and M's are filled where at most this many joints
   /// of the grid's boundary lie off M's boundary between two on it (and all of them have
   /// valence 4: they become interior joints). 0: only corners of M cut off by a single beam.
-  /// Session 14 measured 3 against 0 (docs/quad_aniso.md): the same runs met every target
+  /// Measured 3 against 0 (docs/quad_aniso.md): the same runs met every target
   /// (63 of 66 shared, 45 of 48 generated), 0.5 point more of M covered on the generated
   /// surfaces, the half-length runs' smaller share 0.2 points lower; 0 was kept.
   int gap_joints = 0;
@@ -220,13 +221,13 @@ QuadMeshStats quad_mesh_stats(const PolyMesh& grid, const TriMesh& surface, cons
 /// interior joints of valence 4, interior faces with 4 sides, beams within 15° of u or u⊥ where
 /// a ≥ 2 (1 when there are none: an isotropic field, or a grid too coarse to have interior beams
 /// there), and the coverage of the surface (1 − |1 − coverage|: stacked faces would cover more
-/// than the surface, as bad as less; they are left out before a grid is scored since session 19). First by how many of them fall short of
-/// the bars of a good field-aligned quad grid (85 % regular joints, 85 % quads, 70 % aligned
-/// beams, 90 % covered; docs/quad_aniso.md), then by their sum: a grid fair in all beats one
-/// perfect in some and poor in another, which the sum alone chose on grids of few cells, where
-/// one defect among 20 joints is 5 points (session 15: 4 of 8 such misses of the generated
-/// surfaces went). Coverage counts since session 18: a hole in the grid takes its joints and
-/// faces out of the interior shares, so a start with a hole could rank first for it.
+/// than the surface, as bad as less; remove_overlaps leaves them out before a grid is scored).
+/// First by how many of them fall short of the bars of a good field-aligned quad grid (85 %
+/// regular joints, 85 % quads, 70 % aligned beams, 90 % covered; docs/quad_aniso.md), then by
+/// their sum: a grid fair in all beats one perfect in some and poor in another, which the sum
+/// alone chose on grids of few cells, where one defect among 20 joints is 5 points (ranking by the bars first removed 4 of 8 such misses
+/// of the generated surfaces). Coverage counts because a hole in the grid takes its joints and
+/// faces out of the interior shares, so a start with a hole could otherwise rank first for it.
 double quad_grid_quality(const QuadMeshStats& stats);
 
 }  // namespace gridshell

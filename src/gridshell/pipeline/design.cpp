@@ -62,8 +62,8 @@ double estimate_radius(const TessellationOptions& t, double area_rest, double ar
   if (t.radius > 0) return t.radius;
   if (t.length > 0) {
     // A hexagonal tiling has 3 R of beams per cell (six edges of length R, each shared by two
-    // cells); lengths on M are about √(area_M / area_M′) of those on M′. (This said 1.5 R until
-    // session 5: M′ was refined to half the intended edge, 4–5× the triangles, for nothing.)
+    // cells); lengths on M are about √(area_M / area_M′) of those on M′. (Not 1.5 R: that would
+    // refine M′ to half the intended edge, 4–5× the triangles, for nothing.)
     return 3 * std::sqrt(area_deformed * area_rest) / (kHexArea * t.length / sectors);
   }
   const int cells = t.cells > 0 ? t.cells : t.default_cells;
