@@ -176,23 +176,29 @@ function keyFigures() {
       (st.section.standard === false ? ' (not a catalogue size)' : ''));
   }
   if (mass != null) html += row('steel mass', `${fmt(mass)} kg`);
-  if (st.delta_max_m != null) html += row('δ (linear)', `${fmt(st.delta_max_m * 1000)} mm`);
+  // With several load combinations these rows are the primary one's (ULS, undrifted snow); the
+  // governing rows below are over all of them.
+  const several = st.combinations && Object.keys(st.combinations).length > 1;
+  const of = several ? ', primary ULS' : '';
+  if (st.delta_max_m != null) html += row(`δ (linear${of})`, `${fmt(st.delta_max_m * 1000)} mm`);
   if (st.lambda_linear_buckling != null) {
-    html += row('λ linear buckling', fmt(st.lambda_linear_buckling));
+    html += row(`λ linear buckling${several ? ' (primary ULS)' : ''}`,
+      fmt(st.lambda_linear_buckling));
   }
   if (st.lambda_nonlinear != null) {
-    html += row('λ non-linear', `${fmt(st.lambda_nonlinear)} (${escapeHtml(st.limit_type || '')})`);
+    html += row(`λ non-linear${several ? ' (primary ULS)' : ''}`,
+      `${fmt(st.lambda_nonlinear)} (${escapeHtml(st.limit_type || '')})`);
   }
   if (st.utilisation_max != null) {
-    html += row('utilisation max', fmt(st.utilisation_max) +
+    html += row(`utilisation max${several ? ' (primary ULS)' : ''}`, fmt(st.utilisation_max) +
       (st.utilisation_check ? ` (${escapeHtml(st.utilisation_check)})` : ''));
   }
   if (st.buckling_utilisation_max != null) {
-    html += row('member buckling max', fmt(st.buckling_utilisation_max) +
+    html += row(`member buckling max${several ? ' (primary ULS)' : ''}`, fmt(st.buckling_utilisation_max) +
       (st.buckling_check ? ` (${escapeHtml(st.buckling_check)})` : ''));
   }
   const gov = st.governing || {};
-  if (gov.lambda != null && st.combinations && Object.keys(st.combinations).length > 1) {
+  if (gov.lambda != null && several) {
     const g = (name, value, unit) => `${escapeHtml(name)} (${value})${unit}`;
     html += row('governing λ', g(gov.lambda, fmt(gov.lambda_value), ''));
     if (gov.utilisation != null) {
