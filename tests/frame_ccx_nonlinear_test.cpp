@@ -20,15 +20,12 @@
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/fem/frame_element.h"
 #include "gridshell/surfaces/builtin.h"
+#include "ccx_support.h"
 #include "test_support.h"
 
 using namespace gridshell;
 
 namespace {
-
-bool have_ccx() {
-  return std::system("command -v ccx > /dev/null 2>&1") == 0;
-}
 
 constexpr double kSide = 0.032;  // m: the solid square section of both models
 
@@ -56,68 +53,15 @@ Dome small_dome() {
 /// The CalculiX deck: the frame, its loads × `lambda`, a geometrically non-linear static step in
 /// increments of at most a tenth of the load.
 std::string nlgeom_deck(const Dome& d, double lambda) {
-  const fem::FrameModel& m = d.model;
-  std::ostringstream inp, elems, sections;
-  inp << "*NODE, NSET=NALL\n";
-  const int n = m.num_nodes();
-  for (int v = 0; v < n; ++v)
-    inp << fmt::format("{},{:.12g},{:.12g},{:.12g}\n", v + 1, m.nodes(v, 0), m.nodes(v, 1),
-                       m.nodes(v, 2));
-  int next = n + 1, eid = 1;
-  for (std::size_t k = 0; k < m.members.size(); ++k) {
-    const auto& mb = m.members[k];
-    const Vec3 a = m.nodes.row(mb.i).transpose(), c = m.nodes.row(mb.j).transpose();
-    constexpr int kNe = 4;
-    int ids[2 * kNe + 1];
-    ids[0] = mb.i + 1;
-    ids[2 * kNe] = mb.j + 1;
-    for (int q = 1; q < 2 * kNe; ++q) {
-      const Vec3 p = a + (c - a) * (q / (2.0 * kNe));
-      ids[q] = next++;
-      inp << fmt::format("{},{:.12g},{:.12g},{:.12g}\n", ids[q], p.x(), p.y(), p.z());
-    }
-    elems << fmt::format("*ELEMENT, TYPE=B32R, ELSET=M{}\n", k);
-    for (int e = 0; e < kNe; ++e)
-      elems << fmt::format("{},{},{},{}\n", eid++, ids[2 * e], ids[2 * e + 1], ids[2 * e + 2]);
-    const fem::Mat3 R = fem::element_frame(a, c, Vec3::Zero());
-    sections << fmt::format(
-        "*BEAM SECTION, ELSET=M{}, MATERIAL=STEEL, SECTION=RECT\n{},{}\n{:.12g},{:.12g},{:.12g}\n",
-        k, kSide, kSide, R(0, 1), R(1, 1), R(2, 1));
-  }
-  inp << elems.str() << sections.str();
-  inp << "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11,0.3\n*BOUNDARY\n";
-  for (int v : d.supports) inp << fmt::format("{},1,3\n", v + 1);
-  inp << "*STEP, NLGEOM, INC=1000\n*STATIC\n0.05,1.0,1e-5,0.1\n*CLOAD\n";
-  for (const auto& l : m.loads)
-    for (int c = 0; c < 3; ++c)
-      if (l.force(c) != 0)
-        inp << fmt::format("{},{},{:.12g}\n", l.node + 1, c + 1, lambda * l.force(c));
-  inp << "*NODE PRINT, NSET=NALL\nU\n*END STEP\n";
-  return inp.str();
+  return test::ccx_frame_deck(d.model, d.supports, kSide,
+                              "*STEP, NLGEOM, INC=1000\n*STATIC\n0.05,1.0,1e-5,0.1", lambda);
 }
 
-/// The largest displacement over the frame's nodes at the end of the step (the .dat file has a
-/// block per increment; the last one counts), or -1 when ccx failed.
+/// The largest displacement over the frame's nodes at the end of the step, or -1 when ccx failed.
 double ccx_largest_displacement(const std::string& name, const std::string& deck, int nodes) {
-  const auto dir = test::temp_dir(name);
-  std::ofstream(dir / "job.inp") << deck;
-  const std::string cmd =
-      fmt::format("cd '{}' && OMP_NUM_THREADS=2 ccx -i job > ccx.log 2>&1", dir.string());
-  if (std::system(cmd.c_str()) != 0) return -1;
-  std::ifstream in(dir / "job.dat");
-  std::map<int, Vec3> u;
-  std::string line;
-  bool block = false;
-  while (std::getline(in, line)) {
-    if (line.find("displacements") != std::string::npos) {
-      block = true;
-      continue;
-    }
-    std::istringstream ss(line);
-    int id;
-    double x, y, z;
-    if (block && ss >> id >> x >> y >> z) u[id] = Vec3(x, y, z);
-  }
+  const test::CcxRun run = test::run_ccx(name, deck);
+  if (!run.ok) return -1;
+  const std::map<int, Vec3> u = test::read_ccx_displacements(run.dir / "job.dat");
   double largest = 0;
   for (int v = 1; v <= nodes; ++v) {
     const auto it = u.find(v);
@@ -130,7 +74,7 @@ double ccx_largest_displacement(const std::string& name, const std::string& deck
 }  // namespace
 
 TEST(FrameCcxNonlinear, DomeDisplacementsAlongThePathMatchCalculix) {
-  if (!have_ccx()) SKIP_OR_FAIL_IN_CI("ccx not installed");
+  if (!test::have_ccx()) SKIP_OR_FAIL_IN_CI("ccx not installed");
   const Dome d = small_dome();
   analysis::FrameAnalysisOptions o;
   o.buckling = true;

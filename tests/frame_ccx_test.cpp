@@ -24,15 +24,14 @@
 #include "gridshell/fem/frame_solver.h"
 #include "gridshell/io/frame_model_json.h"
 #include "gridshell/surfaces/load.h"
+#include "ccx_support.h"
 #include "test_support.h"
 
 using namespace gridshell;
+using test::have_ccx;
+using test::read_ccx_displacements;
 
 namespace {
-bool have_ccx() {
-  return std::system("command -v ccx > /dev/null 2>&1") == 0;
-}
-
 // Calls `row` with every line of a ccx .dat file after the first one containing `header`, until
 // `row` returns false.
 void for_each_line_after(const std::filesystem::path& dat, const std::string& header,
@@ -49,18 +48,6 @@ void for_each_line_after(const std::filesystem::path& dat, const std::string& he
   }
 }
 
-// Displacements per node id from a ccx .dat file.
-std::map<int, Vec3> read_ccx_displacements(const std::filesystem::path& dat) {
-  std::map<int, Vec3> u;
-  for_each_line_after(dat, "displacements", [&](const std::string& line) {
-    std::istringstream ss(line);
-    int id;
-    double x, y, z;
-    if (ss >> id >> x >> y >> z) u[id] = Vec3(x, y, z);
-    return true;
-  });
-  return u;
-}
 }  // namespace
 
 namespace {
@@ -93,60 +80,14 @@ ShellFrame shell_frame() {
 // CalculiX deck of the frame: per member 4 B32R elements, one ELSET and section card each; the
 // step card (`*STATIC` or `*BUCKLE\nN`) with the loads; node displacements printed.
 std::string ccx_deck(const ShellFrame& f, const std::string& step) {
-  const fem::FrameModel& m = f.model;
-  std::ostringstream inp;
-  inp << "*NODE, NSET=NALL\n";
-  const int n = m.num_nodes();
-  for (int v = 0; v < n; ++v)
-    inp << fmt::format("{},{:.12g},{:.12g},{:.12g}\n", v + 1, m.nodes(v, 0), m.nodes(v, 1),
-                       m.nodes(v, 2));
-  int next = n + 1;
-  std::ostringstream elems, sections;
-  int eid = 1;
-  for (size_t k = 0; k < m.members.size(); ++k) {
-    const auto& mb = m.members[k];
-    const Vec3 a = m.nodes.row(mb.i).transpose(), c = m.nodes.row(mb.j).transpose();
-    constexpr int kNe = 4;  // B32R elements per member in the CalculiX model
-    int ids[2 * kNe + 1];
-    ids[0] = mb.i + 1;
-    ids[2 * kNe] = mb.j + 1;
-    for (int q = 1; q < 2 * kNe; ++q) {
-      const Vec3 p = a + (c - a) * (q / (2.0 * kNe));
-      ids[q] = next++;
-      inp << fmt::format("{},{:.12g},{:.12g},{:.12g}\n", ids[q], p.x(), p.y(), p.z());
-    }
-    elems << fmt::format("*ELEMENT, TYPE=B32R, ELSET=M{}\n", k);
-    for (int e = 0; e < kNe; ++e)
-      elems << fmt::format("{},{},{},{}\n", eid++, ids[2 * e], ids[2 * e + 1], ids[2 * e + 2]);
-    const fem::Mat3 R = fem::element_frame(a, c, Vec3::Zero());
-    sections << fmt::format(
-        "*BEAM SECTION, ELSET=M{}, MATERIAL=STEEL, SECTION=RECT\n{},{}\n"
-        "{:.12g},{:.12g},{:.12g}\n",
-        k, f.b, f.b, R(0, 1), R(1, 1), R(2, 1));
-  }
-  inp << elems.str() << sections.str();
-  inp << "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11,0.3\n";
-  inp << "*BOUNDARY\n";
-  for (int v : f.supports) inp << fmt::format("{},1,3\n", v + 1);
-  inp << "*STEP\n" << step << "\n*CLOAD\n";
-  for (const auto& l : m.loads)
-    for (int c = 0; c < 3; ++c)
-      if (l.force(c) != 0) inp << fmt::format("{},{},{:.12g}\n", l.node + 1, c + 1, l.force(c));
-  inp << "*NODE PRINT, NSET=NALL\nU\n*END STEP\n";
-  return inp.str();
+  return test::ccx_frame_deck(f.model, f.supports, f.b, "*STEP\n" + step);
 }
 
 // Runs ccx on `deck` in a fresh folder; returns the folder (the .dat is job.dat).
 std::filesystem::path run_ccx(const std::string& name, const std::string& deck) {
-  const auto dir = test::temp_dir(name);
-  {
-    std::ofstream f(dir / "job.inp");
-    f << deck;
-  }
-  const std::string cmd =
-      fmt::format("cd '{}' && OMP_NUM_THREADS=2 ccx -i job > ccx.log 2>&1", dir.string());
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << "ccx failed, see " << dir;
-  return dir;
+  const test::CcxRun run = test::run_ccx(name, deck);
+  EXPECT_TRUE(run.ok) << "ccx failed, see " << run.dir;
+  return run.dir;
 }
 
 // The buckling factors of a ccx .dat file (the table after "B U C K L I N G   F A C T O R").

@@ -24,13 +24,6 @@ nlohmann::json read_json(const fs::path& p) {
   return nlohmann::json::parse(in);
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 /// The largest value of panels.csv's `out_of_plane_mm` column.
 double panels_csv_out_of_plane_max_mm(const fs::path& csv) {
   std::ifstream in(csv);
@@ -96,7 +89,7 @@ TEST(PanelsCli, TrianglesAreFlatAlreadyAndKeptAsTheyAre) {
   const auto report = read_json(p.flat_dir / "report.json");
   EXPECT_EQ(report.at("mesh").at("panels"), "flat");
   EXPECT_FALSE(report.at("flat_panels").contains("failure"));
-  EXPECT_EQ(read_text(p.flat_dir / "gridshell.obj"), read_text(p.free_dir / "gridshell.obj"));
+  EXPECT_EQ(test::slurp(p.flat_dir / "gridshell.obj"), test::slurp(p.free_dir / "gridshell.obj"));
 }
 
 TEST(PanelsCli, AFailedFlatStageKeepsTheFreeGridAndSaysWhy) {
@@ -105,5 +98,5 @@ TEST(PanelsCli, AFailedFlatStageKeepsTheFreeGridAndSaysWhy) {
   const auto report = read_json(p.flat_dir / "report.json");
   EXPECT_EQ(report.at("mesh").at("panels"), "free");
   EXPECT_FALSE(report.at("flat_panels").at("failure").get<std::string>().empty());
-  EXPECT_EQ(read_text(p.flat_dir / "gridshell.obj"), read_text(p.free_dir / "gridshell.obj"));
+  EXPECT_EQ(test::slurp(p.flat_dir / "gridshell.obj"), test::slurp(p.free_dir / "gridshell.obj"));
 }
