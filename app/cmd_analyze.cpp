@@ -110,18 +110,9 @@ analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a, const PolyMe
   analysis::FrameAnalysisOptions unused;
   apply_load_check_options(a.checks, go, unused);
   apply_member_options(a.members, go, unused);
-  // `vertex` rows of a load case refer to the grid-shell's own joints (its panels fanned).
-  if (mesh) {
-    TriMesh t;
-    t.V = mesh->V;
-    std::vector<std::array<int, 3>> tris;
-    for (const auto& f : mesh->faces)
-      for (std::size_t k = 1; k + 1 < f.size(); ++k) tris.push_back({f[0], f[k], f[k + 1]});
-    t.F.resize(static_cast<Eigen::Index>(tris.size()), 3);
-    for (std::size_t k = 0; k < tris.size(); ++k)
-      for (int c = 0; c < 3; ++c) t.F(static_cast<Eigen::Index>(k), c) = tris[k][c];
-    attach_load_case_surface(go, t);
-  }
+  // `vertex` rows of a load case refer to the grid-shell's own joints (its panels triangulated:
+  // convex ones fanned, concave ones filled inside their outline).
+  if (mesh) attach_load_case_surface(go, triangulate(*mesh));
   return go;
 }
 

@@ -285,6 +285,25 @@ class StudioPauseTest : public ::testing::Test {
       status = r ? r->status : -1;
     });
   }
+  /// A request `slow` held at the gate's `pause_at`-th check, a quick linear design sent while it
+  /// waits, then the gate released: both statuses, and whether the gate saw each in time.
+  struct Superseded {
+    int slow = 0, quick = 0;
+    bool paused = false, queued = false;
+  };
+  Superseded supersede(int pause_at, const std::string& slow) {
+    Superseded s;
+    gate_.pause_at(pause_at);
+    std::thread a = get(slow, s.slow);
+    s.paused = gate_.wait_paused();
+    std::thread b =
+        get("/api/design?surface=builtin:dome&D=1&A=1&cells=60&analyze=linear", s.quick);
+    s.queued = s.paused && gate_.wait_queued(2);
+    gate_.release();
+    a.join();
+    b.join();
+    return s;
+  }
   gridshell::test::StudioGate gate_;
   std::unique_ptr<gridshell::studio::Server> server_;
   int port_ = 0;
@@ -321,35 +340,21 @@ TEST_F(StudioPauseTest, RapidRequestsAreSupersededAndTheLastOneAnswers) {
 TEST_F(StudioPauseTest, ANewerRequestStopsANonlinearAnalysisAtItsNextStep) {
   // Held at its third arc-length step; a quick request comes in; released, the path stops at
   // once: no step after the third asks again.
-  gate_.pause_at(3);
-  int slow = 0, quick = 0;
-  std::thread a =
-      get("/api/design?surface=builtin:dome&D=1&A=1&cells=100&analyze=nonlinear&seed=6", slow);
-  ASSERT_TRUE(gate_.wait_paused());
-  std::thread b = get("/api/design?surface=builtin:dome&D=1&A=1&cells=60&analyze=linear", quick);
-  ASSERT_TRUE(gate_.wait_queued(2));
-  gate_.release();
-  a.join();
-  b.join();
-  EXPECT_EQ(slow, 409);
-  EXPECT_EQ(quick, 200);
+  const Superseded s =
+      supersede(3, "/api/design?surface=builtin:dome&D=1&A=1&cells=100&analyze=nonlinear&seed=6");
+  ASSERT_TRUE(s.paused && s.queued);
+  EXPECT_EQ(s.slow, 409);
+  EXPECT_EQ(s.quick, 200);
   EXPECT_EQ(gate_.checks(), 3);
 }
 
 TEST_F(StudioPauseTest, ANewerRequestStopsAnObjectiveSearchBeforeItsNextCandidate) {
   // Held where the search asks after its reference design; released after a newer request, it
   // designs no candidate of its first round (each would ask first).
-  gate_.pause_at(1);
-  int search = 0, quick = 0;
-  std::thread a = get("/api/design?surface=builtin:dome&cells=100&objective=lambda", search);
-  ASSERT_TRUE(gate_.wait_paused());
-  std::thread b = get("/api/design?surface=builtin:dome&D=1&A=1&cells=60&analyze=linear", quick);
-  ASSERT_TRUE(gate_.wait_queued(2));
-  gate_.release();
-  a.join();
-  b.join();
-  EXPECT_EQ(search, 409);
-  EXPECT_EQ(quick, 200);
+  const Superseded s = supersede(1, "/api/design?surface=builtin:dome&cells=100&objective=lambda");
+  ASSERT_TRUE(s.paused && s.queued);
+  EXPECT_EQ(s.slow, 409);
+  EXPECT_EQ(s.quick, 200);
   EXPECT_EQ(gate_.checks(), 1);
 }
 
