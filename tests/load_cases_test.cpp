@@ -14,6 +14,7 @@
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/frame_model.h"
+#include "gridshell/pipeline/design.h"
 #include "test_support.h"
 
 using namespace gridshell;
@@ -173,4 +174,36 @@ TEST(LoadCases, BaselineTakesTheLoadAndSteelOptions) {
     EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos)
         << r.err;
   }
+}
+
+TEST(LoadCases, GoverningPicksTheWorstCombinationAndJudgesIt) {
+  // Three combinations written by hand: the drifted ULS one has the smaller λ and the larger
+  // utilisation, the drifted SLS one the larger δ — over its limit, so the design fails on δ
+  // although the primary combinations pass everything.
+  const nlohmann::json combinations = {
+      {"ULS", {{"uls", true}, {"lambda", 2.5}, {"utilisation_max", 0.4}, {"delta_max_m", 0.05},
+               {"delta_limit_m", 0.0667}}},
+      {"ULS_S_x+", {{"uls", true}, {"lambda", 1.6}, {"utilisation_max", 0.9},
+                    {"delta_max_m", 0.12}, {"delta_limit_m", 0.0667}}},
+      {"SLS", {{"uls", false}, {"delta_max_m", 0.03}, {"delta_limit_m", 0.0667}}},
+      {"SLS_S_x+", {{"uls", false}, {"delta_max_m", 0.09}, {"delta_limit_m", 0.0667}}}};
+  const nlohmann::json g = governing_block(combinations);
+  EXPECT_EQ(g.at("lambda"), "ULS_S_x+");
+  EXPECT_DOUBLE_EQ(g.at("lambda_value").get<double>(), 1.6);
+  EXPECT_TRUE(g.at("lambda_pass").get<bool>());
+  EXPECT_EQ(g.at("utilisation"), "ULS_S_x+");
+  EXPECT_TRUE(g.at("utilisation_pass").get<bool>());
+  EXPECT_EQ(g.at("delta"), "SLS_S_x+");  // SLS combinations govern δ, not the factored ULS
+  EXPECT_FALSE(g.at("delta_pass").get<bool>());
+  EXPECT_FALSE(g.at("pass").get<bool>());
+  // With the drifted SLS δ within its limit and λ below 1, λ alone fails the design.
+  nlohmann::json c2 = combinations;
+  c2["SLS_S_x+"]["delta_max_m"] = 0.06;
+  c2["ULS_S_x+"]["lambda"] = 0.8;
+  const nlohmann::json g2 = governing_block(c2);
+  EXPECT_TRUE(g2.at("delta_pass").get<bool>());
+  EXPECT_FALSE(g2.at("lambda_pass").get<bool>());
+  EXPECT_FALSE(g2.at("pass").get<bool>());
+  c2["ULS_S_x+"]["lambda"] = 1.2;
+  EXPECT_TRUE(governing_block(c2).at("pass").get<bool>());
 }

@@ -199,12 +199,17 @@ function keyFigures() {
   }
   const gov = st.governing || {};
   if (gov.lambda != null && several) {
-    const g = (name, value, unit) => `${escapeHtml(name)} (${value})${unit}`;
-    html += row('governing λ', g(gov.lambda, fmt(gov.lambda_value), ''));
+    // Each governing figure with its combination and its verdict (fails: red).
+    const verdict = (ok) => (ok == null ? '' : ok ? ' — passes' : ' — <b style="color:#b00">fails</b>');
+    const g = (name, value, unit, ok) => `${escapeHtml(name)} (${value})${unit}${verdict(ok)}`;
+    html += row('governing λ', g(gov.lambda, fmt(gov.lambda_value), '', gov.lambda_pass));
     if (gov.utilisation != null) {
-      html += row('governing utilisation', g(gov.utilisation, fmt(gov.utilisation_value), ''));
+      html += row('governing utilisation',
+        g(gov.utilisation, fmt(gov.utilisation_value), '', gov.utilisation_pass));
     }
-    if (gov.delta != null) html += row('governing δ', g(gov.delta, fmt(gov.delta_m * 1000), ' mm'));
+    if (gov.delta != null) {
+      html += row('governing δ', g(gov.delta, fmt(gov.delta_m * 1000), ' mm', gov.delta_pass));
+    }
   }
   if (st.imperfection && st.imperfection.note) {
     html += row('λ imperfect > λ perfect', escapeHtml(st.imperfection.note));

@@ -205,7 +205,11 @@ nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& 
 /// report.json's `structure.governing` from `structure.combinations`: {"utilisation": the ULS
 /// combination with the largest utilisation_max, "lambda": the ULS one with the smallest
 /// `lambda` (else lambda_imperfect, else lambda_lba), "delta": the SLS one with the largest
-/// δ (the only combination when there is one), and their values}.
+/// δ (the only combination when there is one), and their values; the verdicts over all
+/// combinations: "utilisation_pass" (≤ 1), "lambda_pass" (≥ 1: λ multiplies the ULS loads),
+/// "delta_pass" (the governing δ within its combination's delta_limit_m) and "pass" (all that
+/// were computed)}. `structure`'s own keys (delta_pass, utilisation_max, …) are the primary
+/// combination's.
 nlohmann::json governing_block(const nlohmann::json& combinations);
 
 }  // namespace gridshell

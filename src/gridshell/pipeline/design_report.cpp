@@ -172,9 +172,27 @@ nlohmann::json governing_block(const nlohmann::json& combinations) {
       g["delta"] = name;
     }
   }
-  if (g.contains("lambda")) g["lambda_value"] = l;
-  if (g.contains("utilisation")) g["utilisation_value"] = u;
-  if (g.contains("delta")) g["delta_m"] = d;
+  bool pass = true;
+  if (g.contains("lambda")) {
+    g["lambda_value"] = l;
+    g["lambda_pass"] = l >= 1;
+    pass = pass && l >= 1;
+  }
+  if (g.contains("utilisation")) {
+    g["utilisation_value"] = u;
+    g["utilisation_pass"] = u <= 1;
+    pass = pass && u <= 1;
+  }
+  if (g.contains("delta")) {
+    g["delta_m"] = d;
+    const nlohmann::json& c = combinations.at(g["delta"].get<std::string>());
+    if (c.contains("delta_limit_m") && c["delta_limit_m"].is_number()) {
+      const bool ok = d <= c["delta_limit_m"].get<double>();
+      g["delta_pass"] = ok;
+      pass = pass && ok;
+    }
+  }
+  g["pass"] = pass;
   return g;
 }
 
