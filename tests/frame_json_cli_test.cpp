@@ -16,13 +16,9 @@
 
 namespace fs = std::filesystem;
 using namespace gridshell;
+using test::read_json;
 
 namespace {
-
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
 
 double rel(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
 

@@ -16,13 +16,9 @@
 
 namespace fs = std::filesystem;
 using namespace gridshell;
+using test::read_json;
 
 namespace {
-
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
 
 /// The largest value of panels.csv's `out_of_plane_mm` column.
 double panels_csv_out_of_plane_max_mm(const fs::path& csv) {

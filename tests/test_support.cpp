@@ -43,6 +43,11 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
 RunResult run_gridshell(const std::string& args) {
   fs::path d = temp_dir("run");
   std::string cmd = std::string(GRIDSHELL_EXE) + " " + args + " >" + (d / "out").string() + " 2>" +

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "gridshell/field/field.h"
 #include "gridshell/mesh/mesh.h"
 
@@ -19,6 +21,9 @@ std::filesystem::path shared_file(const std::string& relative);
 
 /// The whole content of a file (empty when it cannot be read).
 std::string slurp(const std::filesystem::path& path);
+
+/// A JSON file parsed (throws nlohmann::json::exception when it is missing or malformed).
+nlohmann::json read_json(const std::filesystem::path& path);
 
 /// A fresh empty folder under the system temp dir, unique per test.
 std::filesystem::path temp_dir(const std::string& name);

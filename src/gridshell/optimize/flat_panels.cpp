@@ -644,6 +644,31 @@ int optimise(Problem& P, Planes& pl, const TriMesh& surface, const SurfaceProjec
 
 }  // namespace
 
+namespace {
+/// Panels that are flat already (triangles; planar quads) are kept as they are: moving their
+/// joints could only make the grid worse. Fills `out` and returns true when `design`'s panels
+/// already pass the post-check's out-of-plane bound and none self-intersects.
+bool keep_if_flat_already(const PolyMesh& design, const std::vector<int>& supports,
+                          const FlatPanelOptions& options, FlatPanelResult& out) {
+  const PanelShape given = panel_shape(design);
+  if (given.out_of_plane_max > options.max_out_of_plane || given.self_intersecting != 0)
+    return false;
+  out.mesh = design;
+  out.supports = supports;
+  std::sort(out.supports.begin(), out.supports.end());
+  out.source_vertex.resize(design.num_vertices());
+  for (int v = 0; v < design.num_vertices(); ++v) out.source_vertex[v] = v;
+  for (int f = 0; f < design.num_faces(); ++f) {
+    const Vec3 n = vector_area(design, f).normalized();
+    out.normal.push_back(n);
+    out.offset.push_back(n.dot(design.vertex(design.faces[f][0])));
+  }
+  out.stats.converged = true;
+  out.stats.out_of_plane_max = given.out_of_plane_max;
+  return true;
+}
+}  // namespace
+
 FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supports,
                             const TriMesh& surface, const SurfaceProjector& projector,
                             const FlatPanelOptions& options) {
@@ -651,32 +676,14 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
   FlatPanelResult out;
   const int nv = design.num_vertices(), nf = design.num_faces();
   if (nf == 0) throw FlatPanelsFailed("no panels");
-  // Panels that are flat already (triangles; planar quads) are kept as they are: moving their
-  // joints could only make the grid worse.
-  const PanelShape given = panel_shape(design);
-  if (given.out_of_plane_max <= options.max_out_of_plane && given.self_intersecting == 0) {
-    out.mesh = design;
-    out.supports = supports;
-    std::sort(out.supports.begin(), out.supports.end());
-    out.source_vertex.resize(nv);
-    for (int v = 0; v < nv; ++v) out.source_vertex[v] = v;
-    for (int f = 0; f < nf; ++f) {
-      const Vec3 n = vector_area(design, f).normalized();
-      out.normal.push_back(n);
-      out.offset.push_back(n.dot(design.vertex(design.faces[f][0])));
-    }
-    out.stats.converged = true;
-    out.stats.out_of_plane_max = given.out_of_plane_max;
-    return out;
-  }
+  if (keep_if_flat_already(design, supports, options, out)) return out;
   std::vector<char> is_support(nv, 0);
   for (int v : supports)
     if (v >= 0 && v < nv) is_support[v] = 1;
-  std::vector<Vec3> x0(nv);
+  std::vector<Vec3> x0(nv), vertex_normal(nv);
   for (int v = 0; v < nv; ++v) x0[v] = design.vertex(v);
   std::vector<Anchor> design_anchor;
   update_anchors(surface, projector, x0, design_anchor);
-  std::vector<Vec3> vertex_normal(nv);
   for (int v = 0; v < nv; ++v) vertex_normal[v] = design_anchor[v].normal;
   const Layout L = build_layout(design, vertex_normal, is_support);
   out.stats.split_joints = L.split;

@@ -1,0 +1,36 @@
+// The flat-panel stage with its fallback (pipeline/design.h, attempt_flat_panels).
+#include <spdlog/spdlog.h>
+
+#include "gridshell/pipeline/design.h"
+
+namespace gridshell {
+
+FlatPanelAttempt attempt_flat_panels(const PolyMesh& mesh, const std::vector<int>& supports,
+                                     const TriMesh& surface, const SurfaceProjector& projector,
+                                     const FlatPanelOptions& options) {
+  FlatPanelAttempt a;
+  a.info = {{"requested", "flat"}};
+  try {
+    FlatPanelResult f = flat_panels(mesh, supports, surface, projector, options);
+    spdlog::info("[flat panels] {} panels flat to {:.2g} mm in {} iterations, {} joints split",
+                 f.mesh.num_faces(), 1e3 * f.stats.out_of_plane_max, f.stats.iterations,
+                 f.stats.split_joints);
+    a.info["panels"] = "flat";
+    a.info["iterations"] = f.stats.iterations;
+    a.info["converged"] = f.stats.converged;
+    a.info["split_joints"] = f.stats.split_joints;
+    a.info["added_joints"] = f.stats.added_joints;
+    a.info["energy_start"] = f.stats.energy_start;
+    a.info["energy"] = f.stats.energy;
+    a.info["min_det"] = f.stats.min_det;
+    a.info["out_of_own_plane_max_m"] = f.stats.out_of_plane_max;
+    a.flat = std::move(f);
+  } catch (const FlatPanelsFailed& e) {
+    spdlog::warn("{}: keeping the free panels", e.what());
+    a.info["panels"] = "free";
+    a.info["failure"] = e.what();
+  }
+  return a;
+}
+
+}  // namespace gridshell
