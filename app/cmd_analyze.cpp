@@ -287,7 +287,7 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   if (gridshell_mesh) st["section"] = section_block(frame_options(a, nullptr));
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
-  st["loads"] = gridshell_mesh ? a.checks.loads : f.combinations.empty() ? "model" : "load_cases";
+  st["loads"] = gridshell_mesh ? analysis::to_string(frame_options(a, nullptr).loads) : f.combinations.empty() ? "model" : "load_cases";
   const analysis::GridshellFrameOptions frame = frame_options(a, gridshell_mesh ? &mesh : nullptr);
   if (!gridshell_mesh)
     st["combinations"] = model_combinations(f, analysis_options(a, level, f.request), r);

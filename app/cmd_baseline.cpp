@@ -48,6 +48,7 @@ struct BaselineArgs {
   RunOptions run;
   LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit (as design)
   MemberOptions members;    ///< --section, --buckling-length-factor (as design)
+  SizingArgs sizing;        ///< --size, --sections, --section-groups, … (as design)
 };
 
 int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
@@ -64,8 +65,11 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   const PanelMode panels = parse_panel_mode(a.panels);
   analysis::GridshellFrameOptions frame;
   analysis::FrameAnalysisOptions options;
-  apply_load_check_options(a.checks, frame, options);
+  apply_load_check_options(a.checks, frame, options, a.sizing.size);
   apply_member_options(a.members, frame, options);
+  StructureOptions structure_options;
+  structure_options.level = level;
+  apply_sizing_options(a.sizing, structure_options);
   DesignOptions field_options;  // quad-aniso: the design's field
   field_options.field = parse_field_input(a.field, &field_options.field_file);
   field_options.D = a.D, field_options.A = a.A;
@@ -191,11 +195,16 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     out.regularity = m.regularity;
   }
   std::optional<analysis::FrameResult> structure;
+  std::optional<sizing::SizingResult> sized;
   if (level != analysis::AnalysisLevel::none) {
     const auto t2 = Clock::now();
     spdlog::info("[analysis] {} frame: {} joints", a.analyze, out.mesh.num_vertices());
     options.arc.progress = guard.progress;
-    structure = analyze_gridshell(out.mesh, out.supports, level, frame, options);
+    GridshellStructure s =
+        analyze_structure(out.mesh, out.supports, frame, options, structure_options);
+    structure = std::move(s.result);
+    sized = std::move(s.sizing);
+    frame = std::move(s.frame);
     lap("analysis", t2);
   }
   if (structure) add_structure(out, *structure);
@@ -220,10 +229,17 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     report["structure"] = structure_block(*structure);
     report["structure"]["steel"] = a.checks.steel;
     report["structure"]["section"] = section_block(frame);
-    report["structure"]["loads"] = a.checks.loads;
-    report["structure"]["combinations"] =
-        combinations_block(out.mesh, out.supports, frame, options, *structure);
+    report["structure"]["loads"] = to_string(frame.loads);
+    report["structure"]["combinations"] = combinations_block(
+        out.mesh, out.supports, frame, options, *structure, sized ? &sized->final : nullptr);
     report["structure"]["governing"] = governing_block(report["structure"]["combinations"]);
+    report["mass"] = steel_block(out.mesh, frame, a.sizing.carbon_factor);
+    if (sized) {
+      report["sizing"] = sizing_block(*sized, out.mesh, frame, structure_options.sizing_options,
+                                      a.sizing.carbon_factor);
+      report["sizing"]["sections_list"] = a.sizing.sections;
+      if (!sized->sized) spdlog::warn("[sizing] not sized: {}", sized->failure);
+    }
     write_frame_json(a.run.out_dir, analysis::gridshell_frame(out.mesh, out.supports, frame),
                      frame, options, level);
   }
@@ -301,6 +317,7 @@ void register_baseline(CLI::App& app, Action& action) {
       "and report.html (open it first: the 3D view, key figures and figures, offline).");
   add_load_check_options(sub, a->checks);
   add_member_options(sub, a->members);
+  add_sizing_options(sub, a->sizing);
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);
   add_figure_option(sub, a->run);

@@ -37,6 +37,7 @@ struct DesignArgs {
   std::string sheet = "2.5x1.25";  ///< fabrication: panels nested on sheets of W x H m
   LoadCheckOptions checks;         ///< --steel, --loads, --glass, --snow, --deflection-limit
   MemberOptions members;           ///< --section, --buckling-length-factor
+  SizingArgs sizing;               ///< --size, --sections, --section-groups, --lambda-min, …
   bool single_path = false;        ///< non-linear: skip the second (imperfect) path
   /// --analysis-resolution: cells | input
   std::string resolution = "cells";
@@ -70,8 +71,12 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const std::optional<FieldSource> response = parse_frame_source(a.field);
   if (!response) options.field = parse_field_input(a.field, &options.field_file);
   options.analyze = analysis::parse_analysis_level(a.analyze);
-  apply_load_check_options(a.checks, options.frame, options.frame_analysis);
+  apply_load_check_options(a.checks, options.frame, options.frame_analysis, a.sizing.size);
   apply_member_options(a.members, options.frame, options.frame_analysis);
+  StructureOptions structure;
+  apply_sizing_options(a.sizing, structure);
+  options.sizing = structure.sizing;
+  options.sizing_options = structure.sizing_options;
   options.frame_analysis.stability = !a.single_path;
   options.symmetry = parse_symmetry(a.symmetry);
   options.analysis_resolution = parse_analysis_resolution(a.resolution);
@@ -99,11 +104,12 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const std::filesystem::path dir(a.run.out_dir);
   io::ensure_directory(dir);
   const GridShellOutput out = design_output(r);
+  const analysis::GridshellFrameOptions frame = analysed_frame(options, r);
   write_gridshell_files(dir, out);
   const auto t_fab = Clock::now();
   const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports,
                                                 r.structure ? &*r.structure : nullptr,
-                                                options.frame, sheet);
+                                                frame, sheet);
   const double fabrication_s = std::chrono::duration<double>(Clock::now() - t_fab).count();
   io::write_vtp(dir / "field.vtp", to_poly(surface.mesh), {}, field_attributes(r.field));
   const auto t_fig = Clock::now();
@@ -123,14 +129,22 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   report["figures"] = figure_files;
   if (r.structure) {
     report["structure"]["steel"] = a.checks.steel;
-    report["structure"]["loads"] = a.checks.loads;
+    report["structure"]["loads"] = to_string(frame.loads);
     const auto t_comb = Clock::now();
     report["structure"]["combinations"] =
-        combinations_block(r.mesh, r.supports, options.frame, options.frame_analysis, *r.structure);
+        combinations_block(r.mesh, r.supports, frame, options.frame_analysis, *r.structure,
+                           r.sizing ? &r.sizing->final : nullptr);
     combinations_s = std::chrono::duration<double>(Clock::now() - t_comb).count();
     report["structure"]["governing"] = governing_block(report["structure"]["combinations"]);
-    write_frame_json(dir, analysis::gridshell_frame(r.mesh, r.supports, options.frame),
-                     options.frame, options.frame_analysis, options.analyze);
+    report["mass"] = steel_block(r.mesh, frame, a.sizing.carbon_factor);
+    if (r.sizing) {
+      report["sizing"] = sizing_block(*r.sizing, r.mesh, options.frame, options.sizing_options,
+                                      a.sizing.carbon_factor);
+      report["sizing"]["sections_list"] = a.sizing.sections;
+      if (!r.sizing->sized) spdlog::warn("[sizing] not sized: {}", r.sizing->failure);
+    }
+    write_frame_json(dir, analysis::gridshell_frame(r.mesh, r.supports, frame), frame,
+                     options.frame_analysis, options.analyze);
     write_buckling_modes(dir, *r.structure);
   }
   if (searched) report["objective"] = searched->report();
@@ -249,6 +263,7 @@ void register_design(CLI::App& app, Action& action) {
       ->default_str("0");
   add_load_check_options(sub, a->checks);
   add_member_options(sub, a->members);
+  add_sizing_options(sub, a->sizing);
   sub->add_flag("--single-path", a->single_path,
                 "non-linear analysis: follow only the perfect path (no lambda_imperfect; half "
                 "the cost)");

@@ -52,7 +52,8 @@ void add_load_check_options(CLI::App* sub, LoadCheckOptions& o) {
   sub->add_option("--loads", o.loads,
                   "grid-shell analysis: paper (the bars' weight spread over the surface, + "
                   "--area-load) | eurocode (G1 bars, G2 --glass, Q --snow; structure = ULS "
-                  "1.35 G + 1.5 Q, combinations adds SLS G + Q)")
+                  "1.35 G + 1.5 Q, combinations adds SLS G + Q); default paper, eurocode with "
+                  "--size")
       ->default_str("paper");
   sub->add_option("--glass", o.glass, "--loads eurocode: glass and cladding in kN/m² of surface")
       ->default_str("0.4");
@@ -73,9 +74,11 @@ void add_load_check_options(CLI::App* sub, LoadCheckOptions& o) {
 }
 
 void apply_load_check_options(const LoadCheckOptions& o, analysis::GridshellFrameOptions& frame,
-                              analysis::FrameAnalysisOptions& analysis) {
+                              analysis::FrameAnalysisOptions& analysis, bool sized) {
   analysis.checks.fy = checks::yield_strength(checks::parse_steel_grade(o.steel));
-  frame.loads = analysis::parse_load_model(o.loads);
+  frame.loads = analysis::parse_load_model(!o.loads.empty() ? o.loads
+                                           : sized          ? std::string("eurocode")
+                                                            : std::string("paper"));
   if (!(o.glass >= 0) || !std::isfinite(o.glass))
     throw Error("--glass", "must be a load >= 0 (kN/m²)");
   if (!(o.snow >= 0) || !std::isfinite(o.snow))
@@ -119,6 +122,40 @@ void apply_member_options(const MemberOptions& o, analysis::GridshellFrameOption
   if (o.section.empty()) return;
   sections::parse_section(o.section, "--section");
   frame.section = o.section;
+}
+
+void add_sizing_options(CLI::App* sub, SizingArgs& o) {
+  sub->add_flag("--size", o.size,
+                "size every member to EN 1993-1-1: the lightest section of --sections passing "
+                "every check, delta and lambda under every combination (docs/sizing.md)");
+  sub->add_option("--sections", o.sections,
+                  "--size: the sections to choose from: chs | rhs | bar | 'chs cold' | "
+                  "'rhs cold' | FILE (one designation per line)")
+      ->default_str("chs");
+  sub->add_option("--section-groups", o.groups,
+                  "--size: at most this many distinct sections (0: each member its own)")
+      ->default_str("0");
+  sub->add_option("--lambda-min", o.lambda_min,
+                  "--size: smallest critical load factor of every ULS combination")
+      ->default_str("1");
+  sub->add_option("--carbon-factor", o.carbon_factor,
+                  "embodied carbon of the steel in kgCO2e/kg (default: ICE v3.0, steel "
+                  "section, world average)")
+      ->default_str("1.55");
+}
+
+void apply_sizing_options(const SizingArgs& o, StructureOptions& structure) {
+  if (!(o.carbon_factor >= 0) || !std::isfinite(o.carbon_factor))
+    throw Error("--carbon-factor", "must be a number >= 0 (kgCO2e/kg)");
+  if (o.groups < 0 || o.groups > 10000)
+    throw Error("--section-groups", "must be 0 (each member its own) … 10000");
+  if (!(o.lambda_min > 0) || !(o.lambda_min <= 100))
+    throw Error("--lambda-min", "must be a load factor in (0, 100]");
+  structure.sizing = o.size ? sizing::MemberSizing::sized : sizing::MemberSizing::given;
+  if (!o.size) return;
+  structure.sizing_options.catalogue = sizing::parse_section_list(o.sections);
+  structure.sizing_options.groups = o.groups;
+  structure.sizing_options.lambda_min = o.lambda_min;
 }
 
 RunGuard apply_run_options(const RunOptions& o) {

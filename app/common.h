@@ -12,6 +12,7 @@
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/progress.h"
+#include "gridshell/pipeline/structure.h"
 #include "gridshell/report/report_html.h"
 #include "gridshell/surfaces/load.h"
 
@@ -38,7 +39,7 @@ void add_figure_option(CLI::App* sub, RunOptions& options);
 /// analyze, baseline): --steel, --loads, --glass, --snow, --deflection-limit (docs/checks.md).
 struct LoadCheckOptions {
   std::string steel = "S355";     ///< S235 | S275 | S355
-  std::string loads = "paper";    ///< paper | eurocode
+  std::string loads;              ///< paper | eurocode; empty = paper, or eurocode with --size
   double glass = 0.4;             ///< eurocode G2 [kN/m² of surface]
   double snow = 1.0;              ///< eurocode Q: s_k [kN/m² of plan]
   double deflection_limit = 300;  ///< δ passes when at most span / this
@@ -57,12 +58,26 @@ void add_member_options(CLI::App* sub, MemberOptions& options);
 /// analysis.checks.buckling_length_factor.
 void apply_member_options(const MemberOptions& options, analysis::GridshellFrameOptions& frame,
                           analysis::FrameAnalysisOptions& analysis);
-/// Parses and checks them (Error naming the option) and sets `frame`'s load model, glass,
-/// snow and file load cases (read here: a bad file is an Error before any work), and
-/// `analysis`'s fy and deflection limit.
+/// Parses and checks them (Error naming the option) and sets `frame`'s load model (no --loads:
+/// eurocode when `sized`, else paper), glass, snow and file load cases (read here: a bad file is
+/// an Error before any work), and `analysis`'s fy and deflection limit.
 void apply_load_check_options(const LoadCheckOptions& options,
                               analysis::GridshellFrameOptions& frame,
-                              analysis::FrameAnalysisOptions& analysis);
+                              analysis::FrameAnalysisOptions& analysis, bool sized = false);
+
+/// Member sizing (docs/sizing.md): --size, --sections chs|rhs|bar|'chs cold'|FILE,
+/// --section-groups N, --lambda-min, --carbon-factor.
+struct SizingArgs {
+  bool size = false;
+  std::string sections = "chs";
+  int groups = 0;
+  double lambda_min = 1.0;
+  double carbon_factor = 1.55;  ///< kgCO2e/kg (pipeline/structure.h kSteelCarbonFactor)
+};
+void add_sizing_options(CLI::App* sub, SizingArgs& options);
+/// Checks them (Error naming the option, exit 2) and sets `structure`'s sizing mode and options
+/// (the section list read here).
+void apply_sizing_options(const SizingArgs& options, StructureOptions& structure);
 
 /// Gives the file load cases on the input surface's vertices that surface (checks the ids).
 void attach_load_case_surface(analysis::GridshellFrameOptions& frame, const TriMesh& surface);

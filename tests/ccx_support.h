@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
@@ -21,13 +22,15 @@ namespace gridshell::test {
 inline bool have_ccx() { return std::system("command -v ccx > /dev/null 2>&1") == 0; }
 
 /// The CalculiX deck of a frame: per member 4 quadratic beam elements (B32R, mid-nodes added),
-/// one ELSET and one solid square section card (side `side`, local y as our element frame's)
-/// each; steel E = 210 GPa, ν = 0.3; the supports' translations fixed; `step` (from `*STEP` to
+/// one ELSET and one section card (local y as our element frame's) each; steel E = 210 GPa,
+/// ν = 0.3; the supports' translations fixed; `step` (from `*STEP` to
 /// the procedure's data lines, e.g. "*STEP\n*STATIC") with the model's loads × `load_factor`;
 /// the node displacements printed.
+/// `card(k)` gives member k's section as CalculiX writes it after SECTION= (the type, a newline,
+/// its dimensions), e.g. "RECT\n0.03,0.03" or "PIPE\n0.044,0.004" (outer radius, wall).
 inline std::string ccx_frame_deck(const fem::FrameModel& m, const std::vector<int>& supports,
-                                  double side, const std::string& step,
-                                  double load_factor = 1) {
+                                  const std::function<std::string(std::size_t)>& card,
+                                  const std::string& step, double load_factor = 1) {
   std::ostringstream inp, elems, sections;
   inp << "*NODE, NSET=NALL\n";
   const int n = m.num_nodes();
@@ -52,9 +55,8 @@ inline std::string ccx_frame_deck(const fem::FrameModel& m, const std::vector<in
       elems << fmt::format("{},{},{},{}\n", eid++, ids[2 * e], ids[2 * e + 1], ids[2 * e + 2]);
     const fem::Mat3 R = fem::element_frame(a, c, Vec3::Zero());
     sections << fmt::format(
-        "*BEAM SECTION, ELSET=M{}, MATERIAL=STEEL, SECTION=RECT\n{},{}\n"
-        "{:.12g},{:.12g},{:.12g}\n",
-        k, side, side, R(0, 1), R(1, 1), R(2, 1));
+        "*BEAM SECTION, ELSET=M{}, MATERIAL=STEEL, SECTION={}\n{:.12g},{:.12g},{:.12g}\n", k,
+        card(k), R(0, 1), R(1, 1), R(2, 1));
   }
   inp << elems.str() << sections.str();
   inp << "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11,0.3\n*BOUNDARY\n";
@@ -66,6 +68,15 @@ inline std::string ccx_frame_deck(const fem::FrameModel& m, const std::vector<in
         inp << fmt::format("{},{},{:.12g}\n", l.node + 1, c + 1, load_factor * l.force(c));
   inp << "*NODE PRINT, NSET=NALL\nU\n*END STEP\n";
   return inp.str();
+}
+
+/// The deck with every member a solid square of side `side`.
+inline std::string ccx_frame_deck(const fem::FrameModel& m, const std::vector<int>& supports,
+                                  double side, const std::string& step,
+                                  double load_factor = 1) {
+  return ccx_frame_deck(
+      m, supports, [&](std::size_t) { return fmt::format("RECT\n{},{}", side, side); }, step,
+      load_factor);
 }
 
 /// Runs ccx on `deck` in a fresh folder `name`; the folder (its .dat is job.dat), and whether ccx

@@ -12,10 +12,14 @@
 ///   combinations (the others cannot govern λ unless their imperfection sensitivity differs by
 ///   more than that), and only when the primary followed one.
 ///
-/// Cost: one analysis per combination at the level above; the non-linear ones dominate.
+/// Cost: one analysis per combination at the level above; the non-linear ones dominate. The
+/// combinations are analysed in parallel (TBB; `analyze` must be thread-safe); the results do not
+/// depend on the thread count.
 
 #include <cstddef>
 #include <functional>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "gridshell/analysis/frame_analysis.h"
@@ -37,6 +41,11 @@ struct CombinationRunsResult {
 
 /// Analyses combination k at `level` (the caller builds its frame and options).
 using AnalyzeCombination = std::function<FrameResult(std::size_t k, AnalysisLevel level)>;
+
+/// A ULS combination's governing λ: the smaller of λ_imperfect and λ_perfect (the imperfect one
+/// can come out above: FrameResult::imperfection_note), else λ_nonlinear, else λ_LBA; and the
+/// name of the figure it is ("lambda_imperfect", …).
+std::pair<std::optional<double>, const char*> combination_lambda(const FrameResult& r);
 
 /// Runs the rule above over `combinations`; `primary` is the result of the primary one.
 CombinationRunsResult run_combinations(const std::vector<CombinationRun>& combinations,

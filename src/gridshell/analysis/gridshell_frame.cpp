@@ -146,9 +146,46 @@ std::vector<LoadCase> eurocode_cases(const PolyMesh& mesh,
   return cases;
 }
 
+std::vector<double> bar_weights_per_m(const fem::FrameModel& model,
+                                      const GridshellFrameOptions& o) {
+  std::vector<double> w(model.members.size(), 0.0);
+  if (!o.self_weight) return w;
+  for (std::size_t k = 0; k < w.size(); ++k)
+    w[k] = o.density * o.g * model.sections[model.members[k].section].A;
+  return w;
+}
+
+namespace {
+
+/// The frame's sections and each member's index into them: `member_sections` (distinct ones in
+/// order of first use) or the one section of the options.
+std::vector<fem::FrameSection> frame_sections(const GridshellFrameOptions& o, std::size_t members,
+                                              std::vector<int>& index) {
+  index.assign(members, 0);
+  if (o.member_sections.empty()) return {member_section(o)};
+  if (o.member_sections.size() != members)
+    throw Error("sections", fmt::format("{} member sections for {} members",
+                                        o.member_sections.size(), members));
+  std::vector<fem::FrameSection> out;
+  std::vector<sections::Section> seen;
+  for (std::size_t k = 0; k < members; ++k) {
+    const sections::Section& s = o.member_sections[k];
+    const auto it = std::find(seen.begin(), seen.end(), s);
+    if (it != seen.end()) {
+      index[k] = static_cast<int>(it - seen.begin());
+      continue;
+    }
+    index[k] = static_cast<int>(seen.size());
+    seen.push_back(s);
+    out.push_back(fem::profile_section(s));
+  }
+  return out;
+}
+
+}  // namespace
+
 fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& supports,
                                 const GridshellFrameOptions& o) {
-  const fem::FrameSection section = member_section(o);
   if (o.elements < 1) throw Error("--elements", "must be >= 1");
   if (!(o.area_load_kN_m2 >= 0) && !(o.area_load_kN_m2 < 0))
     throw Error("--area-load", "is not a number");
@@ -156,16 +193,21 @@ fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& su
   fem::FrameModel m;
   m.nodes = mesh.V;
   m.faces = mesh.faces;
-  m.sections = {section};
+  std::vector<int> index;
+  m.sections = frame_sections(o, topo.edges.size(), index);
   m.materials = {{"steel", o.E, o.nu, o.density}};
-  for (const auto& e : topo.edges) {
+  for (std::size_t k = 0; k < topo.edges.size(); ++k) {
     fem::FrameMember mb;
-    mb.i = e[0];
-    mb.j = e[1];
+    mb.i = topo.edges[k][0];
+    mb.j = topo.edges[k][1];
+    mb.section = index[k];
     mb.elements = o.elements;
     m.members.push_back(mb);
   }
-  if (section.profile && section.profile->shape == sections::Shape::rhs) set_member_axes(mesh, m);
+  if (std::any_of(m.sections.begin(), m.sections.end(), [](const fem::FrameSection& s) {
+        return s.profile && s.profile->shape == sections::Shape::rhs;
+      }))
+    set_member_axes(mesh, m);
   for (int s : supports) {
     if (s < 0 || s >= mesh.num_vertices()) throw Error("supports", "a support id is out of range");
     m.supports.push_back({s, {true, true, true, false, false, false}});
@@ -180,9 +222,7 @@ fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& su
     if (o.area_load_kN_m2 != 0)
       throw Error("--area-load",
                   "with --loads eurocode give the surface loads as --glass and --snow");
-    const double w = o.self_weight ? o.density * o.g * m.sections[0].A : 0.0;
-    const std::vector<LoadCase> cases =
-        eurocode_cases(mesh, std::vector<double>(topo.edges.size(), w), o);
+    const std::vector<LoadCase> cases = eurocode_cases(mesh, bar_weights_per_m(m, o), o);
     const std::string name = !o.combination_name.empty() ? o.combination_name
                              : o.combination == Combination::uls ? "ULS"
                                                                  : "SLS";
@@ -195,17 +235,19 @@ fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& su
       if (F[v].squaredNorm() > 0) m.loads.push_back({v, F[v], Vec3::Zero()});
     return m;
   }
-  const double A = m.sections[0].A;
-  const double weight = o.self_weight ? o.density * o.g * A * fem::total_length(m) : 0.0;
+  const std::vector<double> w = bar_weights_per_m(m, o);
+  double weight = 0;
+  for (std::size_t k = 0; k < w.size(); ++k)
+    weight += w[k] * fem::member_length(m, static_cast<int>(k));
   const std::vector<double> trib = tributary_areas(mesh);
   double area = 0;
   for (double t : trib) area += t;
   if (o.self_weight) {
     if (o.self_weight_at_bars || !(area > 0)) {
       for (int k = 0; k < static_cast<int>(m.members.size()); ++k) {
-        const double w = o.density * o.g * A * fem::member_length(m, k);
-        fz[m.members[k].i] -= 0.5 * w;
-        fz[m.members[k].j] -= 0.5 * w;
+        const double wk = w[k] * fem::member_length(m, k);
+        fz[m.members[k].i] -= 0.5 * wk;
+        fz[m.members[k].j] -= 0.5 * wk;
       }
     } else {
       for (int v = 0; v < n; ++v) fz[v] -= weight * trib[v] / area;

@@ -72,6 +72,10 @@ struct GridshellFrameOptions {
   std::string combination_name;
   /// eurocode: load cases from files (--load-case), beside G1, G2 and the snow arrangements.
   std::vector<FileLoadCase> load_cases;
+  /// Per member (topology edge, mesh/topology.h order) its own section — a sized design
+  /// (sizing/sizing.h); empty = every member has `section` (or the bar of `diameter`). The
+  /// bars' self-weight (G1, or the paper's load) follows each member's section.
+  std::vector<sections::Section> member_sections;
 };
 
 /// Every eurocode load case of the grid (G1, G2, S, S_x-, S_x+, S_y-, S_y+, the file cases)
@@ -91,8 +95,14 @@ fem::FrameModel gridshell_frame(const PolyMesh& mesh, const std::vector<int>& su
                                 const GridshellFrameOptions& options = {});
 
 /// The members' section of `options` (its `section`, else the bar of `diameter`). Throws
-/// Error("--section") / Error("--diameter") for a bad one.
+/// Error("--section") / Error("--diameter") for a bad one. With `member_sections` it is the
+/// uniform section those replace (unused by the frame).
 fem::FrameSection member_section(const GridshellFrameOptions& options);
+
+/// The bars' weight per metre [N/m] of each member of a frame built by gridshell_frame (its
+/// section's area × density × g; 0 without self-weight).
+std::vector<double> bar_weights_per_m(const fem::FrameModel& model,
+                                      const GridshellFrameOptions& options);
 
 /// Per-vertex unit normals of a polygon mesh: the sum of the incident faces' vector areas,
 /// normalised (zero where they cancel).

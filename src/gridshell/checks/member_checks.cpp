@@ -54,8 +54,7 @@ struct SectionCapacity {
   double A = 0, Wy = 0, Wz = 0, Imin = 0;
 };
 
-SectionCapacity capacity(const fem::FrameModel& model, int section) {
-  const fem::FrameSection& s = model.sections[section];
+SectionCapacity capacity(const fem::FrameSection& s) {
   const double c = s.c > 0 ? s.c : std::sqrt(s.A / std::numbers::pi);
   return {s.A, s.Iy / c, s.Iz / c, std::min(s.Iy, s.Iz)};
 }
@@ -85,9 +84,9 @@ void check_inputs(const fem::FrameModel& model, const std::vector<fem::MemberFor
 
 namespace {
 
-/// The member's hollow profile, or null for the bar's check.
-const sections::Section* hollow_profile(const fem::FrameModel& model, const fem::FrameMember& mb) {
-  const auto& p = model.sections[mb.section].profile;
+/// The section's hollow profile, or null for the bar's check.
+const sections::Section* hollow_profile(const fem::FrameSection& s) {
+  const auto& p = s.profile;
   return p && p->shape != sections::Shape::bar ? &*p : nullptr;
 }
 
@@ -96,10 +95,10 @@ HollowCheckOptions hollow_options(const MemberCheckOptions& o) {
 }
 
 /// The bar's checks (§6.2.1(7) and §6.3.1 with curve `alpha`).
-MemberCheck bar_check(const fem::FrameModel& model, int m, const fem::MemberForces& f, double fy,
-                      const MemberCheckOptions& o) {
+MemberCheck bar_check(const fem::FrameModel& model, int m, const fem::FrameSection& section,
+                      const fem::MemberForces& f, double fy, const MemberCheckOptions& o) {
   const fem::FrameMember& mb = model.members[m];
-  const SectionCapacity c = capacity(model, mb.section);
+  const SectionCapacity c = capacity(section);
   MemberCheck r;
   r.section = section_utilisation(c, f, fy);
   const double E = model.materials[mb.material].E;
@@ -133,6 +132,14 @@ MemberCheck hollow_check(const fem::FrameModel& model, int m, const sections::Se
 
 }  // namespace
 
+MemberCheck check_member(const fem::FrameModel& model, int m, const fem::FrameSection& section,
+                         const fem::MemberForces& forces, const MemberCheckOptions& o) {
+  const double fy = member_fy(model, model.members[m], o);
+  const sections::Section* profile = hollow_profile(section);
+  return profile ? hollow_check(model, m, *profile, forces, fy, o)
+                 : bar_check(model, m, section, forces, fy, o);
+}
+
 MemberChecks check_members(const fem::FrameModel& model,
                            const std::vector<fem::MemberForces>& forces,
                            const MemberCheckOptions& o) {
@@ -143,12 +150,9 @@ MemberChecks check_members(const fem::FrameModel& model,
   MemberChecks out;
   out.members.resize(forces.size());
   for (size_t m = 0; m < forces.size(); ++m) {
-    const fem::FrameMember& mb = model.members[m];
-    const double fy = member_fy(model, mb, o);
-    const sections::Section* profile = hollow_profile(model, mb);
     MemberCheck& r = out.members[m];
-    r = profile ? hollow_check(model, static_cast<int>(m), *profile, forces[m], fy, o)
-                : bar_check(model, static_cast<int>(m), forces[m], fy, o);
+    r = check_member(model, static_cast<int>(m), model.sections[model.members[m].section],
+                     forces[m], o);
     if (out.section_worst < 0 || r.section > out.section_max) {
       out.section_max = r.section;
       out.section_worst = static_cast<int>(m);
@@ -171,9 +175,10 @@ double max_section_utilisation(const fem::FrameModel& model,
   for (size_t m = 0; m < forces.size(); ++m) {
     const fem::FrameMember& mb = model.members[m];
     const double fy = member_fy(model, mb, o);
-    const sections::Section* profile = hollow_profile(model, mb);
+    const fem::FrameSection& s = model.sections[mb.section];
+    const sections::Section* profile = hollow_profile(s);
     u = std::max(u, profile ? hollow_section_utilisation(*profile, forces[m], fy, hollow_options(o))
-                            : section_utilisation(capacity(model, mb.section), forces[m], fy));
+                            : section_utilisation(capacity(s), forces[m], fy));
   }
   return u;
 }

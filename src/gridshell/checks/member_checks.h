@@ -83,6 +83,11 @@ MemberChecks check_members(const fem::FrameModel& model,
                            const std::vector<fem::MemberForces>& forces,
                            const MemberCheckOptions& options = {});
 
+/// Member m of `model` checked as if it had `section` (its length, material and fy from the
+/// model): the check check_members makes, for trying other sections (sizing/sizing.h).
+MemberCheck check_member(const fem::FrameModel& model, int m, const fem::FrameSection& section,
+                         const fem::MemberForces& forces, const MemberCheckOptions& options = {});
+
 /// The largest cross-section utilisation only (for many states along a path).
 double max_section_utilisation(const fem::FrameModel& model,
                                const std::vector<fem::MemberForces>& forces,

@@ -1,6 +1,7 @@
 #include "gridshell/fabrication/fabrication_files.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -56,8 +57,21 @@ FabricationData fabrication_data(const PolyMesh& mesh, const std::vector<int>& s
   d.governing = beams.governing;
   if (!d.governing.empty() && static_cast<int>(d.governing.size()) != topo.num_edges())
     throw Error("fabrication", "governing checks and beams disagree in number");
-  d.section = options.section.empty() ? fmt::format("bar {:g}", options.bar_diameter * 1000)
-                                      : options.section;
+  const int beams_n = topo.num_edges();
+  if (!options.beam_sections.empty()) {
+    if (static_cast<int>(options.beam_sections.size()) != beams_n ||
+        options.beam_areas.size() != options.beam_sections.size())
+      throw Error("fabrication", "beam sections and beams disagree in number");
+    d.sections = options.beam_sections;
+    d.areas = options.beam_areas;
+  } else {
+    d.sections.assign(beams_n, options.section.empty()
+                                   ? fmt::format("bar {:g}", options.bar_diameter * 1000)
+                                   : options.section);
+    d.areas.assign(beams_n, options.section_area > 0
+                                ? options.section_area
+                                : kPi * options.bar_diameter * options.bar_diameter / 4);
+  }
   std::vector<std::vector<Vec2>> outlines;
   outlines.reserve(d.parts.panels.size());
   for (const Panel& p : d.parts.panels) outlines.push_back(p.flat.outline);
@@ -85,7 +99,7 @@ std::string beams_csv(const FabricationData& d) {
     s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", b.id, b.i, b.j, num(b.length),
                      cell(d.axial_force, b.id), cell(d.utilisation, b.id),
                      cell(d.buckling_utilisation, b.id), b.length_class, ints(b.panels),
-                     d.section, d.governing.empty() ? std::string() : d.governing[b.id]);
+                     d.sections[b.id], d.governing.empty() ? std::string() : d.governing[b.id]);
   return s;
 }
 
@@ -206,13 +220,27 @@ nlohmann::json bill_of_materials(const FabricationData& d, const FabricationFile
   j["total_length_m"] = f.total_length;
   j["bar_diameter_m"] = o.bar_diameter;
   j["bar_density_kg_m3"] = o.bar_density;
-  const double section_area =
-      o.section_area > 0 ? o.section_area : kPi * o.bar_diameter * o.bar_diameter / 4;
-  j["section"] = d.section;
-  j["section_area_m2"] = section_area;
-  j["mass_kg"] = o.section.empty()
-                     ? o.bar_density * kPi * o.bar_diameter * o.bar_diameter / 4 * f.total_length
-                     : o.bar_density * section_area * f.total_length;
+  // Per section: beams, length and mass (one row unless the design is sized).
+  std::map<std::string, std::array<double, 3>> per;
+  double mass = 0;
+  for (const Beam& b : f.beams) {
+    const double m = o.bar_density * d.areas[b.id] * b.length;
+    auto& row = per[d.sections[b.id]];
+    row[0] += 1, row[1] += b.length, row[2] += m;
+    mass += m;
+  }
+  if (per.size() <= 1) {
+    j["section"] = d.sections.empty() ? std::string() : d.sections.front();
+    j["section_area_m2"] = d.areas.empty() ? 0.0 : d.areas.front();
+  } else {
+    j["section"] = fmt::format("{} sections", per.size());
+  }
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& [name, row] : per)
+    rows.push_back({{"designation", name}, {"beams", static_cast<int>(row[0])},
+                    {"length_m", row[1]}, {"mass_kg", row[2]}});
+  j["sections"] = rows;
+  j["mass_kg"] = mass;
   j["distinct_beam_lengths"] = f.distinct_lengths;
   j["length_resolution_m"] = o.parts.length_resolution;
   double lmin = f.beams.empty() ? 0 : 1e300, lmax = 0;

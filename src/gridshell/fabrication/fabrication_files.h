@@ -46,6 +46,10 @@ struct FabricationFileOptions {
   /// [m²] for the mass; empty / 0 = the bar of `bar_diameter`.
   std::string section;
   double section_area = 0;
+  /// A sized design's sections per beam (topology edge order): designation and area [m²];
+  /// empty = every beam has `section`.
+  std::vector<std::string> beam_sections;
+  std::vector<double> beam_areas;
 };
 
 /// What an analysis says per beam (topology edge order); each empty when not analysed.
@@ -63,7 +67,8 @@ struct FabricationData {
   std::vector<double> axial_force;  ///< per beam [N], empty when not analysed
   std::vector<double> utilisation, buckling_utilisation;  ///< per beam, empty when not analysed
   std::vector<std::string> governing;                     ///< per beam, empty when not analysed
-  std::string section;                                    ///< the members' designation
+  std::vector<std::string> sections;  ///< per beam its designation
+  std::vector<double> areas;           ///< per beam its section area [m²]
 };
 
 /// Parts and nesting of `mesh`. `beams`: each per topology edge (the frame's member order), or

@@ -22,6 +22,7 @@
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/optimize/projector.h"
+#include "gridshell/pipeline/structure.h"
 
 namespace gridshell {
 
@@ -602,6 +603,13 @@ void check_design_options(const DesignOptions& o) {
   check_tessellation_options(o.tessellation);
 }
 
+analysis::GridshellFrameOptions analysed_frame(const DesignOptions& options,
+                                              const DesignResult& result) {
+  analysis::GridshellFrameOptions f = options.frame;
+  if (result.sizing) f.member_sections = result.sizing->member_sections;
+  return f;
+}
+
 analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,
                                         analysis::AnalysisLevel level,
                                         const analysis::GridshellFrameOptions& frame,
@@ -725,7 +733,10 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
   if (o.analyze != analysis::AnalysisLevel::none) {
     auto t = Clock::now();
     spdlog::info("[analysis] {} frame: {} joints", to_string(o.analyze), r.mesh.num_vertices());
-    r.structure = analyze_gridshell(r.mesh, r.supports, o.analyze, o.frame, o.frame_analysis);
+    GridshellStructure s = analyze_structure(r.mesh, r.supports, o.frame, o.frame_analysis,
+                                             {o.analyze, o.sizing, o.sizing_options});
+    r.structure = std::move(s.result);
+    r.sizing = std::move(s.sizing);
     const auto& st = *r.structure;
     auto num = [](const std::optional<double>& v) {
       return v ? fmt::format("{:.4g}", *v) : std::string("-");

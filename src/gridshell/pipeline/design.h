@@ -34,6 +34,7 @@
 #include "gridshell/optimize/metrics.h"
 #include "gridshell/optimize/regularize.h"
 #include "gridshell/optimize/symmetry.h"
+#include "gridshell/sizing/sizing.h"
 #include "gridshell/voronoi/tessellation.h"
 
 namespace gridshell {
@@ -89,6 +90,9 @@ struct DesignOptions {
   FlatPanelOptions flat;
   analysis::GridshellFrameOptions frame;
   analysis::FrameAnalysisOptions frame_analysis;  ///< linear/buckling/nonlinear set from analyze
+  /// `sized`: every member sized to the code (sizing/sizing.h) in the analysis stage.
+  sizing::MemberSizing sizing = sizing::MemberSizing::given;
+  sizing::SizingOptions sizing_options;
 };
 
 struct DesignResult {
@@ -101,6 +105,9 @@ struct DesignResult {
   Tessellation tessellation;  ///< engine output (of the sector when symmetric)
   Field field;                ///< on the input surface, per triangle
   std::optional<analysis::FrameResult> structure;
+  /// With DesignOptions::sizing = sized: the sizing, its members' sections and its final
+  /// analysis of every combination (`structure` is its primary combination's).
+  std::optional<sizing::SizingResult> sizing;
   PanelShape panels;  ///< out-of-plane, convexity, angles, joints to the input surface (mesh)
   nlohmann::json details;                               ///< per-stage figures for report.json
   Timings timings;  ///< stage → seconds, in the order they ran (core/timings.h)
@@ -170,6 +177,11 @@ FlatPanelAttempt attempt_flat_panels(const PolyMesh& mesh, const std::vector<int
                                      const TriMesh& surface, const SurfaceProjector& projector,
                                      const FlatPanelOptions& options = {});
 
+/// The frame options the design was analysed with: `options.frame`, with a sized design's
+/// member sections.
+analysis::GridshellFrameOptions analysed_frame(const DesignOptions& options,
+                                              const DesignResult& result);
+
 /// Analyses a grid-shell as the paper's steel frame at `level` (linear | buckling | nonlinear).
 analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,
                                         analysis::AnalysisLevel level,
@@ -198,10 +210,14 @@ nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g,
 /// get the non-linear paths (when `primary` has them: `nonlinear_followed`). Each ULS block has
 /// `lambda` (the smaller of λ_imperfect and λ_perfect, else λ_LBA: `lambda_source`), `leading`,
 /// `factors`, `imperfection`.
+/// `done`: the combinations already analysed (a sized design's final analysis,
+/// sizing::SizingResult::final, in the order of eurocode_combinations): reported, not analysed
+/// again.
 nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
                                   const analysis::GridshellFrameOptions& frame,
                                   const analysis::FrameAnalysisOptions& options,
-                                  const analysis::FrameResult& primary);
+                                  const analysis::FrameResult& primary,
+                                  const analysis::CombinationRunsResult* done = nullptr);
 /// report.json's `structure.governing` from `structure.combinations`: {"utilisation": the ULS
 /// combination with the largest utilisation_max, "lambda": the ULS one with the smallest
 /// `lambda` (else lambda_imperfect, else lambda_lba), "delta": the SLS one with the largest

@@ -2,12 +2,15 @@
 
 #include "gridshell/analysis/combination_runs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "gridshell/core/error.h"
 #include "gridshell/fabrication/fabrication_files.h"
 #include "gridshell/sections/sections.h"
 
@@ -109,16 +112,6 @@ nlohmann::json combination_block(const analysis::FrameResult& r, double gamma_g,
 }
 
 namespace {
-/// A combination's governing λ: the smaller of λ_imperfect and λ_perfect (the imperfect one
-/// can come out above: structure.imperfection.note), else λ_nonlinear, else λ_LBA (and which).
-std::pair<std::optional<double>, const char*> combination_lambda(const analysis::FrameResult& r) {
-  if (r.lambda_imperfect && (!r.lambda_perfect || *r.lambda_imperfect <= *r.lambda_perfect))
-    return {r.lambda_imperfect, "lambda_imperfect"};
-  if (r.lambda_perfect) return {r.lambda_perfect, "lambda_perfect"};
-  if (r.lambda_nonlinear) return {r.lambda_nonlinear, "lambda_nonlinear"};
-  return {r.lambda_linear_buckling, "lambda_lba"};
-}
-
 /// One eurocode combination's block: the figures of `r`, its factors, and its governing λ.
 nlohmann::json eurocode_block(const analysis::LoadCombination& c, const analysis::FrameResult& r,
                               bool nonlinear) {
@@ -132,7 +125,7 @@ nlohmann::json eurocode_block(const analysis::LoadCombination& c, const analysis
   b["leading"] = c.leading;
   for (const auto& [name, f] : c.factors) b["factors"][name] = f;
   if (c.uls) {
-    const auto [lambda, source] = combination_lambda(r);
+    const auto [lambda, source] = analysis::combination_lambda(r);
     b["lambda"] = optional_number(lambda);
     b["lambda_source"] = source;
     b["nonlinear_followed"] = nonlinear;
@@ -199,7 +192,8 @@ nlohmann::json governing_block(const nlohmann::json& combinations) {
 nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& supports,
                                   const analysis::GridshellFrameOptions& frame,
                                   const analysis::FrameAnalysisOptions& options,
-                                  const analysis::FrameResult& primary) {
+                                  const analysis::FrameResult& primary,
+                                  const analysis::CombinationRunsResult* done) {
   nlohmann::json block;
   if (frame.loads == analysis::LoadModel::paper) {
     block["paper"] = combination_block(primary, 1, 0);
@@ -208,21 +202,25 @@ nlohmann::json combinations_block(const PolyMesh& mesh, const std::vector<int>& 
     return block;
   }
   const fem::FrameModel model = analysis::gridshell_frame(mesh, supports, frame);
-  const double w = frame.self_weight ? frame.density * frame.g * model.sections[0].A : 0.0;
   const std::vector<analysis::LoadCase> cases =
-      analysis::eurocode_cases(mesh, std::vector<double>(model.members.size(), w), frame);
+      analysis::eurocode_cases(mesh, analysis::bar_weights_per_m(model, frame), frame);
   const std::vector<analysis::LoadCombination> combos = analysis::eurocode_combinations(cases);
   std::vector<analysis::CombinationRun> runs;
   for (const analysis::LoadCombination& c : combos) runs.push_back({c.uls, c.name == "ULS"});
-  const analysis::CombinationRunsResult done = analysis::run_combinations(
-      runs, primary, [&](std::size_t k, analysis::AnalysisLevel level) {
-        analysis::GridshellFrameOptions f = frame;
-        f.combination_name = combos[k].name;
-        spdlog::info("[analysis] {} combination: {}", combos[k].name, to_string(level));
-        return analyze_gridshell(mesh, supports, level, f, options);
-      });
+  const analysis::CombinationRunsResult analysed =
+      done ? analysis::CombinationRunsResult{}
+           : analysis::run_combinations(
+                 runs, primary, [&](std::size_t k, analysis::AnalysisLevel level) {
+                   analysis::GridshellFrameOptions f = frame;
+                   f.combination_name = combos[k].name;
+                   spdlog::info("[analysis] {} combination: {}", combos[k].name, to_string(level));
+                   return analyze_gridshell(mesh, supports, level, f, options);
+                 });
+  const analysis::CombinationRunsResult& results = done ? *done : analysed;
+  if (results.results.size() != combos.size())
+    throw Error("combinations", "the analysed combinations do not match the load model");
   for (std::size_t k = 0; k < combos.size(); ++k)
-    block[combos[k].name] = eurocode_block(combos[k], done.results[k], done.nonlinear[k]);
+    block[combos[k].name] = eurocode_block(combos[k], results.results[k], results.nonlinear[k]);
   return block;
 }
 
@@ -270,7 +268,7 @@ nlohmann::json design_report(const DesignResult& r, const DesignOptions& options
   report["design"]["analysis"] = to_string(options.analyze);
   if (r.structure) {
     report["structure"] = structure_block(*r.structure);
-    report["structure"]["section"] = section_block(options.frame);
+    report["structure"]["section"] = section_block(analysed_frame(options, r));
   }
   return report;
 }
@@ -306,6 +304,10 @@ nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMe
   const fem::FrameSection section = analysis::member_section(frame);
   o.section = section.name == "bar" ? std::string() : section.name;
   o.section_area = section.A;
+  for (const sections::Section& s : frame.member_sections) {
+    o.beam_sections.push_back(sections::designation(s));
+    o.beam_areas.push_back(sections::properties(s).A);
+  }
   fabrication::BeamResults beams;
   if (structure) {
     beams.axial_force = structure->axial_force;
@@ -320,6 +322,15 @@ nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMe
 }
 
 nlohmann::json section_block(const analysis::GridshellFrameOptions& frame) {
+  if (!frame.member_sections.empty()) {  // sized: the distinct sections (report.json `mass`)
+    std::vector<std::string> names;
+    for (const sections::Section& s : frame.member_sections) names.push_back(sections::designation(s));
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+    return {{"designation", fmt::format("sized: {} sections", names.size())},
+            {"sized", true},
+            {"designations", names}};
+  }
   const fem::FrameSection s = analysis::member_section(frame);
   const sections::Section& p = *s.profile;
   const sections::SectionProperties q = sections::properties(p);

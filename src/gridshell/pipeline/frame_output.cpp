@@ -111,9 +111,8 @@ void write_frame_json(const std::filesystem::path& dir, const fem::FrameModel& m
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>> combinations;
   if (frame.loads == analysis::LoadModel::eurocode) {
     const PolyMesh mesh{model.nodes, model.faces};
-    const double w = frame.self_weight ? frame.density * frame.g * model.sections[0].A : 0.0;
     const std::vector<analysis::LoadCase> lc =
-        analysis::eurocode_cases(mesh, std::vector<double>(model.members.size(), w), frame);
+        analysis::eurocode_cases(mesh, analysis::bar_weights_per_m(model, frame), frame);
     for (const analysis::LoadCase& c : lc) {
       io::NodalLoadCase out{c.name, c.permanent, {}};
       for (int v = 0; v < static_cast<int>(c.F.size()); ++v)

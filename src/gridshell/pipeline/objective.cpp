@@ -15,6 +15,7 @@
 #include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
 #include "gridshell/field/frame_response.h"
+#include "gridshell/pipeline/structure.h"
 
 namespace gridshell {
 
@@ -42,6 +43,7 @@ DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s
   o.field_options.stretch = s.stretch;
   o.field_options.density = s.density;
   o.analyze = analysis::AnalysisLevel::buckling;
+  o.sizing = sizing::MemberSizing::given;  // judged at the given section; the choice is sized
   if (length > 0) {
     o.tessellation.length = length;
     o.tessellation.cells = 0;
@@ -420,11 +422,16 @@ ObjectiveResult choose(std::vector<Evaluated>& all, const DesignOptions& base,
         res.candidates.size());
   }
   res.design = std::move(*all[best].design);
-  if (base.analyze == analysis::AnalysisLevel::none)
+  if (base.analyze == analysis::AnalysisLevel::none) {
     res.design.structure.reset();
-  else if (base.analyze != analysis::AnalysisLevel::buckling)
-    res.design.structure = analyze_gridshell(res.design.mesh, res.design.supports, base.analyze,
-                                             base.frame, base.frame_analysis);
+  } else if (base.analyze != analysis::AnalysisLevel::buckling ||
+             base.sizing == sizing::MemberSizing::sized) {
+    GridshellStructure s = analyze_structure(res.design.mesh, res.design.supports, base.frame,
+                                             base.frame_analysis,
+                                             {base.analyze, base.sizing, base.sizing_options});
+    res.design.structure = std::move(s.result);
+    res.design.sizing = std::move(s.sizing);
+  }
   spdlog::info("[objective] chose {} ({})", c.setting.label(), res.reason);
   return res;
 }
