@@ -1,16 +1,22 @@
 // gridshell sweep at the paper's scale (4 × 4 × 3 = 48 cases): shards and MPI ranks reproduce the
-// single-process rows exactly, because every case carries its own seed.
+// single-process rows exactly, because every case carries its own seed. Under the Eurocode loads
+// each case is judged as `gridshell design` judges it; bad load options fail before any work.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
+
+#include <fmt/format.h>
 
 #include "test_support.h"
 
+using gridshell::test::read_json;
 using gridshell::test::run_gridshell;
 using gridshell::test::temp_dir;
 namespace fs = std::filesystem;
@@ -142,4 +148,126 @@ TEST_F(SweepCli, TwoMpiRanksReproduceTheRowsInOrder) {
   std::stringstream ss;
   ss << report.rdbuf();
   EXPECT_NE(ss.str().find("\"mpi_ranks\": 2"), std::string::npos) << ss.str();
+}
+
+namespace {
+
+/// sweep.csv as rows of {column: cell}.
+std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> out;
+  std::string line;
+  auto cells = [](const std::string& l) {
+    std::vector<std::string> c;
+    std::istringstream s(l);
+    std::string item;
+    while (std::getline(s, item, ',')) c.push_back(item);
+    if (!l.empty() && l.back() == ',') c.emplace_back();
+    return c;
+  };
+  if (std::getline(in, line)) header = cells(line);
+  while (std::getline(in, line)) {
+    const auto c = cells(line);
+    EXPECT_EQ(c.size(), header.size()) << line;
+    std::map<std::string, std::string> row;
+    for (std::size_t k = 0; k < std::min(c.size(), header.size()); ++k) row[header[k]] = c[k];
+    out.push_back(row);
+  }
+  return out;
+}
+
+double rel(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
+
+/// A pressure load case on every vertex of builtin:dome (alternating push and suction).
+fs::path dome_load_case(const fs::path& dir) {
+  const auto info = run_gridshell("info builtin:dome --json");
+  EXPECT_EQ(info.status, 0) << info.err;
+  const int n = nlohmann::json::parse(info.out).at("vertices").get<int>();
+  const fs::path file = dir / "wind.csv";
+  std::ofstream out(file);
+  out << "vertex,pressure_kN_m2\n";
+  for (int i = 0; i < n; ++i) out << i << "," << (i % 2 ? 0.5 : -0.3) << "\n";
+  return file;
+}
+
+}  // namespace
+
+TEST(SweepEurocode, EachPointIsJudgedAsDesignJudgesIt) {
+  // Two points of a small dome under the Eurocode loads with a file load case: each row's
+  // governing utilisation, λ and δ, their combinations and the verdict are those that
+  // `gridshell design` with the same D, A, seed and loads writes in structure.governing (an
+  // independent run of the whole pipeline and of every combination's analysis).
+  const fs::path dir = temp_dir("sweep_eurocode");
+  const std::string loads = " --length 240 --loads eurocode --snow 0.6 --section \"CHS 139.7x6.3\""
+                            " --load-case W=" + dome_load_case(dir).string() + " --quiet ";
+  const auto r = run_gridshell("sweep builtin:dome --D 1:2 --A 1 --repeats 1" + loads + "-o " +
+                               (dir / "sweep").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto points = read_json(dir / "sweep" / "report.json").at("points");
+  const auto csv = csv_rows(dir / "sweep" / "sweep.csv");
+  ASSERT_EQ(points.size(), 2u);
+  ASSERT_EQ(csv.size(), 2u);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const auto& p = points[k];
+    const fs::path one = dir / ("design" + std::to_string(k));
+    const auto d = run_gridshell(fmt::format("design builtin:dome -D {} -A {} --seed {}", p.at("D").dump(),
+                                             p.at("A").dump(), p.at("seed").dump()) +
+                                 loads + "-o " + one.string());
+    ASSERT_EQ(d.status, 0) << d.err;
+    const auto g = read_json(one / "report.json").at("structure").at("governing");
+    const auto& s = p.at("governing");
+    for (const char* key : {"utilisation", "lambda", "delta", "pass", "utilisation_pass",
+                            "lambda_pass", "delta_pass"})
+      EXPECT_EQ(s.at(key), g.at(key)) << key;
+    for (const char* key : {"utilisation_value", "lambda_value", "delta_m"})
+      EXPECT_LT(rel(s.at(key).get<double>(), g.at(key).get<double>()), 1e-9) << key;
+    // sweep.csv carries the same figures.
+    const auto& row = csv[k];
+    EXPECT_LT(rel(std::stod(row.at("governing_utilisation")), g.at("utilisation_value")), 1e-12);
+    EXPECT_LT(rel(std::stod(row.at("governing_lambda")), g.at("lambda_value")), 1e-12);
+    EXPECT_LT(rel(std::stod(row.at("governing_delta")), g.at("delta_m")), 1e-12);
+    EXPECT_EQ(row.at("pass"), g.at("pass").get<bool>() ? "true" : "false");
+    EXPECT_EQ(row.at("governing_lambda_combination"), g.at("lambda").get<std::string>());
+    EXPECT_EQ(row.at("governing_utilisation_combination"), g.at("utilisation").get<std::string>());
+    EXPECT_EQ(row.at("governing_delta_combination"), g.at("delta").get<std::string>());
+  }
+}
+
+TEST(SweepEurocode, BadLoadsAreOneLineAndExitTwo) {
+  const fs::path dir = temp_dir("sweep_eurocode_bad");
+  const fs::path good = dome_load_case(dir);
+  const fs::path header = dir / "header.csv", text = dir / "text.csv", range = dir / "range.csv";
+  std::ofstream(header) << "vertex,pressure\n0,1\n";
+  std::ofstream(text) << "vertex,pressure_kN_m2\n0,strong\n";
+  std::ofstream(range) << "vertex,pressure_kN_m2\n0,1\n99999,1\n";
+  const std::string base =
+      "sweep builtin:dome --D 1 --A 1 --repeats 1 --cells 20 --analyze linear --quiet ";
+  const std::string eurocode = base + "--loads eurocode ";
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {base + "--loads wind", "--loads"},
+      {eurocode + "--glass -1", "--glass"},
+      {eurocode + "--snow nan", "--snow"},
+      {eurocode + "--steel S999", "S999"},
+      {eurocode + "--deflection-limit 0", "--deflection-limit"},
+      {base + "--load-case W=" + good.string(), "--load-case"},  // needs --loads eurocode
+      {eurocode + "--load-case W=" + (dir / "missing.csv").string(), "missing.csv"},
+      {eurocode + "--load-case W=" + header.string(), "header.csv"},
+      {eurocode + "--load-case W=" + text.string(), "text.csv"},
+      {eurocode + "--load-case W=" + range.string(), "range.csv"},
+      {eurocode + "--load-case W" + good.string(), "--load-case"},
+      {eurocode + "--load-case W:sometimes=" + good.string(), "--load-case"},
+      {eurocode + "--load-case W=" + good.string() + " --load-case W=" + good.string(),
+       "--load-case"},
+      {eurocode + "--load-case " + std::string(60, 'w') + "=" + good.string(), "--load-case"},
+  };
+  for (const auto& [args, names] : bad) {
+    const fs::path out = dir / "out";
+    const auto r = run_gridshell(args + " -o " + out.string());
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("gridshell: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(names), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out / "sweep.csv")) << args;
+  }
 }
