@@ -271,3 +271,24 @@ TEST(SweepEurocode, BadLoadsAreOneLineAndExitTwo) {
     EXPECT_FALSE(fs::exists(out / "sweep.csv")) << args;
   }
 }
+
+TEST(SweepEurocode, ConfigRepeatsTheSweep) {
+  // config.json holds --D/--A (long one-letter options) and the load options; --config gives
+  // the same rows.
+  const fs::path dir = temp_dir("sweep_eurocode_config");
+  const auto r = run_gridshell("sweep builtin:dome --D 1:2 --A 1 --repeats 1 --cells 20 "
+                               "--analyze linear --loads eurocode --snow 0.7 --load-case W=" +
+                               dome_load_case(dir).string() + " --quiet -o " +
+                               (dir / "first").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto again = run_gridshell("sweep --config " + (dir / "first" / "config.json").string() +
+                                   " -o " + (dir / "again").string());
+  ASSERT_EQ(again.status, 0) << again.err;
+  const auto rows = csv_rows(dir / "first" / "sweep.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows.at(1).at("D"), "2");
+  EXPECT_EQ(rows.at(0).at("governing_lambda"), "");  // no buckling analysis asked
+  EXPECT_FALSE(rows.at(0).at("governing_delta").empty());
+  EXPECT_EQ(gridshell::test::slurp(dir / "again" / "sweep.csv"),
+            gridshell::test::slurp(dir / "first" / "sweep.csv"));
+}
