@@ -53,10 +53,11 @@ DesignOptions sweep_design_options(const SweepArgs& a) {
   o.analysis_resolution = parse_analysis_resolution(a.resolution);
   apply_load_check_options(a.checks, o.frame, o.frame_analysis);
   apply_member_options(a.members, o.frame, o.frame_analysis);
-  for (const analysis::FileLoadCase& c : o.frame.load_cases)
-    if (c.name.size() > SweepGoverning::kMaxLoadCaseName)
-      throw Error("--load-case", fmt::format("'{}': a sweep takes names of at most {} characters",
-                                             c.name, SweepGoverning::kMaxLoadCaseName));
+  for (const analysis::FileLoadCase& c : o.frame.load_cases)  // (names end up in sweep.csv)
+    if (c.name.size() > SweepGoverning::kMaxLoadCaseName || c.name.find(',') != std::string::npos)
+      throw Error("--load-case",
+                  fmt::format("'{}': a sweep takes names of at most {} characters, no commas",
+                              c.name, SweepGoverning::kMaxLoadCaseName));
   o.field_options.measure = parse_stress_measure(a.measure);
   o.field_options.stretch = parse_stretch_axis(a.stretch);
   o.field_options.density = parse_density_trend(a.density);

@@ -260,6 +260,7 @@ TEST(SweepEurocode, BadLoadsAreOneLineAndExitTwo) {
       {eurocode + "--load-case W=" + good.string() + " --load-case W=" + good.string(),
        "--load-case"},
       {eurocode + "--load-case " + std::string(60, 'w') + "=" + good.string(), "--load-case"},
+      {eurocode + "--load-case W,E=" + good.string(), "--load-case"},  // a column of sweep.csv
   };
   for (const auto& [args, names] : bad) {
     const fs::path out = dir / "out";
