@@ -128,20 +128,38 @@ TEST_F(SweepCli, ShardsTogetherReproduceTheRows) {
   EXPECT_EQ(all, parts);
 }
 
-TEST_F(SweepCli, TwoMpiRanksReproduceTheRowsInOrder) {
+namespace {
+
+/// `mpiexec --oversubscribe -n 2 gridshell ` when this build has MPI and its runtime can start two
+/// ranks here, else empty with `why` set.
+std::string two_ranks(std::string& why) {
   const std::string mpiexec = GRIDSHELL_MPIEXEC;
-  if (mpiexec.empty()) SKIP_OR_FAIL_IN_CI("built without MPI");
+  if (mpiexec.empty()) {
+    why = "built without MPI";
+    return "";
+  }
   // Open MPI refuses root unless told; CI runs as root.
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
   // A machine whose MPI runtime cannot start two ranks at all (no usable transport in a
   // container) says nothing about gridshell: skip, naming the cause.
   const std::string probe = mpiexec + " --oversubscribe -n 2 true >/dev/null 2>&1 </dev/null";
-  if (std::system(probe.c_str()) != 0) SKIP_OR_FAIL_IN_CI("the MPI runtime cannot start 2 ranks here");
+  if (std::system(probe.c_str()) != 0) {
+    why = "the MPI runtime cannot start 2 ranks here";
+    return "";
+  }
+  return mpiexec + " --oversubscribe -n 2 " + std::string(GRIDSHELL_EXE) + " ";
+}
+
+}  // namespace
+
+TEST_F(SweepCli, TwoMpiRanksReproduceTheRowsInOrder) {
+  std::string why;
+  const std::string mpi = two_ranks(why);
+  if (mpi.empty()) SKIP_OR_FAIL_IN_CI(why);
   const fs::path out = dir_ / "mpi";
-  const std::string cmd = mpiexec + " --oversubscribe -n 2 " + std::string(GRIDSHELL_EXE) + " " +
-                          kSweep + "-o " + out.string() + " >" + (dir_ / "mpi.log").string() +
-                          " 2>&1 </dev/null";
+  const std::string cmd = mpi + kSweep + "-o " + out.string() + " >" +
+                          (dir_ / "mpi.log").string() + " 2>&1 </dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   EXPECT_EQ(rows(out), rows(dir_ / "all"));  // same rows, same (case) order
   std::ifstream report(out / "report.json");
@@ -292,4 +310,27 @@ TEST(SweepEurocode, ConfigRepeatsTheSweep) {
   EXPECT_FALSE(rows.at(0).at("governing_delta").empty());
   EXPECT_EQ(gridshell::test::slurp(dir / "again" / "sweep.csv"),
             gridshell::test::slurp(dir / "first" / "sweep.csv"));
+}
+
+TEST(SweepEurocode, TwoMpiRanksCarryTheVerdicts) {
+  // The rows' verdicts (combination names included) travel between ranks unchanged.
+  std::string why;
+  const std::string mpi = two_ranks(why);
+  if (mpi.empty()) SKIP_OR_FAIL_IN_CI(why);
+  const fs::path dir = temp_dir("sweep_eurocode_mpi");
+  const std::string sweep =
+      "sweep builtin:dome --D 1:2 --A 1 --repeats 1 --cells 20 --analyze buckling --loads "
+      "eurocode --quiet -o ";
+  const auto one = run_gridshell(sweep + (dir / "one").string());
+  ASSERT_EQ(one.status, 0) << one.err;
+  const std::string cmd = mpi + sweep + (dir / "mpi").string() + " >" +
+                          (dir / "mpi.log").string() + " 2>&1 </dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const auto rows = csv_rows(dir / "one" / "sweep.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows.at(0).at("governing_lambda_combination").rfind("ULS", 0), 0u);
+  EXPECT_EQ(gridshell::test::slurp(dir / "mpi" / "sweep.csv"),
+            gridshell::test::slurp(dir / "one" / "sweep.csv"));
+  EXPECT_EQ(read_json(dir / "mpi" / "report.json").at("points"),
+            read_json(dir / "one" / "report.json").at("points"));
 }
