@@ -126,7 +126,7 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   if (mpi.active() && run.threads == 0) run.threads = mpi.threads_per_rank();
   const auto guard = apply_run_options(run);
   const auto start = std::chrono::steady_clock::now();
-  const DesignOptions base = sweep_design_options(a);
+  DesignOptions options = sweep_design_options(a);
   std::vector<SweepCase> cases =
       sweep_cases(parse_range(a.D, "--D"), parse_range(a.A, "--A"), a.repeats, a.run.seed);
   for (const auto& c : cases)
@@ -140,14 +140,14 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
       mine.push_back(cases[i]);
     cases = std::move(mine);
   }
-  DesignOptions with_surface = base;
   const Surface surface = load_surface(a.surface, a.surface_options);
-  attach_load_case_surface(with_surface.frame, surface.mesh);
+  attach_load_case_surface(options.frame, surface.mesh);
   // What does not change between cases is computed once: the analysis surface and the stress
   // (or the file's), and per (D, A) the field and M′ (the repeats differ only in the seed).
   DesignCache cache;
   std::optional<StressField> stress;
-  if (base.field == FieldInput::file) stress = read_field_file(base.field_file, surface.mesh);
+  if (options.field == FieldInput::file)
+    stress = read_field_file(options.field_file, surface.mesh);
   spdlog::info("[sweep] {} of {} cases on {}{}", cases.size(), all, a.surface,
                mpi.active() ? fmt::format(" (MPI rank {} of {})", mpi.rank(), mpi.size()) : "");
   std::atomic<int> finished{0};
@@ -157,7 +157,7 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   std::mutex case_timings_mutex;
   const auto mine = run_sweep(cases, [&](const SweepCase& c) {
     const auto case_start = std::chrono::steady_clock::now();
-    CaseRun done = run_case(surface, with_surface, c, stress ? &*stress : nullptr, cache);
+    CaseRun done = run_case(surface, options, c, stress ? &*stress : nullptr, cache);
     {
       const std::lock_guard<std::mutex> lock(case_timings_mutex);
       for (const auto& [stage, seconds] : done.timings) case_timings.add(stage, seconds);
