@@ -8,12 +8,14 @@
 #include <filesystem>
 #include <iostream>
 #include <mutex>
+#include <optional>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "common.h"
 #include "gridshell/core/error.h"
+#include "gridshell/core/timings.h"
 #include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
 #include "gridshell/field/field_io.h"
@@ -31,6 +33,8 @@ struct SweepArgs {
   std::string measure = "magnitude", stretch = "along", density = "rising";
   std::string resolution = "cells";
   MemberOptions members;  ///< --section, --buckling-length-factor (as design)
+  LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --load-case, … (as design)
+  bool single_path = false;  ///< --loads eurocode: no imperfect path (as design --single-path)
   int repeats = 3;
   double length = 0;
   int cells = 0;
@@ -38,32 +42,95 @@ struct SweepArgs {
   RunOptions run;
 };
 
+/// What every case shares (a case sets D, A and its seed), every option parsed and checked
+/// before any work.
+DesignOptions sweep_design_options(const SweepArgs& a) {
+  if (!(a.length > 0) && a.cells <= 0)
+    throw Error("--length", "give the common total beam length L (m) (or --cells N)");
+  DesignOptions o;
+  o.field = parse_field_input(a.field, &o.field_file);
+  o.analyze = analysis::parse_analysis_level(a.analyze);
+  o.analysis_resolution = parse_analysis_resolution(a.resolution);
+  apply_load_check_options(a.checks, o.frame, o.frame_analysis);
+  apply_member_options(a.members, o.frame, o.frame_analysis);
+  for (const analysis::FileLoadCase& c : o.frame.load_cases)  // (names end up in sweep.csv)
+    if (c.name.size() > SweepGoverning::kMaxLoadCaseName || c.name.find(',') != std::string::npos)
+      throw Error("--load-case",
+                  fmt::format("'{}': a sweep takes names of at most {} characters, no commas",
+                              c.name, SweepGoverning::kMaxLoadCaseName));
+  o.field_options.measure = parse_stress_measure(a.measure);
+  o.field_options.stretch = parse_stretch_axis(a.stretch);
+  o.field_options.density = parse_density_trend(a.density);
+  // The paper's table reads δ and λ only: with `nonlinear` that is the perfect path to its first
+  // critical point (no imperfect path, no steps past it: arc_length stops there), so the
+  // stability block's second path is not asked for. The Eurocode verdict is design's, which
+  // follows the imperfect paths too (unless --single-path, as in design).
+  o.frame_analysis.stability = o.frame.loads == analysis::LoadModel::eurocode && !a.single_path;
+  o.frame_analysis.imperfection = false;
+  o.frame_analysis.path_goal = analysis::PathGoal::critical;
+  o.tessellation.length = a.length;
+  o.tessellation.cells = a.length > 0 ? 0 : a.cells;
+  check_design_options(o);  // with D = A = 1: the cases' D and A are checked with the cases
+  return o;
+}
+
+/// One case's row, and the seconds of its stages.
+struct CaseRun {
+  SweepRow row;
+  Timings timings;
+};
+
+/// Designs case `c` (`base` with its D, A and seed) and analyses it; with --loads eurocode
+/// judges it by design's rule: every combination (combinations_block) and the governing
+/// verdicts (governing_block), as `gridshell design` writes them in report.json.
+CaseRun run_case(const Surface& surface, const DesignOptions& base, const SweepCase& c,
+                 const StressField* stress, DesignCache& cache) {
+  DesignOptions o = base;
+  o.D = c.D, o.A = c.A;
+  o.tessellation.seed = c.seed;
+  const DesignResult r = stress ? run_design(surface, o, *stress, cache)
+                                : run_design(surface, o, cache);
+  CaseRun out;
+  out.row.c = c;
+  out.row.cells = r.mesh.num_faces();
+  out.row.total_length = r.metrics.total_length;
+  for (const auto& [stage, seconds] : r.timings) out.timings.add("cases_" + stage, seconds);
+  if (!r.structure) return out;
+  out.row.delta = r.structure->delta_max_m;
+  out.row.lambda =
+      r.structure->lambda_nonlinear.value_or(r.structure->lambda_linear_buckling.value_or(0.0));
+  for (const auto& [stage, seconds] : r.structure->timings)
+    if (stage != "total") out.timings.add("cases_analysis_" + stage, seconds);
+  if (o.frame.loads != analysis::LoadModel::eurocode) return out;
+  Stopwatch watch;
+  const nlohmann::json combinations =
+      combinations_block(r.mesh, r.supports, o.frame, o.frame_analysis, *r.structure);
+  out.row.governing = sweep_governing(governing_block(combinations));
+  out.timings.add("cases_combinations", watch.seconds());
+  return out;
+}
+
+/// The log line of a finished case.
+std::string case_summary(const SweepRow& row) {
+  std::string s = fmt::format("lambda = {:.4g}, delta = {:.4g} m", row.lambda, row.delta);
+  const SweepGoverning& g = row.governing;
+  if (!g.judged) return s;
+  if (g.utilisation.known) s += fmt::format(", utilisation {:.3g}", g.utilisation.value);
+  if (g.lambda.known) s += fmt::format(", governing lambda {:.4g}", g.lambda.value);
+  if (g.delta.known) s += fmt::format(", governing delta {:.4g} m", g.delta.value);
+  return s + (g.pass ? ": pass" : ": fail");
+}
+
 int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& mpi) {
   RunOptions run = a.run;
   if (mpi.active() && run.threads == 0) run.threads = mpi.threads_per_rank();
   const auto guard = apply_run_options(run);
   const auto start = std::chrono::steady_clock::now();
-  if (!(a.length > 0) && a.cells <= 0)
-    throw Error("--length", "give the common total beam length L (m) (or --cells N)");
-  std::string field_file;
-  const FieldInput field = parse_field_input(a.field, &field_file);
-  const analysis::AnalysisLevel level = analysis::parse_analysis_level(a.analyze);
-  const AnalysisResolution resolution = parse_analysis_resolution(a.resolution);
-  analysis::GridshellFrameOptions frame;
-  analysis::FrameAnalysisOptions member_checks;
-  apply_member_options(a.members, frame, member_checks);
-  FieldOptions conventions;
-  conventions.measure = parse_stress_measure(a.measure);
-  conventions.stretch = parse_stretch_axis(a.stretch);
-  conventions.density = parse_density_trend(a.density);
-  const Surface surface = load_surface(a.surface, a.surface_options);
-  // What does not change between cases is computed once: the analysis surface and the stress
-  // (or the file's), and per (D, A) the field and M′ (the repeats differ only in the seed).
-  DesignCache cache;
-  StressField stress;
-  if (field == FieldInput::file) stress = read_field_file(field_file, surface.mesh);
+  DesignOptions options = sweep_design_options(a);
   std::vector<SweepCase> cases =
       sweep_cases(parse_range(a.D, "--D"), parse_range(a.A, "--A"), a.repeats, a.run.seed);
+  for (const auto& c : cases)
+    if (c.D < 1 || c.A < 1) throw Error("--D/--A", "values must be ≥ 1");
   const std::size_t all = cases.size();
   if (!a.shard.empty()) cases = shard_cases(cases, a.shard);
   if (mpi.active()) {  // rank r takes every size-th case of the (sharded) list
@@ -73,63 +140,36 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
       mine.push_back(cases[i]);
     cases = std::move(mine);
   }
+  const Surface surface = load_surface(a.surface, a.surface_options);
+  attach_load_case_surface(options.frame, surface.mesh);
+  // What does not change between cases is computed once: the analysis surface and the stress
+  // (or the file's), and per (D, A) the field and M′ (the repeats differ only in the seed).
+  DesignCache cache;
+  std::optional<StressField> stress;
+  if (options.field == FieldInput::file)
+    stress = read_field_file(options.field_file, surface.mesh);
   spdlog::info("[sweep] {} of {} cases on {}{}", cases.size(), all, a.surface,
                mpi.active() ? fmt::format(" (MPI rank {} of {})", mpi.rank(), mpi.size()) : "");
-  for (const auto& c : cases)
-    if (c.D < 1 || c.A < 1) throw Error("--D/--A", "values must be ≥ 1");
   std::atomic<int> finished{0};
   // Seconds per stage summed over this process's cases (thread-seconds: cases run in parallel),
   // the frame analysis split into its parts: where a sweep's time goes (docs/performance.md).
   Timings case_timings;
   std::mutex case_timings_mutex;
   const auto mine = run_sweep(cases, [&](const SweepCase& c) {
-    DesignOptions o;
-    o.field = field;
-    o.field_file = field_file;
-    o.field_options.measure = conventions.measure;
-    o.field_options.stretch = conventions.stretch;
-    o.field_options.density = conventions.density;
-    o.D = c.D, o.A = c.A;
-    o.analyze = level;
-    o.frame.section = frame.section;
-    o.frame_analysis.checks.buckling_length_factor = member_checks.checks.buckling_length_factor;
-    // The table reads δ and λ only: with `nonlinear` that is the perfect path to its first
-    // critical point (no imperfect path, no steps past it: arc_length stops there), so the
-    // stability block's second path is not asked for.
-    o.frame_analysis.stability = false;
-    o.frame_analysis.imperfection = false;
-    o.frame_analysis.path_goal = analysis::PathGoal::critical;
-    o.tessellation.seed = c.seed;
-    o.tessellation.length = a.length;
-    o.tessellation.cells = a.length > 0 ? 0 : a.cells;
-    o.analysis_resolution = resolution;
     const auto case_start = std::chrono::steady_clock::now();
-    const DesignResult r = field == FieldInput::file ? run_design(surface, o, stress, cache)
-                                                     : run_design(surface, o, cache);
-    SweepRow row;
-    row.c = c;
-    row.cells = r.mesh.num_faces();
-    row.total_length = r.metrics.total_length;
-    if (r.structure) {
-      row.delta = r.structure->delta_max_m;
-      row.lambda =
-          r.structure->lambda_nonlinear.value_or(r.structure->lambda_linear_buckling.value_or(0.0));
-    }
+    CaseRun done = run_case(surface, options, c, stress ? &*stress : nullptr, cache);
     {
       const std::lock_guard<std::mutex> lock(case_timings_mutex);
-      for (const auto& [stage, seconds] : r.timings) case_timings.add("cases_" + stage, seconds);
-      if (r.structure)
-        for (const auto& [stage, seconds] : r.structure->timings)
-          if (stage != "total") case_timings.add("cases_analysis_" + stage, seconds);
+      for (const auto& [stage, seconds] : done.timings) case_timings.add(stage, seconds);
     }
     const int k = ++finished;
     spdlog::info(
-        "[sweep] {}/{}: D = {}, A = {}, repeat {}: lambda = {:.4g}, delta = {:.4g} m ({:.1f} s)", k,
-        cases.size(), c.D, c.A, c.repeat, row.lambda, row.delta,
+        "[sweep] {}/{}: D = {}, A = {}, repeat {}: {} ({:.1f} s)", k, cases.size(), c.D, c.A,
+        c.repeat, case_summary(done.row),
         std::chrono::duration<double>(std::chrono::steady_clock::now() - case_start).count());
     report_progress(guard.progress, "sweep", static_cast<double>(k) / cases.size(),
                     fmt::format("{}/{} cases", k, cases.size()));
-    return row;
+    return done.row;
   });
   const std::vector<SweepRow> rows = mpi.gather(mine);
   if (mpi.rank() != 0) return 0;  // rank 0 writes every output
@@ -155,6 +195,8 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   const double figures_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
   report["surface"] = a.surface;
+  report["loads"] = a.checks.loads;
+  report["points"] = sweep_points_json(rows);
   report["cases"] = rows.size();
   report["cases_total"] = all;
   report["shard"] = a.shard.empty() ? "1/1" : a.shard;
@@ -210,10 +252,17 @@ void register_sweep(CLI::App& app, Action& action) {
       ->default_str("nonlinear");
   sub->add_option("--analysis-resolution", a->resolution, "cells | input (as in design)")
       ->default_str("cells");
+  add_load_check_options(sub, a->checks);
+  sub->add_flag("--single-path", a->single_path,
+                "--loads eurocode: follow only the perfect non-linear path (as design "
+                "--single-path; without it each case is judged with the imperfect paths too)");
   sub->footer(
-      "Writes sweep.csv (D,A,repeat,seed,cells,total_length,lambda,delta), lambda.svg,\n"
-      "delta.svg, figures/lambda_heatmap.png, figures/delta_heatmap.png, report.json and\n"
-      "config.json. Under `mpirun -n K` (MPI build) the ranks share\n"
+      "Writes sweep.csv (D,A,repeat,seed,cells,total_length,lambda,delta; with --loads\n"
+      "eurocode also governing_utilisation,governing_lambda,governing_delta,pass and the\n"
+      "governing combinations: each case judged as design judges it), lambda.svg,\n"
+      "delta.svg, figures/lambda_heatmap.png, figures/delta_heatmap.png, report.json (points:\n"
+      "the rows, with design's structure.governing block per case) and config.json.\n"
+      "Under `mpirun -n K` (MPI build) the ranks share\n"
       "the cases and rank 0 writes the outputs; rows equal those of a single process.");
   add_surface_options(sub, a->surface_options);
   add_run_options(sub, a->run);

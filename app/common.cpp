@@ -292,7 +292,10 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
       for (const auto& p : cfg["positional"]) out.push_back(p.get<std::string>());
   for (const auto& [name, value] : cfg["options"].items()) {
     if (is_given(name)) continue;
-    const std::string flag = name.size() == 1 ? "-" + name : "--" + name;
+    // A one-letter name is a short flag (design's -D) unless the command has it as a long one
+    // (sweep's --D).
+    const bool is_short = name.size() == 1 && sub->get_option_no_throw("--" + name) == nullptr;
+    const std::string flag = is_short ? "-" + name : "--" + name;
     if (value.is_boolean()) {
       if (value.get<bool>()) out.push_back(flag);
     } else if (value.is_array()) {

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <type_traits>
+
 #include "gridshell/core/error.h"
+#include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/sweep.h"
 
 using namespace gridshell;
@@ -57,4 +60,51 @@ TEST(Sweep, ParallelRunFillsRowsInCaseOrder) {
   EXPECT_NE(svg.find("<text x=\"95\" y=\"229\" text-anchor=\"middle\">11.5</text>"),
             std::string::npos)
       << svg;
+}
+
+TEST(Sweep, RowsKeepDesignsGoverningBlockKeyForKey) {
+  // design's governing_block over hand-written combinations (the drifted ones govern, δ fails)
+  // survives the row's plain values unchanged; a block without λ (no buckling analysis) leaves
+  // the λ cells empty; rows travel between MPI ranks as bytes.
+  static_assert(std::is_trivially_copyable_v<SweepRow>);
+  const nlohmann::json combinations = {
+      {"ULS", {{"uls", true}, {"lambda", 2.5}, {"utilisation_max", 0.4}, {"delta_max_m", 0.05},
+               {"delta_limit_m", 0.0667}}},
+      {"ULS_S_x+", {{"uls", true}, {"lambda", 1.6}, {"utilisation_max", 0.9},
+                    {"delta_max_m", 0.12}, {"delta_limit_m", 0.0667}}},
+      {"SLS_S_x+", {{"uls", false}, {"delta_max_m", 0.09}, {"delta_limit_m", 0.0667}}}};
+  const nlohmann::json g = governing_block(combinations);
+  ASSERT_EQ(g.at("lambda"), "ULS_S_x+");
+  ASSERT_FALSE(g.at("pass").get<bool>());
+  EXPECT_EQ(governing_json(sweep_governing(g)), g);
+  nlohmann::json linear = combinations;
+  for (auto& [name, c] : linear.items()) c.erase("lambda");
+  const nlohmann::json gl = governing_block(linear);
+  ASSERT_FALSE(gl.contains("lambda"));
+  EXPECT_EQ(governing_json(sweep_governing(gl)), gl);
+
+  std::vector<SweepRow> rows(2);
+  rows[0].c = sweep_cases({2}, {1}, 1, 1)[0];
+  rows[0].governing = sweep_governing(g);
+  rows[1].governing = sweep_governing(gl);
+  const std::string csv = sweep_csv(rows);
+  const std::string header = csv.substr(0, csv.find('\n'));
+  EXPECT_EQ(header,
+            "D,A,repeat,seed,cells,total_length,lambda,delta,governing_utilisation,"
+            "governing_lambda,governing_delta,pass,governing_utilisation_combination,"
+            "governing_lambda_combination,governing_delta_combination");
+  EXPECT_NE(csv.find(",0.9,1.6,0.09,false,ULS_S_x+,ULS_S_x+,SLS_S_x+\n"), std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find(",0.9,,0.09,false,ULS_S_x+,,SLS_S_x+\n"), std::string::npos) << csv;
+  const nlohmann::json points = sweep_points_json(rows);
+  EXPECT_EQ(points.at(0).at("governing"), g);
+  EXPECT_EQ(points.at(0).at("D").get<double>(), 2);
+  // Unjudged rows (the paper's load) keep the columns of the paper's table.
+  const std::string paper = sweep_csv({SweepRow{}});
+  EXPECT_EQ(paper.substr(0, paper.find('\n')), "D,A,repeat,seed,cells,total_length,lambda,delta");
+  EXPECT_FALSE(sweep_points_json({SweepRow{}}).at(0).contains("governing"));
+  // A combination name that does not fit a row is an error, never a cut name.
+  nlohmann::json long_name = g;
+  long_name["lambda"] = std::string(SweepGoverning::kNameSize, 'x');
+  EXPECT_THROW(sweep_governing(long_name), Error);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <sstream>
 
@@ -92,14 +93,104 @@ std::vector<SweepRow> run_sweep(const std::vector<SweepCase>& cases,
   return rows;
 }
 
+namespace {
+/// The governing block's keys of each figure: its combination, value and verdict.
+struct FigureKeys {
+  const char* name;
+  const char* value;
+  const char* pass;
+};
+constexpr FigureKeys kUtilisation{"utilisation", "utilisation_value", "utilisation_pass"};
+constexpr FigureKeys kLambda{"lambda", "lambda_value", "lambda_pass"};
+constexpr FigureKeys kDelta{"delta", "delta_m", "delta_pass"};
+
+SweepGoverning::Figure read_figure(const nlohmann::json& g, const FigureKeys& k) {
+  SweepGoverning::Figure f;
+  if (!g.contains(k.name)) return f;
+  const std::string name = g.at(k.name).get<std::string>();
+  if (name.size() >= SweepGoverning::kNameSize)
+    throw Error("--load-case", fmt::format("combination name '{}' is longer than {} characters",
+                                           name, SweepGoverning::kNameSize - 1));
+  std::memcpy(f.combination, name.c_str(), name.size() + 1);
+  f.known = true;
+  f.value = g.at(k.value).get<double>();
+  f.judged = g.contains(k.pass);
+  if (f.judged) f.pass = g.at(k.pass).get<bool>();
+  return f;
+}
+
+void write_figure(nlohmann::json& g, const SweepGoverning::Figure& f, const FigureKeys& k) {
+  if (!f.known) return;
+  g[k.name] = std::string(f.combination);
+  g[k.value] = f.value;
+  if (f.judged) g[k.pass] = f.pass;
+}
+
+/// A CSV cell: the number, or empty when it was not computed.
+std::string cell(const SweepGoverning::Figure& f) {
+  return f.known ? io::format_number(f.value) : std::string();
+}
+}  // namespace
+
+SweepGoverning sweep_governing(const nlohmann::json& governing) {
+  SweepGoverning g;
+  g.judged = true;
+  g.utilisation = read_figure(governing, kUtilisation);
+  g.lambda = read_figure(governing, kLambda);
+  g.delta = read_figure(governing, kDelta);
+  g.pass = governing.at("pass").get<bool>();
+  return g;
+}
+
+nlohmann::json governing_json(const SweepGoverning& g) {
+  nlohmann::json j = nlohmann::json::object();
+  write_figure(j, g.utilisation, kUtilisation);
+  write_figure(j, g.lambda, kLambda);
+  write_figure(j, g.delta, kDelta);
+  j["pass"] = g.pass;
+  return j;
+}
+
 std::string sweep_csv(const std::vector<SweepRow>& rows) {
-  std::string s = "D,A,repeat,seed,cells,total_length,lambda,delta\n";
-  for (const auto& r : rows)
+  const bool judged = std::any_of(rows.begin(), rows.end(),
+                                  [](const SweepRow& r) { return r.governing.judged; });
+  std::string s = "D,A,repeat,seed,cells,total_length,lambda,delta";
+  if (judged)
+    s += ",governing_utilisation,governing_lambda,governing_delta,pass,"
+         "governing_utilisation_combination,governing_lambda_combination,"
+         "governing_delta_combination";
+  s += "\n";
+  for (const auto& r : rows) {
     s +=
-        fmt::format("{},{},{},{},{},{},{},{}\n", io::format_number(r.c.D), io::format_number(r.c.A),
+        fmt::format("{},{},{},{},{},{},{},{}", io::format_number(r.c.D), io::format_number(r.c.A),
                     r.c.repeat, r.c.seed, r.cells, io::format_number(r.total_length),
                     io::format_number(r.lambda), io::format_number(r.delta));
+    const SweepGoverning& g = r.governing;
+    if (judged)
+      s += fmt::format(",{},{},{},{},{},{},{}", cell(g.utilisation), cell(g.lambda),
+                       cell(g.delta), g.pass ? "true" : "false", g.utilisation.combination,
+                       g.lambda.combination, g.delta.combination);
+    s += "\n";
+  }
   return s;
+}
+
+nlohmann::json sweep_points_json(const std::vector<SweepRow>& rows) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const auto& r : rows) {
+    nlohmann::json p;
+    p["D"] = r.c.D;
+    p["A"] = r.c.A;
+    p["repeat"] = r.c.repeat;
+    p["seed"] = r.c.seed;
+    p["cells"] = r.cells;
+    p["total_length_m"] = r.total_length;
+    p["lambda"] = r.lambda;
+    p["delta_m"] = r.delta;
+    if (r.governing.judged) p["governing"] = governing_json(r.governing);
+    points.push_back(std::move(p));
+  }
+  return points;
 }
 
 SweepGrid sweep_grid(const std::vector<SweepRow>& rows,
