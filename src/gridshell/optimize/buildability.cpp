@@ -85,11 +85,7 @@ bool within(const Star& a, const Star& b, double limit, double bound, long max_n
   return false;
 }
 
-/// Above this valence a star's cell has only its mean dot product (O(k) instead of O(k²)).
-constexpr int kFullDescriptorValence = 64;
-
-/// The hash cell of a star: its valence and up to three coordinates (smallest, largest and
-/// mean pairwise dot product), each on a grid of step h.
+/// The hash cell of a star: its valence and up to three coordinates, each on a grid of step h.
 struct Cell {
   int valence = 0;
   int dims = 0;
@@ -100,43 +96,58 @@ struct Cell {
 struct CellHash {
   std::size_t operator()(const Cell& x) const {
     std::uint64_t h = static_cast<std::uint64_t>(x.valence) * 0x9E3779B97F4A7C15ull;
-    for (std::int64_t v : x.c) h = (h ^ static_cast<std::uint64_t>(v)) * 0x100000001B3ull + 0x7F4A7C15u;
+    for (std::int64_t v : x.c)
+      h = (h ^ static_cast<std::uint64_t>(v)) * 0x100000001B3ull + 0x7F4A7C15u;
     return static_cast<std::size_t>(h ^ (h >> 29));
   }
 };
 
-/// The bound on how far a descriptor coordinate moves between stars within δ: √(2k)·δ, with a
+/// The bound on how far a descriptor entry moves between stars within δ: √(2k)·δ, with a
 /// little slack for rounding.
-double dot_bound(int k, double delta) {
-  return std::sqrt(2.0 * k) * delta * (1 + 1e-9) + 1e-12;
-}
+double dot_bound(int k, double delta) { return std::sqrt(2.0 * k) * delta * (1 + 1e-9) + 1e-12; }
 
-Cell star_cell(const Star& s, double h) {
-  Cell cell;
+/// Above this valence a star is described by its mean dot product alone (O(k) instead of
+/// O(k²) work and memory).
+constexpr int kFullDescriptorValence = 64;
+
+/// A star's descriptor: its pairwise dot products u_i·u_j (i < j) sorted ascending, or for a
+/// valence above kFullDescriptorValence their mean, (|Σu|² − Σ|u|²) / (k(k − 1)). Between two
+/// stars within δ each entry moves by at most √(2k)·δ (sorting keeps that bound).
+std::vector<double> star_descriptor(const Star& s) {
   const int k = static_cast<int>(s.size());
-  cell.valence = k;
-  if (k < 2) return cell;
-  if (k > kFullDescriptorValence) {  // mean of u_i·u_j over i < j = (|Σu|² − Σ|u|²) / (k(k − 1))
+  std::vector<double> d;
+  if (k < 2) return d;
+  if (k > kFullDescriptorValence) {
     Vec3 sum = Vec3::Zero();
     double sq = 0;
     for (const Vec3& u : s) sum += u, sq += u.squaredNorm();
-    cell.dims = 1;
-    cell.c[0] = static_cast<std::int64_t>(std::floor((sum.squaredNorm() - sq) / (k * (k - 1.0)) / h));
-    return cell;
+    d.push_back((sum.squaredNorm() - sq) / (k * (k - 1.0)));
+    return d;
   }
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0;
+  d.reserve(k * (k - 1) / 2);
   for (int i = 0; i < k; ++i)
-    for (int j = i + 1; j < k; ++j) {
-      const double d = s[i].dot(s[j]);
-      lo = std::min(lo, d);
-      hi = std::max(hi, d);
-      sum += d;
-    }
-  const double mean = sum / (0.5 * k * (k - 1));
-  const std::array<double, 3> x{lo, hi, mean};
-  cell.dims = k == 2 ? 1 : 3;
-  for (int d = 0; d < cell.dims; ++d) cell.c[d] = static_cast<std::int64_t>(std::floor(x[d] / h));
+    for (int j = i + 1; j < k; ++j) d.push_back(s[i].dot(s[j]));
+  std::sort(d.begin(), d.end());
+  return d;
+}
+
+/// The cell of a star: its valence and the three largest entries of its descriptor (fewer
+/// when it has fewer) on a grid of step h. The largest dot products vary the most between
+/// stars of a grid-shell (those near −1, beams running straight on, vary only to second order).
+Cell star_cell(int valence, const std::vector<double>& d, double h) {
+  Cell cell;
+  cell.valence = valence;
+  cell.dims = std::min<int>(3, static_cast<int>(d.size()));
+  for (int i = 0; i < cell.dims; ++i)
+    cell.c[i] = static_cast<std::int64_t>(std::floor(d[d.size() - 1 - i] / h));
   return cell;
+}
+
+/// Whether two descriptors (same valence) are within h entry by entry.
+bool descriptors_near(const std::vector<double>& a, const std::vector<double>& b, double h) {
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (std::abs(a[i] - b[i]) > h) return false;
+  return true;
 }
 
 void check_options(const BuildabilityOptions& o) {
@@ -171,17 +182,19 @@ JointClusters cluster_joints(const std::vector<std::vector<Vec3>>& stars,
   JointClusters r;
   r.cluster.assign(stars.size(), -1);
   std::unordered_map<Cell, std::vector<int>, CellHash> centres;  // star ids of the centres
+  std::vector<std::vector<double>> descriptor(stars.size());
   std::map<int, ValenceClusters> per;
   for (std::size_t s = 0; s < stars.size(); ++s) {
     const Star& star = stars[s];
     const int k = static_cast<int>(star.size());
     const double h = dot_bound(k, delta);
-    const Cell cell = star_cell(star, h);
+    descriptor[s] = star_descriptor(star);
+    const Cell cell = star_cell(k, descriptor[s], h);
     ValenceClusters& v = per[k];
     v.valence = k;
     ++v.joints;
     // Every centre within δ lies in one of the 3^dims cells around this one.
-    const int n = cell.dims == 0 ? 1 : cell.dims == 1 ? 3 : 27;
+    const int n = cell.dims == 0 ? 1 : cell.dims == 1 ? 3 : cell.dims == 2 ? 9 : 27;
     bool capped = false;
     int compared = 0;
     for (int o = 0; o < n && r.cluster[s] < 0 && compared <= options.max_candidates; ++o) {
@@ -190,6 +203,7 @@ JointClusters cluster_joints(const std::vector<std::vector<Vec3>>& stars,
       const auto it = centres.find(q);
       if (it == centres.end()) continue;
       for (int c : it->second) {
+        if (!descriptors_near(descriptor[s], descriptor[c], h)) continue;
         if (++compared > options.max_candidates) {
           capped = true;  // the star becomes a centre without further comparisons
           break;
@@ -205,6 +219,8 @@ JointClusters cluster_joints(const std::vector<std::vector<Vec3>>& stars,
       r.cluster[s] = r.clusters++;
       ++v.clusters;
       centres[cell].push_back(static_cast<int>(s));
+    } else {
+      descriptor[s] = {};  // only centres' descriptors are read again
     }
   }
   for (const auto& [k, v] : per) r.by_valence.push_back(v);
