@@ -288,6 +288,10 @@ TEST(BuildabilityCli, DesignAndBaselineReportTheBlock) {
   EXPECT_EQ(b.at("distinct_sections").get<int>(), 1);
   EXPECT_DOUBLE_EQ(b.at("joint_tolerance").get<double>(), 0.01);
   EXPECT_EQ(b.at("capped_comparisons").get<int>(), 0);
+  // CONTRACT.md's names of the same figures.
+  EXPECT_EQ(b.at("planarity"), b.at("face_planarity"));
+  EXPECT_EQ(b.at("beam_similarity"), b.at("beam_length_similarity"));
+  EXPECT_EQ(b.at("sections_distinct"), b.at("distinct_sections"));
 
   const fs::path q = test::temp_dir("buildability_cli_quad");
   const auto s = test::run_gridshell(

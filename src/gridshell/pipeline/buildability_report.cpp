@@ -20,6 +20,10 @@ nlohmann::json buildability_block(const PolyMesh& mesh,
   j["short_beams"] = b.short_beams;
   j["capped_comparisons"] = b.capped_comparisons;
   j["benchmark"] = "FreeGrid (IASS 2023), freeGridBuildability.py";
+  // The names of CONTRACT.md for the same three figures.
+  j["planarity"] = b.face_planarity;
+  j["beam_similarity"] = b.beam_length_similarity;
+  j["sections_distinct"] = b.distinct_sections;
   return j;
 }
 

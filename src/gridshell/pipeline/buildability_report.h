@@ -8,7 +8,9 @@
 /// beam_length_similarity, distinct_sections, joint_tolerance (δ of the joint clustering),
 /// min_beam_length_m (beams this short or shorter are not in the length figure), short_beams,
 /// capped_comparisons (0 unless a joint search hit its bound), benchmark (where the definitions
-/// come from). Cost: that of `buildability` (about linear in the joints).
+/// come from); and CONTRACT.md's names of three of them: planarity (= face_planarity),
+/// beam_similarity (= beam_length_similarity), sections_distinct (= distinct_sections).
+/// Cost: that of `buildability` (about linear in the joints).
 
 #include <string>
 #include <vector>
