@@ -29,7 +29,8 @@ PolyMesh perturbed_dual() {
   PolyMesh m = dual_polygon_mesh(surface).mesh;
   Rng rng(5);
   for (int v = 0; v < m.num_vertices(); ++v)
-    m.V.row(v) += 0.05 * Eigen::RowVector3d(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    m.V.row(v) +=
+        0.05 * Eigen::RowVector3d(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
   return m;
 }
 
@@ -40,8 +41,10 @@ PolyMesh quad_grid(int n, bool triangles, double jitter) {
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) {
       const double x = triangles ? i + 0.5 * j : i, y = triangles ? 0.8660254037844386 * j : j;
-      const double z = triangles ? 0 : 0.002 * ((x - n / 2.0) * (x - n / 2.0) + (y - n / 2.0) * (y - n / 2.0));
-      m.V.row(j * (n + 1) + i) << x + jitter * rng.uniform(-1, 1), y + jitter * rng.uniform(-1, 1), z;
+      const double z =
+          triangles ? 0 : 0.002 * ((x - n / 2.0) * (x - n / 2.0) + (y - n / 2.0) * (y - n / 2.0));
+      m.V.row(j * (n + 1) + i) << x + jitter * rng.uniform(-1, 1), y + jitter * rng.uniform(-1, 1),
+          z;
     }
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
@@ -62,7 +65,8 @@ const PolyMesh& mesh_of(int which) {
   return meshes[which];
 }
 
-const char* kNames[] = {"dual of dome:res=116, perturbed", "quad grid 140x140 on a paraboloid, perturbed",
+const char* kNames[] = {"dual of dome:res=116, perturbed",
+                        "quad grid 140x140 on a paraboloid, perturbed",
                         "triangle grid 140x140, regular"};
 
 void BM_Buildability(benchmark::State& state) {
@@ -83,8 +87,8 @@ int main(int argc, char** argv) {
     for (int k = 0; k < 3; ++k) {
       const Buildability b = buildability(mesh_of(k), {});
       std::printf("%s: %d joints, %d clusters, planarity %.5f, length similarity %.4f, capped %d\n",
-                  kNames[k], b.joints, b.joint_clusters, b.face_planarity,
-                  b.beam_length_similarity, b.capped_comparisons);
+                  kNames[k], b.joints, b.joint_clusters, b.face_planarity, b.beam_length_similarity,
+                  b.capped_comparisons);
     }
     return 0;
   }

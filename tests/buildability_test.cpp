@@ -150,9 +150,8 @@ TEST(Buildability, BeamLengthSimilarityUsesTheSampleDeviationAndLeavesOutShortBe
 TEST(Buildability, CorrugatedGridHasTwoInteriorJointTypes) {
   // z = 1 on every third column: interior joints next to a ridge (i mod 3 = 0 or 2, mirror
   // images of each other by a half turn about z) and on a ridge (i mod 3 = 1).
-  const PolyMesh m = quad_grid(spaced(9, 1), spaced(5, 1), [](int i, int) {
-    return i % 3 == 1 ? 1.0 : 0.0;
-  });
+  const PolyMesh m =
+      quad_grid(spaced(9, 1), spaced(5, 1), [](int i, int) { return i % 3 == 1 ? 1.0 : 0.0; });
   const Buildability b = buildability(m, {});
   EXPECT_EQ(clusters_of_valence(b, 4), 2);
   std::set<int> beside, ridge;
@@ -204,7 +203,8 @@ TEST(Buildability, PrunedSearchAgreesWithTheExhaustiveDistance) {
     const Eigen::Matrix3d R =
         Eigen::AngleAxisd(rng.uniform(0, 2 * kPi), random_unit(rng)).toRotationMatrix();
     const double noise = rng.uniform(0, 2.5 * delta);
-    for (int i = 0; i < k; ++i) b.push_back((R * a[(i + trial) % k] + noise * random_unit(rng)).normalized());
+    for (int i = 0; i < k; ++i)
+      b.push_back((R * a[(i + trial) % k] + noise * random_unit(rng)).normalized());
     const double d = joint_distance(a, b);
     if (std::abs(d - delta) < 1e-9) continue;  // too close to call
     const bool near = d <= delta;
@@ -223,7 +223,8 @@ TEST(Buildability, FiguresDoNotChangeUnderRotationTranslationAndScale) {
   for (int v = 0; v < m.num_vertices(); ++v)
     m.V.row(v) += Eigen::RowVector3d(rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), 0);
   const Buildability b = buildability(m, {});
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(1.1, Vec3(0.3, -1, 2).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(1.1, Vec3(0.3, -1, 2).normalized()).toRotationMatrix();
   PolyMesh moved = m;
   for (int v = 0; v < m.num_vertices(); ++v)
     moved.V.row(v) = (2.5 * (R * m.vertex(v)) + Vec3(40, -7, 3)).transpose();
@@ -241,8 +242,8 @@ TEST(Buildability, DistinctSectionsCountsTheNamesGiven) {
   const PolyMesh m = quad_grid({0, 1, 2}, {0, 1}, [](int, int) { return 0.0; });  // 7 beams
   EXPECT_EQ(buildability(m, {}).distinct_sections, 1);
   EXPECT_EQ(buildability(m, std::vector<std::string>(7, "CHS 88.9x4")).distinct_sections, 1);
-  EXPECT_EQ(buildability(m, {"CHS 88.9x4", "CHS 114.3x5", "CHS 88.9x4", "CHS 60.3x3",
-                             "CHS 88.9x4", "CHS 114.3x5", "CHS 88.9x4"})
+  EXPECT_EQ(buildability(m, {"CHS 88.9x4", "CHS 114.3x5", "CHS 88.9x4", "CHS 60.3x3", "CHS 88.9x4",
+                             "CHS 114.3x5", "CHS 88.9x4"})
                 .distinct_sections,
             3);
   EXPECT_THROW(buildability(m, {"CHS 88.9x4"}), Error);
@@ -270,8 +271,8 @@ TEST(BuildabilityCli, DesignAndBaselineReportTheBlock) {
   const nlohmann::json& b = report.at("buildability");
   const nlohmann::json& mesh = report.at("mesh");
   // Face planarity is 1 + the mesh's mean panel planarity (the same Δ(f), no triangles here).
-  EXPECT_NEAR(b.at("face_planarity").get<double>(),
-              1 + mesh.at("planarity_mean").get<double>(), 1e-12);
+  EXPECT_NEAR(b.at("face_planarity").get<double>(), 1 + mesh.at("planarity_mean").get<double>(),
+              1e-12);
   EXPECT_EQ(b.at("joints").get<int>(), mesh.at("vertices").get<int>());
   // 1 + sample deviation / mean = 1 + population cv · √(n / (n − 1)) (no beam under 0.1 m).
   const double n = mesh.at("edges").get<double>();

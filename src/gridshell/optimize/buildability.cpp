@@ -9,8 +9,8 @@
 #include <numeric>
 #include <unordered_map>
 
-#include <Eigen/SVD>
 #include <fmt/format.h>
+#include <Eigen/SVD>
 
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
@@ -104,7 +104,9 @@ struct CellHash {
 
 /// The bound on how far a descriptor entry moves between stars within δ: √(2k)·δ, with a
 /// little slack for rounding.
-double dot_bound(int k, double delta) { return std::sqrt(2.0 * k) * delta * (1 + 1e-9) + 1e-12; }
+double dot_bound(int k, double delta) {
+  return std::sqrt(2.0 * k) * delta * (1 + 1e-9) + 1e-12;
+}
 
 /// Above this valence a star is described by its mean dot product alone (O(k) instead of
 /// O(k²) work and memory).
@@ -152,8 +154,8 @@ bool descriptors_near(const std::vector<double>& a, const std::vector<double>& b
 
 void check_options(const BuildabilityOptions& o) {
   if (!(o.joint_tolerance >= 1e-6 && o.joint_tolerance <= 1))
-    throw Error("buildability", fmt::format("joint tolerance {} is outside [1e-6, 1]",
-                                            o.joint_tolerance));
+    throw Error("buildability",
+                fmt::format("joint tolerance {} is outside [1e-6, 1]", o.joint_tolerance));
   if (!(o.min_beam_length >= 0) || !std::isfinite(o.min_beam_length))
     throw Error("buildability", "the shortest beam length counted must be a number ≥ 0");
   if (o.max_search_nodes < 1 || o.max_candidates < 1)
@@ -286,12 +288,11 @@ Buildability buildability(const PolyMesh& mesh, const std::vector<std::string>& 
 
   if (!member_sections.empty()) {
     if (static_cast<int>(member_sections.size()) != b.beams)
-      throw Error("buildability", fmt::format("{} member sections for {} beams",
-                                              member_sections.size(), b.beams));
+      throw Error("buildability",
+                  fmt::format("{} member sections for {} beams", member_sections.size(), b.beams));
     std::vector<std::string> names = member_sections;
     std::sort(names.begin(), names.end());
-    b.distinct_sections =
-        static_cast<int>(std::unique(names.begin(), names.end()) - names.begin());
+    b.distinct_sections = static_cast<int>(std::unique(names.begin(), names.end()) - names.begin());
   }
   return b;
 }

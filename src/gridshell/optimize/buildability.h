@@ -30,14 +30,15 @@
 ///   beam's section (empty = every member the same section: 1).
 ///
 /// Cost: O(Σ face sizes) for planarity and lengths. Joint clustering: a star's sorted pairwise
-/// dot products differ from those of any star within δ by at most √(2k)·δ each, so a hash of
-/// (valence, the smallest, largest and mean dot product on a grid of that step) finds every
-/// centre that can be within δ among the 27 neighbouring cells; each candidate is compared by a
-/// search over pairings pruned by the same bound (a handful of 3 × 3 SVDs for the valences of
-/// grid-shells), capped by `max_search_nodes` and `max_candidates`. About linear in the joints: 20 000 joints well
-/// under a second (bench/buildability_bench.cpp). Single-threaded; deterministic.
-/// Throws Error("buildability", …) for options out of range, a face index out of range and a
-/// section list whose length is not the number of beams.
+/// dot products differ from those of any star within δ by at most √(2k)·δ each, so centres are
+/// hashed by valence and their three largest dot products on a grid of that step; a star is
+/// compared only with the centres of the 27 cells around its own whose whole sorted list is
+/// within the bound, by a search over pairings pruned by the same bound (a handful of 3 × 3
+/// SVDs for the valences of grid-shells), capped by `max_search_nodes` and `max_candidates`.
+/// About linear in the joints: 20 000 joints in 0.03–0.4 s (bench/buildability_bench.cpp).
+/// Single-threaded; deterministic.
+/// Throws Error("buildability", …) for options out of range, a face index out of range, a
+/// non-finite joint and a section list whose length is not the number of beams.
 
 #include <string>
 #include <vector>
@@ -71,13 +72,13 @@ struct ValenceClusters {
 };
 
 struct Buildability {
-  double face_planarity = 1;          ///< 1 + mean Δ(f)
-  int joints = 0;                     ///< vertices that end a beam
-  int joint_clusters = 0;             ///< Σ over valences
+  double face_planarity = 1;                ///< 1 + mean Δ(f)
+  int joints = 0;                           ///< vertices that end a beam
+  int joint_clusters = 0;                   ///< Σ over valences
   std::vector<ValenceClusters> by_valence;  ///< ascending valence
-  double beam_length_similarity = 1;  ///< 1 + s/m
-  int beams = 0;                      ///< all beams (Topology edges)
-  int short_beams = 0;                ///< beams ≤ min_beam_length, not in the length figure
+  double beam_length_similarity = 1;        ///< 1 + s/m
+  int beams = 0;                            ///< all beams (Topology edges)
+  int short_beams = 0;                      ///< beams ≤ min_beam_length, not in the length figure
   int distinct_sections = 1;
   /// Per vertex: its cluster (0 … joint_clusters − 1, numbered in order of creation), −1 for a
   /// vertex that ends no beam.
