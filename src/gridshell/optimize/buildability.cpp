@@ -34,7 +34,8 @@ double kabsch_rms2(const Star& a, const Star& b, const std::vector<int>& pair) {
     sq += a[i].squaredNorm() + q.squaredNorm();
   }
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Vec3 s = svd.singularValues();
+  // A copy: a reference makes GCC 12 warn (maybe-uninitialized) through Eigen's storage.
+  const Vec3 s = svd.singularValues();  // NOLINT(performance-unnecessary-copy-initialization)
   const double d = svd.matrixU().determinant() * svd.matrixV().determinant() < 0 ? -1.0 : 1.0;
   const double r2 = (sq - 2 * (s(0) + s(1) + d * s(2))) / static_cast<double>(a.size());
   return std::max(0.0, r2);
