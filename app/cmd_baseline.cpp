@@ -23,6 +23,7 @@
 #include "gridshell/optimize/flat_panels.h"
 #include "gridshell/optimize/projector.h"
 #include "gridshell/pipeline/baseline_field.h"
+#include "gridshell/pipeline/buildability_report.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/design_report.h"
 #include "gridshell/pipeline/frame_output.h"
@@ -219,6 +220,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                      ? PanelMode::flat
                      : PanelMode::free);
   if (!flat_info.is_null()) report["flat_panels"] = flat_info;
+  report["buildability"] = buildability_block(out.mesh, {});  // one section for every member
   report["fabrication"] = fabrication_report(a.run.out_dir, out.mesh, out.supports,
                                              structure ? &*structure : nullptr, frame, sheet);
   if (a.length > 0) {

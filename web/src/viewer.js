@@ -151,6 +151,23 @@ function row(name, value) {
   return `<tr><th>${name}</th><td>${value}</td></tr>`;
 }
 
+// The FreeGrid benchmark's buildability figures (report.json `buildability`, docs/buildability.md).
+function buildabilityFigures(b) {
+  if (!b || typeof b !== 'object') return;
+  const byValence = Object.entries(b.joint_clusters_by_valence || {})
+    .map(([k, n]) => `${n} of valence ${escapeHtml(k)}`).join(', ');
+  let html = '<table>';
+  html += row('face planarity (1 = flat)', fmt(b.face_planarity));
+  html += row('joints', b.joints);
+  html += row('joint types (clusters)', `${b.joint_clusters}${byValence ? ` (${byValence})` : ''}, ` +
+    `δ = ${fmt(b.joint_tolerance)}`);
+  html += row('beam-length similarity (1 = equal)', fmt(b.beam_length_similarity));
+  html += row('distinct sections', b.distinct_sections);
+  html += '</table>';
+  document.getElementById('buildability').innerHTML = html;
+  document.getElementById('buildability-section').hidden = false;
+}
+
 function keyFigures() {
   const mesh = report.mesh || {};
   const st = report.structure || {};
@@ -221,6 +238,7 @@ function keyFigures() {
   }
   html += '</table>';
   document.getElementById('figures-table').innerHTML = html;
+  buildabilityFigures(report.buildability);
 
   const timings = report.timings_s || {};
   let t = '<table>';

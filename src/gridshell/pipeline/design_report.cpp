@@ -12,6 +12,7 @@
 
 #include "gridshell/core/error.h"
 #include "gridshell/fabrication/fabrication_files.h"
+#include "gridshell/pipeline/buildability_report.h"
 #include "gridshell/sections/sections.h"
 
 namespace gridshell {
@@ -259,6 +260,7 @@ nlohmann::json design_report(const DesignResult& r, const DesignOptions& options
                     r.details["flat_panels"].value("panels", "") == std::string("flat");
   add_panel_keys(mesh, r.panels, flat ? PanelMode::flat : PanelMode::free);
   report["mesh"] = mesh;
+  report["buildability"] = buildability_block(r.mesh, {});  // one section for every member
   report["design"] = r.details;
   report["design"]["panels_requested"] = to_string(options.panels);
   report["design"]["regularized"] = options.regularize && !options.planarize;
