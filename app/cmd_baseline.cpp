@@ -220,7 +220,6 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                      ? PanelMode::flat
                      : PanelMode::free);
   if (!flat_info.is_null()) report["flat_panels"] = flat_info;
-  report["buildability"] = buildability_block(out.mesh, {});  // one section for every member
   report["fabrication"] = fabrication_report(a.run.out_dir, out.mesh, out.supports,
                                              structure ? &*structure : nullptr, frame, sheet);
   if (a.length > 0) {
@@ -245,6 +244,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
     write_frame_json(a.run.out_dir, analysis::gridshell_frame(out.mesh, out.supports, frame),
                      frame, options, level);
   }
+  report["buildability"] = buildability_block(out.mesh, member_designations(frame));
   if (!quad_stats.is_null()) report["quad_aniso"] = quad_stats;
   const auto t3 = Clock::now();
   report["figures"] = figures::write_figures(

@@ -195,7 +195,7 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   const double figures_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
   report["surface"] = a.surface;
-  report["loads"] = a.checks.loads;
+  report["loads"] = analysis::to_string(options.frame.loads);
   report["points"] = sweep_points_json(rows);
   report["cases"] = rows.size();
   report["cases_total"] = all;

@@ -1,7 +1,5 @@
 #include "gridshell/pipeline/design_report.h"
 
-#include "gridshell/analysis/combination_runs.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,9 +8,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "gridshell/analysis/combination_runs.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fabrication/fabrication_files.h"
 #include "gridshell/pipeline/buildability_report.h"
+#include "gridshell/pipeline/structure.h"
 #include "gridshell/sections/sections.h"
 
 namespace gridshell {
@@ -260,7 +260,8 @@ nlohmann::json design_report(const DesignResult& r, const DesignOptions& options
                     r.details["flat_panels"].value("panels", "") == std::string("flat");
   add_panel_keys(mesh, r.panels, flat ? PanelMode::flat : PanelMode::free);
   report["mesh"] = mesh;
-  report["buildability"] = buildability_block(r.mesh, {});  // one section for every member
+  report["buildability"] =
+      buildability_block(r.mesh, member_designations(analysed_frame(options, r)));
   report["design"] = r.details;
   report["design"]["panels_requested"] = to_string(options.panels);
   report["design"]["regularized"] = options.regularize && !options.planarize;

@@ -29,6 +29,12 @@ GridshellStructure analyze_structure(const PolyMesh& mesh, const std::vector<int
   return out;
 }
 
+std::vector<std::string> member_designations(const analysis::GridshellFrameOptions& frame) {
+  std::vector<std::string> out;
+  for (const sections::Section& s : frame.member_sections) out.push_back(sections::designation(s));
+  return out;
+}
+
 double plan_area(const PolyMesh& mesh) {
   double a = 0;
   for (int f = 0; f < mesh.num_faces(); ++f) a += std::abs(vector_area(mesh, f).z());

@@ -6,6 +6,7 @@
 /// figures of a sized design (steel mass per plan area, embodied carbon, distinct sections).
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -42,6 +43,10 @@ GridshellStructure analyze_structure(const PolyMesh& mesh, const std::vector<int
                                      const analysis::GridshellFrameOptions& frame,
                                      const analysis::FrameAnalysisOptions& options,
                                      const StructureOptions& structure);
+
+/// Per member (topology edge order) its section's designation; empty when every member has
+/// the frame's one section.
+std::vector<std::string> member_designations(const analysis::GridshellFrameOptions& frame);
 
 /// Plan area [m²] of a grid-shell: Σ over panels of the vertical component of their vector area.
 double plan_area(const PolyMesh& mesh);
