@@ -102,6 +102,53 @@ std::pair<double, bool> corner_angles(const std::vector<Eigen::Vector2d>& q) {
 
 using namespace flat_detail;
 
+namespace flat_detail {
+
+std::vector<std::array<Side, 3>> inside_sides(const Layout& L, const std::vector<Vec3>& x0) {
+  const int nf = static_cast<int>(L.faces.size());
+  std::vector<Vec3> centre(nf, Vec3::Zero());
+  for (int f = 0; f < nf; ++f) {
+    for (int j : L.faces[f]) centre[f] += x0[j];
+    centre[f] /= static_cast<double>(std::max<std::size_t>(1, L.faces[f].size()));
+  }
+  std::vector<std::array<Side, 3>> out(L.joints.size());
+  for (std::size_t j = 0; j < L.joints.size(); ++j) {
+    const int* pl = L.joints[j].plane;
+    if (pl[0] < 0 || pl[1] < 0 || pl[2] < 0) continue;
+    const Vec3 c[3] = {centre[pl[0]], centre[pl[1]], centre[pl[2]]};
+    const Vec3 N = (c[1] - c[0]).cross(c[2] - c[0]);
+    if (!(N.norm() > 0)) continue;
+    for (int k = 0; k < 3; ++k) {
+      Vec3 m = N.cross(c[(k + 1) % 3] - c[k]);
+      if (!(m.norm() > 0)) continue;
+      m.normalize();
+      if (m.dot(c[(k + 2) % 3] - c[k]) < 0) m = -m;
+      const double sigma = m.dot(x0[j] - c[k]);
+      out[j][k] = {m, m.dot(c[k]) + std::min(0.0, sigma)};
+    }
+  }
+  return out;
+}
+
+std::vector<Beam> beams_of(const Layout& L, const std::vector<Vec3>& x0, double keep) {
+  std::vector<std::pair<int, int>> sides;
+  for (const auto& face : L.faces)
+    for (std::size_t k = 0; k < face.size(); ++k) {
+      const int a = face[k], b = face[(k + 1) % face.size()];
+      sides.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  std::sort(sides.begin(), sides.end());
+  sides.erase(std::unique(sides.begin(), sides.end()), sides.end());
+  std::vector<Beam> beams;
+  for (const auto& [a, b] : sides) {
+    const Vec3 e = x0[b] - x0[a];
+    if (!(e.norm() > 0)) continue;
+    beams.push_back({a, b, e.normalized(), keep * e.norm()});
+  }
+  return beams;
+}
+
+}  // namespace flat_detail
 
 PanelShape panel_shape(const PolyMesh& mesh, const SurfaceProjector* surface) {
   PanelShape s;
@@ -173,14 +220,87 @@ bool keep_if_flat_already(const PolyMesh& design, const std::vector<int>& suppor
 }
 }  // namespace
 
-FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supports,
-                            const TriMesh& surface, const SurfaceProjector& projector,
-                            const FlatPanelOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
+namespace {
+
+/// The design's shortest beam (m).
+double shortest_beam(const PolyMesh& design, const Topology& topo) {
+  double shortest = INFINITY;
+  for (int e = 0; e < topo.num_edges(); ++e)
+    shortest =
+        std::min(shortest, (design.vertex(topo.edges[e][0]) - design.vertex(topo.edges[e][1])).norm());
+  return shortest;
+}
+
+/// The post-check's measures of a flat result.
+struct PostCheck {
+  double own_plane = 0;   ///< largest corner distance to its panel's plane (m)
+  double best_fit = 0;    ///< largest corner distance to its panel's best-fit plane (m)
+  int self_intersecting = 0;
+  double shortest = INFINITY;  ///< shortest beam (m)
+  double farthest = 0;         ///< largest joint distance to the surface (m)
+  double span = 0;             ///< larger plan side of the surface (m)
+};
+
+PostCheck post_check(const FlatPanelResult& out, const std::vector<Vec3>& normal,
+                     const std::vector<double>& offset, const TriMesh& surface,
+                     const SurfaceProjector& projector) {
+  PostCheck c;
+  const PolyMesh& m = out.mesh;
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const auto& face = m.faces[f];
+    for (std::size_t k = 0; k < face.size(); ++k) {
+      const Vec3 p = m.vertex(face[k]);
+      c.own_plane = std::max(c.own_plane, std::abs(normal[f].dot(p) - offset[f]));
+      c.shortest = std::min(c.shortest, (m.vertex(face[(k + 1) % face.size()]) - p).norm());
+    }
+  }
+  const PanelShape shape = panel_shape(m);
+  c.best_fit = shape.out_of_plane_max;
+  c.self_intersecting = shape.self_intersecting;
+  const Eigen::RowVector3d extent = surface.V.colwise().maxCoeff() - surface.V.colwise().minCoeff();
+  c.span = std::max(extent.x(), extent.y());
+  std::vector<double> dist(m.num_vertices());
+  tbb::parallel_for(0, m.num_vertices(), [&](int v) { dist[v] = projector.distance(m.vertex(v)); });
+  for (double d : dist) c.farthest = std::max(c.farthest, d);
+  return c;
+}
+
+/// What fails the post-check (every failing part, one line), or "" when it passes: every corner
+/// within `max_out_of_plane` of its panel's plane and of its best-fit plane, no self-intersecting
+/// panel, no beam shorter than the allowed, no joint farther from the surface than the limit.
+std::string post_check_failure(const PostCheck& c, const FlatPanelOptions& o,
+                               double shortest_allowed) {
+  std::vector<std::string> parts;
+  const double off = std::max(c.own_plane, c.best_fit);
+  if (!(off <= o.max_out_of_plane))
+    parts.push_back(fmt::format("a panel is {:.3g} mm out of its plane (limit {:.3g} mm)", 1e3 * off,
+                                1e3 * o.max_out_of_plane));
+  if (c.self_intersecting > 0)
+    parts.push_back(fmt::format("{} panels self-intersect", c.self_intersecting));
+  if (!(c.shortest >= shortest_allowed))
+    parts.push_back(fmt::format("a beam shrank to {:.3g} m (limit {:.3g} m)", c.shortest,
+                                shortest_allowed));
+  if (!(c.farthest <= o.max_surface_distance * c.span))
+    parts.push_back(fmt::format("a joint is {:.3g} m from the surface (limit {:.3g} of the span, "
+                                "{:.3g} m)",
+                                c.farthest, o.max_surface_distance,
+                                o.max_surface_distance * c.span));
+  std::string all;
+  for (const std::string& p : parts) all += (all.empty() ? "" : "; ") + p;
+  return all;
+}
+
+}  // namespace
+
+namespace {
+
+/// One run of the optimisation with `options` (its surface weight), checked; throws
+/// FlatPanelsFailed when the result fails the post-check.
+FlatPanelResult flat_attempt(const PolyMesh& design, const std::vector<int>& supports,
+                             const TriMesh& surface, const SurfaceProjector& projector,
+                             const FlatPanelOptions& options) {
   FlatPanelResult out;
   const int nv = design.num_vertices(), nf = design.num_faces();
-  if (nf == 0) throw FlatPanelsFailed("no panels");
-  if (keep_if_flat_already(design, supports, options, out)) return out;
   std::vector<char> is_support(nv, 0);
   for (int v : supports)
     if (v >= 0 && v < nv) is_support[v] = 1;
@@ -189,7 +309,7 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
   std::vector<Anchor> design_anchor;
   update_anchors(surface, projector, x0, design_anchor);
   for (int v = 0; v < nv; ++v) vertex_normal[v] = design_anchor[v].normal;
-  const Layout L = build_layout(design, vertex_normal, is_support);
+  Layout L = build_layout(design, vertex_normal, is_support);
   out.stats.split_joints = L.split;
   out.stats.added_joints = static_cast<int>(L.joints.size()) - nv;
 
@@ -212,6 +332,9 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
     P.x0.push_back(x0[J.source]);
     P.anchor.push_back(design_anchor[J.source]);
   }
+  P.shortest_allowed = options.min_beam_ratio * shortest_beam(design, topo);
+  P.beams = beams_of(L, P.x0, options.beam_keep);
+  P.inside = inside_sides(L, P.x0);
   const std::vector<Anchor> anchors = P.anchor;
   Planes pl = start_planes(P, surface, projector, P.x0);
   std::vector<Vec3> x;
@@ -224,6 +347,16 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
     out.stats.lifted = true;
   }
   out.stats.iterations = optimise(P, pl, surface, projector, out.stats);
+  for (int round = 0; round < options.flip_rounds; ++round) {
+    // Beams the planes shrank below the post-check's shortest: turned over, then optimised again.
+    if (!joints_of(P, pl, x, det, options.min_det) || short_beams(P, x) == 0) break;
+    const int flips = flip_collapsed_beams(L, P, pl, x, std::max(1, nf / 10));
+    if (flips == 0) break;
+    out.stats.flipped_beams += flips;
+    P.beams = beams_of(L, P.x0, options.beam_keep);
+    P.inside = inside_sides(L, P.x0);
+    out.stats.iterations += optimise(P, pl, surface, projector, out.stats);
+  }
 
   if (!joints_of(P, pl, x, det, options.min_det))
     throw FlatPanelsFailed("the panels' planes are parallel at a joint");
@@ -254,44 +387,49 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
     out.source_vertex.push_back(L.joints[j].source);
     if (L.joints[j].support) out.supports.push_back(static_cast<int>(j));
   }
-  // The post-check: every corner on its panel's plane, every panel simple.
-  for (int f = 0; f < nf; ++f)
-    for (int j : L.faces[f])
-      out.stats.out_of_plane_max =
-          std::max(out.stats.out_of_plane_max, std::abs(pl.n[f].dot(x[j]) - pl.d[f]));
-  const PanelShape shape = panel_shape(out.mesh);
-  out.stats.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!(out.stats.out_of_plane_max <= options.max_out_of_plane) ||
-      !(shape.out_of_plane_max <= options.max_out_of_plane))
-    throw FlatPanelsFailed(fmt::format("a panel is {:.3g} mm out of its plane (limit {:.3g} mm)",
-                                       1e3 * std::max(out.stats.out_of_plane_max,
-                                                      shape.out_of_plane_max),
-                                       1e3 * options.max_out_of_plane));
-  if (shape.self_intersecting > 0)
-    throw FlatPanelsFailed(fmt::format("{} panels self-intersect", shape.self_intersecting));
-  // A beam the planes have collapsed (two joints at one point) is no frame member.
-  double shortest_design = INFINITY, shortest = INFINITY;
-  for (int e = 0; e < topo.num_edges(); ++e)
-    shortest_design = std::min(
-        shortest_design, (design.vertex(topo.edges[e][0]) - design.vertex(topo.edges[e][1])).norm());
-  for (int f = 0; f < nf; ++f)
-    for (std::size_t k = 0; k < L.faces[f].size(); ++k)
-      shortest = std::min(shortest, (x[L.faces[f][k]] - x[L.faces[f][(k + 1) % L.faces[f].size()]])
-                                        .norm());
-  if (!(shortest >= options.min_beam_ratio * shortest_design))
-    throw FlatPanelsFailed(fmt::format("a beam shrank to {:.3g} m (the design's shortest: {:.3g} m)",
-                                       shortest, shortest_design));
-  const Eigen::RowVector3d extent = surface.V.colwise().maxCoeff() - surface.V.colwise().minCoeff();
-  const double span = std::max(extent.x(), extent.y());
-  double farthest = 0;
-  for (const Vec3& p : x) farthest = std::max(farthest, projector.distance(p));
-  if (!(farthest <= options.max_surface_distance * span))
-    throw FlatPanelsFailed(fmt::format("a joint is {:.3g} m from the surface (limit {:.3g} of the "
-                                       "span, {:.3g} m)",
-                                       farthest, options.max_surface_distance,
-                                       options.max_surface_distance * span));
+  const PostCheck c = post_check(out, pl.n, pl.d, surface, projector);
+  out.stats.out_of_plane_max = c.own_plane;
+  out.stats.surface_distance_max = c.farthest;
+  out.stats.shortest_beam = c.shortest;
+  spdlog::debug("[flat panels] post-check: {:.3g} mm out of plane, {} self-intersecting, shortest "
+                "beam {:.3g} m (limit {:.3g}), farthest joint {:.3g} m (limit {:.3g})",
+                1e3 * std::max(c.own_plane, c.best_fit), c.self_intersecting, c.shortest,
+                P.shortest_allowed, c.farthest, options.max_surface_distance * c.span);
+  const std::string failure = post_check_failure(c, options, P.shortest_allowed);
+  if (!failure.empty()) throw FlatPanelsFailed(failure);
   return out;
+}
+
+}  // namespace
+
+FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supports,
+                            const TriMesh& surface, const SurfaceProjector& projector,
+                            const FlatPanelOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  FlatPanelResult out;
+  if (design.num_faces() == 0) throw FlatPanelsFailed("no panels");
+  if (keep_if_flat_already(design, supports, options, out)) return out;
+  std::vector<double> weights{options.surface_weight};
+  weights.insert(weights.end(), options.retry_surface_weights.begin(),
+                 options.retry_surface_weights.end());
+  std::string first_failure;
+  for (std::size_t k = 0; k < weights.size(); ++k) {
+    FlatPanelOptions o = options;
+    o.surface_weight = weights[k];
+    try {
+      out = flat_attempt(design, supports, surface, projector, o);
+      out.stats.attempts = static_cast<int>(k) + 1;
+      out.stats.surface_weight = weights[k];
+      out.stats.seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return out;
+    } catch (const FlatPanelsFailed& e) {
+      spdlog::debug("[flat panels] surface weight {}: {}", weights[k], e.what());
+      if (k == 0) first_failure = e.what();
+    }
+  }
+  // What the first (default) attempt failed on; the retries are listed in docs/panels.md.
+  throw FlatPanelsFailed(first_failure);
 }
 
 }  // namespace gridshell

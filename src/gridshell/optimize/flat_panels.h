@@ -68,7 +68,13 @@ bool intersect_planes(const Vec3 n[3], const double d[3], Vec3& x, double& det,
                       double min_det = 1e-14, Eigen::Matrix<double, 3, 12>* jacobian = nullptr);
 
 struct FlatPanelOptions {
-  double surface_weight = 1.0;   ///< w_s: joint to the input surface (normal distance)
+  /// w_s: joint to the input surface (normal distance). Measured (docs/panels.md): 10 passes the
+  /// post-check on 6 of 11 surfaces, 1 on 3.
+  double surface_weight = 10;
+  /// When the result fails the post-check, the optimisation runs again from the start with each
+  /// of these surface weights in turn and the first result that passes is kept (the check is the
+  /// same). Measured: 20 adds Neumünster (docs/panels.md); each retry costs one more stage.
+  std::vector<double> retry_surface_weights = {20};
   /// w_0: joint to the design's joint. Measured (docs/panels.md): 0.1 lets boundary cells slide
   /// their inner joints past the boundary (self-intersecting panels on all six shared surfaces);
   /// 1 keeps the cells' shape.
@@ -79,7 +85,17 @@ struct FlatPanelOptions {
   double barrier_det = 1e-5;     ///< τ: the barrier acts below this |det|
   double min_det = 1e-10;        ///< hard: no step makes a joint's |det| smaller
   double lift = 0.05;            ///< κ × bbox diagonal: the start's lift (lifted_targets)
+  /// w_beam: hinge on each beam's signed length (along its design direction) below `beam_keep` ×
+  /// its design length; keeps beams from collapsing or turning over (a T1 flip).
+  double beam_weight = 10;
+  double beam_keep = 0.5;
+  /// w_in: hinge keeping each joint of three panels inside the triangle of its panels' centres
+  /// (never stricter than the design joint's own place).
+  double inside_weight = 10;
   int max_iterations = 60;
+  /// Rounds of beam flips (T1) where the planes shrank a beam below the post-check's shortest,
+  /// each followed by the Levenberg–Marquardt steps again (0: none).
+  int flip_rounds = 3;
   double tolerance = 1e-7;        ///< stop when the energy falls by less than this fraction
   double max_out_of_plane = 5e-4; ///< m: the post-check (0.5 mm)
   /// The post-check: no joint farther from the surface than this × its span (larger plan side).
@@ -109,10 +125,15 @@ struct FlatPanelStats {
   bool converged = false;
   int split_joints = 0;      ///< joints of valence ≥ 4 (or boundary joints of ≥ 3 panels) split
   int added_joints = 0;      ///< joints the splits added
+  int flipped_beams = 0;     ///< beams turned over (T1 flips): panels that changed corners
   bool lifted = false;       ///< the start needed the lift (planes parallel at a joint)
   double energy_start = 0, energy = 0;
   double min_det = 0;        ///< smallest |det| of a joint's three planes
   double out_of_plane_max = 0;  ///< m, corner to its panel's own plane (the post-check)
+  double surface_distance_max = 0;  ///< m, the farthest joint from the input surface
+  double shortest_beam = 0;      ///< m
+  int attempts = 1;              ///< optimisations run (1 + the retries needed)
+  double surface_weight = 0;     ///< w_s of the attempt that passed
   double seconds = 0;
 };
 

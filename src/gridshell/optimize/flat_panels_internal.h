@@ -4,6 +4,7 @@
 /// (flat_layout.cpp), the optimisation of the planes (flat_solve.cpp), polygon tests
 /// (flat_panels.cpp). Internal: nothing outside optimize/flat_*.cpp includes it.
 
+#include <array>
 #include <utility>
 #include <vector>
 
@@ -55,12 +56,33 @@ struct Anchor {
   int triangle = -1;
 };
 
+/// A beam of the flat grid-shell between joints a and b: the energy keeps its signed length
+/// u·(x_b − x_a) (u its design direction) at least `min_length`.
+struct Beam {
+  int a = 0, b = 0;
+  Vec3 u = Vec3::UnitX();
+  double min_length = 0;
+};
+
+/// A side of a joint's cells' triangle: normal·x ≥ offset inside (normal 0: no side).
+struct Side {
+  Vec3 normal = Vec3::Zero();
+  double offset = 0;
+};
+constexpr int kJointResiduals = 8;
+
 struct Problem {
   const Layout* L = nullptr;
   std::vector<Vec3> x0;         ///< design position per joint
   std::vector<Anchor> anchor;   ///< per joint
   std::vector<std::vector<int>> face_neighbours;
+  std::vector<Beam> beams;      ///< every panel side once
+  /// Per joint of three panels: the sides of the triangle of its panels' centres (of the targets),
+  /// each moved out to the target joint where that lies outside (the P-Hex papers' rule that a
+  /// joint stays inside its cells' triangle, here never stricter than the design).
+  std::vector<std::array<Side, 3>> inside;
   double h = 1;                 ///< mean beam length
+  double shortest_allowed = 0;  ///< the post-check's shortest beam (m)
   FlatPanelOptions o;
 };
 
@@ -81,5 +103,21 @@ Planes start_planes(Problem& P, const TriMesh& surface, const SurfaceProjector& 
 /// Levenberg–Marquardt on the planes; returns the iterations run.
 int optimise(Problem& P, Planes& pl, const TriMesh& surface, const SurfaceProjector& projector,
              FlatPanelStats& stats);
+
+/// Every side of the layout's panels once, as a beam kept at least `keep` × its length between
+/// the joints' targets `x0` (beams of no target length, split joints' beams, are left out).
+/// The triangle sides of every joint of three panels (Problem::inside) from the targets `x0`.
+std::vector<std::array<Side, 3>> inside_sides(const Layout& L, const std::vector<Vec3>& x0);
+std::vector<Beam> beams_of(const Layout& L, const std::vector<Vec3>& x0, double keep);
+/// Number of beams whose signed length is below the post-check's shortest beam.
+int short_beams(const Problem& P, const std::vector<Vec3>& x);
+/// Turns over (T1 flip) up to `max_flips` beams shorter than the post-check allows, shortest
+/// first, one per joint: beam (a, b) of joints A∩B∩C and A∩B∩D becomes joints A∩C∩D and B∩C∩D
+/// (panels A, B lose a corner, C, D gain one and become neighbours); the joints' targets move to
+/// the new beam's line. Only interior beams between unsplit, unsupported valence-3 joints whose
+/// panels keep at least three sides. `x`: the joints of `pl`. Returns the flips made; updates
+/// L, P.x0 and P.face_neighbours (P.beams must then be rebuilt).
+int flip_collapsed_beams(Layout& L, Problem& P, const Planes& pl, const std::vector<Vec3>& x,
+                         int max_flips);
 
 }  // namespace gridshell::flat_detail

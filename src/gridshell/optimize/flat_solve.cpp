@@ -7,6 +7,8 @@
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
+#include <array>
+
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
@@ -47,8 +49,10 @@ bool joints_of(const Problem& P, const Planes& pl, std::vector<Vec3>& x, std::ve
 
 namespace {
 
-/// The energy's residuals of joint j (up to 5): surface, design (3), barrier.
-int joint_residuals(const Problem& P, int j, const Vec3& x, double det, double r[5]) {
+/// The energy's residuals of joint j (kJointResiduals): surface, design (3), barrier, and the
+/// three sides of its cells' triangle (inside).
+int joint_residuals(const Problem& P, int j, const Vec3& x, double det,
+                    double r[kJointResiduals]) {
   const Joint& J = P.L->joints[j];
   const double ws = std::sqrt(P.o.surface_weight) / P.h;
   const double w0 = std::sqrt(J.pinned ? P.o.support_weight : P.o.design_weight) / P.h;
@@ -56,7 +60,13 @@ int joint_residuals(const Problem& P, int j, const Vec3& x, double det, double r
   for (int k = 0; k < 3; ++k) r[1 + k] = w0 * (x[k] - P.x0[j][k]);
   const double a = std::abs(det);
   r[4] = a < P.o.barrier_det ? std::sqrt(P.o.barrier_weight) * std::log(P.o.barrier_det / a) : 0;
-  return 5;
+  const double wi = std::sqrt(P.o.inside_weight) / P.h;
+  for (int k = 0; k < 3; ++k) {
+    const Side& side = P.inside[j][k];
+    const double sigma = side.normal.dot(x) - side.offset;
+    r[5 + k] = sigma < 0 ? -wi * sigma : 0;
+  }
+  return kJointResiduals;
 }
 
 /// The fairness residual of face f: n_f − mean of its neighbours' normals.
@@ -68,18 +78,30 @@ Vec3 fairness_residual(const Problem& P, const Planes& pl, int f) {
   return std::sqrt(P.o.fairness_weight) * (pl.n[f] - m / static_cast<double>(nb.size()));
 }
 
+/// The hinge of beam b: sqrt(w_beam) max(0, ℓ_min − u·(x_b − x_a)) / h.
+double beam_residual(const Problem& P, const Beam& b, const std::vector<Vec3>& x) {
+  const double s = b.u.dot(x[b.b] - x[b.a]);
+  return s < b.min_length ? std::sqrt(P.o.beam_weight) * (b.min_length - s) / P.h : 0;
+}
+
 double energy(const Problem& P, const Planes& pl, const std::vector<Vec3>& x,
               const std::vector<double>& det) {
   double e = 0;
   for (std::size_t j = 0; j < x.size(); ++j) {
-    double r[5];
+    double r[kJointResiduals];
     joint_residuals(P, static_cast<int>(j), x[j], det[j], r);
     for (double v : r) e += v * v;
   }
   for (std::size_t f = 0; f < pl.n.size(); ++f)
     e += fairness_residual(P, pl, static_cast<int>(f)).squaredNorm();
+  for (const Beam& b : P.beams) {
+    const double r = beam_residual(P, b, x);
+    e += r * r;
+  }
   return e;
 }
+
+
 
 /// Number of panels that are not simple polygons (in their own planes).
 int self_intersections(const Layout& L, const Planes& pl, const std::vector<Vec3>& x) {
@@ -95,6 +117,12 @@ int self_intersections(const Layout& L, const Planes& pl, const std::vector<Vec3
 
 
 }  // namespace
+
+int short_beams(const Problem& P, const std::vector<Vec3>& x) {
+  int count = 0;
+  for (const Beam& b : P.beams) count += !(b.u.dot(x[b.b] - x[b.a]) > P.shortest_allowed);
+  return count;
+}
 
 /// The closest points on M of the joints `x` and M's normals there (walks from the last ones).
 void update_anchors(const TriMesh& surface, const SurfaceProjector& projector,
@@ -131,43 +159,72 @@ void add_block(const Eigen::MatrixXd& G, const Eigen::VectorXd& r, const std::ve
   }
 }
 
-/// The joint terms' Gauss–Newton blocks (9 unknowns: the three planes' (α1, α2, β)).
+/// A joint's derivatives with respect to its planes' unknowns (α1, α2, β per plane; col −1 for a
+/// fixed plane).
+struct JointDerivative {
+  Eigen::Matrix<double, 3, 9> Dx = Eigen::Matrix<double, 3, 9>::Zero();
+  Eigen::Matrix<double, 1, 9> Ddet = Eigen::Matrix<double, 1, 9>::Zero();
+  std::array<int, 9> col{-1, -1, -1, -1, -1, -1, -1, -1, -1};
+};
+
+JointDerivative joint_derivative(const Problem& P, const Planes& pl, int j) {
+  const Joint& J = P.L->joints[j];
+  Vec3 n[3];
+  double d[3];
+  for (int s = 0; s < 3; ++s) plane_of(P, pl, J.plane[s], n[s], d[s]);
+  Vec3 xj;
+  double dj;
+  Eigen::Matrix<double, 3, 12> Jx;
+  intersect_planes(n, d, xj, dj, 0, &Jx);
+  JointDerivative D;
+  const Vec3 cof[3] = {n[1].cross(n[2]), n[2].cross(n[0]), n[0].cross(n[1])};
+  for (int s = 0; s < 3; ++s) {
+    const int f = J.plane[s];
+    if (f < 0) continue;
+    const auto [b1, b2] = plane_axes(pl.n[f]);
+    D.Dx.col(3 * s) = Jx.block<3, 3>(0, 4 * s) * b1;
+    D.Dx.col(3 * s + 1) = Jx.block<3, 3>(0, 4 * s) * b2;
+    D.Dx.col(3 * s + 2) = Jx.col(4 * s + 3);
+    D.Ddet(3 * s) = cof[s].dot(b1);
+    D.Ddet(3 * s + 1) = cof[s].dot(b2);
+    for (int k = 0; k < 3; ++k) D.col[3 * s + k] = 3 * f + k;
+  }
+  return D;
+}
+
+/// The joint terms' and the beams' Gauss–Newton blocks (9 unknowns per joint: the three planes'
+/// (α1, α2, β); 18 per beam).
 void joint_blocks(const Problem& P, const Planes& pl, const std::vector<Vec3>& x,
                   const std::vector<double>& det, std::vector<Eigen::Triplet<double>>& H,
                   Eigen::VectorXd& g) {
-  for (std::size_t j = 0; j < x.size(); ++j) {
+  const int nj = static_cast<int>(x.size());
+  std::vector<JointDerivative> D(nj);
+  tbb::parallel_for(0, nj, [&](int j) { D[j] = joint_derivative(P, pl, j); });
+  for (int j = 0; j < nj; ++j) {
     const Joint& J = P.L->joints[j];
-    Vec3 n[3];
-    double d[3];
-    for (int s = 0; s < 3; ++s) plane_of(P, pl, J.plane[s], n[s], d[s]);
-    Vec3 xj;
-    double dj;
-    Eigen::Matrix<double, 3, 12> Jx;
-    intersect_planes(n, d, xj, dj, 0, &Jx);
-    Eigen::Matrix<double, 3, 9> Dx = Eigen::Matrix<double, 3, 9>::Zero();
-    Eigen::Matrix<double, 1, 9> Ddet = Eigen::Matrix<double, 1, 9>::Zero();
-    const Vec3 cof[3] = {n[1].cross(n[2]), n[2].cross(n[0]), n[0].cross(n[1])};
-    std::vector<int> col(9, -1);
-    for (int s = 0; s < 3; ++s) {
-      const int f = J.plane[s];
-      if (f < 0) continue;
-      const auto [b1, b2] = plane_axes(pl.n[f]);
-      Dx.col(3 * s) = Jx.block<3, 3>(0, 4 * s) * b1;
-      Dx.col(3 * s + 1) = Jx.block<3, 3>(0, 4 * s) * b2;
-      Dx.col(3 * s + 2) = Jx.col(4 * s + 3);
-      Ddet(3 * s) = cof[s].dot(b1);
-      Ddet(3 * s + 1) = cof[s].dot(b2);
-      for (int k = 0; k < 3; ++k) col[3 * s + k] = 3 * f + k;
-    }
-    double res[5];
-    joint_residuals(P, static_cast<int>(j), x[j], det[j], res);
+    double res[kJointResiduals];
+    joint_residuals(P, j, x[j], det[j], res);
     const double ws = std::sqrt(P.o.surface_weight) / P.h;
     const double w0 = std::sqrt(J.pinned ? P.o.support_weight : P.o.design_weight) / P.h;
-    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(5, 9);
-    G.row(0) = ws * P.anchor[j].normal.transpose() * Dx;
-    G.middleRows(1, 3) = w0 * Dx;
-    if (res[4] > 0) G.row(4) = -std::sqrt(P.o.barrier_weight) / det[j] * Ddet;
-    add_block(G, Eigen::Map<Eigen::VectorXd>(res, 5), col, H, g);
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(kJointResiduals, 9);
+    G.row(0) = ws * P.anchor[j].normal.transpose() * D[j].Dx;
+    G.middleRows(1, 3) = w0 * D[j].Dx;
+    if (res[4] > 0) G.row(4) = -std::sqrt(P.o.barrier_weight) / det[j] * D[j].Ddet;
+    const double wi = std::sqrt(P.o.inside_weight) / P.h;
+    for (int k = 0; k < 3; ++k)
+      if (res[5 + k] > 0) G.row(5 + k) = -wi * P.inside[j][k].normal.transpose() * D[j].Dx;
+    add_block(G, Eigen::Map<Eigen::VectorXd>(res, kJointResiduals), {D[j].col.begin(), D[j].col.end()}, H, g);
+  }
+  for (const Beam& b : P.beams) {
+    const double r = beam_residual(P, b, x);
+    if (r <= 0) continue;
+    Eigen::MatrixXd G(1, 18);
+    const double w = -std::sqrt(P.o.beam_weight) / P.h;
+    G.leftCols(9) = -w * b.u.transpose() * D[b.a].Dx;
+    G.rightCols(9) = w * b.u.transpose() * D[b.b].Dx;
+    std::vector<int> col(D[b.a].col.begin(), D[b.a].col.end());
+    col.insert(col.end(), D[b.b].col.begin(), D[b.b].col.end());
+    add_block(G, Eigen::VectorXd::Constant(1, r), col, H, g);
   }
 }
 
@@ -265,11 +322,20 @@ Planes start_planes(Problem& P, const TriMesh& surface, const SurfaceProjector& 
   pl.n.assign(nf, Vec3::Zero());
   pl.d.assign(nf, 0);
   std::vector<Vec3> x = target;
+  std::vector<std::vector<int>> beams_at(nj);  // per joint: its beams (index into P.beams)
+  for (std::size_t e = 0; e < P.beams.size(); ++e) {
+    beams_at[P.beams[e].a].push_back(static_cast<int>(e));
+    beams_at[P.beams[e].b].push_back(static_cast<int>(e));
+  }
   for (int stage = 0; stage <= 6; ++stage) {
     const double wp = std::pow(10.0, stage);
+    // The beams' push keeps its weight while w_p rises (measured: rising with w_p, as √w_p or
+    // w_p / 10, it throws joints far off on every failing surface).
+    const double wb = P.o.beam_weight;
     for (int it = 0; it < 8; ++it) {
       fit_planes(L, x, pl);
       update_anchors(surface, projector, x, P.anchor);
+      const std::vector<Vec3> previous = x;
       tbb::parallel_for(0, nj, [&](int j) {
         const Joint& J = L.joints[j];
         const double w0 = J.pinned ? P.o.support_weight : P.o.design_weight;  // phase 1
@@ -283,6 +349,16 @@ Planes start_planes(Problem& P, const TriMesh& surface, const SurfaceProjector& 
           plane_of(P, pl, J.plane[s], n, d);
           A += wp * n * n.transpose();
           b += wp * d * n;
+        }
+        // A beam shorter than its least length pushes its end away from the other end's last
+        // position, along the beam's design direction.
+        for (int e : beams_at[j]) {
+          const Beam& B = P.beams[e];
+          if (B.u.dot(previous[B.b] - previous[B.a]) >= B.min_length) continue;
+          const double goal = j == B.a ? B.u.dot(previous[B.b]) - B.min_length
+                                       : B.u.dot(previous[B.a]) + B.min_length;
+          A += wb * B.u * B.u.transpose();
+          b += wb * goal * B.u;
         }
         x[j] = A.ldlt().solve(b);
       });
@@ -301,7 +377,7 @@ int optimise(Problem& P, Planes& pl, const TriMesh& surface, const SurfaceProjec
   std::vector<double> det;
   if (!joints_of(P, pl, x, det, P.o.min_det))
     throw FlatPanelsFailed("the panels' first planes are parallel at a joint");
-  int crossings = self_intersections(*P.L, pl, x);
+  int crossings = self_intersections(*P.L, pl, x), shorts = short_beams(P, x);
   if (spdlog::should_log(spdlog::level::debug)) {
     int far_interior = 0, far_boundary = 0, boundary = 0;
     for (std::size_t j = 0; j < x.size(); ++j) {
@@ -349,10 +425,10 @@ int optimise(Problem& P, Planes& pl, const TriMesh& surface, const SurfaceProjec
       std::vector<Vec3> xt;
       std::vector<double> dt;
       if (delta.allFinite() && joints_of(P, trial, xt, dt, P.o.min_det)) {
-        const int ct = self_intersections(*P.L, trial, xt);
+        const int ct = self_intersections(*P.L, trial, xt), st = short_beams(P, xt);
         const double Et = energy(P, trial, xt, dt);
-        if ((ct <= crossings || !P.o.guard) && Et < E) {
-          pl = trial, x = std::move(xt), det = std::move(dt), crossings = ct;
+        if (((ct <= crossings && st <= shorts) || !P.o.guard) && Et < E) {
+          pl = trial, x = std::move(xt), det = std::move(dt), crossings = ct, shorts = st;
           stats.energy = Et;
           accepted = true;
           mu = std::max(mu / 3, 1e-9);
@@ -364,8 +440,9 @@ int optimise(Problem& P, Planes& pl, const TriMesh& surface, const SurfaceProjec
       }
       if (!accepted) mu *= 5;
     }
-    spdlog::debug("[flat panels] iteration {}: energy {:.6g}, {} self-intersecting, mu {:.3g}{}",
-                  it, stats.energy, crossings, mu, accepted ? "" : " (no step)");
+    spdlog::debug("[flat panels] iteration {}: energy {:.6g}, {} self-intersecting, {} short beams, "
+                  "mu {:.3g}{}",
+                  it, stats.energy, crossings, shorts, mu, accepted ? "" : " (no step)");
     if (!accepted) {  // no step lowers the energy: a minimum to the solver's accuracy
       stats.converged = true;
       return it;
