@@ -391,6 +391,9 @@ int optimise(Problem& P, Planes& pl, const TriMesh& surface, const SurfaceProjec
                   x.size(), boundary, far_interior, far_boundary);
   }
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+  // A factorisation that fails (a step with too small a damping on a nearly singular system) is
+  // handled below by more damping: CHOLMOD's own warning on stdout would only be noise.
+  solver.cholmod().print = 0;
   bool analysed = false;
   double mu = 1e-3;
   int it = 0;
