@@ -55,8 +55,9 @@ bool flip(Layout& L, Problem& P, const Planes& pl, int a, int b) {
   const int C = third_plane(Ja, A, B), D = third_plane(Jb, A, B);
   if (C < 0 || D < 0 || C == D || contains(P.face_neighbours[C], D)) return false;
   if (L.faces[A].size() < 4 || L.faces[B].size() < 4) return false;
-  if (slot_of(L.faces[C], a) < 0 || slot_of(L.faces[D], b) < 0 || slot_of(L.faces[C], b) >= 0 ||
-      slot_of(L.faces[D], a) >= 0)
+  if (slot_of(L.faces[A], a) < 0 || slot_of(L.faces[A], b) < 0 || slot_of(L.faces[B], a) < 0 ||
+      slot_of(L.faces[B], b) < 0 || slot_of(L.faces[C], a) < 0 || slot_of(L.faces[D], b) < 0 ||
+      slot_of(L.faces[C], b) >= 0 || slot_of(L.faces[D], a) >= 0)
     return false;
   // The new beam runs along C ∩ D; a becomes A ∩ C ∩ D (on A's side), b becomes B ∩ C ∩ D.
   Vec3 w = pl.n[C].cross(pl.n[D]);
