@@ -1,7 +1,8 @@
 // Flat panels (optimize/flat_panels.h): the 3-plane intersection and its derivative against
 // finite differences; designs on built-in surfaces made flat to ≤ 0.5 mm with simple panels, no
 // overlaps and joints within 1 % of the span of the surface; the fan split of valence-4 joints;
-// the flattened outlines (panels.svg) equal to the 3-D edges to 1e-9.
+// beam flips that keep a manifold grid of the same panels; the flattened outlines (panels.svg)
+// equal to the 3-D edges to 1e-9.
 
 #include <gtest/gtest.h>
 
@@ -153,7 +154,7 @@ TEST_P(FlatBuiltin, EveryPanelFlatSimpleAndNearTheSurface) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Surfaces, FlatBuiltin,
-                         ::testing::Values("dome", "paraboloid"));
+                         ::testing::Values("dome", "paraboloid", "barrel", "funicular"));
 
 TEST(FlatBuiltin, KeepsTheFreePanelsAndSaysWhyWhereItFails) {
   // The default funicular at 120 cells: where the flat panels fail a post-check (docs/panels.md)
@@ -170,10 +171,8 @@ TEST(FlatBuiltin, KeepsTheFreePanelsAndSaysWhyWhereItFails) {
   }
 }
 
-TEST(FlatPanels, OutlinesAreTheTrueShapes) {
-  // panels.svg draws FlatPanel::outline: for a flat panel its edges are the 3-D edges to 1e-9.
-  const Pair p = designs("dome", 80);
-  const PolyMesh& m = p.flat.mesh;
+/// panels.svg draws FlatPanel::outline: for a flat panel its edges are the 3-D edges to 1e-9.
+void expect_true_outlines(const PolyMesh& m) {
   const Topology t = build_topology(m);
   const fabrication::Fabrication fab = fabrication::fabrication_parts(m, t, {}, {});
   ASSERT_EQ(fab.panels.size(), m.faces.size());
@@ -186,6 +185,42 @@ TEST(FlatPanels, OutlinesAreTheTrueShapes) {
       EXPECT_NEAR(flat, space, 1e-9);
     }
   }
+}
+
+TEST(FlatPanels, OutlinesAreTheTrueShapes) {
+  const Pair p = designs("dome", 80);
+  ASSERT_EQ(p.flat.details["flat_panels"]["panels"], "flat");
+  expect_true_outlines(p.flat.mesh);
+}
+
+TEST(FlatPanels, FlippedBeamsKeepAManifoldGridOfTheSamePanels) {
+  // The barrel at 300 cells: its planes shrink some beams below the post-check's shortest; those
+  // are turned over (T1 flips). A flip moves a corner from two panels to two others: the panels,
+  // the total number of corners and the Euler characteristic stay; every beam has at most two
+  // panels; the result passes every check and its outlines are the true shapes.
+  const Pair p = designs("barrel", 300);
+  const nlohmann::json& info = p.flat.details["flat_panels"];
+  ASSERT_EQ(info["panels"], "flat") << info.dump();
+  EXPECT_GT(info["flipped_beams"].get<int>(), 0);
+  EXPECT_EQ(info["split_joints"].get<int>(), 0);
+  const PolyMesh& m = p.flat.mesh;
+  ASSERT_EQ(m.num_faces(), p.free.mesh.num_faces());
+  std::size_t corners = 0, free_corners = 0;
+  for (const auto& f : m.faces) corners += f.size();
+  for (const auto& f : p.free.mesh.faces) free_corners += f.size();
+  EXPECT_EQ(corners, free_corners);
+  EXPECT_EQ(m.num_vertices(), p.free.mesh.num_vertices());
+  const Topology t = build_topology(m), tf = build_topology(p.free.mesh);
+  EXPECT_EQ(t.num_edges(), tf.num_edges());
+  for (int e = 0; e < t.num_edges(); ++e) EXPECT_LE(t.edge_faces[e].size(), 2u);
+  std::size_t faces_differing = 0;
+  for (int f = 0; f < m.num_faces(); ++f)
+    faces_differing += m.faces[f].size() != p.free.mesh.faces[f].size();
+  EXPECT_GT(faces_differing, 0u);  // the flips changed some panels' corner counts
+  const Surface s = make_builtin("barrel");
+  const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
+  expect_flat(m, s.mesh, std::max(extent.x(), extent.y()));
+  expect_true_outlines(m);
 }
 
 TEST(FlatPanels, FailsLoudlyWhereItCannotBeFlat) {

@@ -96,3 +96,26 @@ TEST(PanelsCli, AFailedFlatStageKeepsTheFreeGridAndSaysWhy) {
   EXPECT_FALSE(report.at("flat_panels").at("failure").get<std::string>().empty());
   EXPECT_EQ(test::slurp(p.flat_dir / "gridshell.obj"), test::slurp(p.free_dir / "gridshell.obj"));
 }
+
+TEST(PanelsCli, FlatDoublyCurvedDesignsKeepTheirBucklingLoad) {
+  // λ_LBA of the flat design within 10 % of the free one's (docs/panels.md; the bound)
+  // where the flat stage passes on a doubly curved roof. Measured at 120 cells: dome +10 %,
+  // paraboloid +8 % (the joints leave the surface a little towards a funicular shape).
+  for (const std::string surface : {"dome", "paraboloid"}) {
+    double lambda[2] = {0, 0};
+    for (int flat = 0; flat < 2; ++flat) {
+      const fs::path d = test::temp_dir("panels_cli_lba_" + surface + std::to_string(flat));
+      const auto r = test::run_gridshell("design builtin:" + surface +
+                                         " --cells 120 -D 2 -A 2 --seed 1 --analyze buckling "
+                                         "--figures none --quiet --panels " +
+                                         (flat ? "flat" : "free") + " -o " + d.string());
+      ASSERT_EQ(r.status, 0) << r.err;
+      const auto report = read_json(d / "report.json");
+      ASSERT_EQ(report.at("mesh").at("panels"), flat ? "flat" : "free") << surface;
+      lambda[flat] = report.at("structure").at("lambda_lba").get<double>();
+    }
+    EXPECT_GT(lambda[0], 0) << surface;
+    EXPECT_GE(lambda[1], 0.9 * lambda[0]) << surface;
+    EXPECT_LE(lambda[1], 1.2 * lambda[0]) << surface;
+  }
+}

@@ -22,12 +22,21 @@
 /// 3-plane intersection, sparse Cholesky by CHOLMOD; tangent-space updates of each normal):
 ///   Σ_j w_s (n_c·(x_j − c_j))²/h² + w_0 |x_j − x0_j|²/h² + w_fair Σ_f |n_f − mean_g n_g|²
 ///   + w_b Σ_j max(0, log(τ/|det_j|))²
+///   + w_beam Σ_beams max(0, ℓ_min − u·(x_b − x_a))²/h² + w_in Σ_j Σ_sides max(0, −σ_k(x_j))²/h²
 /// (x_j the joints, c_j their closest points on the input surface M and n_c its normal there,
 /// x0_j the design's joints, h the mean beam length, det_j = det(n_1, n_2, n_3) of a joint's
-/// planes): closeness to M, closeness to the design (the cells' shape and size), fair planes (a
-/// Laplacian of the normals: constant curvature costs nothing), and a barrier against nearly
-/// parallel planes (joints running away). A step is refused when a joint's planes become nearly
-/// parallel (|det| < min_det) or a panel that was simple self-intersects.
+/// planes, u a beam's design direction and ℓ_min half its design length, σ_k the signed distance
+/// to side k of the triangle of the joint's three panels' centres): closeness to M, closeness to
+/// the design (the cells' shape and size), fair planes (a Laplacian of the normals: constant
+/// curvature costs nothing), a barrier against nearly parallel planes (joints running away),
+/// beams that neither collapse nor turn over, joints inside their cells' triangle (never stricter
+/// than the design joint's own place). A step is refused when a joint's planes become nearly
+/// parallel (|det| < min_det), a panel that was simple self-intersects or a beam falls below the
+/// post-check's shortest.
+/// Beam flips: a beam the planes still shrink below the post-check's shortest is turned over (T1:
+/// a = A∩B∩C, b = A∩B∩D become A∩C∩D, B∩C∩D) and the steps run again (`flip_rounds`).
+/// Retry: a result that fails the post-check is optimised again from the start with each of
+/// `retry_surface_weights`; the first that passes the same post-check is kept.
 /// Start: nearly planar panels by a ShapeUp-like alternation with a rising planarity weight
 /// (best-fit plane per panel, then each joint nearest to its three planes, the surface and its
 /// design position); their planes start the Levenberg–Marquardt steps. When two of a joint's
@@ -39,8 +48,9 @@
 /// panel self-intersecting, no joint farther from the surface than `max_surface_distance` × its
 /// span, no beam collapsed (`min_beam_ratio`); otherwise FlatPanelsFailed (never a silent pass).
 ///
-/// Cost: O(joints) per iteration plus one sparse Cholesky of 3 × panels unknowns (analysed once);
-/// Botanic (1200 panels) well under a second per design (bench/flat_panels_bench.cpp).
+/// Cost: O(joints) per iteration plus one sparse Cholesky of 3 × panels unknowns (analysed once
+/// per round); up to 1 + flip_rounds rounds of max_iterations steps per attempt, 1 + retries
+/// attempts (bench/flat_panels_bench.cpp: Botanic at about 1200 panels).
 
 #include <string>
 #include <vector>
@@ -68,7 +78,13 @@ bool intersect_planes(const Vec3 n[3], const double d[3], Vec3& x, double& det,
                       double min_det = 1e-14, Eigen::Matrix<double, 3, 12>* jacobian = nullptr);
 
 struct FlatPanelOptions {
-  double surface_weight = 1.0;   ///< w_s: joint to the input surface (normal distance)
+  /// w_s: joint to the input surface (normal distance). Measured on the 11 surfaces of
+  /// docs/panels.md: 10 passes the post-check on 6 at the first attempt, 5 and 40 on 4.
+  double surface_weight = 10;
+  /// When the result fails the post-check, the optimisation runs again from the start with each
+  /// of these surface weights in turn and the first result that passes is kept (the check is the
+  /// same). Measured: 20 adds Neumünster (docs/panels.md); each retry costs one more stage.
+  std::vector<double> retry_surface_weights = {20};
   /// w_0: joint to the design's joint. Measured (docs/panels.md): 0.1 lets boundary cells slide
   /// their inner joints past the boundary (self-intersecting panels on all six shared surfaces);
   /// 1 keeps the cells' shape.
@@ -79,7 +95,17 @@ struct FlatPanelOptions {
   double barrier_det = 1e-5;     ///< τ: the barrier acts below this |det|
   double min_det = 1e-10;        ///< hard: no step makes a joint's |det| smaller
   double lift = 0.05;            ///< κ × bbox diagonal: the start's lift (lifted_targets)
+  /// w_beam: hinge on each beam's signed length (along its design direction) below `beam_keep` ×
+  /// its design length; keeps beams from collapsing or turning over (a T1 flip).
+  double beam_weight = 10;
+  double beam_keep = 0.5;
+  /// w_in: hinge keeping each joint of three panels inside the triangle of its panels' centres
+  /// (never stricter than the design joint's own place).
+  double inside_weight = 10;
   int max_iterations = 60;
+  /// Rounds of beam flips (T1) where the planes shrank a beam below the post-check's shortest,
+  /// each followed by the Levenberg–Marquardt steps again (0: none).
+  int flip_rounds = 3;
   double tolerance = 1e-7;        ///< stop when the energy falls by less than this fraction
   double max_out_of_plane = 5e-4; ///< m: the post-check (0.5 mm)
   /// The post-check: no joint farther from the surface than this × its span (larger plan side).
@@ -109,10 +135,15 @@ struct FlatPanelStats {
   bool converged = false;
   int split_joints = 0;      ///< joints of valence ≥ 4 (or boundary joints of ≥ 3 panels) split
   int added_joints = 0;      ///< joints the splits added
+  int flipped_beams = 0;     ///< beams turned over (T1 flips): panels that changed corners
   bool lifted = false;       ///< the start needed the lift (planes parallel at a joint)
   double energy_start = 0, energy = 0;
   double min_det = 0;        ///< smallest |det| of a joint's three planes
   double out_of_plane_max = 0;  ///< m, corner to its panel's own plane (the post-check)
+  double surface_distance_max = 0;  ///< m, the farthest joint from the input surface
+  double shortest_beam = 0;      ///< m
+  int attempts = 1;              ///< optimisations run (1 + the retries needed)
+  double surface_weight = 0;     ///< w_s of the attempt that passed
   double seconds = 0;
 };
 

@@ -12,13 +12,19 @@ FlatPanelAttempt attempt_flat_panels(const PolyMesh& mesh, const std::vector<int
   a.info = {{"requested", "flat"}};
   try {
     FlatPanelResult f = flat_panels(mesh, supports, surface, projector, options);
-    spdlog::info("[flat panels] {} panels flat to {:.2g} mm in {} iterations, {} joints split",
+    spdlog::info("[flat panels] {} panels flat to {:.2g} mm in {} iterations ({} attempts), {} "
+                 "joints split, {} beams flipped",
                  f.mesh.num_faces(), 1e3 * f.stats.out_of_plane_max, f.stats.iterations,
-                 f.stats.split_joints);
+                 f.stats.attempts, f.stats.split_joints, f.stats.flipped_beams);
     a.info["panels"] = "flat";
     a.info["iterations"] = f.stats.iterations;
     a.info["converged"] = f.stats.converged;
     a.info["split_joints"] = f.stats.split_joints;
+    a.info["flipped_beams"] = f.stats.flipped_beams;
+    a.info["attempts"] = f.stats.attempts;
+    a.info["surface_weight"] = f.stats.surface_weight;
+    a.info["surface_distance_max_m"] = f.stats.surface_distance_max;
+    a.info["shortest_beam_m"] = f.stats.shortest_beam;
     a.info["added_joints"] = f.stats.added_joints;
     a.info["energy_start"] = f.stats.energy_start;
     a.info["energy"] = f.stats.energy;
