@@ -220,8 +220,11 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                      ? PanelMode::flat
                      : PanelMode::free);
   if (!flat_info.is_null()) report["flat_panels"] = flat_info;
-  report["fabrication"] = fabrication_report(a.run.out_dir, out.mesh, out.supports,
-                                             structure ? &*structure : nullptr, frame, sheet);
+  const std::optional<fabrication::BeamResults> envelope =
+      sized ? std::optional(member_envelope(*sized)) : std::nullopt;
+  report["fabrication"] =
+      fabrication_report(a.run.out_dir, out.mesh, out.supports, structure ? &*structure : nullptr,
+                         frame, sheet, envelope ? &*envelope : nullptr);
   if (a.length > 0) {
     report["mesh"]["target_length_m"] = a.length;
     report["mesh"]["length_error"] = report["mesh"]["total_length_m"].get<double>() / a.length - 1;

@@ -105,11 +105,13 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   io::ensure_directory(dir);
   const GridShellOutput out = design_output(r);
   const analysis::GridshellFrameOptions frame = analysed_frame(options, r);
+  const std::optional<fabrication::BeamResults> envelope =
+      r.sizing ? std::optional(member_envelope(*r.sizing)) : std::nullopt;
   write_gridshell_files(dir, out);
   const auto t_fab = Clock::now();
   const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports,
                                                 r.structure ? &*r.structure : nullptr,
-                                                frame, sheet);
+                                                frame, sheet, envelope ? &*envelope : nullptr);
   const double fabrication_s = std::chrono::duration<double>(Clock::now() - t_fab).count();
   io::write_vtp(dir / "field.vtp", to_poly(surface.mesh), {}, field_attributes(r.field));
   const auto t_fig = Clock::now();

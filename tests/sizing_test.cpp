@@ -45,20 +45,22 @@ const fs::path& sized_dome() {
 
 struct BeamRow {
   double length = 0, utilisation = 0, buckling = 0;
-  std::string section;
+  std::string section, governing;
 };
 std::vector<BeamRow> read_beams(const fs::path& csv) {
   std::ifstream in(csv);
   std::string line;
-  std::getline(in, line);  // beam,node_i,node_j,length,axial_force,utilisation,buckling_utilisation,
-                           // length_class,panels,section,governing
+  std::getline(in,
+               line);  // beam,node_i,node_j,length,axial_force,utilisation,buckling_utilisation,
+                       // length_class,panels,section,governing
   std::vector<BeamRow> rows;
   while (std::getline(in, line)) {
     std::vector<std::string> cells;
     std::stringstream ss(line);
     for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
     if (cells.size() < 10) continue;
-    rows.push_back({std::stod(cells[3]), std::stod(cells[5]), std::stod(cells[6]), cells[9]});
+    rows.push_back({std::stod(cells[3]), std::stod(cells[5]), std::stod(cells[6]), cells[9],
+                    cells.size() > 10 ? cells[10] : std::string()});
   }
   return rows;
 }
@@ -88,8 +90,7 @@ TEST(Sizing, SizedDomePassesEveryCombinationAndItsOwnReanalysis) {
   // Re-analysed from its own frame.json: the same verdicts and figures.
   const fs::path a = test::temp_dir("sized_dome_analyze");
   const auto r = test::run_gridshell("analyze " + (d / "frame.json").string() +
-                                     " --analyze buckling --quiet --figures none -o " +
-                                     a.string());
+                                     " --analyze buckling --quiet --figures none -o " + a.string());
   ASSERT_EQ(r.status, 0) << r.err;
   const auto ga = read_json(a / "report.json")["structure"]["governing"];
   EXPECT_TRUE(ga["pass"].get<bool>());
@@ -116,6 +117,8 @@ TEST(Sizing, MassIsLengthTimesTheSeriesMassPerMetre) {
     mass += std::numbers::pi * (s.h - s.t) * s.t * 7850 * b.length;
     distinct.insert(b.section);
     EXPECT_LE(std::max(b.utilisation, b.buckling), 1.0) << b.section;
+    // The envelope over the ULS combinations names its clause and combination.
+    EXPECT_NE(b.governing.find(" under ULS"), std::string::npos) << b.governing;
   }
   EXPECT_NEAR(report["sizing"]["mass_kg"].get<double>(), mass, 1e-9 * mass);
   EXPECT_NEAR(report["mass"]["mass_kg"].get<double>(), mass, 1e-9 * mass);
@@ -183,9 +186,9 @@ TEST(Sizing, SectionGroupsBoundTheDistinctSections) {
   EXPECT_LE(report["sizing"]["distinct_sections"].get<int>(), 2);
   EXPECT_TRUE(report["structure"]["governing"]["pass"].get<bool>());
   // Fewer sections cost steel: never lighter than each member its own.
-  EXPECT_GE(report["sizing"]["mass_kg"].get<double>(),
-            read_json(sized_dome() / "report.json")["sizing"]["mass_kg"].get<double>() *
-                (1 - 1e-9));
+  EXPECT_GE(
+      report["sizing"]["mass_kg"].get<double>(),
+      read_json(sized_dome() / "report.json")["sizing"]["mass_kg"].get<double>() * (1 - 1e-9));
 }
 
 TEST(Sizing, AListThatCannotCarryTheLoadsSaysSoAndWhere) {
@@ -207,18 +210,18 @@ TEST(Sizing, AListThatCannotCarryTheLoadsSaysSoAndWhere) {
 
 TEST(Sizing, BadSizingOptionsAreOneLineErrors) {
   const fs::path d = test::temp_dir("sized_bad");
-  for (const std::string& bad :
-       {std::string("--sections ") + (d / "missing.txt").string(), std::string("--section-groups -1"),
-        std::string("--lambda-min 0"), std::string("--carbon-factor -2")}) {
-    const auto r = test::run_gridshell(std::string(kDome) + "--size " + bad + " -o " +
-                                       (d / "out").string());
+  for (const std::string& bad : {std::string("--sections ") + (d / "missing.txt").string(),
+                                 std::string("--section-groups -1"), std::string("--lambda-min 0"),
+                                 std::string("--carbon-factor -2")}) {
+    const auto r =
+        test::run_gridshell(std::string(kDome) + "--size " + bad + " -o " + (d / "out").string());
     EXPECT_EQ(r.status, 2) << bad;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad << ": " << r.err;
   }
   const fs::path bad_list = d / "bad.txt";
   std::ofstream(bad_list) << "CHS 88.9x4.0\nHEB 200\n";
-  const auto r = test::run_gridshell(std::string(kDome) + "--size --sections " +
-                                     bad_list.string() + " -o " + (d / "out").string());
+  const auto r = test::run_gridshell(std::string(kDome) + "--size --sections " + bad_list.string() +
+                                     " -o " + (d / "out").string());
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find(":2"), std::string::npos) << r.err;  // names the line
 }

@@ -299,7 +299,8 @@ nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMe
                                   const std::vector<int>& supports,
                                   const analysis::FrameResult* structure,
                                   const analysis::GridshellFrameOptions& frame,
-                                  const fabrication::SheetOptions& sheet) {
+                                  const fabrication::SheetOptions& sheet,
+                                  const fabrication::BeamResults* envelope) {
   fabrication::FabricationFileOptions o;
   o.sheet = sheet;
   o.bar_diameter = frame.diameter;
@@ -321,7 +322,8 @@ nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMe
                                                           : c.section_governing);
     }
   }
-  return fabrication::write_fabrication_files(dir, mesh, supports, beams, o);
+  return fabrication::write_fabrication_files(dir, mesh, supports, envelope ? *envelope : beams,
+                                              o);
 }
 
 nlohmann::json section_block(const analysis::GridshellFrameOptions& frame) {

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gridshell/fabrication/fabrication_files.h"
 #include "gridshell/fabrication/nesting.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/gridshell_output.h"
@@ -39,13 +40,15 @@ nlohmann::json timings_block(const Timings& timings, const Timings& extra, doubl
 /// fabrication/fabrication_files.h) of `mesh` into `dir` and returns report.json's `fabrication`
 /// block (bill of materials). `structure`: a frame analysis of `mesh` whose members are its
 /// topology edges (its axial forces go into beams.csv), or null; `frame`: the bars' diameter and
-/// density for the mass; `sheet`: the sheet size the panels are nested on. Design, baseline and
+/// density for the mass; `sheet`: the sheet size the panels are nested on; `envelope`: per beam
+/// results that replace `structure`'s (a sized design's envelope over its combinations). Design, baseline and
 /// analyze all call this.
 nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMesh& mesh,
                                   const std::vector<int>& supports,
                                   const analysis::FrameResult* structure,
                                   const analysis::GridshellFrameOptions& frame,
-                                  const fabrication::SheetOptions& sheet);
+                                  const fabrication::SheetOptions& sheet,
+                                  const fabrication::BeamResults* envelope = nullptr);
 
 /// report.json's `structure.section`: the members' section (`frame.section`, else the bar of
 /// `frame.diameter`) — designation, shape, process, whether a catalogue size, A, mass per metre,

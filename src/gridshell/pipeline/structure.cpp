@@ -1,8 +1,12 @@
 #include "gridshell/pipeline/structure.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <string>
+
+#include <fmt/format.h>
 
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
@@ -29,6 +33,35 @@ GridshellStructure analyze_structure(const PolyMesh& mesh, const std::vector<int
   return out;
 }
 
+fabrication::BeamResults member_envelope(const sizing::SizingResult& sz) {
+  fabrication::BeamResults b;
+  const analysis::FrameResult& primary = sz.final.results.at(sz.primary);
+  b.axial_force = primary.axial_force;
+  const std::size_t n = primary.checks.members.size();
+  b.utilisation.assign(n, 0.0);
+  b.buckling_utilisation.assign(n, 0.0);
+  b.governing.assign(n, std::string());
+  std::vector<double> worst(n, -1.0);
+  for (std::size_t k = 0; k < sz.combinations.size() && k < sz.final.results.size(); ++k) {
+    if (!sz.combinations[k].uls) continue;
+    const auto& members = sz.final.results[k].checks.members;
+    for (std::size_t m = 0; m < n && m < members.size(); ++m) {
+      const checks::MemberCheck& c = members[m];
+      b.utilisation[m] = std::max(b.utilisation[m], c.section);
+      b.buckling_utilisation[m] = std::max(b.buckling_utilisation[m], c.buckling);
+      const bool buckling = c.buckling > c.section;
+      const double u = buckling ? c.buckling : c.section;
+      if (u > worst[m]) {
+        worst[m] = u;
+        b.governing[m] =
+            fmt::format("{} under {}", buckling ? c.buckling_governing : c.section_governing,
+                        sz.combinations[k].name);
+      }
+    }
+  }
+  return b;
+}
+
 std::vector<std::string> member_designations(const analysis::GridshellFrameOptions& frame) {
   std::vector<std::string> out;
   for (const sections::Section& s : frame.member_sections) out.push_back(sections::designation(s));
@@ -48,8 +81,7 @@ nlohmann::json steel_block(const PolyMesh& mesh, const analysis::GridshellFrameO
   double mass = 0;
   const sections::Section given = *analysis::member_section(frame).profile;
   for (std::size_t e = 0; e < topo.edges.size(); ++e) {
-    const sections::Section& s =
-        frame.member_sections.empty() ? given : frame.member_sections[e];
+    const sections::Section& s = frame.member_sections.empty() ? given : frame.member_sections[e];
     const double L = (mesh.vertex(topo.edges[e][1]) - mesh.vertex(topo.edges[e][0])).norm();
     const double m = sections::properties(s).A * frame.density * L;
     auto& row = per[sections::designation(s)];
@@ -66,8 +98,10 @@ nlohmann::json steel_block(const PolyMesh& mesh, const analysis::GridshellFrameO
   j["distinct_sections"] = per.size();
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& [name, row] : per)
-    rows.push_back({{"designation", name}, {"members", static_cast<int>(row[0])},
-                    {"length_m", row[1]}, {"mass_kg", row[2]}});
+    rows.push_back({{"designation", name},
+                    {"members", static_cast<int>(row[0])},
+                    {"length_m", row[1]},
+                    {"mass_kg", row[2]}});
   j["sections"] = rows;
   return j;
 }

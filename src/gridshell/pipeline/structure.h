@@ -13,6 +13,7 @@
 
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
+#include "gridshell/fabrication/fabrication_files.h"
 #include "gridshell/mesh/mesh.h"
 #include "gridshell/sizing/sizing.h"
 
@@ -43,6 +44,11 @@ GridshellStructure analyze_structure(const PolyMesh& mesh, const std::vector<int
                                      const analysis::GridshellFrameOptions& frame,
                                      const analysis::FrameAnalysisOptions& options,
                                      const StructureOptions& structure);
+
+/// Per member the envelope of a sized design's final analysis over its ULS combinations: the
+/// axial force of the primary combination, the largest cross-section and buckling utilisations,
+/// and the governing check as "clause under COMBINATION" (beams.csv's `governing`).
+fabrication::BeamResults member_envelope(const sizing::SizingResult& sizing);
 
 /// Per member (topology edge order) its section's designation; empty when every member has
 /// the frame's one section.

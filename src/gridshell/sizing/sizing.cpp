@@ -50,7 +50,9 @@ analysis::FrameResult analyze_one(const PolyMesh& mesh, const std::vector<int>& 
 }
 
 /// A combination whose δ is judged against the deflection limit: SLS, or the paper's load.
-bool serviceability(const analysis::LoadCombination& c) { return !c.uls || c.name == "paper"; }
+bool serviceability(const analysis::LoadCombination& c) {
+  return !c.uls || c.name == "paper";
+}
 
 }  // namespace
 
@@ -76,7 +78,8 @@ double steel_mass(const PolyMesh& mesh, const analysis::GridshellFrameOptions& f
 
 std::vector<sections::Section> read_section_list(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw Error("--sections", "cannot read '" + path + "' (not a series word: chs, rhs, bar)");
+  if (!in)
+    throw Error("--sections", "cannot read '" + path + "' (not a series word: chs, rhs, bar)");
   std::vector<sections::Section> out;
   std::string line;
   for (int n = 1; std::getline(in, line) && n <= 100000; ++n) {
@@ -198,7 +201,11 @@ Sizer::Sizer(const PolyMesh& mesh, const std::vector<int>& supports,
              const analysis::GridshellFrameOptions& frame,
              const analysis::FrameAnalysisOptions& analysis, analysis::AnalysisLevel level,
              const SizingOptions& options)
-    : mesh_(mesh), supports_(supports), frame_(frame), analysis_(analysis), level_(level),
+    : mesh_(mesh),
+      supports_(supports),
+      frame_(frame),
+      analysis_(analysis),
+      level_(level),
       o_(options) {
   if (o_.catalogue.empty()) throw Error("--sections", "the section list is empty");
   if (o_.groups < 0) throw Error("--section-groups", "must be >= 0 (0: every member its own)");
@@ -212,7 +219,8 @@ Sizer::Sizer(const PolyMesh& mesh, const std::vector<int>& supports,
                    [](const Entry& a, const Entry& b) { return a.mass < b.mass; });
   frame_.member_sections.clear();
   const Topology topo = build_topology(mesh_);
-  for (const auto& e : topo.edges) length_.push_back((mesh_.vertex(e[1]) - mesh_.vertex(e[0])).norm());
+  for (const auto& e : topo.edges)
+    length_.push_back((mesh_.vertex(e[1]) - mesh_.vertex(e[0])).norm());
   floor_A_.assign(length_.size(), 0.0);
   floor_I_.assign(length_.size(), 0.0);
   combos_ = design_combinations(mesh_, frame_, &primary_);
@@ -236,8 +244,7 @@ Analysed Sizer::analyse(const std::vector<int>& design, analysis::AnalysisLevel 
   for (std::size_t k = 0; k < combos_.size(); ++k) {
     const analysis::FrameResult& r = a.runs.results[k];
     if (combos_[k].uls) {
-      a.utilisation =
-          std::max({a.utilisation, r.checks.section_max, r.checks.buckling_max});
+      a.utilisation = std::max({a.utilisation, r.checks.section_max, r.checks.buckling_max});
       if (r.lambda_linear_buckling && *r.lambda_linear_buckling < a.lambda_lba) {
         a.lambda_lba = *r.lambda_linear_buckling;
         a.lambda_combination = k;
@@ -258,7 +265,8 @@ bool Sizer::passes(const Analysed& a, int m, int s) const {
     if (!combos_[k].uls) continue;
     const fem::MemberForces& f = a.runs.results[k].member_forces[m];
     if (std::max(std::abs(f.N_max), std::abs(f.N_min)) > cat_[s].A * fy) return false;
-    const checks::MemberCheck c = checks::check_member(a.model, m, cat_[s].frame, f, analysis_.checks);
+    const checks::MemberCheck c =
+        checks::check_member(a.model, m, cat_[s].frame, f, analysis_.checks);
     if (!(c.section <= 1) || !(c.buckling <= 1)) return false;
   }
   return true;
@@ -276,16 +284,15 @@ std::string Sizer::strength_failure(const Analysed& a, int m) const {
   std::string text;
   for (std::size_t k = 0; k < combos_.size(); ++k) {
     if (!combos_[k].uls) continue;
-    const checks::MemberCheck c = checks::check_member(a.model, m, cat_[s].frame,
-                                                       a.runs.results[k].member_forces[m],
-                                                       analysis_.checks);
+    const checks::MemberCheck c = checks::check_member(
+        a.model, m, cat_[s].frame, a.runs.results[k].member_forces[m], analysis_.checks);
     const bool buckling = c.buckling > c.section;
     const double u = std::max(c.section, c.buckling);
     if (u > worst) {
       worst = u;
       text = fmt::format("member {}: {} utilisation {:.3g} under {} even with {}", m,
-                         buckling ? c.buckling_governing : c.section_governing, u,
-                         combos_[k].name, sections::designation(cat_[s].section));
+                         buckling ? c.buckling_governing : c.section_governing, u, combos_[k].name,
+                         sections::designation(cat_[s].section));
     }
   }
   return text;
@@ -457,15 +464,16 @@ bool Sizer::verify(const Analysed& a, const std::vector<int>& design, int& itera
   }
   out.history.push_back({++iteration, "verify", full.mass, full.utilisation, full.delta_ratio,
                          std::isfinite(lambda) ? lambda : 0.0, 0, seconds_since(t0)});
-  spdlog::info("[sizing] verified: lambda {:.3f} under {} ({:.1f} s)", lambda,
-               combos_[worst].name, out.history.back().seconds);
+  spdlog::info("[sizing] verified: lambda {:.3f} under {} ({:.1f} s)", lambda, combos_[worst].name,
+               out.history.back().seconds);
   out.iterations = iteration;
   out.final = std::move(full.runs);
   if (!(lambda < o_.lambda_min)) return true;
   if (last) {
-    failure_ = fmt::format("lambda {:.4g} < {:.4g} under {} (non-linear, imperfect) after {} "
-                           "rounds",
-                           lambda, o_.lambda_min, combos_[worst].name, o_.max_rounds);
+    failure_ = fmt::format(
+        "lambda {:.4g} < {:.4g} under {} (non-linear, imperfect) after {} "
+        "rounds",
+        lambda, o_.lambda_min, combos_[worst].name, o_.max_rounds);
     return true;
   }
   raise_target(lambda, a);
@@ -484,8 +492,14 @@ SizingResult Sizer::run() {
       ++iteration;
       const auto t0 = std::chrono::steady_clock::now();
       a = analyse(design, cheap);
-      SizingStep step{iteration, "strength", a.mass, a.utilisation, a.delta_ratio,
-                      std::isfinite(a.lambda_lba) ? a.lambda_lba : 0.0, 0, seconds_since(t0)};
+      SizingStep step{iteration,
+                      "strength",
+                      a.mass,
+                      a.utilisation,
+                      a.delta_ratio,
+                      std::isfinite(a.lambda_lba) ? a.lambda_lba : 0.0,
+                      0,
+                      seconds_since(t0)};
       if (iteration > o_.free_iterations && !design.empty())
         for (std::size_t m = 0; m < design.size(); ++m) {
           floor_A_[m] = std::max(floor_A_[m], cat_[design[m]].A);
@@ -503,12 +517,14 @@ SizingResult Sizer::run() {
         if (!raise_for_stiffness(a, design)) {
           out.history.push_back(step);
           failure_ = a.delta_ratio > 1
-                         ? fmt::format("SLS deflection {:.3g} x its limit under {} with the "
-                                       "heaviest useful sections",
-                                       a.delta_ratio, combos_[a.delta_combination].name)
-                         : fmt::format("lambda_LBA {:.4g} < {:.4g} under {} with the heaviest "
-                                       "useful sections",
-                                       a.lambda_lba, lba_target_, combos_[a.lambda_combination].name);
+                         ? fmt::format(
+                               "SLS deflection {:.3g} x its limit under {} with the "
+                               "heaviest useful sections",
+                               a.delta_ratio, combos_[a.delta_combination].name)
+                         : fmt::format(
+                               "lambda_LBA {:.4g} < {:.4g} under {} with the heaviest "
+                               "useful sections",
+                               a.lambda_lba, lba_target_, combos_[a.lambda_combination].name);
           break;
         }
       }
@@ -525,10 +541,10 @@ SizingResult Sizer::run() {
       for (std::size_t m = 0; m < need.size(); ++m)
         step.changed += design.empty() || need[m] != design[m];
       out.history.push_back(step);
-      spdlog::info("[sizing] iteration {}: {:.0f} kg, utilisation {:.3f}, delta {:.3f} x limit, "
-                   "lambda_LBA {:.3f}, {} members resized ({:.2f} s)",
-                   iteration, a.mass, a.utilisation, a.delta_ratio, step.lambda, step.changed,
-                   step.seconds);
+      spdlog::info(
+          "[sizing] iteration {}: {:.0f} kg, utilisation {:.3f}, delta {:.3f} x limit, "
+          "lambda_LBA {:.3f}, {} members resized ({:.2f} s)",
+          iteration, a.mass, a.utilisation, a.delta_ratio, step.lambda, step.changed, step.seconds);
       if (!missing.empty() && step.changed == 0) {
         failure_ = missing;
         break;
@@ -566,8 +582,8 @@ SizingResult Sizer::run() {
   const std::string check = final_failure(combos_, out.final, level_, o_.lambda_min);
   out.failure = !check.empty() && failure_.empty() ? check : failure_;
   out.sized = check.empty() && failure_.empty();
-  out.convergence = out.sized ? fmt::format("fixed point after {} iterations", out.iterations)
-                              : failure_;
+  out.convergence =
+      out.sized ? fmt::format("fixed point after {} iterations", out.iterations) : failure_;
   return out;
 }
 

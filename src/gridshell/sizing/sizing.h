@@ -104,10 +104,9 @@ SizingResult size_members(const PolyMesh& mesh, const std::vector<int>& supports
 /// The load combinations the design is judged by: the eurocode ones of analysis/load_cases.h for
 /// `frame`'s member sections, or one "paper" combination (ULS and SLS at once: the paper's
 /// load). `primary`: the index of "ULS" / "paper".
-std::vector<analysis::LoadCombination> design_combinations(const PolyMesh& mesh,
-                                                           const analysis::GridshellFrameOptions&
-                                                               frame,
-                                                           std::size_t* primary = nullptr);
+std::vector<analysis::LoadCombination> design_combinations(
+    const PolyMesh& mesh, const analysis::GridshellFrameOptions& frame,
+    std::size_t* primary = nullptr);
 
 /// Every combination of `frame` analysed by the rule of analysis/combination_runs.h, the primary
 /// at `level` (the design's analysis), the others as the rule says.
