@@ -49,6 +49,7 @@ struct AnalyzeArgs {
   std::string sheet = "2.5x1.25";
   LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit
   MemberOptions members;    ///< --section (mesh input), --buckling-length-factor
+  SizingArgs sizing;        ///< --size (mesh input), --sections, --section-groups, …
   bool single_path = false;
 };
 
@@ -79,8 +80,14 @@ void check_analyze_args(const AnalyzeArgs& a) {
   fabrication::parse_sheet(a.sheet);
   analysis::GridshellFrameOptions frame;
   analysis::FrameAnalysisOptions options;
-  apply_load_check_options(a.checks, frame, options);
+  apply_load_check_options(a.checks, frame, options, a.sizing.size);
   apply_member_options(a.members, frame, options);
+  StructureOptions structure;
+  apply_sizing_options(a.sizing, structure);
+  if (a.sizing.size && lower_ext(a.input) == ".json")
+    throw Error("--size",
+                "sizes a grid-shell mesh's members (PLY/OBJ/OFF); a MODEL.json keeps "
+                "its sections");
   if (!a.members.section.empty() && lower_ext(a.input) == ".json")
     throw Error("--section", "a MODEL.json gives its own sections");
   if (frame.loads == analysis::LoadModel::eurocode && lower_ext(a.input) == ".json")
@@ -108,7 +115,7 @@ analysis::GridshellFrameOptions frame_options(const AnalyzeArgs& a, const PolyMe
   go.self_weight_at_bars = a.self_weight == "at-bars";
   go.area_load_kN_m2 = a.area_load;
   analysis::FrameAnalysisOptions unused;
-  apply_load_check_options(a.checks, go, unused);
+  apply_load_check_options(a.checks, go, unused, a.sizing.size);
   apply_member_options(a.members, go, unused);
   // `vertex` rows of a load case refer to the grid-shell's own joints (its panels triangulated:
   // convex ones fanned, concave ones filled inside their outline).
@@ -143,9 +150,10 @@ LoadedFrame load_frame(const AnalyzeArgs& a) {
     throw Error(a.input, "no support vertices: the grid-shell is a mechanism");
   // The frame is analysed as given; a grid that covers part of the roof twice is said so.
   if (const int overlaps = find_overlaps(s.mesh, build_topology(s.mesh)).count(); overlaps > 0)
-    spdlog::warn("{}: {} overlaps (beams that cross without a joint, joints inside a panel not "
-                 "their own): analysed as given, but not buildable as is",
-                 a.input, overlaps);
+    spdlog::warn(
+        "{}: {} overlaps (beams that cross without a joint, joints inside a panel not "
+        "their own): analysed as given, but not buildable as is",
+        a.input, overlaps);
   f.model = analysis::gridshell_frame(s.mesh, s.supports, frame_options(a, &s.mesh));
   f.supports = s.supports;
   return f;
@@ -186,7 +194,7 @@ analysis::FrameAnalysisOptions analysis_options(const AnalyzeArgs& a, analysis::
   if (general) o.path_reach = analysis::FrameAnalysisOptions::kGeneralPathReach;
   o.displacement_limit = a.displacement_limit;
   analysis::GridshellFrameOptions unused;
-  apply_load_check_options(a.checks, unused, o);
+  apply_load_check_options(a.checks, unused, o, a.sizing.size);
   apply_member_options(a.members, unused, o);
   o.stability = !a.single_path;
   if (o.imperfection && !o.buckling) o.buckling = true;
@@ -218,8 +226,8 @@ nlohmann::json model_combinations(const LoadedFrame& f, analysis::FrameAnalysisO
   for (std::size_t k = 0; k < f.combinations.size(); ++k)
     runs.push_back({f.combinations[k].name.rfind("SLS", 0) != 0, k == 0});
   options.nonlinear_static = 0;
-  const analysis::CombinationRunsResult done = analysis::run_combinations(
-      runs, primary, [&](std::size_t k, analysis::AnalysisLevel level) {
+  const analysis::CombinationRunsResult done =
+      analysis::run_combinations(runs, primary, [&](std::size_t k, analysis::AnalysisLevel level) {
         fem::FrameModel model = f.model;
         model.loads = f.combinations[k].loads;
         spdlog::info("[analysis] {} combination: {}", f.combinations[k].name, to_string(level));
@@ -256,22 +264,37 @@ void write_analyze_frame_json(const AnalyzeArgs& a, const LoadedFrame& f,
 int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   const auto guard = apply_run_options(a.run);
   check_analyze_args(a);
-  const LoadedFrame f = load_frame(a);
+  LoadedFrame f = load_frame(a);
   const analysis::AnalysisLevel level = analysis_level(a.analyze, f.request);
   io::ensure_directory(a.run.out_dir);
   analysis::FrameAnalysisOptions options = analysis_options(a, level, f.request);
   options.arc.progress = guard.progress;
-  const analysis::FrameResult r = analysis::analyze_frame(f.model, options);
   const bool gridshell_mesh = lower_ext(a.input) != ".json";  // members: its topology edges
   const PolyMesh mesh{f.model.nodes, f.model.faces};
+  analysis::GridshellFrameOptions frame = frame_options(a, gridshell_mesh ? &mesh : nullptr);
+  analysis::FrameResult r;
+  std::optional<sizing::SizingResult> sized;
+  if (a.sizing.size) {  // a grid-shell mesh (checked): sized, then its sized frame is the model
+    StructureOptions so;
+    so.level = level;
+    apply_sizing_options(a.sizing, so);
+    GridshellStructure s = analyze_structure(mesh, f.supports, frame, options, so);
+    frame = std::move(s.frame);
+    f.model = analysis::gridshell_frame(mesh, f.supports, frame);
+    r = std::move(s.result);
+    sized = std::move(s.sizing);
+  } else {
+    r = analysis::analyze_frame(f.model, options);
+  }
   // A grid-shell's fabrication files (their beams.csv included) need only the mesh and the
   // results: written on the second core while this one writes the frame's files and the report.
   std::future<nlohmann::json> fabrication;
+  const std::optional<fabrication::BeamResults> envelope =
+      sized ? std::optional(member_envelope(*sized)) : std::nullopt;
   if (gridshell_mesh) {
-    const analysis::GridshellFrameOptions bars = frame_options(a, nullptr);
-    fabrication = std::async(std::launch::async, [&, bars] {
-      return fabrication_report(a.run.out_dir, mesh, f.supports, &r, bars,
-                                fabrication::parse_sheet(a.sheet));
+    fabrication = std::async(std::launch::async, [&] {
+      return fabrication_report(a.run.out_dir, mesh, f.supports, &r, frame,
+                                fabrication::parse_sheet(a.sheet), envelope ? &*envelope : nullptr);
     });
   }
   write_frame_outputs(a.run.out_dir, f.model, f.supports, r,
@@ -284,17 +307,27 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   st["supports"] = f.supports.size();
   st["analysis"] = to_string(level);
   st["steel"] = a.checks.steel;
-  if (gridshell_mesh) st["section"] = section_block(frame_options(a, nullptr));
+  if (gridshell_mesh) st["section"] = section_block(frame);
   const Vec3 total = fem::total_load(f.model);
   st["total_load_N"] = {total.x(), total.y(), total.z()};
-  st["loads"] = gridshell_mesh ? analysis::to_string(frame_options(a, nullptr).loads) : f.combinations.empty() ? "model" : "load_cases";
-  const analysis::GridshellFrameOptions frame = frame_options(a, gridshell_mesh ? &mesh : nullptr);
+  st["loads"] = gridshell_mesh           ? analysis::to_string(frame.loads)
+                : f.combinations.empty() ? "model"
+                                         : "load_cases";
   if (!gridshell_mesh)
     st["combinations"] = model_combinations(f, analysis_options(a, level, f.request), r);
   else
     st["combinations"] =
-        combinations_block(mesh, f.supports, frame, analysis_options(a, level, f.request), r);
+        combinations_block(mesh, f.supports, frame, analysis_options(a, level, f.request), r,
+                           sized ? &sized->final : nullptr);
   st["governing"] = governing_block(st["combinations"]);
+  if (gridshell_mesh) report["mass"] = steel_block(mesh, frame, a.sizing.carbon_factor);
+  if (sized) {
+    StructureOptions so;
+    apply_sizing_options(a.sizing, so);
+    report["sizing"] = sizing_block(*sized, mesh, frame, so.sizing_options, a.sizing.carbon_factor);
+    report["sizing"]["sections_list"] = a.sizing.sections;
+    if (!sized->sized) spdlog::warn("[sizing] not sized: {}", sized->failure);
+  }
   write_analyze_frame_json(a, f, frame, analysis_options(a, level, f.request), level);
   report["structure"] = st;
   if (gridshell_mesh) {
@@ -377,6 +410,7 @@ void register_analyze(CLI::App& app, Action& action) {
       ->default_str("0");
   add_load_check_options(sub, a->checks);
   add_member_options(sub, a->members);
+  add_sizing_options(sub, a->sizing);
   sub->add_flag("--single-path", a->single_path,
                 "non-linear analysis: follow only the path asked for (perfect, or imperfect with "
                 "--imperfection), not also the other");

@@ -231,3 +231,22 @@ TEST(Sizing, SectionListsParse) {
   EXPECT_EQ(sizing::parse_section_list("rhs cold"),
             sections::series(sections::Shape::rhs, sections::Process::cold));
 }
+
+TEST(Sizing, AnalyzeSizesAGridshellMeshAsDesignDoes) {
+  const fs::path d = sized_dome();
+  const fs::path a = test::temp_dir("sized_analyze_mesh");
+  const auto r = test::run_gridshell("analyze " + (d / "gridshell.obj").string() +
+                                     " --size --analyze buckling --quiet --figures none -o " +
+                                     a.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto mine = read_json(a / "report.json");
+  const auto designed = read_json(d / "report.json");
+  EXPECT_TRUE(mine["sizing"]["sized"].get<bool>());
+  EXPECT_NEAR(mine["sizing"]["mass_kg"].get<double>(), designed["sizing"]["mass_kg"].get<double>(),
+              1e-9 * designed["sizing"]["mass_kg"].get<double>());
+  // A MODEL.json keeps its own sections.
+  const auto j = test::run_gridshell("analyze " + (d / "frame.json").string() + " --size -o " +
+                                     (a / "json").string());
+  EXPECT_EQ(j.status, 2);
+  EXPECT_NE(j.err.find("--size"), std::string::npos) << j.err;
+}
