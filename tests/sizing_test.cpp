@@ -124,8 +124,12 @@ TEST(Sizing, MassIsLengthTimesTheSeriesMassPerMetre) {
   EXPECT_NEAR(report["mass"]["mass_kg"].get<double>(), mass, 1e-9 * mass);
   EXPECT_NEAR(report["fabrication"]["mass_kg"].get<double>(), mass, 1e-9 * mass);
   EXPECT_EQ(report["sizing"]["distinct_sections"].get<int>(), static_cast<int>(distinct.size()));
+  EXPECT_EQ(report["sizing"]["sections_distinct"].get<int>(), static_cast<int>(distinct.size()));
+  EXPECT_EQ(report["buildability"]["sections_distinct"].get<int>(),
+            static_cast<int>(distinct.size()));
   EXPECT_GT(distinct.size(), 1u);  // sized per member: not one section for all
   EXPECT_NEAR(report["sizing"]["carbon_kgCO2e"].get<double>(), 1.55 * mass, 1e-9 * mass);
+  EXPECT_NEAR(report["sizing"]["carbon_kgco2e"].get<double>(), 1.55 * mass, 1e-9 * mass);
   const double plan = report["sizing"]["plan_area_m2"].get<double>();
   EXPECT_NEAR(report["sizing"]["mass_kg_per_m2"].get<double>(), mass / plan, 1e-9 * mass / plan);
 }
@@ -203,6 +207,7 @@ TEST(Sizing, AListThatCannotCarryTheLoadsSaysSoAndWhere) {
   EXPECT_FALSE(report["sizing"]["sized"].get<bool>());
   const std::string failure = report["sizing"]["failure"];
   EXPECT_FALSE(failure.empty());
+  EXPECT_EQ(report["sizing"]["failing_check"], failure);  // CONTRACT.md's key
   EXPECT_NE(r.err.find("not sized"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(failure), std::string::npos) << r.err;
   EXPECT_FALSE(report["structure"]["governing"]["pass"].get<bool>());

@@ -115,6 +115,10 @@ nlohmann::json sizing_block(const sizing::SizingResult& r, const PolyMesh& mesh,
   j["sized"] = r.sized;
   j["convergence"] = r.convergence;
   if (!r.failure.empty()) j["failure"] = r.failure;
+  // CONTRACT.md's names of the same figures.
+  j["sections_distinct"] = j["distinct_sections"];
+  j["carbon_kgco2e"] = j["carbon_kgCO2e"];
+  if (!r.sized) j["failing_check"] = r.failure;
   j["iterations"] = r.iterations;
   j["groups"] = o.groups;
   j["catalogue_size"] = o.catalogue.size();
