@@ -45,21 +45,21 @@ void counters(benchmark::State& state, const DesignResult& r) {
   state.counters["mass_kg"] = r.structure ? r.structure->mass_kg : 0;
 }
 
-void BM_SizedDesignFunicular(benchmark::State& state) {
+void sized_funicular(benchmark::State& state, analysis::AnalysisLevel level) {
   spdlog::set_level(spdlog::level::warn);
   const Surface surface = load_surface("builtin:funicular");
   DesignResult r;
-  for (auto _ : state) r = run_design(surface, sized_options(analysis::AnalysisLevel::nonlinear));
+  for (auto _ : state) r = run_design(surface, sized_options(level));
   counters(state, r);
+}
+
+void BM_SizedDesignFunicular(benchmark::State& state) {
+  sized_funicular(state, analysis::AnalysisLevel::nonlinear);
 }
 BENCHMARK(BM_SizedDesignFunicular)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 void BM_SizedDesignFunicularLBA(benchmark::State& state) {
-  spdlog::set_level(spdlog::level::warn);
-  const Surface surface = load_surface("builtin:funicular");
-  DesignResult r;
-  for (auto _ : state) r = run_design(surface, sized_options(analysis::AnalysisLevel::buckling));
-  counters(state, r);
+  sized_funicular(state, analysis::AnalysisLevel::buckling);
 }
 BENCHMARK(BM_SizedDesignFunicularLBA)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
