@@ -705,7 +705,7 @@ def main():
            "The objective search on more surfaces (the shared ones and the built-ins) is "
            "docs/objective_table.md (`python3 scripts/objective_table.py`); the anisotropic quad "
            "baseline's own measurements are docs/quad_aniso.md; flat glass panels (`--panels flat`) "
-           "against the free ones, with where the flat stage falls back, are docs/panels.md.", "",
+           "against the free ones, with where the flat stage falls back, are docs/panels.md; the patterns sized to the code (`--size`: steel mass at equal safety) are docs/sizing.md.", "",
            f"This regeneration: {time.time() - started:.0f} s wall-clock with --jobs {a.jobs}; "
            f"{runner.ran} runs made, {runner.reused} reused from "
            f"`{os.path.relpath(work, ROOT)}/`; sweeps made: {runner.sweeps_ran}, reused: "
