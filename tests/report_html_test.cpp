@@ -13,7 +13,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -514,4 +516,103 @@ TEST(ReportHtml, ChromiumDrawsTheMeshFromDiskAndOverHttp) {
       changed += std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) > 24;
     }
   EXPECT_GT(changed, long(0.05 * area)) << "the link did not change the view";
+}
+
+// A sized design (sizing/sizing.h): the data block has each beam's section as beams.csv has it;
+// the page colours the beams by section with one legend entry per distinct section, lightest per
+// metre first, in colours that the picture shows; the Steel panel's mass is report.json's.
+TEST(ReportHtml, SizedDesignShowsSectionsAndSteel) {
+  const fs::path d = temp_dir("sized");
+  const auto r = run_gridshell(
+      "design builtin:dome --cells 40 --seed 3 -D 1 -A 1 --size --analyze buckling --quiet -o " +
+      d.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(slurp(d / "report.json"));
+  ASSERT_TRUE(report.at("sizing").at("sized").get<bool>());
+  const nlohmann::json& mass = report.at("mass");
+  const nlohmann::json j = page_data(slurp(d / "report.html"));
+  const std::size_t n_beams = j.at("beams").size() / 2;
+  ASSERT_EQ(j.at("beam_sections").size(), n_beams);
+  ASSERT_EQ(j.at("buckling_utilisation").size(), n_beams);
+  // beams.csv's `section` (column 10) and `buckling_utilisation` (column 7), row b = beam b.
+  std::istringstream csv(slurp(d / "beams.csv"));
+  std::string line;
+  std::getline(csv, line);
+  std::size_t rows = 0;
+  std::set<std::string> distinct;
+  for (; std::getline(csv, line); ++rows) {
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+    ASSERT_GE(cells.size(), 10u) << line;
+    ASSERT_LT(rows, n_beams);
+    EXPECT_EQ(j["beam_sections"][rows].get<std::string>(), cells[9]) << rows;
+    EXPECT_NEAR(j["buckling_utilisation"][rows].get<double>(), std::stod(cells[6]),
+                1e-4 * std::abs(std::stod(cells[6])) + 1e-12);
+    distinct.insert(cells[9]);
+  }
+  EXPECT_EQ(rows, n_beams);
+  ASSERT_EQ(distinct.size(), mass.at("distinct_sections").get<std::size_t>());
+  ASSERT_GE(distinct.size(), 3u) << "a sized dome uses several sections";
+
+  const std::string exe = find_chromium();
+  if (exe.empty()) SKIP_OR_FAIL_IN_CI("no chromium: headless Chromium is the report's browser");
+  const fs::path work = temp_dir("sized_work");
+  const Shot s = chromium(exe, "file://" + fs::absolute(d / "report.html").string() +
+                                   "#colour=section",
+                          work / "section.png", work);
+  ASSERT_EQ(s.status, 0) << s.log;
+  EXPECT_EQ(page_errors(s.dom), "");
+  // The legend (inside <div id="legend">, before the side panel): one entry per section, in the
+  // order of mass per metre (report.json's mass / length), members summing to the beams.
+  const std::size_t a = s.dom.find("<div id=\"legend\">"), b = s.dom.find("<div id=\"side\">");
+  ASSERT_TRUE(a != std::string::npos && b != std::string::npos && a < b);
+  const std::string legend = s.dom.substr(a, b - a);
+  const std::regex entry(
+      "<tr class=\"legend-entry\"><td><span class=\"swatch\" style=\"background:"
+      "rgb\\((\\d+), ?(\\d+), ?(\\d+)\\)\"></span></td><th>([^<]*)</th><td>(\\d+)</td>");
+  std::vector<std::string> names;
+  std::vector<std::array<int, 3>> colours;
+  std::size_t members = 0;
+  for (auto it = std::sregex_iterator(legend.begin(), legend.end(), entry);
+       it != std::sregex_iterator(); ++it) {
+    names.push_back((*it)[4]);
+    colours.push_back({std::stoi((*it)[1]), std::stoi((*it)[2]), std::stoi((*it)[3])});
+    members += std::stoul((*it)[5]);
+  }
+  ASSERT_EQ(names.size(), distinct.size()) << legend.substr(0, 600);
+  EXPECT_EQ(members, n_beams);
+  std::map<std::string, double> per_metre;
+  for (const auto& sec : mass.at("sections"))
+    per_metre[sec.at("designation")] = sec.at("mass_kg").get<double>() / sec.at("length_m").get<double>();
+  for (std::size_t k = 0; k + 1 < names.size(); ++k)
+    EXPECT_LE(per_metre.at(names[k]), per_metre.at(names[k + 1])) << names[k] << " " << names[k + 1];
+  const std::set<std::array<int, 3>> unique_colours(colours.begin(), colours.end());
+  EXPECT_EQ(unique_colours.size(), colours.size()) << "two sections share a colour";
+  // The Steel panel: the mass shown (4 significant digits) is report.json's.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(s.dom, m, std::regex("<td id=\"steel-mass\">([0-9.e+]+) kg</td>")));
+  EXPECT_NEAR(std::stod(m[1]), mass.at("mass_kg").get<double>(),
+              5e-4 * mass.at("mass_kg").get<double>());
+  EXPECT_NE(s.dom.find("<p id=\"sizing-verdict\"><b style=\"color:#161\">sized</b>"),
+            std::string::npos);
+  // The picture: the beams are drawn in the legend's colours, at least three of them plainly
+  // (looked for right of the legend box, left of the side panel).
+  const Image img = read_png(work / "section.png");
+  std::vector<long> seen(colours.size(), 0);
+  for (int y = 60; y < img.height; ++y)
+    for (int x = 330; x < img.width - 340; ++x) {
+      const unsigned char* p = img.at(x, y);
+      for (std::size_t k = 0; k < colours.size(); ++k)
+        if (std::abs(p[0] - colours[k][0]) + std::abs(p[1] - colours[k][1]) +
+                std::abs(p[2] - colours[k][2]) <=
+            30) {
+          ++seen[k];
+          break;
+        }
+    }
+  int shown = 0;
+  for (long c : seen) shown += c > 50;
+  EXPECT_GE(shown, std::min<int>(3, static_cast<int>(colours.size())))
+      << ::testing::PrintToString(seen);
 }

@@ -84,7 +84,8 @@ export function cssColour(rgb) {
 }
 
 // The distinct beam sections of `data` (data.beam_sections, one designation per beam), lightest
-// per metre first, each { designation, members, mass_kg, length_m, kg_per_m, colour }. Mass and
+// per metre first, each { designation, members, mass_kg, length_m, kg_per_m, colour }; the
+// section with the most members gets the palette's first colour, the next the second, …. Mass and
 // length come from report.json's `mass` (or `sizing`) section list; without it (or for a name it
 // lacks) they are unknown and the sections follow their names in natural order. [] when the
 // data has no per-beam sections.
@@ -117,7 +118,17 @@ export function sectionCategories(data) {
     if ((a.kg_per_m == null) !== (b.kg_per_m == null)) return a.kg_per_m == null ? 1 : -1;
     return natural(a, b);
   });
-  cats.forEach((c, k) => { c.colour = categoryColour(k); });
+  // Colours go by number of members, so that the sections most of the grid-shell is made of get
+  // the palette's most distinct colours (ties: lighter first).
+  const byMembers = cats.map((c, k) => [c.members, k]).sort((x, y) => y[0] - x[0] || x[1] - y[1]);
+  byMembers.forEach(([, k], rank) => {
+    const c = categoryColour(rank);
+    cats[k].colour = c;  // sRGB, as the legend's swatch shows it
+    // The same colour in three.js's linear working space: the renderer converts it back to sRGB,
+    // so the beams show the swatch's colour.
+    const lin = new THREE.Color().setRGB(c[0], c[1], c[2], THREE.SRGBColorSpace);
+    cats[k].linear = [lin.r, lin.g, lin.b];
+  });
   return cats;
 }
 
@@ -165,7 +176,8 @@ export function colourModes(data) {
   }
   if (nBeams && data.utilisation && data.utilisation.length === nBeams) {
     modes.push({ key: 'utilisation', label: 'utilisation, cross-section', unit: '–', on: 'beam',
-      values: data.utilisation, note: 'EN 1993-1-1 §6.2, primary combination; 1 = the check is just met' });
+      values: data.utilisation,
+      note: 'EN 1993-1-1 §6.2, primary combination; 1 = the check is just met' });
     const bu = data.buckling_utilisation;
     if (bu && bu.length === nBeams) {
       modes.push({ key: 'governing', label: 'utilisation, governing check', unit: '–', on: 'beam',
@@ -355,7 +367,7 @@ export function buildGridObjects(data, group, pos) {
     for (let b = 0; b < nBeams; ++b) {
       let ci = BEAM_PLAIN, cj = BEAM_PLAIN;
       if (mode.on === 'beam') {
-        ci = cj = mode.categorical ? mode.categories[mode.values[b]].colour
+        ci = cj = mode.categorical ? mode.categories[mode.values[b]].linear
           : sample(mode.stops, t(mode.values[b]));
       }
       // Per-joint values colour the panels; the beams only when no panel is shown.
