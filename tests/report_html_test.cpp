@@ -568,9 +568,9 @@ TEST(ReportHtml, SizedDesignShowsSectionsAndSteel) {
   const std::string exe = find_chromium();
   if (exe.empty()) SKIP_OR_FAIL_IN_CI("no chromium: headless Chromium is the report's browser");
   const fs::path work = temp_dir("sized_work");
-  const Shot s = chromium(exe, "file://" + fs::absolute(d / "report.html").string() +
-                                   "#colour=section",
-                          work / "section.png", work);
+  const Shot s =
+      chromium(exe, "file://" + fs::absolute(d / "report.html").string() + "#colour=section",
+               work / "section.png", work);
   ASSERT_EQ(s.status, 0) << s.log;
   EXPECT_EQ(page_errors(s.dom), "");
   // The legend (inside <div id="legend">, before the side panel): one entry per section, in the
@@ -594,9 +594,11 @@ TEST(ReportHtml, SizedDesignShowsSectionsAndSteel) {
   EXPECT_EQ(members, n_beams);
   std::map<std::string, double> per_metre;
   for (const auto& sec : mass.at("sections"))
-    per_metre[sec.at("designation")] = sec.at("mass_kg").get<double>() / sec.at("length_m").get<double>();
+    per_metre[sec.at("designation")] =
+        sec.at("mass_kg").get<double>() / sec.at("length_m").get<double>();
   for (std::size_t k = 0; k + 1 < names.size(); ++k)
-    EXPECT_LE(per_metre.at(names[k]), per_metre.at(names[k + 1])) << names[k] << " " << names[k + 1];
+    EXPECT_LE(per_metre.at(names[k]), per_metre.at(names[k + 1]))
+        << names[k] << " " << names[k + 1];
   const std::set<std::array<int, 3>> unique_colours(colours.begin(), colours.end());
   EXPECT_EQ(unique_colours.size(), colours.size()) << "two sections share a colour";
   // The Steel panel: the mass shown (4 significant digits) is report.json's.
@@ -632,9 +634,9 @@ TEST(ReportHtml, SizedDesignShowsSectionsAndSteel) {
 TEST(ReportHtml, UnsizedDesignSaysWhyInRed) {
   const fs::path d = temp_dir("unsized");
   gridshell::io::write_file_atomic(d / "small.txt", "CHS 21.3x2.3\nCHS 26.9x2.3\n");
-  const auto r = run_gridshell("design builtin:dome --cells 40 --seed 3 -D 1 -A 1 --size --sections " +
-                               (d / "small.txt").string() + " --analyze linear --quiet -o " +
-                               (d / "out").string());
+  const auto r = run_gridshell(
+      "design builtin:dome --cells 40 --seed 3 -D 1 -A 1 --size --sections " +
+      (d / "small.txt").string() + " --analyze linear --quiet -o " + (d / "out").string());
   ASSERT_EQ(r.status, 0) << r.err;
   const nlohmann::json report = nlohmann::json::parse(slurp(d / "out" / "report.json"));
   ASSERT_FALSE(report.at("sizing").at("sized").get<bool>());
@@ -643,8 +645,8 @@ TEST(ReportHtml, UnsizedDesignSaysWhyInRed) {
   const std::string exe = find_chromium();
   if (exe.empty()) SKIP_OR_FAIL_IN_CI("no chromium: headless Chromium is the report's browser");
   const fs::path work = temp_dir("unsized_work");
-  const Shot s = chromium(exe, "file://" + fs::absolute(d / "out" / "report.html").string(),
-                          fs::path(), work);
+  const Shot s =
+      chromium(exe, "file://" + fs::absolute(d / "out" / "report.html").string(), fs::path(), work);
   ASSERT_EQ(s.status, 0) << s.log;
   EXPECT_EQ(page_errors(s.dom), "");
   // The failure text is plain here (designations and clause numbers: no character to escape).

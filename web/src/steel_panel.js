@@ -77,13 +77,16 @@ function historyPlot(h) {
   svg += `<path d="${path(util.map(Yu))}" fill="none" stroke="#c60" stroke-width="1.5" ` +
     'stroke-dasharray="5,3"/>';
   svg += `<path d="${path(mass.map(Ym))}" fill="none" stroke="#14a" stroke-width="1.8"/>`;
-  svg += text(L - 3, T + 8, fmt(m1, 3), 'end', '#14a') + text(L - 3, H - B, fmt(m0, 3), 'end', '#14a');
+  svg += text(L - 3, T + 8, fmt(m1, 3), 'end', '#14a');
+  svg += text(L - 3, H - B, fmt(m0, 3), 'end', '#14a');
   svg += text(W - R + 3, T + 8, fmt(u1, 2), 'start', '#c60');
   svg += text(W - R + 3, Yu(1) + 3, '1', 'start', '#c33');
   svg += text(W - R + 3, H - B, '0', 'start', '#c60');
-  svg += text(L, H - 12, String(x0), 'middle', '#555') + text(W - R, H - 12, String(x1), 'middle', '#555');
+  svg += text(L, H - 12, String(x0), 'middle', '#555');
+  svg += text(W - R, H - 12, String(x1), 'middle', '#555');
   svg += text((L + W - R) / 2, H - 2, 'iteration', 'middle', '#555');
-  svg += text(L - 3, H / 2, 'kg', 'end', '#14a') + text(W - R + 3, H / 2 + 12, 'u max', 'start', '#c60');
+  svg += text(L - 3, H / 2, 'kg', 'end', '#14a');
+  svg += text(W - R + 3, H / 2 + 12, 'u max', 'start', '#c60');
   return `${svg}</svg><div class="legend-note">mass (solid, kg) and largest utilisation ` +
     '(dashed; red: 1) per iteration</div>';
 }
@@ -93,7 +96,8 @@ function historyTable(h) {
     '<td>u max</td><td>λ</td><td>changed</td></tr>';
   for (const e of h) {
     html += `<tr><th>${e.iteration}</th><td>${escapeHtml(e.phase ?? '')}</td>` +
-      `<td>${fmt(e.mass_kg)}</td><td>${fmt(e.utilisation_max, 3)}</td><td>${fmt(e.lambda, 3)}</td>` +
+      `<td>${fmt(e.mass_kg)}</td><td>${fmt(e.utilisation_max, 3)}</td>` +
+      `<td>${fmt(e.lambda, 3)}</td>` +
       `<td>${e.changed ?? '–'}</td></tr>`;
   }
   return `${html}</table>`;

@@ -191,7 +191,8 @@ ReportInput frame_report_input(const fem::FrameModel& model, const std::vector<i
   in.supports = supports;
   fill_structure(in, structure);
   if (model.sections.size() > 1)
-    for (const auto& m : model.members) in.beam_sections.push_back(model.sections.at(m.section).name);
+    for (const auto& m : model.members)
+      in.beam_sections.push_back(model.sections.at(m.section).name);
   return in;
 }
 
