@@ -20,6 +20,7 @@
 #include "gridshell/pipeline/design_report.h"
 #include "gridshell/pipeline/frame_output.h"
 #include "gridshell/pipeline/objective.h"
+#include "gridshell/pipeline/structure.h"
 
 namespace gridshell::app {
 
@@ -168,6 +169,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   report::ReportInput page = report::gridshell_report_input(
       r.mesh, r.supports, r.structure ? &*r.structure : nullptr);
   page.density = out.d_target;
+  if (r.structure) page.beam_sections = member_designations(frame);  // sized: one per beam
   write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[done] {} joints, {} panels, {:.1f} m of beams in {:.1f} s -> {}",
                r.mesh.num_vertices(), r.mesh.num_faces(), r.metrics.total_length,

@@ -13,7 +13,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -231,6 +233,9 @@ TEST(ReportHtml, RejectsInconsistentInput) {
   in.beams.push_back({{0, d.mesh.num_vertices()}});
   EXPECT_THROW(rep::report_data_json(in, {}), gridshell::Error);
   in = good;
+  in.beam_sections.assign(good.beams.size() + 1, "CHS 88.9x3.2");  // one too many
+  EXPECT_THROW(rep::report_data_json(in, {}), gridshell::Error);
+  in = good;
   in.buckling_lambdas = {2.0};  // a lambda without its mode
   EXPECT_THROW(rep::report_data_json(in, {}), gridshell::Error);
 }
@@ -317,7 +322,8 @@ struct Shot {
 };
 
 /// Runs headless Chromium on `url` with WebGL on SwiftShader and every host name unresolvable
-/// (no network), once for a screenshot and once for the DOM after the scripts ran.
+/// (no network), once for a screenshot (none when `png` is empty) and once for the DOM after the
+/// scripts ran.
 Shot chromium(const std::string& exe, const std::string& url, const fs::path& png,
               const fs::path& work) {
   const std::string flags =
@@ -329,7 +335,8 @@ Shot chromium(const std::string& exe, const std::string& url, const fs::path& pn
   Shot s;
   std::string cmd = "timeout 120 " + exe + flags + " --screenshot=" + png.string() + " '" + url +
                     "' >/dev/null 2>" + (work / "shot.log").string();
-  s.status = std::system(cmd.c_str());
+  s.status = png.empty() ? 0 : std::system(cmd.c_str());
+  if (png.empty()) gridshell::io::write_file_atomic(work / "shot.log", "");
   cmd = "timeout 120 " + exe + flags + " --dump-dom '" + url + "' >" +
         (work / "dom.html").string() + " 2>" + (work / "dom.log").string();
   const int status = std::system(cmd.c_str());
@@ -514,4 +521,137 @@ TEST(ReportHtml, ChromiumDrawsTheMeshFromDiskAndOverHttp) {
       changed += std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) > 24;
     }
   EXPECT_GT(changed, long(0.05 * area)) << "the link did not change the view";
+}
+
+// A sized design (sizing/sizing.h): the data block has each beam's section as beams.csv has it;
+// the page colours the beams by section with one legend entry per distinct section, lightest per
+// metre first, in colours that the picture shows; the Steel panel's mass is report.json's.
+TEST(ReportHtml, SizedDesignShowsSectionsAndSteel) {
+  const fs::path d = temp_dir("sized");
+  const auto r = run_gridshell(
+      "design builtin:dome --cells 40 --seed 3 -D 1 -A 1 --size --analyze buckling --quiet -o " +
+      d.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(slurp(d / "report.json"));
+  ASSERT_TRUE(report.at("sizing").at("sized").get<bool>());
+  const nlohmann::json& mass = report.at("mass");
+  const nlohmann::json j = page_data(slurp(d / "report.html"));
+  const std::size_t n_beams = j.at("beams").size() / 2;
+  ASSERT_EQ(j.at("beam_sections").size(), n_beams);
+  ASSERT_EQ(j.at("buckling_utilisation").size(), n_beams);
+  // beams.csv's `section` (column 10) and `buckling_utilisation` (column 7), row b = beam b.
+  std::istringstream csv(slurp(d / "beams.csv"));
+  std::string line;
+  std::getline(csv, line);
+  std::size_t rows = 0;
+  std::set<std::string> distinct;
+  for (; std::getline(csv, line); ++rows) {
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+    ASSERT_GE(cells.size(), 10u) << line;
+    ASSERT_LT(rows, n_beams);
+    EXPECT_EQ(j["beam_sections"][rows].get<std::string>(), cells[9]) << rows;
+    EXPECT_NEAR(j["buckling_utilisation"][rows].get<double>(), std::stod(cells[6]),
+                1e-4 * std::abs(std::stod(cells[6])) + 1e-12);
+    distinct.insert(cells[9]);
+  }
+  EXPECT_EQ(rows, n_beams);
+  ASSERT_EQ(distinct.size(), mass.at("distinct_sections").get<std::size_t>());
+  ASSERT_GE(distinct.size(), 3u) << "a sized dome uses several sections";
+  // Its frame.json analysed again: the members' section names are the same designations.
+  const auto again = run_gridshell("analyze " + (d / "frame.json").string() +
+                                   " --analyze linear --quiet -o " + (d / "again").string());
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_EQ(page_data(slurp(d / "again" / "report.html")).at("beam_sections"), j["beam_sections"]);
+
+  const std::string exe = find_chromium();
+  if (exe.empty()) SKIP_OR_FAIL_IN_CI("no chromium: headless Chromium is the report's browser");
+  const fs::path work = temp_dir("sized_work");
+  const Shot s =
+      chromium(exe, "file://" + fs::absolute(d / "report.html").string() + "#colour=section",
+               work / "section.png", work);
+  ASSERT_EQ(s.status, 0) << s.log;
+  EXPECT_EQ(page_errors(s.dom), "");
+  // The legend (inside <div id="legend">, before the side panel): one entry per section, in the
+  // order of mass per metre (report.json's mass / length), members summing to the beams.
+  const std::size_t a = s.dom.find("<div id=\"legend\">"), b = s.dom.find("<div id=\"side\">");
+  ASSERT_TRUE(a != std::string::npos && b != std::string::npos && a < b);
+  const std::string legend = s.dom.substr(a, b - a);
+  const std::regex entry(
+      "<tr class=\"legend-entry\"><td><span class=\"swatch\" style=\"background:"
+      "rgb\\((\\d+), ?(\\d+), ?(\\d+)\\)\"></span></td><th>([^<]*)</th><td>(\\d+)</td>");
+  std::vector<std::string> names;
+  std::vector<std::array<int, 3>> colours;
+  std::size_t members = 0;
+  for (auto it = std::sregex_iterator(legend.begin(), legend.end(), entry);
+       it != std::sregex_iterator(); ++it) {
+    names.push_back((*it)[4]);
+    colours.push_back({std::stoi((*it)[1]), std::stoi((*it)[2]), std::stoi((*it)[3])});
+    members += std::stoul((*it)[5]);
+  }
+  ASSERT_EQ(names.size(), distinct.size()) << legend.substr(0, 600);
+  EXPECT_EQ(members, n_beams);
+  std::map<std::string, double> per_metre;
+  for (const auto& sec : mass.at("sections"))
+    per_metre[sec.at("designation")] =
+        sec.at("mass_kg").get<double>() / sec.at("length_m").get<double>();
+  for (std::size_t k = 0; k + 1 < names.size(); ++k)
+    EXPECT_LE(per_metre.at(names[k]), per_metre.at(names[k + 1]))
+        << names[k] << " " << names[k + 1];
+  const std::set<std::array<int, 3>> unique_colours(colours.begin(), colours.end());
+  EXPECT_EQ(unique_colours.size(), colours.size()) << "two sections share a colour";
+  // The Steel panel: the mass shown (4 significant digits) is report.json's.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(s.dom, m, std::regex("<td id=\"steel-mass\">([0-9.e+]+) kg</td>")));
+  EXPECT_NEAR(std::stod(m[1]), mass.at("mass_kg").get<double>(),
+              5e-4 * mass.at("mass_kg").get<double>());
+  EXPECT_NE(s.dom.find("<p id=\"sizing-verdict\"><b style=\"color:#161\">sized</b>"),
+            std::string::npos);
+  // The picture: the beams are drawn in the legend's colours, at least three of them plainly
+  // (looked for right of the legend box, left of the side panel).
+  const Image img = read_png(work / "section.png");
+  std::vector<long> seen(colours.size(), 0);
+  for (int y = 60; y < img.height; ++y)
+    for (int x = 330; x < img.width - 340; ++x) {
+      const unsigned char* p = img.at(x, y);
+      for (std::size_t k = 0; k < colours.size(); ++k)
+        if (std::abs(p[0] - colours[k][0]) + std::abs(p[1] - colours[k][1]) +
+                std::abs(p[2] - colours[k][2]) <=
+            30) {
+          ++seen[k];
+          break;
+        }
+    }
+  int shown = 0;
+  for (long c : seen) shown += c > 50;
+  EXPECT_GE(shown, std::min<int>(3, static_cast<int>(colours.size())))
+      << ::testing::PrintToString(seen);
+}
+
+// A section list that cannot carry the load: the Steel panel says "not sized" in red with the
+// failing check of report.json, never a plain mass as if the design were safe.
+TEST(ReportHtml, UnsizedDesignSaysWhyInRed) {
+  const fs::path d = temp_dir("unsized");
+  gridshell::io::write_file_atomic(d / "small.txt", "CHS 21.3x2.3\nCHS 26.9x2.3\n");
+  const auto r = run_gridshell(
+      "design builtin:dome --cells 40 --seed 3 -D 1 -A 1 --size --sections " +
+      (d / "small.txt").string() + " --analyze linear --quiet -o " + (d / "out").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(slurp(d / "out" / "report.json"));
+  ASSERT_FALSE(report.at("sizing").at("sized").get<bool>());
+  const std::string failure = report["sizing"].at("failure");
+  ASSERT_FALSE(failure.empty());
+  const std::string exe = find_chromium();
+  if (exe.empty()) SKIP_OR_FAIL_IN_CI("no chromium: headless Chromium is the report's browser");
+  const fs::path work = temp_dir("unsized_work");
+  const Shot s =
+      chromium(exe, "file://" + fs::absolute(d / "out" / "report.html").string(), fs::path(), work);
+  ASSERT_EQ(s.status, 0) << s.log;
+  EXPECT_EQ(page_errors(s.dom), "");
+  // The failure text is plain here (designations and clause numbers: no character to escape).
+  EXPECT_NE(s.dom.find("<p id=\"sizing-verdict\" style=\"color:#b00\"><b>not sized</b>: " +
+                       failure + "</p>"),
+            std::string::npos)
+      << failure;
 }

@@ -2,7 +2,8 @@
 // colour modes a grid-shell's data offers, the legend, number formatting, and the three.js
 // objects of a grid-shell (beams as fat lines, panels, joints, supports) built from the data
 // block of report/report_html.h: { joints: [x,y,z,...], beams: [i,j,...], panels: [[...]...],
-// supports: [...], axial_force, displacement, density, planarity, utilisation }.
+// supports: [...], axial_force, displacement, density, planarity, utilisation,
+// buckling_utilisation, beam_sections }.
 
 import * as THREE from 'three';
 import { LineSegments2 } from 'three/addons/lines/LineSegments2.js';
@@ -63,6 +64,74 @@ export function escapeHtml(s) {
   return String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c]);
 }
 
+// A qualitative palette for categories (beam sections): Kelly's colours of maximum contrast
+// (K. L. Kelly, 1965), ordered so that neighbours differ most and the pale ones come last; beyond
+// 20, hues step by the golden angle.
+export const QUALITATIVE = [
+  '#0067a5', '#be0032', '#008856', '#f38400', '#875692', '#882d17', '#e68fac', '#2b3d26',
+  '#f3c300', '#604e97', '#8db600', '#848482', '#b3446c', '#a1caf1', '#e25822', '#654522',
+  '#dcd300', '#c2b280', '#f99379', '#f6a600',
+].map((h) => [1, 3, 5].map((k) => parseInt(h.slice(k, k + 2), 16) / 255));
+
+export function categoryColour(k) {
+  if (k < QUALITATIVE.length) return QUALITATIVE[k];
+  const c = new THREE.Color().setHSL(((k * 137.508) % 360) / 360, 0.65, 0.45);
+  return [c.r, c.g, c.b];
+}
+
+export function cssColour(rgb) {
+  return `rgb(${rgb.map((v) => Math.round(v * 255)).join(',')})`;
+}
+
+// The distinct beam sections of `data` (data.beam_sections, one designation per beam), lightest
+// per metre first, each { designation, members, mass_kg, length_m, kg_per_m, colour }; the
+// section with the most members gets the palette's first colour, the next the second, …. Mass and
+// length come from report.json's `mass` (or `sizing`) section list; without it (or for a name it
+// lacks) they are unknown and the sections follow their names in natural order. [] when the
+// data has no per-beam sections.
+export function sectionCategories(data) {
+  const nBeams = (data.beams || []).length / 2;
+  const names = data.beam_sections;
+  if (!nBeams || !names || names.length !== nBeams) return [];
+  const report = data.report || {};
+  const listed = new Map();
+  for (const s of (report.mass && report.mass.sections) ||
+    (report.sizing && report.sizing.sections) || []) {
+    if (s && typeof s.designation === 'string') listed.set(s.designation, s);
+  }
+  const byName = new Map();
+  for (const n of names) {
+    if (!byName.has(n)) {
+      const s = listed.get(n) || {};
+      const kgPerM = s.length_m > 0 ? s.mass_kg / s.length_m : null;
+      byName.set(n, { designation: n, members: 0, mass_kg: s.mass_kg ?? null,
+        length_m: s.length_m ?? null, kg_per_m: kgPerM });
+    }
+    byName.get(n).members += 1;
+  }
+  const cats = Array.from(byName.values());
+  const natural = (a, b) => a.designation.localeCompare(b.designation, 'en', { numeric: true });
+  cats.sort((a, b) => {
+    if (a.kg_per_m != null && b.kg_per_m != null && a.kg_per_m !== b.kg_per_m) {
+      return a.kg_per_m - b.kg_per_m;
+    }
+    if ((a.kg_per_m == null) !== (b.kg_per_m == null)) return a.kg_per_m == null ? 1 : -1;
+    return natural(a, b);
+  });
+  // Colours go by number of members, so that the sections most of the grid-shell is made of get
+  // the palette's most distinct colours (ties: lighter first).
+  const byMembers = cats.map((c, k) => [c.members, k]).sort((x, y) => y[0] - x[0] || x[1] - y[1]);
+  byMembers.forEach(([, k], rank) => {
+    const c = categoryColour(rank);
+    cats[k].colour = c;  // sRGB, as the legend's swatch shows it
+    // The same colour in three.js's linear working space: the renderer converts it back to sRGB,
+    // so the beams show the swatch's colour.
+    const lin = new THREE.Color().setRGB(c[0], c[1], c[2], THREE.SRGBColorSpace);
+    cats[k].linear = [lin.r, lin.g, lin.b];
+  });
+  return cats;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Colour modes
 
@@ -106,11 +175,26 @@ export function colourModes(data) {
       note: 'largest corner distance to the panel\'s best-fit plane; flat glass needs ≲ 0.5 mm' });
   }
   if (nBeams && data.utilisation && data.utilisation.length === nBeams) {
-    modes.push({ key: 'utilisation', label: 'utilisation', unit: '–', on: 'beam',
-      values: data.utilisation, note: '1 = the member check is just met' });
+    modes.push({ key: 'utilisation', label: 'utilisation, cross-section', unit: '–', on: 'beam',
+      values: data.utilisation,
+      note: 'EN 1993-1-1 §6.2, primary combination; 1 = the check is just met' });
+    const bu = data.buckling_utilisation;
+    if (bu && bu.length === nBeams) {
+      modes.push({ key: 'governing', label: 'utilisation, governing check', unit: '–', on: 'beam',
+        values: data.utilisation.map((u, b) => Math.max(u, bu[b])),
+        note: 'larger of cross-section (§6.2) and member buckling (§6.3), primary ' +
+          'combination; 1 = just met' });
+    }
+  }
+  const cats = sectionCategories(data);
+  if (cats.length) {
+    const index = new Map(cats.map((c, k) => [c.designation, k]));
+    modes.push({ key: 'section', label: 'section', unit: '', on: 'beam', categorical: true,
+      categories: cats, values: data.beam_sections.map((n) => index.get(n)),
+      note: 'lightest per metre first' });
   }
   for (const m of modes) {
-    if (!m.values) continue;
+    if (!m.values || m.categorical) continue;
     let lo = Infinity, hi = -Infinity;
     for (const x of m.values) { if (x < lo) lo = x; if (x > hi) hi = x; }
     m.min = lo; m.max = hi;
@@ -121,7 +205,7 @@ export function colourModes(data) {
       const a = mags[Math.min(mags.length - 1, Math.floor(0.98 * mags.length))] || mags[mags.length - 1] || 1;
       lo = -a; hi = a;
     }
-    if (m.key === 'utilisation') { lo = 0; hi = Math.max(1, hi); }
+    if (m.key === 'utilisation' || m.key === 'governing') { lo = 0; hi = Math.max(1, hi); }
     if (m.key === 'planarity' || m.key === 'out_of_plane') lo = 0;
     if (!(hi > lo)) hi = lo + 1;
     m.lo = lo; m.hi = hi;
@@ -135,6 +219,7 @@ export function legendHtml(mode) {
   if (!mode.values) {
     return '<div class="legend-title">beams dark, panels light blue, supports as black cubes</div>';
   }
+  if (mode.categorical) return categoryLegendHtml(mode);
   const mid = mode.diverging ? 0 : 0.5 * (mode.lo + mode.hi);
   return `<div class="legend-title">${mode.label} [${mode.unit}] — on the ${mode.on}s</div>` +
     `<div class="legend-bar" style="background:${cssGradient(mode.stops)}"></div>` +
@@ -142,6 +227,19 @@ export function legendHtml(mode) {
     `<span>${fmt(mode.hi, 3)}</span></div>` +
     `<div class="legend-note">${mode.note}; range ${fmt(mode.min, 3)} … ${fmt(mode.max, 3)}` +
     `${mode.min < mode.lo || mode.max > mode.hi ? ' (colours saturate at the ends)' : ''}</div>`;
+}
+
+// The legend of the section colouring: one row per section (swatch, designation, members, mass).
+function categoryLegendHtml(mode) {
+  let rows = '';
+  for (const c of mode.categories) {
+    rows += `<tr class="legend-entry"><td><span class="swatch" style="background:` +
+      `${cssColour(c.colour)}"></span></td><th>${escapeHtml(c.designation)}</th>` +
+      `<td>${c.members}</td><td>${c.mass_kg == null ? '–' : `${fmt(c.mass_kg, 3)} kg`}</td></tr>`;
+  }
+  return `<div class="legend-title">${mode.label} — on the beams, ${mode.categories.length} ` +
+    `distinct, ${mode.note}</div><div class="legend-table"><table><tr class="legend-head">` +
+    `<td></td><th>designation</th><td>members</td><td>mass</td></tr>${rows}</table></div>`;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -268,7 +366,10 @@ export function buildGridObjects(data, group, pos) {
     const t = (x) => (x - mode.lo) / (mode.hi - mode.lo);
     for (let b = 0; b < nBeams; ++b) {
       let ci = BEAM_PLAIN, cj = BEAM_PLAIN;
-      if (mode.on === 'beam') ci = cj = sample(mode.stops, t(mode.values[b]));
+      if (mode.on === 'beam') {
+        ci = cj = mode.categorical ? mode.categories[mode.values[b]].linear
+          : sample(mode.stops, t(mode.values[b]));
+      }
       // Per-joint values colour the panels; the beams only when no panel is shown.
       if (mode.on === 'joint' && !(nCorners > 0 && panelMesh.visible)) {
         ci = sample(mode.stops, t(mode.values[beams[2 * b]]));

@@ -11,6 +11,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import {
   buildGridObjects, colourModes, createScene, displacementMagnitudes, escapeHtml, fmt, legendHtml,
 } from './gridshell_scene.js';
+import { steelPanel } from './steel_panel.js';
 
 // ---------------------------------------------------------------------------------------------
 // Data
@@ -101,8 +102,14 @@ raycaster.params.Line2 = { threshold: 6 };
 const pointer = new THREE.Vector2();
 
 function valueText(kind, id) {
-  if (!mode.values || mode.on !== kind) return '';
-  return `, ${mode.label} ${fmt(mode.values[id])} ${mode.unit}`;
+  let s = '';
+  if (mode.values && mode.on === kind && !mode.categorical) {
+    s += `, ${mode.label} ${fmt(mode.values[id])} ${mode.unit}`;
+  }
+  if (kind === 'beam' && data.beam_sections && data.beam_sections.length === nBeams) {
+    s += `, section ${data.beam_sections[id]}`;
+  }
+  return s;
 }
 
 function pick(ev) {
@@ -239,6 +246,7 @@ function keyFigures() {
   html += '</table>';
   document.getElementById('figures-table').innerHTML = html;
   buildabilityFigures(report.buildability);
+  steelPanel(data);
 
   const timings = report.timings_s || {};
   let t = '<table>';

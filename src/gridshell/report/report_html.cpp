@@ -37,10 +37,15 @@ void fill_structure(ReportInput& in, const analysis::FrameResult& r) {
   for (const Points& m : r.buckling_modes) in.buckling_modes.push_back(first_rows(m, n));
   in.buckling_lambdas.resize(std::min(in.buckling_lambdas.size(), in.buckling_modes.size()));
   in.buckling_modes.resize(in.buckling_lambdas.size());
-  // Cross-section utilisation, as beams.csv's `utilisation` column (same member order).
+  // Cross-section and member buckling utilisation, as beams.csv's `utilisation` and
+  // `buckling_utilisation` columns (same member order).
   if (r.checks.members.size() == in.axial_force.size()) {
     in.utilisation.clear();
-    for (const checks::MemberCheck& c : r.checks.members) in.utilisation.push_back(c.section);
+    in.buckling_utilisation.clear();
+    for (const checks::MemberCheck& c : r.checks.members) {
+      in.utilisation.push_back(c.section);
+      in.buckling_utilisation.push_back(c.buckling);
+    }
   }
 }
 
@@ -98,6 +103,8 @@ void check_input(const ReportInput& in) {
   for (int v : in.supports) check_joint(v, "a support");
   check_size(in.axial_force.size(), in.beams.size(), "axial_force", "beams");
   check_size(in.utilisation.size(), in.beams.size(), "utilisation", "beams");
+  check_size(in.buckling_utilisation.size(), in.beams.size(), "buckling_utilisation", "beams");
+  check_size(in.beam_sections.size(), in.beams.size(), "beam_sections", "beams");
   check_size(static_cast<std::size_t>(in.displacement.rows()), n, "displacement", "joints");
   check_size(in.density.size(), in.panels.size(), "density", "panels");
   check_size(in.planarity.size(), in.panels.size(), "planarity", "panels");
@@ -183,6 +190,9 @@ ReportInput frame_report_input(const fem::FrameModel& model, const std::vector<i
   in.panels = model.faces;
   in.supports = supports;
   fill_structure(in, structure);
+  if (model.sections.size() > 1)
+    for (const auto& m : model.members)
+      in.beam_sections.push_back(model.sections.at(m.section).name);
   return in;
 }
 
@@ -231,6 +241,9 @@ std::string report_data_json(const ReportInput& in, const std::vector<Figure>& f
   numbers(out, in.out_of_plane_mm, 5, "an out-of-plane distance");
   out += ",\"utilisation\":";
   numbers(out, in.utilisation, 5, "a utilisation");
+  out += ",\"buckling_utilisation\":";
+  numbers(out, in.buckling_utilisation, 5, "a buckling utilisation");
+  out += ",\"beam_sections\":" + json_text(in.beam_sections);
   out += ",\"buckling\":{\"lambdas\":";
   numbers(out, in.buckling_lambdas, 6, "a buckling lambda");
   out += ",\"modes\":[";

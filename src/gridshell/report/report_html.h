@@ -6,8 +6,8 @@
 /// - the page template and the viewer script (three.js bundled at build time, assets.h),
 /// - the grid-shell and its results as JSON in `<script type="application/json"
 ///   id="gridshell-data">`: joints, beams, panels, supports, per-beam axial force, per-joint
-///   displacement, per-panel density and planarity, per-beam utilisation (when known), the
-///   buckling modes, report.json and config.json,
+///   displacement, per-panel density and planarity, per-beam utilisation and section (when
+///   known), the buckling modes, report.json and config.json,
 /// - every `figures/*.png` of the folder as a base64 data: URI.
 ///
 /// One numbering everywhere: joint j = mesh vertex j (joints.csv, nodes.csv), beam b = Topology
@@ -34,18 +34,22 @@ namespace gridshell::report {
 /// mode for them) or exactly as long as what they describe; write_report_html checks that.
 struct ReportInput {
   std::string title = "gridshell report";
-  Points joints;                          ///< joint positions [m]
-  std::vector<std::array<int, 2>> beams;  ///< joint pairs, in beams.csv order
-  std::vector<std::vector<int>> panels;   ///< joint cycles, in panels.csv order (may be empty)
-  std::vector<int> supports;              ///< supported joints
-  std::vector<double> axial_force;        ///< per beam [N], tension positive
-  Points displacement;                    ///< per joint [m], linear under the reference load
-  std::vector<double> density;            ///< per panel: d_target (≥ 1)
-  std::vector<double> planarity;          ///< per panel (optimize/metrics.h)
-  std::vector<double> out_of_plane_mm;    ///< per panel: largest corner distance to its plane
-  std::vector<double> utilisation;        ///< per beam: member check utilisation
-  std::vector<double> buckling_lambdas;   ///< per mode
-  std::vector<Points> buckling_modes;     ///< per mode, per joint translation (largest 1)
+  Points joints;                             ///< joint positions [m]
+  std::vector<std::array<int, 2>> beams;     ///< joint pairs, in beams.csv order
+  std::vector<std::vector<int>> panels;      ///< joint cycles, in panels.csv order (may be empty)
+  std::vector<int> supports;                 ///< supported joints
+  std::vector<double> axial_force;           ///< per beam [N], tension positive
+  Points displacement;                       ///< per joint [m], linear under the reference load
+  std::vector<double> density;               ///< per panel: d_target (≥ 1)
+  std::vector<double> planarity;             ///< per panel (optimize/metrics.h)
+  std::vector<double> out_of_plane_mm;       ///< per panel: largest corner distance to its plane
+  std::vector<double> utilisation;           ///< per beam: cross-section utilisation (§6.2)
+  std::vector<double> buckling_utilisation;  ///< per beam: member buckling utilisation (§6.3)
+  /// Per beam its section's designation (beams.csv `section`), e.g. "CHS 88.9x3.2"; empty when
+  /// every beam has the one section of the run (the page then offers no section colouring).
+  std::vector<std::string> beam_sections;
+  std::vector<double> buckling_lambdas;  ///< per mode
+  std::vector<Points> buckling_modes;    ///< per mode, per joint translation (largest 1)
   nlohmann::json report = nlohmann::json::object();  ///< report.json (key figures, timings)
   nlohmann::json config = nlohmann::json::object();  ///< config.json (the options)
 };
@@ -57,7 +61,7 @@ ReportInput gridshell_report_input(const PolyMesh& mesh, const std::vector<int>&
                                    const analysis::FrameResult* structure);
 
 /// The input for a frame model (MODEL.json): joints are its nodes, beams its members, panels its
-/// optional faces.
+/// optional faces, beam sections its members' section names when it has more than one.
 ReportInput frame_report_input(const fem::FrameModel& model, const std::vector<int>& supports,
                                const analysis::FrameResult& structure);
 
