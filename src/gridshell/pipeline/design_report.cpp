@@ -33,7 +33,8 @@ nlohmann::json imperfection_block(const analysis::FrameResult& r) {
   imp["amplitude_m"] = r.imperfection_amplitude_m;
   nlohmann::json tried = nlohmann::json::array();
   for (const auto& t : r.imperfections_tried)
-    tried.push_back({{"mode", t.mode + 1}, {"sign", t.sign}, {"lambda", optional_number(t.lambda)}});
+    tried.push_back(
+        {{"mode", t.mode + 1}, {"sign", t.sign}, {"lambda", optional_number(t.lambda)}});
   imp["tried"] = tried;
   if (!r.imperfection_note.empty()) imp["note"] = r.imperfection_note;
   return imp;
@@ -322,17 +323,18 @@ nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMe
                                                           : c.section_governing);
     }
   }
-  return fabrication::write_fabrication_files(dir, mesh, supports, envelope ? *envelope : beams,
-                                              o);
+  return fabrication::write_fabrication_files(dir, mesh, supports, envelope ? *envelope : beams, o);
 }
 
 nlohmann::json section_block(const analysis::GridshellFrameOptions& frame) {
   if (!frame.member_sections.empty()) {  // sized: the distinct sections (report.json `mass`)
     std::vector<std::string> names;
-    for (const sections::Section& s : frame.member_sections) names.push_back(sections::designation(s));
+    for (const sections::Section& s : frame.member_sections)
+      names.push_back(sections::designation(s));
     std::sort(names.begin(), names.end());
     names.erase(std::unique(names.begin(), names.end()), names.end());
-    return {{"designation", fmt::format("sized: {} sections", names.size())},
+    return {{"designation",
+             fmt::format("sized: {} section{}", names.size(), names.size() == 1 ? "" : "s")},
             {"sized", true},
             {"designations", names}};
   }
