@@ -44,7 +44,11 @@
 ///   1. the isotropic Voronoi at the requested size (the reference), then in parallel the
 ///      isotropic Voronoi at 0.75× and 1.33× the cell count, the four shell-stress conventions
 ///      (D = A = 2) and the two frame-response fields of the reference (D = 2, A = 1);
-///   2. the lightest field candidate of round 1 at 0.75× and 1.33× the cell count.
+///   2. the lightest field candidate of round 1 at 0.75× and 1.33× the cell count
+///      (`rounds` = 1 leaves it out; `max_designs` below 11 cuts the lists short).
+/// The choice is the lightest candidate that is sized (ties: the first); report.json's
+/// `mass_saving_vs_isotropic` compares it with the lightest sized isotropic candidate, both at
+/// the search level.
 /// Each candidate is sized at analysis level `buckling` (the λ check is λ_LBA ≥ λ_min, cheap);
 /// the lightest sized candidate (the reference when none is) is then sized again at the user's
 /// level (default nonlinear: the imperfect non-linear λ) exactly as `design --size` does, so the
