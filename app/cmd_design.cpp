@@ -72,10 +72,17 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const std::optional<FieldSource> response = parse_frame_source(a.field);
   if (!response) options.field = parse_field_input(a.field, &options.field_file);
   options.analyze = analysis::parse_analysis_level(a.analyze);
-  apply_load_check_options(a.checks, options.frame, options.frame_analysis, a.sizing.size);
+  ObjectiveOptions objective;
+  objective.objective = parse_objective(a.objective);
+  objective.progress = guard.progress;
+  // --objective mass sizes every candidate: it implies --size (and so eurocode loads unless
+  // --loads is given).
+  SizingArgs sizing = a.sizing;
+  sizing.size = sizing.size || (a.search && objective.objective == Objective::mass);
+  apply_load_check_options(a.checks, options.frame, options.frame_analysis, sizing.size);
   apply_member_options(a.members, options.frame, options.frame_analysis);
   StructureOptions structure;
-  apply_sizing_options(a.sizing, structure);
+  apply_sizing_options(sizing, structure);
   options.sizing = structure.sizing;
   options.sizing_options = structure.sizing_options;
   options.frame_analysis.stability = !a.single_path;
@@ -86,9 +93,6 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   options.field_options.stretch = parse_stretch_axis(a.stretch);
   options.field_options.density = parse_density_trend(a.density);
   options.frame_analysis.arc.progress = guard.progress;
-  ObjectiveOptions objective;
-  objective.objective = parse_objective(a.objective);
-  objective.progress = guard.progress;
   check_design_options(options);
   const fabrication::SheetOptions sheet = fabrication::parse_sheet(a.sheet);
   spdlog::info("[load] {}", a.surface);
@@ -200,7 +204,10 @@ void register_design(CLI::App& app, Action& action) {
                       "lambda | delta | balanced: search the field settings (D, A, conventions, "
                       "frame-response fields) at equal length and keep the design with the "
                       "highest lambda_LBA, the lowest delta, or a gain in one with the other no "
-                      "more than 2% worse; used unless -D/-A/--field/a convention is given")
+                      "more than 2% worse; mass: size every candidate (fields and 0.75/1/1.33x "
+                      "the cell count, at level buckling) and keep the lightest that passes, "
+                      "sized again at --analyze (implies --size); used unless -D/-A/--field/a "
+                      "convention is given")
           ->default_str("balanced");
   std::vector<CLI::Option*> exact;
   exact.push_back(

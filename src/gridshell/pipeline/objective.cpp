@@ -15,24 +15,16 @@
 #include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
 #include "gridshell/field/frame_response.h"
+#include "gridshell/pipeline/objective_search.h"
 #include "gridshell/pipeline/structure.h"
 
 namespace gridshell {
 
-namespace {
-
-using Clock = std::chrono::steady_clock;
+namespace objective_detail {
 
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
-
-/// A candidate and, when it could be designed, its design.
-struct Evaluated {
-  Candidate candidate;
-  std::optional<DesignResult> design;
-  const StressField* field = nullptr;  ///< the stress it was designed from (null: isotropic)
-};
 
 DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s, double length) {
   DesignOptions o = base;
@@ -52,8 +44,6 @@ DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s
   return o;
 }
 
-/// D and A beyond ~4 fold the deformed surface (docs/field.md): the search stays below.
-constexpr double kMaxRatio = 4;
 
 /// Round 1's shell-stress settings: the four conventions at D = A = 2.
 std::vector<FieldSetting> shell_settings() {
@@ -83,6 +73,26 @@ std::vector<FieldSetting> shell_settings() {
   }
   return out;
 }
+
+const std::vector<double>* response_values(const DesignResult& r, FieldSource source) {
+  if (!r.structure) return nullptr;
+  const auto& v = source == FieldSource::frame_mode ? r.structure->mode_energy
+                                                    : r.structure->strain_energy;
+  return v.empty() ? nullptr : &v;
+}
+
+void SearchProgress::one_more() {
+  const int n = ++designed;
+  report_progress(options.progress, "objective search",
+                  std::min(0.99, static_cast<double>(n) / options.max_designs),
+                  fmt::format("{} designs", n));
+}
+
+}  // namespace objective_detail
+
+namespace {
+
+using namespace objective_detail;
 
 /// Designs and judges one candidate. A failure marks the candidate failed, unless `rethrow`
 /// (the reference: its failure is the user's — a bad size or surface).
@@ -132,14 +142,6 @@ Evaluated evaluate(const Surface& surface, const DesignOptions& base, const Fiel
   return ev;
 }
 
-/// The energies a frame-response setting reads from an analysed design (empty when missing).
-const std::vector<double>* response_values(const DesignResult& r, FieldSource source) {
-  if (!r.structure) return nullptr;
-  const auto& v = source == FieldSource::frame_mode ? r.structure->mode_energy
-                                                    : r.structure->strain_energy;
-  return v.empty() ? nullptr : &v;
-}
-
 /// Relative gains over the reference: positive = better.
 double lambda_gain(const Candidate& c, const Candidate& ref) {
   return ref.lambda > 0 ? c.lambda / ref.lambda - 1 : 0.0;
@@ -162,6 +164,8 @@ double score(const Candidate& c, const Candidate& ref, const ObjectiveOptions& o
       // equal larger gains the one with the better other figure.
       if (gl < -o.tolerance || gd < -o.tolerance) return -HUGE_VAL;
       return std::max(gl, gd) + 0.25 * std::min(gl, gd);
+    case Objective::mass:  // judged by objective_mass.cpp, never here
+      return -HUGE_VAL;
   }
   return -HUGE_VAL;
 }
@@ -176,17 +180,6 @@ int best_index(const std::vector<Evaluated>& all, const ObjectiveOptions& o) {
   return best;
 }
 
-/// Candidates designed so far, told to the progress listener (from any thread).
-struct SearchProgress {
-  const ObjectiveOptions& options;
-  std::atomic<int> designed{0};
-  void one_more() {
-    const int n = ++designed;
-    report_progress(options.progress, "objective search",
-                    std::min(0.99, static_cast<double>(n) / options.max_designs),
-                    fmt::format("{} designs", n));
-  }
-};
 
 /// The isotropic reference (its failure is the user's: thrown), with what round 1's shell-stress
 /// candidates share computed meanwhile on the other thread (prepare_design_cache: the stress,
@@ -232,9 +225,10 @@ std::vector<Evaluated> evaluate_all(
 }  // namespace
 
 namespace {
-constexpr EnumWords<Objective, 3> kObjectiveWords{{{"lambda", Objective::lambda},
+constexpr EnumWords<Objective, 4> kObjectiveWords{{{"lambda", Objective::lambda},
                                                    {"delta", Objective::delta},
-                                                   {"balanced", Objective::balanced}}};
+                                                   {"balanced", Objective::balanced},
+                                                   {"mass", Objective::mass}}};
 constexpr EnumWords<FieldSource, 4> kFieldSourceWords{
     {{"uniform", FieldSource::uniform},
      {"shell-stress", FieldSource::shell_stress},
@@ -251,16 +245,19 @@ const char* to_string(Objective o) { return word_of(o, kObjectiveWords); }
 const char* to_string(FieldSource s) { return word_of(s, kFieldSourceWords); }
 
 std::string FieldSetting::label() const {
-  if (source == FieldSource::uniform) return "isotropic";
+  if (source == FieldSource::uniform)
+    return size != 1 ? fmt::format("isotropic cells x{:g}", size) : "isotropic";
   std::string s = fmt::format("{} D={:g} A={:g}", to_string(source), D, A);
   if (source == FieldSource::shell_stress)
     s += fmt::format(" {}/{}/{}", to_string(measure), to_string(stretch), to_string(density));
   else
     s += fmt::format(" feedback {}", feedback);
+  if (size != 1) s += fmt::format(" cells x{:g}", size);
   return s;
 }
 
 nlohmann::json ObjectiveResult::report() const {
+  if (objective == Objective::mass) return objective_detail::mass_report(*this);
   nlohmann::json j;
   const Candidate& ref = candidates.front();
   j["objective"] = to_string(objective);
@@ -444,6 +441,8 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   if (!(options.tolerance >= 0 && options.tolerance < 1))
     throw Error("objective", "tolerance must be in [0, 1)");
   check_design_options(base);
+  if (options.objective == Objective::mass)
+    return objective_detail::design_for_mass(surface, base, options);
   SearchProgress progress{options};
   report_progress(options.progress, "objective search", 0, "the isotropic reference");
   std::vector<Evaluated> all;

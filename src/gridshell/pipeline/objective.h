@@ -36,6 +36,24 @@
 ///            is no more than `tolerance` (2 %) worse than the reference's; the reference itself
 ///            when none improves anything.
 /// The chosen design is then analysed at the level the user asked for. Deterministic for a seed.
+///
+/// `mass` asks another question: the lightest steel that passes every check. Beam length is no
+/// longer fixed — every candidate's members are sized (sizing/sizing.h) — so the candidates also
+/// vary the cell size. 11 designs at most (pipeline/objective_mass.cpp, docs/field.md
+/// "Objective mass"):
+///   1. the isotropic Voronoi at the requested size (the reference), then in parallel the
+///      isotropic Voronoi at 0.75× and 1.33× the cell count, the four shell-stress conventions
+///      (D = A = 2) and the two frame-response fields of the reference (D = 2, A = 1);
+///   2. the lightest field candidate of round 1 at 0.75× and 1.33× the cell count
+///      (`rounds` = 1 leaves it out; `max_designs` below 11 cuts the lists short).
+/// The choice is the lightest candidate that is sized (ties: the first); report.json's
+/// `mass_saving_vs_isotropic` compares it with the lightest sized isotropic candidate, both at
+/// the search level.
+/// Each candidate is sized at analysis level `buckling` (the λ check is λ_LBA ≥ λ_min, cheap);
+/// the lightest sized candidate (the reference when none is) is then sized again at the user's
+/// level (default nonlinear: the imperfect non-linear λ) exactly as `design --size` does, so the
+/// reported verdict (report.json `sizing`) is the full one. `base.sizing_options` gives the
+/// section list (the hot-finished CHS series when empty); `base.sizing` is not read.
 
 #include <array>
 #include <optional>
@@ -50,7 +68,7 @@
 
 namespace gridshell {
 
-enum class Objective { lambda, delta, balanced };
+enum class Objective { lambda, delta, balanced, mass };
 Objective parse_objective(const std::string& word);  ///< throws Error("--objective", ...)
 const char* to_string(Objective o);
 
@@ -71,6 +89,8 @@ struct FieldSetting {
   StretchAxis stretch = StretchAxis::along;
   DensityTrend density = DensityTrend::rising;
   int feedback = 0;  ///< frame-response fields: 1 = from the reference, 2 = from a candidate
+  /// `mass`: the cell count relative to the requested size (radius ÷ √size, length × √size)
+  double size = 1;
   std::string label() const;
 };
 
@@ -99,6 +119,11 @@ struct Candidate {
   double length = 0;  ///< total beam length (m)
   int cells = 0;
   double seconds = 0;
+  /// `mass`: the candidate's members sized at the search level (`ok` = designed and sized)
+  bool sized = false;
+  double mass_kg = 0;      ///< steel of the sized (or, when not sized, last tried) members
+  std::string governing;   ///< the check closest to its limit ("member", "deflection", "stability")
+  double governing_ratio = 0;  ///< that check's utilisation (≤ 1 when sized)
 };
 
 struct ObjectiveResult {
@@ -110,6 +135,13 @@ struct ObjectiveResult {
   std::array<int, 3> choice{};
   std::string reason;   ///< one sentence: why this one
   double seconds = 0;
+  /// `mass`: the chosen design's steel after its final sizing at the user's level, the lightest
+  /// sized isotropic candidate (-1: none) and the chosen candidate's saving against it (both at
+  /// the search level: 1 − chosen / isotropic).
+  double mass_kg = 0;
+  analysis::AnalysisLevel search_level = analysis::AnalysisLevel::buckling;
+  int isotropic_best = -1;
+  double mass_saving_vs_isotropic = 0;
   nlohmann::json report() const;  ///< report.json's "objective" block
 };
 

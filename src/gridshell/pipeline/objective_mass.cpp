@@ -1,0 +1,348 @@
+// `design --objective mass` (objective.h): every candidate's members sized at the cheap level
+// (λ_LBA), the lightest sized one sized again at the user's level.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <deque>
+#include <utility>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
+
+#include "gridshell/core/error.h"
+#include "gridshell/field/frame_response.h"
+#include "gridshell/pipeline/objective_search.h"
+#include "gridshell/pipeline/structure.h"
+
+namespace gridshell::objective_detail {
+
+namespace {
+
+/// The cell sizes tried, as factors of the requested cell count (round 1: the isotropic design
+/// at all three, every field at 1; round 2: the lightest field at the other two).
+constexpr std::array<double, 3> kSizes{0.75, 1.0, 1.33};
+
+/// `t` at `factor` × its cell count: cells × factor, radius ÷ √factor, length × √factor (the
+/// total beam length of a tessellation grows as the square root of its cell count).
+void scale_size(TessellationOptions& t, double factor) {
+  if (factor == 1) return;
+  if (t.cells > 0)
+    t.cells = std::max(1, static_cast<int>(std::lround(t.cells * factor)));
+  else if (t.radius > 0)
+    t.radius /= std::sqrt(factor);
+  else if (t.length > 0)
+    t.length *= std::sqrt(factor);
+  else
+    t.cells = std::max(1, static_cast<int>(std::lround(t.default_cells * factor)));
+}
+
+/// What every candidate shares: the sizing at the search level.
+struct MassSearch {
+  const Surface& surface;
+  const DesignOptions& base;
+  sizing::SizingOptions sizing;
+  analysis::AnalysisLevel level = analysis::AnalysisLevel::buckling;
+  DesignCache cache;
+};
+
+DesignOptions mass_options(const MassSearch& m, const FieldSetting& s) {
+  DesignOptions o = candidate_options(m.base, s, 0);
+  o.analyze = m.level;
+  o.sizing = sizing::MemberSizing::sized;
+  o.sizing_options = m.sizing;
+  scale_size(o.tessellation, s.size);
+  return o;
+}
+
+/// The check closest to its limit in the sizing's last iteration: member checks (EN 1993-1-1
+/// §6.2/§6.3, largest utilisation), deflection (SLS δ / limit) or stability (λ_min / λ).
+void governing_check(const sizing::SizingResult& s, double lambda_min, Candidate& c) {
+  if (s.history.empty()) return;
+  const sizing::SizingStep& h = s.history.back();
+  const std::array<std::pair<const char*, double>, 3> ratios{
+      {{"member", h.utilisation_max},
+       {"deflection", h.delta_ratio},
+       {"stability", h.lambda > 0 ? lambda_min / h.lambda : 0.0}}};
+  for (const auto& [name, ratio] : ratios)
+    if (ratio > c.governing_ratio) c.governing = name, c.governing_ratio = ratio;
+}
+
+/// Designs and sizes one candidate. A failure marks it failed, unless `rethrow` (the reference:
+/// its failure is the user's).
+Evaluated evaluate_mass(MassSearch& m, const FieldSetting& s, const StressField* stress,
+                        int round, bool rethrow = false) {
+  const auto t = Clock::now();
+  Evaluated ev;
+  ev.field = stress;
+  ev.candidate.setting = s;
+  ev.candidate.round = round;
+  try {
+    const DesignOptions o = mass_options(m, s);
+    const bool response = s.source == FieldSource::frame_mode ||
+                          s.source == FieldSource::frame_energy;
+    DesignResult r = response ? run_design(m.surface, o, *stress, m.cache)
+                              : run_design(m.surface, o, m.cache);
+    Candidate& c = ev.candidate;
+    c.length = r.metrics.total_length;
+    c.cells = r.mesh.num_faces();
+    if (r.structure) {
+      c.delta = r.structure->delta_max_m;
+      c.lambda = r.structure->lambda_linear_buckling.value_or(0.0);
+    }
+    if (r.sizing) {
+      c.sized = r.sizing->sized;
+      c.mass_kg = sizing::steel_mass(r.mesh, analysed_frame(o, r));
+      governing_check(*r.sizing, m.sizing.lambda_min, c);
+      c.ok = c.sized && std::isfinite(c.mass_kg) && c.mass_kg > 0;
+      if (!c.sized) c.error = r.sizing->failure;
+    } else {
+      c.error = "no sizing";
+    }
+    ev.design = std::move(r);
+  } catch (const Error& e) {
+    if (rethrow) throw;
+    ev.candidate.error = e.message();
+  }
+  ev.candidate.seconds = seconds_since(t);
+  const Candidate& c = ev.candidate;
+  spdlog::info("[objective] {}: {}", s.label(),
+               c.ok ? fmt::format("{:.0f} kg, {} cells, governed by {} ({:.2f})", c.mass_kg,
+                                  c.cells, c.governing, c.governing_ratio)
+                    : "not sized: " + c.error);
+  return ev;
+}
+
+/// The reference (isotropic, requested size) with the shell-stress candidates' shared values
+/// (stress, fields, M′) computed meanwhile on the other thread.
+Evaluated reference_beside_warm_up(MassSearch& m) {
+  tbb::task_group group;
+  group.run([&] {
+    try {  // a failure is met again, and judged, by the candidate that needs the value
+      for (const FieldSetting& s : shell_settings())
+        prepare_design_cache(m.surface, mass_options(m, s), m.cache);
+    } catch (...) {
+    }
+  });
+  std::optional<Evaluated> reference;
+  try {
+    reference = evaluate_mass(m, FieldSetting{}, nullptr, 1, true);
+  } catch (...) {
+    group.wait();
+    throw;
+  }
+  group.wait();
+  return std::move(*reference);
+}
+
+using Pending = std::vector<std::pair<FieldSetting, const StressField*>>;
+
+void evaluate_round(MassSearch& m, const Pending& pending, int round, SearchProgress& progress,
+                    std::vector<Evaluated>& all) {
+  std::vector<Evaluated> out(pending.size());
+  tbb::parallel_for(0, static_cast<int>(pending.size()), [&](int i) {
+    if (stop_requested(progress.options.stop)) return;
+    out[i] = evaluate_mass(m, pending[i].first, pending[i].second, round);
+    progress.one_more();
+  });
+  if (stop_requested(progress.options.stop)) throw Stopped{};
+  for (Evaluated& e : out) all.push_back(std::move(e));
+}
+
+/// Round 1: the isotropic design at the other sizes, the four shell-stress conventions and the
+/// reference's two frame responses (kept in `responses`), within `max_designs` in all.
+Pending first_round(const Surface& surface, const DesignResult& reference,
+                    const StressField& shell, std::deque<StressField>& responses,
+                    int max_designs) {
+  Pending round;
+  for (double f : kSizes) {
+    if (f == 1) continue;
+    FieldSetting s;
+    s.size = f;
+    round.emplace_back(s, nullptr);
+  }
+  for (const FieldSetting& s : shell_settings()) round.emplace_back(s, &shell);
+  for (FieldSource src : {FieldSource::frame_mode, FieldSource::frame_energy}) {
+    const std::vector<double>* values = response_values(reference, src);
+    if (!values) continue;
+    responses.push_back(frame_response_field(surface.mesh, reference.mesh, *values));
+    FieldSetting s;
+    s.source = src;
+    s.D = 2;
+    s.A = 1;
+    s.feedback = 1;
+    round.emplace_back(s, &responses.back());
+  }
+  if (static_cast<int>(round.size()) > max_designs - 1)
+    round.resize(static_cast<std::size_t>(std::max(0, max_designs - 1)));
+  return round;
+}
+
+/// The lightest sized candidate whose source `keep` accepts (-1: none); ties to the first.
+template <class Keep>
+int lightest(const std::vector<Evaluated>& all, Keep keep) {
+  int best = -1;
+  for (int i = 0; i < static_cast<int>(all.size()); ++i) {
+    const Candidate& c = all[i].candidate;
+    if (c.ok && keep(c.setting) && (best < 0 || c.mass_kg < all[best].candidate.mass_kg))
+      best = i;
+  }
+  return best;
+}
+
+/// Round 2: the lightest field candidate of round 1 at the other sizes.
+Pending second_round(const std::vector<Evaluated>& all, int max_designs) {
+  Pending round;
+  const int best =
+      lightest(all, [](const FieldSetting& s) { return s.source != FieldSource::uniform; });
+  if (best < 0) return round;
+  for (double f : kSizes) {
+    if (f == 1 || static_cast<int>(all.size() + round.size()) >= max_designs) continue;
+    FieldSetting s = all[best].candidate.setting;
+    s.size = f;
+    round.emplace_back(s, all[best].field);
+  }
+  return round;
+}
+
+/// The lightest sized candidate, why, and its design sized again at the user's level.
+ObjectiveResult choose_lightest(std::vector<Evaluated>& all, const MassSearch& m,
+                                const ObjectiveOptions& options) {
+  ObjectiveResult res;
+  res.objective = Objective::mass;
+  res.search_level = m.level;
+  for (const Evaluated& e : all) res.candidates.push_back(e.candidate);
+  const int best = lightest(all, [](const FieldSetting&) { return true; });
+  res.chosen = std::max(0, best);
+  res.isotropic_best =
+      lightest(all, [](const FieldSetting& s) { return s.source == FieldSource::uniform; });
+  const Candidate& c = res.candidates[res.chosen];
+  if (best < 0) {
+    res.reason = fmt::format(
+        "no candidate could be sized at analysis level {}: the isotropic design at the "
+        "requested size is kept, and its sizing at the full level says what fails",
+        to_string(m.level));
+  } else if (res.isotropic_best >= 0) {
+    const Candidate& iso = res.candidates[res.isotropic_best];
+    res.mass_saving_vs_isotropic = 1 - c.mass_kg / iso.mass_kg;
+    res.reason = fmt::format(
+        "{} is the lightest of the {} sized candidates ({:.0f} kg at level {}), {:.1f} % "
+        "lighter than the lightest isotropic design ({}, {:.0f} kg)",
+        c.setting.label(), std::count_if(all.begin(), all.end(),
+                                         [](const Evaluated& e) { return e.candidate.ok; }),
+        c.mass_kg, to_string(m.level), 100 * res.mass_saving_vs_isotropic, iso.setting.label(),
+        iso.mass_kg);
+  } else {
+    res.reason = fmt::format("{} is the lightest sized candidate ({:.0f} kg at level {}); no "
+                             "isotropic design could be sized",
+                             c.setting.label(), c.mass_kg, to_string(m.level));
+  }
+  if (stop_requested(options.stop)) throw Stopped{};
+  res.design = std::move(*all[res.chosen].design);
+  if (m.base.analyze != m.level) {
+    GridshellStructure s =
+        analyze_structure(res.design.mesh, res.design.supports, m.base.frame,
+                          m.base.frame_analysis,
+                          {m.base.analyze, sizing::MemberSizing::sized, m.sizing});
+    res.design.structure = std::move(s.result);
+    res.design.sizing = std::move(s.sizing);
+  }
+  res.mass_kg = sizing::steel_mass(res.design.mesh, analysed_frame(m.base, res.design));
+  spdlog::info("[objective] chose {} ({}); sized at level {}: {:.0f} kg, {}",
+               c.setting.label(), res.reason, to_string(m.base.analyze), res.mass_kg,
+               res.design.sizing && res.design.sizing->sized ? "passes every check"
+                                                             : "NOT sized");
+  return res;
+}
+
+}  // namespace
+
+ObjectiveResult design_for_mass(const Surface& surface, const DesignOptions& base,
+                                const ObjectiveOptions& options) {
+  const auto t0 = Clock::now();
+  if (base.analyze == analysis::AnalysisLevel::none)
+    throw Error("--objective", "mass sizes the members: it needs --analyze linear, buckling or "
+                               "nonlinear");
+  if (options.max_designs < 1) throw Error("objective", "max_designs must be at least 1");
+  MassSearch m{surface, base, base.sizing_options, analysis::AnalysisLevel::buckling, {}};
+  if (m.sizing.catalogue.empty()) m.sizing.catalogue = sizing::parse_section_list("chs");
+  // The search's λ check is the cheap one (λ_LBA); a linear-only request skips it.
+  m.level = base.analyze == analysis::AnalysisLevel::linear ? analysis::AnalysisLevel::linear
+                                                            : analysis::AnalysisLevel::buckling;
+  ObjectiveOptions bounded = options;
+  bounded.max_designs = std::min(options.max_designs, 11);
+  SearchProgress progress{bounded};
+  report_progress(options.progress, "objective search", 0, "the isotropic reference");
+  std::vector<Evaluated> all;
+  all.push_back(reference_beside_warm_up(m));
+  progress.one_more();
+  if (stop_requested(options.stop)) throw Stopped{};
+  const StressField shell;  // stands for the shell stress, which the cache computes once
+  std::deque<StressField> responses;
+  if (all[0].design)
+    evaluate_round(m, first_round(surface, *all[0].design, shell, responses, bounded.max_designs),
+                   1, progress, all);
+  if (options.rounds >= 2) evaluate_round(m, second_round(all, bounded.max_designs), 2, progress, all);
+  report_progress(options.progress, "objective search", 1,
+                  fmt::format("{} designs", all.size()));
+  ObjectiveResult res = choose_lightest(all, m, options);
+  res.seconds = seconds_since(t0);
+  return res;
+}
+
+nlohmann::json mass_report(const ObjectiveResult& r) {
+  nlohmann::json j;
+  j["objective"] = to_string(r.objective);
+  j["search_level"] = to_string(r.search_level);
+  j["chosen"] = r.chosen;
+  j["chosen_label"] = r.candidates[r.chosen].setting.label();
+  j["reason"] = r.reason;
+  j["seconds"] = r.seconds;
+  j["designs"] = r.candidates.size();
+  j["chosen_search_mass_kg"] = r.candidates[r.chosen].mass_kg;
+  j["mass_kg"] = r.mass_kg;  // after the final sizing at the user's level
+  if (r.isotropic_best >= 0) {
+    j["isotropic_best"] = r.isotropic_best;
+    j["isotropic_best_label"] = r.candidates[r.isotropic_best].setting.label();
+    j["isotropic_mass_kg"] = r.candidates[r.isotropic_best].mass_kg;
+    j["mass_saving_vs_isotropic"] = r.mass_saving_vs_isotropic;
+  } else {
+    j["isotropic_best"] = nullptr;
+    j["mass_saving_vs_isotropic"] = nullptr;
+  }
+  nlohmann::json list = nlohmann::json::array();
+  for (const Candidate& c : r.candidates) {
+    nlohmann::json e = {{"label", c.setting.label()},
+                        {"source", to_string(c.setting.source)},
+                        {"D", c.setting.D},
+                        {"A", c.setting.A},
+                        {"size", c.setting.size},
+                        {"round", c.round},
+                        {"ok", c.ok},
+                        {"sized", c.sized},
+                        {"seconds", c.seconds}};
+    if (c.setting.source == FieldSource::shell_stress) {
+      e["stress_measure"] = to_string(c.setting.measure);
+      e["stretch"] = to_string(c.setting.stretch);
+      e["density"] = to_string(c.setting.density);
+    }
+    if (c.setting.feedback > 0) e["feedback"] = c.setting.feedback;
+    if (c.cells > 0) {
+      e["cells"] = c.cells;
+      e["total_length_m"] = c.length;
+      e["mass_kg"] = c.mass_kg;
+    }
+    if (!c.governing.empty())
+      e["governing"] = {{"check", c.governing}, {"ratio", c.governing_ratio}};
+    if (c.lambda > 0) e["lambda_linear_buckling"] = c.lambda;
+    if (c.delta > 0) e["delta_max_m"] = c.delta;
+    if (!c.error.empty()) e["failure"] = c.error;
+    list.push_back(e);
+  }
+  j["candidates"] = list;
+  return j;
+}
+
+}  // namespace gridshell::objective_detail

@@ -1,0 +1,53 @@
+#pragma once
+/// \file objective_search.h
+/// Internal to the objective search (objective.cpp: lambda / delta / balanced at equal length;
+/// objective_mass.cpp: `mass`, every candidate sized): what both searches share.
+
+#include <atomic>
+#include <chrono>
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gridshell/pipeline/objective.h"
+
+namespace gridshell::objective_detail {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t);
+
+/// D and A beyond ~4 fold the deformed surface (docs/field.md): the search stays below.
+constexpr double kMaxRatio = 4;
+
+/// A candidate and, when it could be designed, its design.
+struct Evaluated {
+  Candidate candidate;
+  std::optional<DesignResult> design;
+  const StressField* field = nullptr;  ///< the stress it was designed from (null: isotropic)
+};
+
+/// Candidates designed so far, told to the progress listener (from any thread).
+struct SearchProgress {
+  const ObjectiveOptions& options;
+  std::atomic<int> designed{0};
+  void one_more();
+};
+
+/// `base` with the setting's field, analysis `buckling`, the given section and, when
+/// `length` > 0, that total length instead of base's size.
+DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s, double length);
+
+/// Round 1's shell-stress settings: the four conventions at D = A = 2.
+std::vector<FieldSetting> shell_settings();
+
+/// The energies a frame-response setting reads from an analysed design (null when missing).
+const std::vector<double>* response_values(const DesignResult& r, FieldSource source);
+
+/// `design --objective mass` (objective.h); `base` is checked already.
+ObjectiveResult design_for_mass(const Surface& surface, const DesignOptions& base,
+                                const ObjectiveOptions& options);
+/// report.json's "objective" block of a mass search.
+nlohmann::json mass_report(const ObjectiveResult& r);
+
+}  // namespace gridshell::objective_detail
