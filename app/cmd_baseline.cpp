@@ -270,6 +270,10 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
       report::gridshell_report_input(out.mesh, out.supports, structure ? &*structure : nullptr);
   page.density = out.d_target;
   if (structure) page.beam_sections = member_designations(frame);  // sized: one per beam
+  if (envelope) {  // sized: the envelope over the ULS combinations, as beams.csv has it
+    page.utilisation = envelope->utilisation;
+    page.buckling_utilisation = envelope->buckling_utilisation;
+  }
   write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[baseline] {} joints, {} panels, {:.1f} m of beams -> {}", out.mesh.num_vertices(),
                out.mesh.num_faces(), report["mesh"]["total_length_m"].get<double>(), a.run.out_dir);

@@ -174,6 +174,10 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
       r.mesh, r.supports, r.structure ? &*r.structure : nullptr);
   page.density = out.d_target;
   if (r.structure) page.beam_sections = member_designations(frame);  // sized: one per beam
+  if (envelope) {  // sized: the envelope over the ULS combinations, as beams.csv has it
+    page.utilisation = envelope->utilisation;
+    page.buckling_utilisation = envelope->buckling_utilisation;
+  }
   write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[done] {} joints, {} panels, {:.1f} m of beams in {:.1f} s -> {}",
                r.mesh.num_vertices(), r.mesh.num_faces(), r.metrics.total_length,

@@ -177,13 +177,14 @@ export function colourModes(data) {
   if (nBeams && data.utilisation && data.utilisation.length === nBeams) {
     modes.push({ key: 'utilisation', label: 'utilisation, cross-section', unit: '–', on: 'beam',
       values: data.utilisation,
-      note: 'EN 1993-1-1 §6.2, primary combination; 1 = the check is just met' });
+      note: 'EN 1993-1-1 §6.2, primary combination (sized: worst ULS combination); 1 = the ' +
+        'check is just met' });
     const bu = data.buckling_utilisation;
     if (bu && bu.length === nBeams) {
       modes.push({ key: 'governing', label: 'utilisation, governing check', unit: '–', on: 'beam',
         values: data.utilisation.map((u, b) => Math.max(u, bu[b])),
         note: 'larger of cross-section (§6.2) and member buckling (§6.3), primary ' +
-          'combination; 1 = just met' });
+          'combination (sized: worst ULS combination); 1 = just met' });
     }
   }
   const cats = sectionCategories(data);
