@@ -1,8 +1,8 @@
 #include "gridshell/pipeline/objective.h"
 
 #include <algorithm>
-#include <atomic>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -44,7 +44,6 @@ DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s
   return o;
 }
 
-
 /// Round 1's shell-stress settings: the four conventions at D = A = 2.
 std::vector<FieldSetting> shell_settings() {
   // (Across + falling, and frame-response fields with A = 2, were tried too and never came out
@@ -55,14 +54,11 @@ std::vector<FieldSetting> shell_settings() {
     DensityTrend density;
   };
   std::vector<FieldSetting> out;
-  for (const Convention& c : {Convention{StressMeasure::magnitude, StretchAxis::along,
-                                         DensityTrend::rising},
-                              Convention{StressMeasure::magnitude, StretchAxis::along,
-                                         DensityTrend::falling},
-                              Convention{StressMeasure::magnitude, StretchAxis::across,
-                                         DensityTrend::rising},
-                              Convention{StressMeasure::tension, StretchAxis::along,
-                                         DensityTrend::rising}}) {
+  for (const Convention& c :
+       {Convention{StressMeasure::magnitude, StretchAxis::along, DensityTrend::rising},
+        Convention{StressMeasure::magnitude, StretchAxis::along, DensityTrend::falling},
+        Convention{StressMeasure::magnitude, StretchAxis::across, DensityTrend::rising},
+        Convention{StressMeasure::tension, StretchAxis::along, DensityTrend::rising}}) {
     FieldSetting s;
     s.source = FieldSource::shell_stress;
     s.D = s.A = 2;
@@ -76,8 +72,8 @@ std::vector<FieldSetting> shell_settings() {
 
 const std::vector<double>* response_values(const DesignResult& r, FieldSource source) {
   if (!r.structure) return nullptr;
-  const auto& v = source == FieldSource::frame_mode ? r.structure->mode_energy
-                                                    : r.structure->strain_energy;
+  const auto& v =
+      source == FieldSource::frame_mode ? r.structure->mode_energy : r.structure->strain_energy;
   return v.empty() ? nullptr : &v;
 }
 
@@ -108,8 +104,8 @@ Evaluated evaluate(const Surface& surface, const DesignOptions& base, const Fiel
   ev.candidate.round = round;
   try {
     const DesignOptions o = candidate_options(base, s, length);
-    const bool response = s.source == FieldSource::frame_mode ||
-                          s.source == FieldSource::frame_energy;
+    const bool response =
+        s.source == FieldSource::frame_mode || s.source == FieldSource::frame_energy;
     DesignResult r =
         response ? run_design(surface, o, *stress, cache) : run_design(surface, o, cache);
     ev.candidate.length = r.metrics.total_length;
@@ -135,10 +131,10 @@ Evaluated evaluate(const Surface& surface, const DesignOptions& base, const Fiel
   }
   ev.candidate.seconds = seconds_since(t);
   spdlog::info("[objective] {}: {}", s.label(),
-               ev.candidate.ok ? fmt::format("lambda_LBA = {:.4g}, delta = {:.4g} m, {:.1f} m",
-                                             ev.candidate.lambda, ev.candidate.delta,
-                                             ev.candidate.length)
-                               : "failed: " + ev.candidate.error);
+               ev.candidate.ok
+                   ? fmt::format("lambda_LBA = {:.4g}, delta = {:.4g} m, {:.1f} m",
+                                 ev.candidate.lambda, ev.candidate.delta, ev.candidate.length)
+                   : "failed: " + ev.candidate.error);
   return ev;
 }
 
@@ -179,7 +175,6 @@ int best_index(const std::vector<Evaluated>& all, const ObjectiveOptions& o) {
   }
   return best;
 }
-
 
 /// The isotropic reference (its failure is the user's: thrown), with what round 1's shell-stress
 /// candidates share computed meanwhile on the other thread (prepare_design_cache: the stress,
@@ -240,9 +235,13 @@ Objective parse_objective(const std::string& w) {
   return parse_word(w, "--objective", kObjectiveWords);
 }
 
-const char* to_string(Objective o) { return word_of(o, kObjectiveWords); }
+const char* to_string(Objective o) {
+  return word_of(o, kObjectiveWords);
+}
 
-const char* to_string(FieldSource s) { return word_of(s, kFieldSourceWords); }
+const char* to_string(FieldSource s) {
+  return word_of(s, kFieldSourceWords);
+}
 
 std::string FieldSetting::label() const {
   if (source == FieldSource::uniform)
@@ -269,12 +268,9 @@ nlohmann::json ObjectiveResult::report() const {
   j["delta_gain"] = delta_gain(candidates[chosen], ref);
   nlohmann::json list = nlohmann::json::array();
   for (const Candidate& c : candidates) {
-    nlohmann::json e = {{"label", c.setting.label()},
-                        {"source", to_string(c.setting.source)},
-                        {"D", c.setting.D},
-                        {"A", c.setting.A},
-                        {"round", c.round},
-                        {"ok", c.ok},
+    nlohmann::json e = {{"label", c.setting.label()}, {"source", to_string(c.setting.source)},
+                        {"D", c.setting.D},           {"A", c.setting.A},
+                        {"round", c.round},           {"ok", c.ok},
                         {"seconds", c.seconds}};
     if (c.setting.source == FieldSource::shell_stress) {
       e["stress_measure"] = to_string(c.setting.measure);
@@ -329,16 +325,9 @@ DesignResult design_from_frame_response(const Surface& surface, const DesignOpti
   return r;
 }
 
-namespace {
-
-using Pending = std::vector<std::pair<FieldSetting, const StressField*>>;
-
-/// Round 1: the shell stress in four conventions, and the reference's two frame responses (kept
-/// in `responses`, whose addresses the settings point to).
-Pending first_round(const Surface& surface, const DesignResult& reference,
-                    const StressField& shell, std::deque<StressField>& responses) {
-  Pending round;
-  for (const FieldSetting& s : shell_settings()) round.emplace_back(s, &shell);
+void objective_detail::add_response_candidates(
+    const Surface& surface, const DesignResult& reference, std::deque<StressField>& responses,
+    std::vector<std::pair<FieldSetting, const StressField*>>& round) {
   for (FieldSource src : {FieldSource::frame_mode, FieldSource::frame_energy}) {
     const std::vector<double>* values = response_values(reference, src);
     if (!values) continue;
@@ -350,6 +339,19 @@ Pending first_round(const Surface& surface, const DesignResult& reference,
     s.feedback = 1;
     round.emplace_back(s, &responses.back());
   }
+}
+
+namespace {
+
+using Pending = std::vector<std::pair<FieldSetting, const StressField*>>;
+
+/// Round 1: the shell stress in four conventions, and the reference's two frame responses (kept
+/// in `responses`, whose addresses the settings point to).
+Pending first_round(const Surface& surface, const DesignResult& reference, const StressField& shell,
+                    std::deque<StressField>& responses) {
+  Pending round;
+  for (const FieldSetting& s : shell_settings()) round.emplace_back(s, &shell);
+  add_response_candidates(surface, reference, responses, round);
   return round;
 }
 
@@ -423,9 +425,9 @@ ObjectiveResult choose(std::vector<Evaluated>& all, const DesignOptions& base,
     res.design.structure.reset();
   } else if (base.analyze != analysis::AnalysisLevel::buckling ||
              base.sizing == sizing::MemberSizing::sized) {
-    GridshellStructure s = analyze_structure(res.design.mesh, res.design.supports, base.frame,
-                                             base.frame_analysis,
-                                             {base.analyze, base.sizing, base.sizing_options});
+    GridshellStructure s =
+        analyze_structure(res.design.mesh, res.design.supports, base.frame, base.frame_analysis,
+                          {base.analyze, base.sizing, base.sizing_options});
     res.design.structure = std::move(s.result);
     res.design.sizing = std::move(s.sizing);
   }
@@ -465,8 +467,7 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
     for (Evaluated& e : evaluate_all(surface, base, next, cache, length, round, progress))
       all.push_back(std::move(e));
   }
-  report_progress(options.progress, "objective search", 1,
-                  fmt::format("{} designs", all.size()));
+  report_progress(options.progress, "objective search", 1, fmt::format("{} designs", all.size()));
   if (stop_requested(options.stop)) throw Stopped{};
   ObjectiveResult res = choose(all, base, options);
   res.seconds = seconds_since(t0);

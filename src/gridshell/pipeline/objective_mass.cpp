@@ -72,8 +72,8 @@ void governing_check(const sizing::SizingResult& s, double lambda_min, Candidate
 
 /// Designs and sizes one candidate. A failure marks it failed, unless `rethrow` (the reference:
 /// its failure is the user's).
-Evaluated evaluate_mass(MassSearch& m, const FieldSetting& s, const StressField* stress,
-                        int round, bool rethrow = false) {
+Evaluated evaluate_mass(MassSearch& m, const FieldSetting& s, const StressField* stress, int round,
+                        bool rethrow = false) {
   const auto t = Clock::now();
   Evaluated ev;
   ev.field = stress;
@@ -81,10 +81,10 @@ Evaluated evaluate_mass(MassSearch& m, const FieldSetting& s, const StressField*
   ev.candidate.round = round;
   try {
     const DesignOptions o = mass_options(m, s);
-    const bool response = s.source == FieldSource::frame_mode ||
-                          s.source == FieldSource::frame_energy;
-    DesignResult r = response ? run_design(m.surface, o, *stress, m.cache)
-                              : run_design(m.surface, o, m.cache);
+    const bool response =
+        s.source == FieldSource::frame_mode || s.source == FieldSource::frame_energy;
+    DesignResult r =
+        response ? run_design(m.surface, o, *stress, m.cache) : run_design(m.surface, o, m.cache);
     Candidate& c = ev.candidate;
     c.length = r.metrics.total_length;
     c.cells = r.mesh.num_faces();
@@ -153,9 +153,8 @@ void evaluate_round(MassSearch& m, const Pending& pending, int round, SearchProg
 
 /// Round 1: the isotropic design at the other sizes, the four shell-stress conventions and the
 /// reference's two frame responses (kept in `responses`), within `max_designs` in all.
-Pending first_round(const Surface& surface, const DesignResult& reference,
-                    const StressField& shell, std::deque<StressField>& responses,
-                    int max_designs) {
+Pending first_round(const Surface& surface, const DesignResult& reference, const StressField& shell,
+                    std::deque<StressField>& responses, int max_designs) {
   Pending round;
   for (double f : kSizes) {
     if (f == 1) continue;
@@ -164,17 +163,7 @@ Pending first_round(const Surface& surface, const DesignResult& reference,
     round.emplace_back(s, nullptr);
   }
   for (const FieldSetting& s : shell_settings()) round.emplace_back(s, &shell);
-  for (FieldSource src : {FieldSource::frame_mode, FieldSource::frame_energy}) {
-    const std::vector<double>* values = response_values(reference, src);
-    if (!values) continue;
-    responses.push_back(frame_response_field(surface.mesh, reference.mesh, *values));
-    FieldSetting s;
-    s.source = src;
-    s.D = 2;
-    s.A = 1;
-    s.feedback = 1;
-    round.emplace_back(s, &responses.back());
-  }
+  add_response_candidates(surface, reference, responses, round);
   if (static_cast<int>(round.size()) > max_designs - 1)
     round.resize(static_cast<std::size_t>(std::max(0, max_designs - 1)));
   return round;
@@ -186,8 +175,7 @@ int lightest(const std::vector<Evaluated>& all, Keep keep) {
   int best = -1;
   for (int i = 0; i < static_cast<int>(all.size()); ++i) {
     const Candidate& c = all[i].candidate;
-    if (c.ok && keep(c.setting) && (best < 0 || c.mass_kg < all[best].candidate.mass_kg))
-      best = i;
+    if (c.ok && keep(c.setting) && (best < 0 || c.mass_kg < all[best].candidate.mass_kg)) best = i;
   }
   return best;
 }
@@ -230,30 +218,29 @@ ObjectiveResult choose_lightest(std::vector<Evaluated>& all, const MassSearch& m
     res.reason = fmt::format(
         "{} is the lightest of the {} sized candidates ({:.0f} kg at level {}), {:.1f} % "
         "lighter than the lightest isotropic design ({}, {:.0f} kg)",
-        c.setting.label(), std::count_if(all.begin(), all.end(),
-                                         [](const Evaluated& e) { return e.candidate.ok; }),
+        c.setting.label(),
+        std::count_if(all.begin(), all.end(), [](const Evaluated& e) { return e.candidate.ok; }),
         c.mass_kg, to_string(m.level), 100 * res.mass_saving_vs_isotropic, iso.setting.label(),
         iso.mass_kg);
   } else {
-    res.reason = fmt::format("{} is the lightest sized candidate ({:.0f} kg at level {}); no "
-                             "isotropic design could be sized",
-                             c.setting.label(), c.mass_kg, to_string(m.level));
+    res.reason = fmt::format(
+        "{} is the lightest sized candidate ({:.0f} kg at level {}); no "
+        "isotropic design could be sized",
+        c.setting.label(), c.mass_kg, to_string(m.level));
   }
   if (stop_requested(options.stop)) throw Stopped{};
   res.design = std::move(*all[res.chosen].design);
   if (m.base.analyze != m.level) {
     GridshellStructure s =
-        analyze_structure(res.design.mesh, res.design.supports, m.base.frame,
-                          m.base.frame_analysis,
+        analyze_structure(res.design.mesh, res.design.supports, m.base.frame, m.base.frame_analysis,
                           {m.base.analyze, sizing::MemberSizing::sized, m.sizing});
     res.design.structure = std::move(s.result);
     res.design.sizing = std::move(s.sizing);
   }
   res.mass_kg = sizing::steel_mass(res.design.mesh, analysed_frame(m.base, res.design));
-  spdlog::info("[objective] chose {} ({}); sized at level {}: {:.0f} kg, {}",
-               c.setting.label(), res.reason, to_string(m.base.analyze), res.mass_kg,
-               res.design.sizing && res.design.sizing->sized ? "passes every check"
-                                                             : "NOT sized");
+  spdlog::info("[objective] chose {} ({}); sized at level {}: {:.0f} kg, {}", c.setting.label(),
+               res.reason, to_string(m.base.analyze), res.mass_kg,
+               res.design.sizing && res.design.sizing->sized ? "passes every check" : "NOT sized");
   return res;
 }
 
@@ -263,8 +250,9 @@ ObjectiveResult design_for_mass(const Surface& surface, const DesignOptions& bas
                                 const ObjectiveOptions& options) {
   const auto t0 = Clock::now();
   if (base.analyze == analysis::AnalysisLevel::none)
-    throw Error("--objective", "mass sizes the members: it needs --analyze linear, buckling or "
-                               "nonlinear");
+    throw Error("--objective",
+                "mass sizes the members: it needs --analyze linear, buckling or "
+                "nonlinear");
   if (options.max_designs < 1) throw Error("objective", "max_designs must be at least 1");
   MassSearch m{surface, base, base.sizing_options, analysis::AnalysisLevel::buckling, {}};
   if (m.sizing.catalogue.empty()) m.sizing.catalogue = sizing::parse_section_list("chs");
@@ -284,9 +272,9 @@ ObjectiveResult design_for_mass(const Surface& surface, const DesignOptions& bas
   if (all[0].design)
     evaluate_round(m, first_round(surface, *all[0].design, shell, responses, bounded.max_designs),
                    1, progress, all);
-  if (options.rounds >= 2) evaluate_round(m, second_round(all, bounded.max_designs), 2, progress, all);
-  report_progress(options.progress, "objective search", 1,
-                  fmt::format("{} designs", all.size()));
+  if (options.rounds >= 2)
+    evaluate_round(m, second_round(all, bounded.max_designs), 2, progress, all);
+  report_progress(options.progress, "objective search", 1, fmt::format("{} designs", all.size()));
   ObjectiveResult res = choose_lightest(all, m, options);
   res.seconds = seconds_since(t0);
   return res;

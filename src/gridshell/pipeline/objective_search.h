@@ -5,7 +5,9 @@
 
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -43,6 +45,12 @@ std::vector<FieldSetting> shell_settings();
 
 /// The energies a frame-response setting reads from an analysed design (null when missing).
 const std::vector<double>* response_values(const DesignResult& r, FieldSource source);
+
+/// The reference's two frame-response fields (D = 2, A = 1), kept in `responses` (whose
+/// addresses the settings point to), appended to `round`.
+void add_response_candidates(const Surface& surface, const DesignResult& reference,
+                             std::deque<StressField>& responses,
+                             std::vector<std::pair<FieldSetting, const StressField*>>& round);
 
 /// `design --objective mass` (objective.h); `base` is checked already.
 ObjectiveResult design_for_mass(const Surface& surface, const DesignOptions& base,
