@@ -49,12 +49,12 @@ void add_figure_option(CLI::App* sub, RunOptions& o) {
 void add_load_check_options(CLI::App* sub, LoadCheckOptions& o) {
   sub->add_option("--steel", o.steel, "member checks: steel grade S235 | S275 | S355")
       ->default_str("S355");
+  // No default string: config.json then leaves --loads out, and --config resolves it alike.
   sub->add_option("--loads", o.loads,
                   "grid-shell analysis: paper (the bars' weight spread over the surface, + "
                   "--area-load) | eurocode (G1 bars, G2 --glass, Q --snow; structure = ULS "
                   "1.35 G + 1.5 Q, combinations adds SLS G + Q); default paper, eurocode with "
-                  "--size")
-      ->default_str("paper");
+                  "--size");
   sub->add_option("--glass", o.glass, "--loads eurocode: glass and cladding in kN/m² of surface")
       ->default_str("0.4");
   sub->add_option("--snow", o.snow,

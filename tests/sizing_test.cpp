@@ -255,3 +255,15 @@ TEST(Sizing, AnalyzeSizesAGridshellMeshAsDesignDoes) {
   EXPECT_EQ(j.status, 2);
   EXPECT_NE(j.err.find("--size"), std::string::npos) << j.err;
 }
+
+TEST(Sizing, ConfigRepeatsASizedDesign) {
+  // config.json leaves the implied --loads out, so --config sizes under the same loads.
+  const fs::path d = sized_dome();
+  const fs::path again = test::temp_dir("sized_again");
+  const auto r = test::run_gridshell("design --config " + (d / "config.json").string() +
+                                     " --quiet --figures none -o " + again.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto a = read_json(d / "report.json"), b = read_json(again / "report.json");
+  EXPECT_EQ(b["structure"]["loads"], "eurocode");
+  EXPECT_EQ(a["sizing"]["mass_kg"].get<double>(), b["sizing"]["mass_kg"].get<double>());
+}
