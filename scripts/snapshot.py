@@ -23,13 +23,18 @@ RUNS = {
     "dome_tri": "baseline builtin:dome --kind tri --length 200 --seed 3 --analyze linear",
     "dome_iso": "baseline builtin:dome --kind voronoi-iso --length 200 --seed 3 --analyze linear",
     "analyze_obj": "analyze @dome_uniform/gridshell.obj --analyze nonlinear",
+    "dome_quad_aniso": "baseline builtin:dome --kind quad-aniso --length 200 --seed 3 --analyze linear",
+    "dome_sized": "design builtin:dome --cells 60 --size --seed 3",
+    "barrel_eurocode": "design builtin:barrel --cells 70 --loads eurocode --seed 2 --analyze nonlinear",
+    "funicular_flat": "design builtin:funicular:res=16 --cells 60 -D 2 -A 2 --panels flat --seed 2 --analyze linear",
+    "analyze_frame": "analyze @dome_sized/frame.json --analyze buckling",
 }
 SHELL = os.path.join(ROOT, "..", "shared", "data", "surfaces", "Shell.ply")
 if os.path.exists(SHELL):  # the length control's second pass (planarization lengthens the beams)
     RUNS["shell_length_retry"] = (f"design {SHELL} -D 3 -A 3 --length 415 --planarize --seed 1 "
                                   "--analyze none")
 MESH_FILES = ("gridshell.obj", "gridshell_raw.obj", "gridshell.ply", "cells.csv", "nodes.csv",
-              "beams.csv", "path.csv")
+              "beams.csv", "path.csv", "frame.json", "panels.csv", "joints.csv", "modes.csv")
 
 
 def strip(value):
