@@ -38,12 +38,14 @@ MESH_FILES = ("gridshell.obj", "gridshell_raw.obj", "gridshell.ply", "cells.csv"
 
 
 def strip(value):
-    """report.json without timings (they differ run to run)."""
+    """report.json without timings (they differ run to run) and the checkout's own path."""
     if isinstance(value, dict):
         return {k: strip(v) for k, v in value.items()
                 if k not in ("timings_s", "seconds") and not k.endswith("_seconds")}
     if isinstance(value, list):
         return [strip(v) for v in value]
+    if isinstance(value, str):  # input paths name the checkout: compare them from its root
+        return value.replace(ROOT, "<checkout>")
     return value
 
 

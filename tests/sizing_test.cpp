@@ -18,6 +18,7 @@
 
 #include "ccx_support.h"
 #include "gridshell/analysis/frame_analysis.h"
+#include "gridshell/fem/frame_solver.h"
 #include "gridshell/io/frame_model_json.h"
 #include "gridshell/sections/sections.h"
 #include "gridshell/sizing/sizing.h"
@@ -178,6 +179,87 @@ TEST(Sizing, SizedDomeAgreesWithCalculix) {
   std::printf("sized dome lambda_LBA: ours %.6g, CalculiX %.6g\n", *ours.lambda_linear_buckling,
               lambda_ccx);
   EXPECT_NEAR(*ours.lambda_linear_buckling / lambda_ccx, 1.0, 0.05);
+}
+
+// The sized frame's member forces against CalculiX: each member's axial force N under the ULS
+// combination of frame.json. CalculiX expands a PIPE into bricks with 16 integration points per
+// B32R on rings of the section; bending cancels in their mean (the points lie symmetrically
+// around the axis and N is constant along a member loaded at its ends), so N = A × the mean
+// axial stress e₁ᵀ S e₁ over the member's points. Checked by hand on one CHS 88.9x4.0 in
+// tension: the mean is F / A to 5 digits.
+TEST(Sizing, SizedDomeMemberForcesAgreeWithCalculix) {
+  if (!test::have_ccx()) SKIP_OR_FAIL_IN_CI("ccx not installed");
+  const io::FrameModelFile f = io::read_frame_model(sized_dome() / "frame.json", 2);
+  const fem::FrameModel& m = f.model;
+  std::vector<int> supports;
+  for (const auto& s : m.supports) supports.push_back(s.node);
+  const auto profile = [&](std::size_t k) -> const sections::Section& {
+    return *m.sections[m.members[k].section].profile;
+  };
+  const auto card = [&](std::size_t k) {
+    return fmt::format("PIPE\n{:.12g},{:.12g}", profile(k).h / 2, profile(k).t);
+  };
+  // Ours: the linear solution's axial force per member (constant along it).
+  const fem::FrameMesh mesh = fem::discretize(m);
+  const fem::FrameAssembler assembler(mesh);
+  const fem::LinearResult lin = fem::linear_static(mesh, assembler);
+  const auto forces = fem::element_section_forces(mesh, assembler, lin.u);
+  const int members = static_cast<int>(m.members.size());
+  std::vector<double> ours(members);
+  for (int k = 0; k < members; ++k) ours[k] = forces[mesh.member_elements[k].front()].N;
+
+  std::string deck = test::ccx_frame_deck(m, supports, card, "*STEP\n*STATIC");
+  const std::string print = "*NODE PRINT, NSET=NALL\nU\n";
+  deck.replace(deck.find(print), print.size(), "*EL PRINT, ELSET=EALL\nS\n");
+  deck.insert(deck.find("*MATERIAL"),
+              fmt::format("*ELSET, ELSET=EALL, GENERATE\n1,{},1\n", 4 * members));
+  const test::CcxRun run = test::run_ccx("sized_ccx_forces", deck);
+  ASSERT_TRUE(run.ok) << run.dir;
+  std::vector<double> sum(members, 0.0);
+  std::vector<int> count(members, 0);
+  std::ifstream dat(run.dir / "job.dat");
+  std::string line;
+  bool table = false;
+  while (std::getline(dat, line)) {
+    if (line.find("stresses") != std::string::npos) table = true;
+    std::istringstream ss(line);
+    int e, ip;
+    double s[6];
+    if (!table || !(ss >> e >> ip >> s[0] >> s[1] >> s[2] >> s[3] >> s[4] >> s[5])) continue;
+    const int k = (e - 1) / 4;
+    const auto& mb = m.members[k];
+    const Vec3 a = (m.nodes.row(mb.j) - m.nodes.row(mb.i)).transpose().normalized();
+    fem::Mat3 S;
+    S << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
+    sum[k] += a.dot(S * a);
+    ++count[k];
+  }
+  double peak = 0;
+  for (int k = 0; k < members; ++k) {
+    ASSERT_EQ(count[k], 4 * 16) << "member " << k << ": stresses missing in " << run.dir;
+    peak = std::max(peak, std::abs(ours[k]));
+  }
+  std::vector<double> err;
+  double worst = 0;
+  for (int k = 0; k < members; ++k) {
+    const double theirs = m.sections[m.members[k].section].A * sum[k] / count[k];
+    if (std::abs(theirs) < 0.1 * peak) continue;  // small forces: relative error meaningless
+    EXPECT_GT(ours[k] * theirs, 0) << "member " << k << ": tension and compression disagree";
+    err.push_back(std::abs(ours[k] / theirs - 1));
+    worst = std::max(worst, err.back());
+  }
+  ASSERT_GT(err.size(), 30u);
+  std::sort(err.begin(), err.end());
+  const double median = err[err.size() / 2], p90 = err[err.size() * 9 / 10];
+  std::printf("sized dome axial forces, %zu members above 10 %% of the peak %.4g N: |ratio - 1| "
+              "median %.4f, 90th percentile %.4f, worst %.4f\n",
+              err.size(), peak, median, p90, worst);
+  // The frame is statically indeterminate: CalculiX's bricks are 5.5 % stiffer in bending and
+  // 0.7 % softer axially than the Euler–Bernoulli bar (a single CHS, checked by hand), which
+  // moves a little force between members. Measured on 156 members: median 0.11 %, 90th
+  // percentile 0.39 %, worst 1.0 %.
+  EXPECT_LT(median, 0.01);
+  EXPECT_LT(p90, 0.02);
 }
 
 TEST(Sizing, SectionGroupsBoundTheDistinctSections) {

@@ -1,0 +1,3 @@
+// Layering probe (CMakeLists.txt, test layering.numerics_below_presentation): compiled with the
+// numerics layer's include root only, this include must not be found.
+#include "gridshell/figures/plot.h"
