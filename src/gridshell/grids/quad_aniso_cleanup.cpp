@@ -1,8 +1,12 @@
 #include "gridshell/grids/quad_aniso_internal.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <numeric>
+#include <utility>
 #include <vector>
 
 #include "gridshell/mesh/geometry.h"

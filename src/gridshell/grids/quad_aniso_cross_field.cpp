@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
+#include <complex>
+#include <set>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Sparse>

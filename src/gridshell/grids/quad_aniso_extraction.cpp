@@ -4,7 +4,10 @@
 #include <array>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "gridshell/core/error.h"
