@@ -132,6 +132,7 @@ QuadAnisoResult quad_aniso(const Surface& surface, const Field& field, const Qua
   const SurfacePieces pieces = surface_pieces(mesh);
   const MetricFrames frames =
       metric_frames(metric.rest, metric.def, metric.rest_field, h, o);  // the h M′ is refined for
+  // One lattice start at one spacing: extracted on M′, cleaned up on M, measured and scored.
   CandidatePool pool([&](double spacing, int start) {
     QuadAnisoOptions so = o;
     so.seed = o.seed + 7919 * static_cast<std::uint64_t>(start);
