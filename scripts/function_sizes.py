@@ -183,7 +183,8 @@ def main():
             long_files.append((lines, str(f)))
         rows += [(last - first + 1, f"{f}:{first}", name) for name, first, last in functions]
     rows.sort(key=lambda r: (-r[0], r[1]))
-    shown = rows[:args.top] if args.top else [r for r in rows if r[0] > args.lines]
+    over = [r for r in rows if r[0] > args.lines]
+    shown = rows[:args.top] if args.top else over
     for length, where, name in shown:
         print(f"{length:5d}  {where}  {name}")
     for lines, f in sorted(long_files, reverse=True):
@@ -191,7 +192,7 @@ def main():
     if not args.top:
         print(f"{len(rows)} functions in {len(files)} files; {len(shown)} over {args.lines} lines, "
               f"{len(long_files)} files over {args.file_lines}", file=sys.stderr)
-    return 1 if args.check and (shown or long_files) else 0
+    return 1 if args.check and (over or long_files) else 0
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -53,144 +54,224 @@ bool factorize_tangent(const FrameAssembler& asmb, const FrameState& st, Tangent
 constexpr double kRefreshIterations = 20;
 constexpr double kPolish = 1e-2;
 constexpr int kMaxRefreshes = 3;  // per attempt
-// arc_step's result when the iterate went past a critical point of a stable path and the last
-// stable tangent no longer contracts the residual: the radius reaches beyond the critical point.
-constexpr int kCrossed = -2;
 
-// One arc-length step from `from` with radius ds. `start` holds the factorised tangent at the
-// start point and ut0 = K⁻¹f; neither is modified, so a failed or refined step needs no
-// refactorisation. Refreshed tangents go into `work`. On success fills `to` (without factorising
-// its tangent) and returns the number of iterations, else −1 (kCrossed: the step crosses a
-// critical point).
-int arc_step(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::VectorXd& W,
-             const ArcLengthOptions& opt, const TangentSolver& start, const Eigen::VectorXd& ut0,
-             TangentSolver& work, const Converged& from, double ds, bool first,
-             bool indefinite_start, Converged& to, int& factorizations) {
-  const Eigen::VectorXd& f = mesh.load;
-  const TangentSolver* solver = &start;
-  Eigen::VectorXd ut = ut0;  // K⁻¹f of the tangent in use
-  const double nt = std::sqrt(ut.dot(W.cwiseProduct(ut)));
-  if (!(nt > 0)) return -1;
-  double sign = 1;
-  if (!first) sign = from.du.dot(W.cwiseProduct(ut)) >= 0 ? 1 : -1;
-  double dlam = sign * ds / nt;
-  Eigen::VectorXd du = dlam * ut;
-  FrameState st = from.state;
-  apply_increment(mesh, du, st);
-  double lam = from.lambda + dlam;
-  const double fnorm = f.norm();
-  Eigen::VectorXd fint;
-  double rprev = 0;
+/// How one arc-length step ended.
+enum class StepOutcome {
+  converged,  ///< the corrector met the tolerance: the step's point is the path's next
+  /// Diverged, no convergence in max_iterations, or a singular or non-finite solve: a shorter
+  /// step may converge.
+  failed,
+  /// The iterate went past a critical point of a stable path and the last stable tangent no
+  /// longer contracts the residual: the radius reaches beyond the critical point.
+  crossed,
+};
+
+/// What ArcStepper::step returns: how it ended and, when converged, the new point (without its
+/// tangent factorised) and the corrector's iterations.
+struct StepResult {
+  StepOutcome outcome = StepOutcome::failed;
+  int iterations = 0;
+  Converged point;
+};
+
+/// One arc-length step's corrector state: the iterate, its increment from the step's start, the
+/// tangent in use and its load tangent ut = K⁻¹f, and what the refresh policy remembers.
+struct Corrector {
+  FrameState st;
+  Eigen::VectorXd du, ut;
+  double lam = 0, dlam = 0;  ///< the iterate's λ; the predictor's Δλ
+  const TangentSolver* solver = nullptr;
+  double rprev = 0;  ///< the previous iteration's residual norm
   int last_refresh = 0, growing = 0, refreshes = 0;
-  // The predicted point (iteration 1), kept for a refresh at iteration 2 (see below).
+  /// The predicted point (iteration 1), kept for a refresh at iteration 2 (see ArcStepper::step).
   struct Iterate {
     FrameState state;
     Eigen::VectorXd du, r;
     double lambda = 0, rn = 0;
   } predicted;
-  bool fresh = false;        // the tangent in use is that of the previous iterate
-  bool stable_only = false;  // a refreshed tangent was indefinite
-  // Modified Newton: the start tangent is kept while the residual contracts fast enough
-  // (linear convergence, each iteration one residual and one solve); it is refreshed at the
-  // current iterate when the contraction rate predicts more than kRefreshIterations iterations,
-  // except at iteration 2: there the tangent is refreshed at the predicted point, not at the
-  // iterate. On a softening path the start tangent's first correction throws the iterate along
-  // the soft mode, away from the path (its residual grows ×1.5–2.5 on the Aquadom designs), and a
-  // tangent taken there contracts only ×0.3–0.4 per iteration, where the one at the predicted
-  // point gives a nearly quadratic first iteration (×1e-3): the steps can then be 2–4× longer.
-  for (int it = 1; it <= opt.max_iterations; ++it) {
-    fint = asmb.internal_force(st);
-    Eigen::VectorXd r = lam * f - asmb.reduce(fint);
-    if (!r.allFinite()) return -1;
-    const double scale = fnorm * std::max(std::abs(lam), 1e-3 * std::abs(dlam));
+  bool fresh = false;        ///< the tangent in use is that of the previous iterate
+  bool stable_only = false;  ///< a refreshed tangent was indefinite
+};
+
+/// The arc-length steps of one path: what stays fixed along it (model, assembler, the norm's
+/// weights W, options, whether the start was already indefinite) and the path's count of
+/// factorisations, which every refreshed tangent adds to.
+class ArcStepper {
+ public:
+  ArcStepper(const FrameMesh& mesh, const FrameAssembler& asmb, const Eigen::VectorXd& W,
+             const ArcLengthOptions& opt, bool indefinite_start, int& factorizations)
+      : mesh_(mesh),
+        asmb_(asmb),
+        W_(W),
+        opt_(opt),
+        indefinite_start_(indefinite_start),
+        factorizations_(factorizations) {}
+
+  /// One arc-length step from `from` with radius ds. `start` holds the factorised tangent at the
+  /// start point and ut0 = K⁻¹f; neither is modified, so a failed or refined step needs no
+  /// refactorisation. Refreshed tangents go into `work`.
+  StepResult step(const TangentSolver& start, const Eigen::VectorXd& ut0, TangentSolver& work,
+                  const Converged& from, double ds, bool first) const;
+
+ private:
+  bool predict(const Converged& from, double ds, bool first, Corrector& c) const;
+  std::optional<StepOutcome> watch(Corrector& c, int it, double rho, double tol, double scale,
+                                   Eigen::VectorXd& r, double& rn, TangentSolver& work) const;
+  bool correct(Corrector& c, const Eigen::VectorXd& r, double ds) const;
+
+  const FrameMesh& mesh_;
+  const FrameAssembler& asmb_;
+  const Eigen::VectorXd& W_;
+  const ArcLengthOptions& opt_;
+  bool indefinite_start_;
+  int& factorizations_;
+};
+
+/// The predictor: along the load tangent c.ut, with the sign that keeps the path's direction
+/// (λ increasing on the first step), to arc length ds. False when the load tangent is zero.
+bool ArcStepper::predict(const Converged& from, double ds, bool first, Corrector& c) const {
+  const Eigen::VectorXd& ut = c.ut;
+  const double nt = std::sqrt(ut.dot(W_.cwiseProduct(ut)));
+  if (!(nt > 0)) return false;
+  double sign = 1;
+  if (!first) sign = from.du.dot(W_.cwiseProduct(ut)) >= 0 ? 1 : -1;
+  c.dlam = sign * ds / nt;
+  c.du = c.dlam * ut;
+  c.st = from.state;
+  apply_increment(mesh_, c.du, c.st);
+  c.lam = from.lambda + c.dlam;
+  return true;
+}
+
+/// From iteration 2 on: whether the step is to stop (diverging, or crossing a critical point),
+/// and the tangent's refresh when the residual contracts too slowly (see step). A refresh at
+/// iteration 2 first goes back to the predicted point (the iterate, r and rn with it).
+std::optional<StepOutcome> ArcStepper::watch(Corrector& c, int it, double rho, double tol,
+                                             double scale, Eigen::VectorXd& r, double& rn,
+                                             TangentSolver& work) const {
+  c.growing = rho >= 1 ? c.growing + 1 : 0;
+  // Past a critical point with the last stable tangent and no contraction: the step
+  // crosses the critical point and would only iterate to max_iterations; a shorter one is
+  // cheaper (StepOutcome::crossed tells the caller).
+  if (c.stable_only && rho >= 1) {
+    spdlog::debug("  crossing a critical point at iteration {}", it);
+    return StepOutcome::crossed;
+  }
+  // Diverging: the residual keeps growing, or grows with a fresh tangent after the
+  // refreshes an attempt may spend (the step is too long: a shorter one is cheaper).
+  if (c.growing >= 4 || (c.refreshes >= kMaxRefreshes && rho >= 1)) {
+    spdlog::debug("  diverging at iteration {}", it);
+    return StepOutcome::failed;
+  }
+  const bool slow = rho >= 1 || std::log(tol / rn) / std::log(rho) > kRefreshIterations;
+  if (!(slow && it - c.last_refresh >= 2 && !c.stable_only && c.refreshes < kMaxRefreshes))
+    return std::nullopt;
+  c.last_refresh = it;
+  ++c.refreshes;
+  if (it == 2) {
+    const Corrector::Iterate& p = c.predicted;
+    std::tie(c.st, c.du, r, c.lam, rn) = std::tie(p.state, p.du, p.r, p.lambda, p.rn);
+    spdlog::debug("  back to the predicted point");
+  }
+  if (!factorize_tangent(asmb_, c.st, work, factorizations_)) return StepOutcome::failed;
+  spdlog::debug("  refresh at iteration {}: residual {:.3g}, contraction {:.3g}, {}", it,
+                rn / scale, rho, work.positive_definite() ? "positive definite" : "indefinite");
+  // An indefinite tangent (the iterate is past a critical point of a path that started
+  // stable) is not used: its solves would amplify the critical mode and can throw the
+  // iterate onto another branch; the last stable tangent is kept.
+  if (work.positive_definite() || indefinite_start_) {
+    c.solver = &work;
+    c.ut = work.solve(mesh_.load);
+    if (!c.ut.allFinite()) return StepOutcome::failed;
+    c.fresh = true;
+  } else {
+    c.stable_only = true;  // past a critical point: no further refreshes in this step
+    if (rho >= 1) {
+      spdlog::debug("  crossing a critical point at iteration {}", it);
+      return StepOutcome::crossed;
+    }
+  }
+  return std::nullopt;
+}
+
+/// One corrector iteration: the residual's solve with the tangent in use and the λ-correction
+/// that keeps the increment on the sphere of radius ds (the root nearer the previous increment).
+/// False when the solve or the constraint fails.
+bool ArcStepper::correct(Corrector& c, const Eigen::VectorXd& r, double ds) const {
+  const Eigen::VectorXd& ut = c.ut;
+  const Eigen::VectorXd ur = c.solver->solve(r);
+  const Eigen::VectorXd base = c.du + ur;
+  const double a = ut.dot(W_.cwiseProduct(ut));
+  const double b = 2 * ut.dot(W_.cwiseProduct(base));
+  const double cc = base.dot(W_.cwiseProduct(base)) - ds * ds;
+  if (!(a > 0)) return false;
+  // No real root (the stale tangent near a limit point): take the λ-correction that comes
+  // closest to the constraint; the following iterations restore it.
+  const double disc = std::max(b * b - 4 * a * cc, 0.0);
+  const double sq = std::sqrt(disc);
+  const double q = -0.5 * (b + (b >= 0 ? sq : -sq));
+  double r1 = q / a, r2 = q != 0 ? cc / q : r1;
+  const Eigen::VectorXd d1 = base + r1 * ut, d2 = base + r2 * ut;
+  const double c1 = d1.dot(W_.cwiseProduct(c.du)), c2 = d2.dot(W_.cwiseProduct(c.du));
+  const double dl = c1 >= c2 ? r1 : r2;
+  const Eigen::VectorXd corr = ur + dl * ut;
+  if (!corr.allFinite()) return false;
+  c.du += corr;
+  c.lam += dl;
+  apply_increment(mesh_, corr, c.st);
+  return true;
+}
+
+// Modified Newton: the start tangent is kept while the residual contracts fast enough
+// (linear convergence, each iteration one residual and one solve); it is refreshed at the
+// current iterate when the contraction rate predicts more than kRefreshIterations iterations,
+// except at iteration 2: there the tangent is refreshed at the predicted point, not at the
+// iterate. On a softening path the start tangent's first correction throws the iterate along
+// the soft mode, away from the path (its residual grows ×1.5–2.5 on the Aquadom designs), and a
+// tangent taken there contracts only ×0.3–0.4 per iteration, where the one at the predicted
+// point gives a nearly quadratic first iteration (×1e-3): the steps can then be 2–4× longer.
+StepResult ArcStepper::step(const TangentSolver& start, const Eigen::VectorXd& ut0,
+                            TangentSolver& work, const Converged& from, double ds,
+                            bool first) const {
+  const Eigen::VectorXd& f = mesh_.load;
+  Corrector c;
+  c.solver = &start;
+  c.ut = ut0;  // K⁻¹f of the tangent in use
+  if (!predict(from, ds, first, c)) return {};
+  const double fnorm = f.norm();
+  Eigen::VectorXd fint;
+  for (int it = 1; it <= opt_.max_iterations; ++it) {
+    fint = asmb_.internal_force(c.st);
+    Eigen::VectorXd r = c.lam * f - asmb_.reduce(fint);
+    if (!r.allFinite()) return {};
+    const double scale = fnorm * std::max(std::abs(c.lam), 1e-3 * std::abs(c.dlam));
     double rn = r.norm();
     // A stale tangent converges linearly and stops just below the tolerance, where Newton's
     // quadratic convergence would overshoot it by far: the modified corrector iterates on to
     // kPolish × tolerance (each iteration is cheap) and accepts the plain tolerance only when
     // the contraction stalls. The residual left in a near-critical mode acts as an imperfection,
     // so this keeps perfect structures on their fundamental path up to a bifurcation.
-    const double tol = opt.tolerance * scale * kPolish;
-    const double rho = it >= 2 ? rn / rprev : 0;
-    const bool floor = (rn <= opt.tolerance * scale && rho >= 0.5) ||
-                       (fresh && it >= 3 && rn <= 1e-5 * scale && rho >= 0.5);
+    const double tol = opt_.tolerance * scale * kPolish;
+    const double rho = it >= 2 ? rn / c.rprev : 0;
+    const bool floor = (rn <= opt_.tolerance * scale && rho >= 0.5) ||
+                       (c.fresh && it >= 3 && rn <= 1e-5 * scale && rho >= 0.5);
     if (rn <= tol || floor) {
-      to.state = std::move(st);
-      to.lambda = lam;
-      to.du = du;
-      to.dlambda = lam - from.lambda;
-      return it;
+      StepResult done{StepOutcome::converged, it, {}};
+      done.point.state = std::move(c.st);
+      done.point.lambda = c.lam;
+      done.point.du = c.du;
+      done.point.dlambda = c.lam - from.lambda;
+      return done;
     }
-    fresh = false;
-    if (it == 1) predicted = {st, du, r, lam, rn};
-    if (it >= 2) {
-      growing = rho >= 1 ? growing + 1 : 0;
-      // Past a critical point with the last stable tangent and no contraction: the step
-      // crosses the critical point and would only iterate to max_iterations; a shorter one is
-      // cheaper (kCrossed tells the caller).
-      if (stable_only && rho >= 1) {
-        spdlog::debug("  crossing a critical point at iteration {}", it);
-        return kCrossed;
-      }
-      // Diverging: the residual keeps growing, or grows with a fresh tangent after the
-      // refreshes an attempt may spend (the step is too long: a shorter one is cheaper).
-      if (growing >= 4 || (refreshes >= kMaxRefreshes && rho >= 1)) {
-        spdlog::debug("  diverging at iteration {}", it);
-        return -1;
-      }
-      const bool slow = rho >= 1 || std::log(tol / rn) / std::log(rho) > kRefreshIterations;
-      if (slow && it - last_refresh >= 2 && !stable_only && refreshes < kMaxRefreshes) {
-        last_refresh = it;
-        ++refreshes;
-        if (it == 2) {
-          std::tie(st, du, r, lam, rn) =
-              std::tie(predicted.state, predicted.du, predicted.r, predicted.lambda, predicted.rn);
-          spdlog::debug("  back to the predicted point");
-        }
-        if (!factorize_tangent(asmb, st, work, factorizations)) return -1;
-        spdlog::debug("  refresh at iteration {}: residual {:.3g}, contraction {:.3g}, {}", it,
-                      rn / scale, rho,
-                      work.positive_definite() ? "positive definite" : "indefinite");
-        // An indefinite tangent (the iterate is past a critical point of a path that started
-        // stable) is not used: its solves would amplify the critical mode and can throw the
-        // iterate onto another branch; the last stable tangent is kept.
-        if (work.positive_definite() || indefinite_start) {
-          solver = &work;
-          ut = work.solve(f);
-          if (!ut.allFinite()) return -1;
-          fresh = true;
-        } else {
-          stable_only = true;  // past a critical point: no further refreshes in this step
-          if (rho >= 1) {
-            spdlog::debug("  crossing a critical point at iteration {}", it);
-            return kCrossed;
-          }
-        }
-      }
-    }
-    rprev = rn;
-    const Eigen::VectorXd ur = solver->solve(r);
-    const Eigen::VectorXd base = du + ur;
-    const double a = ut.dot(W.cwiseProduct(ut));
-    const double b = 2 * ut.dot(W.cwiseProduct(base));
-    const double c = base.dot(W.cwiseProduct(base)) - ds * ds;
-    if (!(a > 0)) return -1;
-    // No real root (the stale tangent near a limit point): take the λ-correction that comes
-    // closest to the constraint; the following iterations restore it.
-    const double disc = std::max(b * b - 4 * a * c, 0.0);
-    const double sq = std::sqrt(disc);
-    const double q = -0.5 * (b + (b >= 0 ? sq : -sq));
-    double r1 = q / a, r2 = q != 0 ? c / q : r1;
-    const Eigen::VectorXd d1 = base + r1 * ut, d2 = base + r2 * ut;
-    const double c1 = d1.dot(W.cwiseProduct(du)), c2 = d2.dot(W.cwiseProduct(du));
-    const double dl = c1 >= c2 ? r1 : r2;
-    const Eigen::VectorXd corr = ur + dl * ut;
-    if (!corr.allFinite()) return -1;
-    du += corr;
-    lam += dl;
-    apply_increment(mesh, corr, st);
+    c.fresh = false;
+    if (it == 1) c.predicted = {c.st, c.du, r, c.lam, rn};
+    if (it >= 2)
+      if (const auto stop = watch(c, it, rho, tol, scale, r, rn, work)) return {*stop, 0, {}};
+    c.rprev = rn;
+    if (!correct(c, r, ds)) return {};
   }
-  spdlog::debug("  no convergence in {} iterations", opt.max_iterations);
-  return -1;
+  spdlog::debug("  no convergence in {} iterations", opt_.max_iterations);
+  return {};
 }
 
 }  // namespace
@@ -220,8 +301,7 @@ double critical_mode_alignment(const TangentSolver& stable, const Eigen::VectorX
 // pivots in cur.negative, the load tangent ut = K⁻¹f and the path's first point. False (with
 // res's stop reason and states set) when the initial tangent is singular.
 bool start_path(const FrameMesh& mesh, const FrameAssembler& asmb, const FrameState& start,
-                TangentSolver& solver, Converged& cur, Eigen::VectorXd& ut,
-                ArcLengthResult& res) {
+                TangentSolver& solver, Converged& cur, Eigen::VectorXd& ut, ArcLengthResult& res) {
   const auto singular = [&] {
     res.stop_reason = "the initial tangent is singular";
     res.final_state = res.critical_state = start;
@@ -305,130 +385,190 @@ void report_path_progress(const ArcLengthOptions& opt, int steps, double umax, d
 
 }  // namespace
 
+namespace {
+
+/// One arc-length path being traced: the current (last converged) point with its factorised
+/// tangent, the radius and its bounds, what has been found so far, and the result being filled.
+/// arc_length runs attempt() until it says stop, then finish().
+class PathWalker {
+ public:
+  PathWalker(const FrameMesh& mesh, const FrameAssembler& asmb, const ArcLengthOptions& opt,
+             const FrameState& start, ArcLengthResult& res)
+      : mesh_(mesh), asmb_(asmb), opt_(opt), res_(res), W_(arc_weights(mesh)) {
+    cur_.state = start;
+    stable_state_ = start;
+  }
+
+  /// The path's first point and tangent (start_path), the initial radius and the stepper. False
+  /// when the initial tangent is singular (res says so).
+  bool begin(const FrameState& start);
+  /// One attempted step: cut back, refined, bracketed or accepted. False when the path ends.
+  bool attempt();
+  /// The critical load factor, the stop reason (when none was set) and the states.
+  void finish();
+
+ private:
+  bool cut_back();
+  bool retry_shorter(StepOutcome outcome);
+  void bracketed(Converged& next);
+  bool accept(Converged& next, int its);
+
+  const FrameMesh& mesh_;
+  const FrameAssembler& asmb_;
+  const ArcLengthOptions& opt_;
+  ArcLengthResult& res_;
+  const Eigen::VectorXd W_;
+  // solver_cur_: the factorised tangent at the current point, with its load tangent
+  // ut_cur_ = K⁻¹f; solver_work_: refreshed and candidate tangents.
+  std::unique_ptr<TangentSolver> solver_cur_ = std::make_unique<TangentSolver>(),
+                                 solver_work_ = std::make_unique<TangentSolver>();
+  Converged cur_;
+  Eigen::VectorXd ut_cur_;
+  std::optional<ArcStepper> stepper_;
+  double ds_ = 0, ds_min_ = 0, ds_max_ = 0;
+  double lam_max_ = 0;
+  bool first_ = true;
+  bool critical_ = false;  // an event has been bracketed
+  double lam_crit_ = 0;
+  int base_negative_ = 0;
+  FrameState stable_state_;
+  bool bracketing_ = false;
+  double ceiling_ = 0;  // lowered after a step that crossed into the unstable region
+};
+
+bool PathWalker::begin(const FrameState& start) {
+  if (!start_path(mesh_, asmb_, start, *solver_cur_, cur_, ut_cur_, res_)) return false;
+  if (opt_.on_point) opt_.on_point(start, 0.0);
+  const double ds0 = opt_.initial_lambda * std::sqrt(ut_cur_.dot(W_.cwiseProduct(ut_cur_)));
+  ds_ = ds0;
+  ds_min_ = 1e-7 * ds0;
+  ds_max_ = 50 * ds0;
+  base_negative_ = cur_.negative;
+  ceiling_ = ds_max_;
+  stepper_.emplace(mesh_, asmb_, W_, opt_, base_negative_ != 0, res_.factorizations);
+  return true;
+}
+
+// A failed step halves the arc length; false (with the reason set) once it is below ds_min.
+bool PathWalker::cut_back() {
+  ++res_.cutbacks;
+  ds_ *= 0.5;
+  if (ds_ >= ds_min_) return true;
+  res_.stop_reason = "the arc-length step could not converge";
+  return false;
+}
+
+// After a step that did not converge: a shorter radius, or false when it is below ds_min.
+bool PathWalker::retry_shorter(StepOutcome outcome) {
+  if (outcome == StepOutcome::failed) return cut_back();
+  // The iterate went into the unstable region (often the predictor overshooting a stiff
+  // bend, not the critical point itself): retry a little shorter and keep the radius below
+  // this one for a while, instead of halving and growing back into the same failure.
+  ++res_.cutbacks;
+  ceiling_ = ds_ = 0.7 * ds_;
+  if (ds_ >= ds_min_) return true;
+  res_.stop_reason = "the arc-length step could not converge";
+  return false;
+}
+
+// Bracketed: the event is classified with the tangent at the last stable point, and `next`
+// becomes the path's last point.
+void PathWalker::bracketed(Converged& next) {
+  critical_ = true;
+  stable_state_ = cur_.state;
+  lam_crit_ =
+      classify_critical(mesh_, *solver_cur_, ut_cur_, cur_, next, lam_max_, base_negative_, res_);
+  ++res_.steps;
+  res_.path.push_back({next.lambda, max_displacement(mesh_, next.state), next.negative});
+  if (opt_.on_point) opt_.on_point(next.state, next.lambda);
+  cur_ = std::move(next);
+}
+
+// Accepts the step: the new point's factorised tangent becomes the current one, and the radius
+// follows the iterations it took. False when a stop rule is met.
+bool PathWalker::accept(Converged& next, int its) {
+  std::swap(solver_cur_, solver_work_);
+  ut_cur_ = solver_cur_->solve(mesh_.load);
+  ++res_.steps;
+  first_ = false;
+  cur_ = std::move(next);
+  lam_max_ = std::max(lam_max_, cur_.lambda);
+  const double umax = max_displacement(mesh_, cur_.state);
+  res_.path.push_back({cur_.lambda, umax, cur_.negative});
+  if (opt_.on_point) opt_.on_point(cur_.state, cur_.lambda);
+  if (cur_.lambda >= opt_.max_lambda) {
+    res_.stop_reason = "maximum load factor reached";
+    return false;
+  }
+  if (opt_.max_displacement > 0 && umax >= opt_.max_displacement) {
+    res_.stop_reason = "maximum displacement reached";
+    return false;
+  }
+  stable_state_ = cur_.state;
+  if (!bracketing_) {
+    ds_ = std::min(next_radius(ds_, its, opt_.desired_iterations, ds_max_), ceiling_);
+    ceiling_ *= 1.05;
+  }
+  spdlog::debug("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} factorisations",
+                res_.steps, cur_.lambda, umax, its, res_.factorizations);
+  report_path_progress(opt_, res_.steps, umax, cur_.lambda);
+  return true;
+}
+
+bool PathWalker::attempt() {
+  StepResult step = stepper_->step(*solver_cur_, ut_cur_, *solver_work_, cur_, ds_, first_);
+  res_.iterations += step.iterations;
+  if (step.outcome != StepOutcome::converged) return retry_shorter(step.outcome);
+  Converged& next = step.point;
+  // A fall of λ is an event by itself; otherwise the tangent at the new point decides (it is
+  // needed anyway: it becomes the next step's tangent).
+  const bool fell = !first_ && cur_.lambda > 0 && next.lambda < cur_.lambda * (1 - 1e-6);
+  const double width = std::abs(next.lambda - cur_.lambda);
+  const bool refine =
+      width > opt_.critical_tolerance * std::max(std::abs(cur_.lambda), 1e-300) && ds_ > ds_min_;
+  if (!(fell && refine) &&
+      !count_negative(asmb_, base_negative_, *solver_work_, next, res_.factorizations))
+    return cut_back();
+  const bool event = fell || next.negative > base_negative_;
+  spdlog::debug(
+      "arc-length attempt: ds {:.4g}, {} its, lambda {:.8g} -> {:.8g}, fell {}, "
+      "negative {}, event {}",
+      ds_, step.iterations, cur_.lambda, next.lambda, fell, next.negative, event);
+  if (!event) return accept(next, step.iterations);
+  if (!refine) {
+    bracketed(next);
+    return false;
+  }
+  // Refine: go back to the last stable point with half the radius.
+  bracketing_ = true;
+  ds_ *= 0.5;
+  return true;
+}
+
+void PathWalker::finish() {
+  report_progress(opt_.progress, "non-linear path", 1.0,
+                  fmt::format("{} steps, λ = {:.4g}", res_.steps, cur_.lambda));
+  if (critical_) {
+    res_.lambda_critical = lam_crit_;
+    if (res_.stop_reason.empty()) res_.stop_reason = "critical point found";
+  } else {
+    res_.lambda_critical = lam_max_;
+    if (res_.stop_reason.empty()) res_.stop_reason = "maximum number of steps";
+  }
+  res_.critical_state = stable_state_;
+  res_.final_state = cur_.state;
+}
+
+}  // namespace
+
 ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
                            const ArcLengthOptions& opt, const FrameState& start) {
   ArcLengthResult res;
-  const Eigen::VectorXd W = arc_weights(mesh);
-  // solver_cur: the factorised tangent at the current (last converged) point, with its load
-  // tangent ut_cur = K⁻¹f; solver_work: refreshed and candidate tangents.
-  auto solver_cur = std::make_unique<TangentSolver>(),
-       solver_work = std::make_unique<TangentSolver>();
-  Converged cur;
-  cur.state = start;
-  Eigen::VectorXd ut_cur;
-  if (!start_path(mesh, asmb, start, *solver_cur, cur, ut_cur, res)) return res;
-  if (opt.on_point) opt.on_point(start, 0.0);
-  const double ds0 = opt.initial_lambda * std::sqrt(ut_cur.dot(W.cwiseProduct(ut_cur)));
-  double ds = ds0;
-  const double ds_min = 1e-7 * ds0, ds_max = 50 * ds0;
-  double lam_max = 0;
-  bool first = true;
-  bool critical = false;  // an event has been bracketed
-  double lam_crit = 0;
-  const int base_negative = cur.negative;
-  FrameState stable_state = start;
-  bool bracketing = false;
-  double ceiling = ds_max;  // lowered after a step that crossed into the unstable region
-
-  // A failed step halves the arc length; false (with the reason set) once it is below ds_min.
-  const auto cut_back = [&] {
-    ++res.cutbacks;
-    ds *= 0.5;
-    if (ds >= ds_min) return true;
-    res.stop_reason = "the arc-length step could not converge";
-    return false;
-  };
-  while (res.steps < opt.max_steps) {
-    Converged next;
-    const int its = arc_step(mesh, asmb, W, opt, *solver_cur, ut_cur, *solver_work, cur, ds, first,
-                             base_negative != 0, next, res.factorizations);
-    res.iterations += std::max(its, 0);
-    if (its == kCrossed) {
-      // The iterate went into the unstable region (often the predictor overshooting a stiff
-      // bend, not the critical point itself): retry a little shorter and keep the radius below
-      // this one for a while, instead of halving and growing back into the same failure.
-      ++res.cutbacks;
-      ceiling = ds = 0.7 * ds;
-      if (ds >= ds_min) continue;
-      res.stop_reason = "the arc-length step could not converge";
-      break;
-    }
-    if (its < 0) {
-      if (!cut_back()) break;
-      continue;
-    }
-    // A fall of λ is an event by itself; otherwise the tangent at the new point decides (it is
-    // needed anyway: it becomes the next step's tangent).
-    const bool fell = !first && cur.lambda > 0 && next.lambda < cur.lambda * (1 - 1e-6);
-    const double width = std::abs(next.lambda - cur.lambda);
-    const bool refine =
-        width > opt.critical_tolerance * std::max(std::abs(cur.lambda), 1e-300) && ds > ds_min;
-    if (!(fell && refine) &&
-        !count_negative(asmb, base_negative, *solver_work, next, res.factorizations)) {
-      if (!cut_back()) break;
-      continue;
-    }
-    const bool event = fell || next.negative > base_negative;
-    spdlog::debug(
-        "arc-length attempt: ds {:.4g}, {} its, lambda {:.8g} -> {:.8g}, fell {}, "
-        "negative {}, event {}",
-        ds, its, cur.lambda, next.lambda, fell, next.negative, event);
-    if (event) {
-      if (refine) {
-        // Refine: go back to the last stable point with half the radius.
-        bracketing = true;
-        ds *= 0.5;
-        continue;
-      }
-      // Bracketed: classify with the tangent at the last stable point.
-      critical = true;
-      stable_state = cur.state;
-      lam_crit = classify_critical(mesh, *solver_cur, ut_cur, cur, next, lam_max, base_negative,
-                                   res);
-      ++res.steps;
-      res.path.push_back({next.lambda, max_displacement(mesh, next.state), next.negative});
-      if (opt.on_point) opt.on_point(next.state, next.lambda);
-      cur = std::move(next);
-      break;
-    }
-    // Accept the step: the new point's factorised tangent becomes the current one.
-    std::swap(solver_cur, solver_work);
-    ut_cur = solver_cur->solve(mesh.load);
-    ++res.steps;
-    first = false;
-    cur = std::move(next);
-    lam_max = std::max(lam_max, cur.lambda);
-    const double umax = max_displacement(mesh, cur.state);
-    res.path.push_back({cur.lambda, umax, cur.negative});
-    if (opt.on_point) opt.on_point(cur.state, cur.lambda);
-    if (cur.lambda >= opt.max_lambda) {
-      res.stop_reason = "maximum load factor reached";
-      break;
-    }
-    if (opt.max_displacement > 0 && umax >= opt.max_displacement) {
-      res.stop_reason = "maximum displacement reached";
-      break;
-    }
-    stable_state = cur.state;
-    if (!bracketing) {
-      ds = std::min(next_radius(ds, its, opt.desired_iterations, ds_max), ceiling);
-      ceiling *= 1.05;
-    }
-    spdlog::debug("arc-length step {}: lambda {:.6g}, u {:.4g}, {} its, {} factorisations",
-                  res.steps, cur.lambda, umax, its, res.factorizations);
-    report_path_progress(opt, res.steps, umax, cur.lambda);
-  }
-  report_progress(opt.progress, "non-linear path", 1.0,
-                  fmt::format("{} steps, λ = {:.4g}", res.steps, cur.lambda));
-  if (critical) {
-    res.lambda_critical = lam_crit;
-    if (res.stop_reason.empty()) res.stop_reason = "critical point found";
-  } else {
-    res.lambda_critical = lam_max;
-    if (res.stop_reason.empty()) res.stop_reason = "maximum number of steps";
-  }
-  res.critical_state = stable_state;
-  res.final_state = cur.state;
+  PathWalker path(mesh, asmb, opt, start, res);
+  if (!path.begin(start)) return res;
+  while (res.steps < opt.max_steps)
+    if (!path.attempt()) break;
+  path.finish();
   return res;
 }
 

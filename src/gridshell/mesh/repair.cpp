@@ -100,20 +100,27 @@ std::string plural(int n, const char* one, const char* many) {
   return fmt::format("{} {}", n, n == 1 ? one : many);
 }
 
-/// Step 4 of repair_mesh: stitches T-junctions (see repair.h). Boundary edges are the undirected
-/// edges of one face; their vertices are binned in a grid of cells of the mean boundary edge's
-/// length, and each boundary edge looks for candidates in the cells its (widened) box covers.
-/// A vertex near several edges goes into the nearest. Returns the number of vertices inserted.
-int stitch_t_junctions(PolyMesh& mesh) {
-  struct Side {
-    std::uint64_t key;  // the undirected edge (smaller id << 32 | larger id)
-    int face, corner;   // the edge runs from corner to corner + 1 of face
-  };
-  auto edge_key = [&](const std::vector<int>& face, std::size_t k) {
-    const auto a = static_cast<std::uint32_t>(face[k]);
-    const auto b = static_cast<std::uint32_t>(face[(k + 1) % face.size()]);
-    return static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b);
-  };
+/// A boundary edge of a polygon mesh: an undirected edge of one face only.
+struct Side {
+  std::uint64_t key;  // the undirected edge (smaller id << 32 | larger id)
+  int face, corner;   // the edge runs from corner to corner + 1 of face
+};
+
+/// The undirected edge from corner k to corner k + 1 of `face`, as a key.
+std::uint64_t edge_key(const std::vector<int>& face, std::size_t k) {
+  const auto a = static_cast<std::uint32_t>(face[k]);
+  const auto b = static_cast<std::uint32_t>(face[(k + 1) % face.size()]);
+  return static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b);
+}
+
+/// The first and second vertex of side `e` as its face walks it.
+std::pair<int, int> side_ends(const PolyMesh& mesh, const Side& e) {
+  const auto& face = mesh.faces[e.face];
+  return std::pair{face[e.corner], face[(e.corner + 1) % face.size()]};
+}
+
+/// The mesh's boundary edges in face order; none when there are fewer than 4.
+std::vector<Side> boundary_sides(const PolyMesh& mesh) {
   std::vector<std::uint64_t> keys;
   for (const auto& face : mesh.faces)
     for (std::size_t k = 0; k < face.size(); ++k) keys.push_back(edge_key(face, k));
@@ -122,61 +129,85 @@ int stitch_t_junctions(PolyMesh& mesh) {
   for (std::size_t i = 0; i < keys.size(); ++i)
     if ((i == 0 || keys[i - 1] != keys[i]) && (i + 1 == keys.size() || keys[i + 1] != keys[i]))
       once.push_back(keys[i]);
-  if (once.size() < 4) return 0;
+  if (once.size() < 4) return {};
   std::vector<Side> boundary;
   for (int f = 0; f < mesh.num_faces(); ++f)
     for (std::size_t k = 0; k < mesh.faces[f].size(); ++k)
       if (const std::uint64_t e = edge_key(mesh.faces[f], k);
           std::binary_search(once.begin(), once.end(), e))
         boundary.push_back({e, f, static_cast<int>(k)});
-  if (boundary.size() < 4) return 0;
-  auto ends = [&](const Side& e) {
-    const auto& face = mesh.faces[e.face];
-    return std::pair{face[e.corner], face[(e.corner + 1) % face.size()]};
-  };
-  // Each boundary vertex with the directions of its boundary edges.
-  std::vector<std::vector<Vec3>> along(mesh.num_vertices());
+  return boundary;
+}
+
+/// Each boundary vertex with the directions of its boundary edges (unit; none for a vertex off
+/// the boundary), and the mean boundary edge's length.
+struct BoundaryDirections {
+  std::vector<std::vector<Vec3>> along;
   double mean = 0;
+};
+
+BoundaryDirections boundary_directions(const PolyMesh& mesh, const std::vector<Side>& boundary) {
+  BoundaryDirections out;
+  out.along.resize(mesh.num_vertices());
   for (const Side& e : boundary) {
-    const auto [a, b] = ends(e);
+    const auto [a, b] = side_ends(mesh, e);
     const Vec3 d = mesh.vertex(b) - mesh.vertex(a);
-    mean += d.norm() / static_cast<double>(boundary.size());
+    out.mean += d.norm() / static_cast<double>(boundary.size());
     if (d.norm() > 0) {
-      along[a].push_back(d.normalized());
-      along[b].push_back(d.normalized());
+      out.along[a].push_back(d.normalized());
+      out.along[b].push_back(d.normalized());
     }
   }
-  // No grid when its cells would not fit the coordinates (as in step 1).
-  if (!(mean > 0) || !std::isfinite(mean) || !(mesh.V.cwiseAbs().maxCoeff() < 1e15 * mean))
-    return 0;
+  return out;
+}
+
+/// The boundary vertices binned in a grid of cubic cells of side `cell`, sorted by cell.
+struct BoundaryGrid {
   using Key = std::array<std::int64_t, 3>;
-  auto key_of = [&](const Vec3& p) {
-    Key k;
-    for (int c = 0; c < 3; ++c) k[c] = static_cast<std::int64_t>(std::floor(p[c] / mean));
-    return k;
-  };
+  double cell;
   std::vector<std::pair<Key, int>> cells;
+
+  Key key_of(const Vec3& p) const {
+    Key k;
+    for (int c = 0; c < 3; ++c) k[c] = static_cast<std::int64_t>(std::floor(p[c] / cell));
+    return k;
+  }
+};
+
+BoundaryGrid boundary_grid(const PolyMesh& mesh, const BoundaryDirections& dirs) {
+  BoundaryGrid grid{dirs.mean, {}};
   for (int v = 0; v < mesh.num_vertices(); ++v)
-    if (!along[v].empty()) cells.push_back({key_of(mesh.vertex(v)), v});
-  std::sort(cells.begin(), cells.end());
+    if (!dirs.along[v].empty()) grid.cells.push_back({grid.key_of(mesh.vertex(v)), v});
+  std::sort(grid.cells.begin(), grid.cells.end());
+  return grid;
+}
+
+/// Per vertex, the nearest edge it lies on: (distance, index into boundary, parameter).
+struct Hit {
+  double distance = std::numeric_limits<double>::infinity();
+  int edge = -1;
+  double t = 0;
+};
+
+/// The T-junctions: per vertex, the nearest boundary edge (of another face) it lies on within
+/// kTJunctionTolerance × the edge's length, strictly inside it and parallel to one of the
+/// vertex's own boundary edges within kTJunctionAngle. Each edge looks in the grid cells its
+/// widened box covers.
+std::vector<Hit> find_t_junctions(const PolyMesh& mesh, const std::vector<Side>& boundary,
+                                  const BoundaryDirections& dirs, const BoundaryGrid& grid) {
+  using Key = BoundaryGrid::Key;
   const double cos_angle = std::cos(kTJunctionAngle * std::acos(-1.0) / 180.0);
-  // Per vertex, the nearest edge it lies on: (distance, index into boundary, parameter).
-  struct Hit {
-    double distance = std::numeric_limits<double>::infinity();
-    int edge = -1;
-    double t = 0;
-  };
   std::vector<Hit> hit(mesh.num_vertices());
   constexpr double kMaxCells = 4096;  // an edge far longer than the mean is not searched
   for (int i = 0; i < static_cast<int>(boundary.size()); ++i) {
-    const auto [a, b] = ends(boundary[i]);
+    const auto [a, b] = side_ends(mesh, boundary[i]);
     const Vec3 pa = mesh.vertex(a), pb = mesh.vertex(b), d = pb - pa;
     const double length = d.norm();
     if (!(length > 0)) continue;
     const double reach = kTJunctionTolerance * length;
     const Vec3 lo = pa.cwiseMin(pb) - Vec3::Constant(reach),
                hi = pa.cwiseMax(pb) + Vec3::Constant(reach);
-    const Key k0 = key_of(lo), k1 = key_of(hi);
+    const Key k0 = grid.key_of(lo), k1 = grid.key_of(hi);
     double cells_covered = 1;
     for (int c = 0; c < 3; ++c) cells_covered *= static_cast<double>(k1[c] - k0[c] + 1);
     if (cells_covered > kMaxCells) continue;
@@ -185,8 +216,8 @@ int stitch_t_junctions(PolyMesh& mesh) {
       for (std::int64_t y = k0[1]; y <= k1[1]; ++y)
         for (std::int64_t z = k0[2]; z <= k1[2]; ++z) {
           const Key key{x, y, z};
-          auto it = std::lower_bound(cells.begin(), cells.end(), std::pair{key, -1});
-          for (; it != cells.end() && it->first == key; ++it) {
+          auto it = std::lower_bound(grid.cells.begin(), grid.cells.end(), std::pair{key, -1});
+          for (; it != grid.cells.end() && it->first == key; ++it) {
             const int v = it->second;
             const Vec3 p = mesh.vertex(v);
             const double t = (p - pa).dot(d) / (length * length);
@@ -195,12 +226,19 @@ int stitch_t_junctions(PolyMesh& mesh) {
             if (distance > reach || distance >= hit[v].distance) continue;
             if (std::find(face.begin(), face.end(), v) != face.end()) continue;
             bool parallel = false;
-            for (const Vec3& u : along[v]) parallel |= std::abs(u.dot(d)) >= cos_angle * length;
+            for (const Vec3& u : dirs.along[v])
+              parallel |= std::abs(u.dot(d)) >= cos_angle * length;
             if (parallel) hit[v] = {distance, i, t};
           }
         }
   }
-  // Insert, per edge in the order of the parameter; faces rebuilt corner by corner.
+  return hit;
+}
+
+/// Inserts each hit vertex into its edge, per edge in the order of the parameter; faces rebuilt
+/// corner by corner. Returns the number of vertices inserted.
+int insert_on_edges(PolyMesh& mesh, const std::vector<Side>& boundary,
+                    const std::vector<Hit>& hit) {
   std::vector<std::vector<std::pair<double, int>>> on_edge(boundary.size());
   int inserted = 0;
   for (int v = 0; v < mesh.num_vertices(); ++v)
@@ -231,6 +269,22 @@ int stitch_t_junctions(PolyMesh& mesh) {
     mesh.faces[f] = std::move(out);
   }
   return inserted;
+}
+
+/// Step 4 of repair_mesh: stitches T-junctions (see repair.h). Boundary edges are the undirected
+/// edges of one face; their vertices are binned in a grid of cells of the mean boundary edge's
+/// length, and each boundary edge looks for candidates in the cells its (widened) box covers.
+/// A vertex near several edges goes into the nearest. Returns the number of vertices inserted.
+int stitch_t_junctions(PolyMesh& mesh) {
+  const std::vector<Side> boundary = boundary_sides(mesh);
+  if (boundary.size() < 4) return 0;
+  const BoundaryDirections dirs = boundary_directions(mesh, boundary);
+  // No grid when its cells would not fit the coordinates (as in step 1).
+  const double mean = dirs.mean;
+  if (!(mean > 0) || !std::isfinite(mean) || !(mesh.V.cwiseAbs().maxCoeff() < 1e15 * mean))
+    return 0;
+  const BoundaryGrid grid = boundary_grid(mesh, dirs);
+  return insert_on_edges(mesh, boundary, find_t_junctions(mesh, boundary, dirs, grid));
 }
 
 /// Step 5 of repair_mesh: reverses faces so that every edge shared by exactly two faces is walked
