@@ -387,25 +387,28 @@ void draw_dashed_line(Canvas& canvas, const Eigen::Vector2d& a, const Eigen::Vec
   cairo_set_dash(canvas.cr(), nullptr, 0, 0);
 }
 
+namespace {
+// Fills the current path with `fill`, then strokes it with `outline` of `width` px.
+void fill_and_outline(Canvas& canvas, const Rgb& fill, const Rgb& outline, double width) {
+  set_color(canvas, fill);
+  cairo_fill_preserve(canvas.cr());
+  set_color(canvas, outline);
+  cairo_set_line_width(canvas.cr(), width);
+  cairo_stroke(canvas.cr());
+}
+}  // namespace
+
 void draw_marker(Canvas& canvas, const Eigen::Vector2d& p, double radius, const Rgb& fill) {
   cairo_t* cr = canvas.cr();
   cairo_new_sub_path(cr);
   cairo_arc(cr, p.x(), p.y(), radius, 0, 2 * kPi);
-  set_color(canvas, fill);
-  cairo_fill_preserve(cr);
-  set_color(canvas, {0.1, 0.1, 0.1});
-  cairo_set_line_width(cr, 1.5);
-  cairo_stroke(cr);
+  fill_and_outline(canvas, fill, {0.1, 0.1, 0.1}, 1.5);
 }
 
 void draw_square(Canvas& canvas, const Eigen::Vector2d& p, double size, const Rgb& fill) {
   cairo_t* cr = canvas.cr();
   cairo_rectangle(cr, p.x() - 0.5 * size, p.y() - 0.5 * size, size, size);
-  set_color(canvas, fill);
-  cairo_fill_preserve(cr);
-  set_color(canvas, {0.05, 0.05, 0.05});
-  cairo_set_line_width(cr, 1.2);
-  cairo_stroke(cr);
+  fill_and_outline(canvas, fill, {0.05, 0.05, 0.05}, 1.2);
 }
 
 void draw_support_triangle(Canvas& canvas, const Eigen::Vector2d& p, double size, const Rgb& fill) {
@@ -414,11 +417,7 @@ void draw_support_triangle(Canvas& canvas, const Eigen::Vector2d& p, double size
   cairo_line_to(cr, p.x() + 0.6 * size, p.y() + size);
   cairo_line_to(cr, p.x() - 0.6 * size, p.y() + size);
   cairo_close_path(cr);
-  set_color(canvas, fill);
-  cairo_fill_preserve(cr);
-  set_color(canvas, {0.05, 0.05, 0.05});
-  cairo_set_line_width(cr, 1.2);
-  cairo_stroke(cr);
+  fill_and_outline(canvas, fill, {0.05, 0.05, 0.05}, 1.2);
 }
 
 }  // namespace gridshell::figures
