@@ -14,13 +14,9 @@
 #include "gridshell/checks/member_checks.h"
 #include "gridshell/core/error.h"
 #include "gridshell/figures/figures.h"
-#include "gridshell/io/files.h"
-#include "gridshell/io/mesh_io.h"
 #include "gridshell/pipeline/design.h"
-#include "gridshell/pipeline/design_report.h"
-#include "gridshell/pipeline/frame_output.h"
 #include "gridshell/pipeline/objective.h"
-#include "gridshell/pipeline/structure.h"
+#include "gridshell/report/design_folder.h"
 
 namespace gridshell::app {
 
@@ -105,80 +101,24 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
                          : response ? design_from_frame_response(surface, options, *response)
                                     : run_design(surface, options);
 
-  auto t0 = Clock::now();
+  report::DesignFolderInput folder;
+  folder.surface = &surface;
+  folder.options = &options;
+  folder.result = &r;
+  folder.search = searched ? &*searched : nullptr;
+  folder.surface_name = a.surface;
+  folder.title = design_title(a, r, folder.search);
+  folder.config = resolved_config(sub);
+  folder.sheet = sheet;
+  folder.figures = figures::parse_figure_options(a.run.figures);
+  folder.steel = a.checks.steel;
+  folder.sections = a.sizing.sections;
+  folder.carbon_factor = a.sizing.carbon_factor;
+  folder.timings_before = {{"load", t_load}};
+  folder.seconds_before = std::chrono::duration<double>(Clock::now() - start).count();
   const std::filesystem::path dir(a.run.out_dir);
-  io::ensure_directory(dir);
-  const GridShellOutput out = design_output(r);
-  const analysis::GridshellFrameOptions frame = analysed_frame(options, r);
-  const std::optional<fabrication::BeamResults> envelope =
-      r.sizing ? std::optional(member_envelope(*r.sizing)) : std::nullopt;
-  write_gridshell_files(dir, out);
-  const auto t_fab = Clock::now();
-  const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports,
-                                                r.structure ? &*r.structure : nullptr,
-                                                frame, sheet, envelope ? &*envelope : nullptr);
-  const double fabrication_s = std::chrono::duration<double>(Clock::now() - t_fab).count();
-  io::write_vtp(dir / "field.vtp", to_poly(surface.mesh), {}, field_attributes(r.field));
-  const auto t_fig = Clock::now();
-  const std::vector<std::string> figure_files =
-      figures::write_figures(dir, {.title = design_title(a, r, searched ? &*searched : nullptr),
-                                   .gridshell = &r.mesh,
-                                   .supports = r.supports,
-                                   .structure = r.structure ? &*r.structure : nullptr,
-                                   .surface = &surface.mesh,
-                                   .field = &r.field},
-                             figures::parse_figure_options(a.run.figures));
-  const double figures_s = std::chrono::duration<double>(Clock::now() - t_fig).count();
-  nlohmann::json report = design_report(r, options);
-  double combinations_s = 0;  // the analyses of the combinations other than the primary
-  report["surface"] = a.surface;
-  report["fabrication"] = bom;
-  report["figures"] = figure_files;
-  if (r.structure) {
-    report["structure"]["steel"] = a.checks.steel;
-    report["structure"]["loads"] = to_string(frame.loads);
-    const auto t_comb = Clock::now();
-    report["structure"]["combinations"] =
-        combinations_block(r.mesh, r.supports, frame, options.frame_analysis, *r.structure,
-                           r.sizing ? &r.sizing->final : nullptr);
-    combinations_s = std::chrono::duration<double>(Clock::now() - t_comb).count();
-    report["structure"]["governing"] = governing_block(report["structure"]["combinations"]);
-    report["mass"] = steel_block(r.mesh, frame, a.sizing.carbon_factor);
-    if (r.sizing) {
-      report["sizing"] = sizing_block(*r.sizing, r.mesh, options.frame, options.sizing_options,
-                                      a.sizing.carbon_factor);
-      report["sizing"]["sections_list"] = a.sizing.sections;
-      if (!r.sizing->sized) spdlog::warn("[sizing] not sized: {}", r.sizing->failure);
-    }
-    write_frame_json(dir, analysis::gridshell_frame(r.mesh, r.supports, frame), frame,
-                     options.frame_analysis, options.analyze);
-    write_buckling_modes(dir, *r.structure);
-  }
-  if (searched) report["objective"] = searched->report();
-  const double write_s =
-      std::chrono::duration<double>(Clock::now() - t0).count() - fabrication_s - figures_s -
-      combinations_s;
-  Timings extra{{"load", t_load},
-                {"write", write_s},
-                {"fabrication", fabrication_s},
-                {"figures", figures_s}};
-  if (combinations_s > 0) extra.add("combinations", combinations_s);
-  // The search's other candidates (the chosen design's own stages are in r.timings).
-  if (searched) extra.add("objective_search", std::max(0.0, searched->seconds - r.timings.sum()));
-  report["timings_s"] =
-      timings_block(r.timings, extra, std::chrono::duration<double>(Clock::now() - start).count());
+  const nlohmann::json report = report::write_design_folder(dir, folder);
   const nlohmann::json& timings = report["timings_s"];
-  write_config(a.run.out_dir, sub);
-  write_report(a.run.out_dir, report);
-  report::ReportInput page = report::gridshell_report_input(
-      r.mesh, r.supports, r.structure ? &*r.structure : nullptr);
-  page.density = out.d_target;
-  if (r.structure) page.beam_sections = member_designations(frame);  // sized: one per beam
-  if (envelope) {  // sized: the envelope over the ULS combinations, as beams.csv has it
-    page.utilisation = envelope->utilisation;
-    page.buckling_utilisation = envelope->buckling_utilisation;
-  }
-  write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[done] {} joints, {} panels, {:.1f} m of beams in {:.1f} s -> {}",
                r.mesh.num_vertices(), r.mesh.num_faces(), r.metrics.total_length,
                timings["total"].get<double>(), dir.string());

@@ -18,6 +18,7 @@
 #include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
 #include "gridshell/io/json.h"
+#include "gridshell/report/design_folder.h"
 
 namespace gridshell::app {
 
@@ -220,15 +221,7 @@ void write_report(const std::string& dir, const nlohmann::json& report) {
 
 void write_report_page(const std::string& dir, report::ReportInput page,
                        const nlohmann::json& report, const CLI::App* sub) {
-  page.config = resolved_config(sub);
-  page.report = report;
-  page.title = "gridshell " + sub->get_name();
-  for (const auto& p : page.config["positional"]) page.title += " " + p.get<std::string>();
-  if (page.config["positional"].empty() && report.contains("surface"))
-    page.title += " " + report["surface"].get<std::string>();
-  const report::ReportWritten w = report::write_report_html(dir, page);
-  spdlog::info("[report] report.html: {:.1f} MB, {} figures, {:.3f} s", w.bytes / 1e6, w.figures,
-               w.seconds);
+  report::write_report_page(dir, std::move(page), report, resolved_config(sub));
 }
 
 std::vector<std::string> expand_config(const std::vector<std::string>& args, const CLI::App& cli) {

@@ -197,6 +197,21 @@ TEST_F(StudioServerTest, ConfigRepeatsTheDesignAndExportHasTheDesignFiles) {
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_EQ(slurp(dir / "cli" / "gridshell.obj"), slurp(dir / "zip" / "gridshell.obj"));
   EXPECT_EQ(slurp(dir / "cli" / "beams.csv"), slurp(dir / "zip" / "beams.csv"));
+  // One writer for both (report/design_folder.h): the export has design's analysis files too,
+  // the buckling modes and the frame, and report.json's load combinations and steel.
+  for (const char* f : {"modes.csv", "frame.json"}) {
+    ASSERT_TRUE(fs::exists(dir / "zip" / f)) << f;
+    EXPECT_EQ(slurp(dir / "cli" / f), slurp(dir / "zip" / f)) << f;
+  }
+  const nlohmann::json cli = nlohmann::json::parse(slurp(dir / "cli" / "report.json"));
+  const nlohmann::json zipped = nlohmann::json::parse(slurp(dir / "zip" / "report.json"));
+  ASSERT_TRUE(zipped["structure"].contains("combinations"));
+  EXPECT_EQ(zipped["structure"]["combinations"], cli["structure"]["combinations"]);
+  EXPECT_EQ(zipped["structure"]["governing"], cli["structure"]["governing"]);
+  for (const char* key : {"steel", "loads"})
+    EXPECT_EQ(zipped["structure"][key], cli["structure"][key]) << key;
+  EXPECT_EQ(zipped["mass"], cli["mass"]);
+  EXPECT_EQ(zipped["fabrication"], cli["fabrication"]);
 }
 
 TEST_F(StudioServerTest, BadInputGets400AndTheServerLivesOn) {
