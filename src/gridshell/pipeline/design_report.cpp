@@ -46,7 +46,7 @@ nlohmann::json structure_block(const analysis::FrameResult& r) {
   st["delta_max_m"] = r.delta_max_m;
   st["lambda_linear_buckling"] = optional_number(r.lambda_linear_buckling);
   st["lambda_nonlinear"] = optional_number(r.lambda_nonlinear);
-  st["limit_type"] = r.limit_type;
+  st["limit_type"] = fem::to_string(r.limit_type);
   st["lambda_displacement_limit"] = optional_number(r.lambda_displacement_limit);
   st["displacement_limit_m"] =
       r.displacement_limit_m > 0 ? nlohmann::json(r.displacement_limit_m) : nlohmann::json();
@@ -265,8 +265,8 @@ nlohmann::json design_report(const DesignResult& r, const DesignOptions& options
       buildability_block(r.mesh, member_designations(analysed_frame(options, r)));
   report["design"] = r.details;
   report["design"]["panels_requested"] = to_string(options.panels);
-  report["design"]["regularized"] = options.regularize && !options.planarize;
-  report["design"]["planarized"] = options.planarize;
+  report["design"]["regularized"] = options.finish == Finish::regularize;
+  report["design"]["planarized"] = options.finish == Finish::planarize;
   report["design"]["restretch"] = options.regularize_options.restretch;
   report["design"]["size_evening"] = options.regularize_options.size_evening;
   report["design"]["analysis"] = to_string(options.analyze);

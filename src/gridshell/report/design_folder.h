@@ -34,6 +34,7 @@
 #include "gridshell/fabrication/nesting.h"
 #include "gridshell/figures/figures.h"
 #include "gridshell/pipeline/design.h"
+#include "gridshell/pipeline/design_settings.h"
 #include "gridshell/pipeline/objective.h"
 #include "gridshell/pipeline/structure.h"
 #include "gridshell/report/report_html.h"
@@ -52,8 +53,8 @@ struct DesignFolderInput {
   nlohmann::json config = nlohmann::json::object();  ///< config.json
   fabrication::SheetOptions sheet;                   ///< the sheets panels are nested on
   figures::FigureOptions figures;                    ///< `--figures`
-  std::string steel = "S355";      ///< report.json `structure.steel` (the grade of fy)
-  std::string sections = "chs";    ///< report.json `sizing.sections_list` (a sized design)
+  std::string steel = LoadCheckOptions{}.steel;  ///< report.json `structure.steel` (fy's grade)
+  std::string sections = SizingArgs{}.sections;  ///< report.json `sizing.sections_list` (sized)
   double carbon_factor = kSteelCarbonFactor;  ///< kgCO2e/kg for report.json `mass`, `sizing`
   /// Stages measured before (e.g. `load`), and the seconds spent before the call (report.json
   /// `timings_s.total` adds the folder's own).

@@ -7,11 +7,12 @@
 #include <fmt/format.h>
 
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/pipeline/design_report.h"
+#include "gridshell/pipeline/design_settings.h"
 #include "gridshell/report/design_folder.h"
 #include "gridshell/report/report_html.h"
 #include "gridshell/surfaces/builtin.h"
-#include "gridshell/mesh/geometry.h"
 
 namespace gridshell::studio {
 
@@ -85,7 +86,7 @@ StudioRequest parse_request(const Params& params) {
   if (p.count("length") && p.count("cells"))
     throw Error("--radius/--cells/--length", "give at most one of them");
   if (r.length > 0) r.cells = 0;
-  check_design_options(design_options(r));
+  design_options(r);  // parses the rest and checks (build_design_options)
   return r;
 }
 
@@ -116,16 +117,19 @@ std::string request_query(const StudioRequest& r) {
 }
 
 DesignOptions design_options(const StudioRequest& r) {
-  DesignOptions o;
-  o.D = r.D;
-  o.A = r.A;
-  o.tessellation.cells = r.cells;
-  o.tessellation.length = r.length;
-  o.tessellation.seed = r.seed;
-  o.symmetry = r.symmetry;
-  o.panels = r.panels;
-  o.analyze = r.analyze;
-  return o;
+  // The command line's builder, so a request means what `gridshell design` with request_config
+  // means.
+  DesignSettings s;
+  s.options.field_options.D = r.D;
+  s.options.field_options.A = r.A;
+  s.options.tessellation.cells = r.cells;
+  s.options.tessellation.length = r.length;
+  s.seed = r.seed;
+  s.symmetry = to_string(r.symmetry);
+  s.panels = to_string(r.panels);
+  s.analyze = analysis::to_string(r.analyze);
+  s.single_path = true;  // the studio follows the perfect path only (request_config says so)
+  return build_design_options(s);
 }
 
 StudioDesign design_request(const Surface& surface, const StudioRequest& request,
@@ -172,6 +176,7 @@ nlohmann::json request_config(const StudioRequest& r, const std::string& surface
   options["symmetry"] = to_string(r.symmetry);
   if (r.panels == PanelMode::flat) options["panels"] = "flat";
   options["analyze"] = analysis::to_string(r.analyze);
+  if (r.analyze == analysis::AnalysisLevel::nonlinear) options["single-path"] = true;
   options["seed"] = std::to_string(r.seed);
   return {{"command", "design"}, {"positional", {surface_arg}}, {"options", options}};
 }
