@@ -118,7 +118,7 @@ ReportWritten write_report_page(const std::filesystem::path& dir, ReportInput pa
   if (positional.empty() && report.contains("surface"))
     title += fmt::format(" {}", report["surface"].get<std::string>());
   page.title = std::move(title);
-  const ReportWritten w = write_report_html(dir, page);
+  ReportWritten w = write_report_html(dir, page);
   spdlog::info("[report] report.html: {:.1f} MB, {} figures, {:.3f} s", w.bytes / 1e6, w.figures,
                w.seconds);
   return w;
