@@ -39,8 +39,8 @@ struct BaselineArgs {
   RunOptions run;
 };
 
-/// report.json's analysed keys (structure with its steel, section, loads, combinations and the
-/// governing ones; mass; sizing when sized) and frame.json, as design writes them.
+/// report.json's analysed keys (structure with its section; add_analysed_report: steel, loads,
+/// combinations and the governing ones, mass, sizing when sized) and frame.json, as design.
 void add_structure_report(const BaselineArgs& a, const GridShellOutput& out,
                           const analysis::GridshellFrameOptions& frame,
                           const analysis::FrameAnalysisOptions& options,
@@ -48,21 +48,20 @@ void add_structure_report(const BaselineArgs& a, const GridShellOutput& out,
                           const analysis::FrameResult& structure,
                           const sizing::SizingResult* sized, nlohmann::json& report) {
   report["structure"] = structure_block(structure);
-  report["structure"]["steel"] = a.design.checks.steel;
   report["structure"]["section"] = section_block(frame);
-  report["structure"]["loads"] = to_string(frame.loads);
-  report["structure"]["combinations"] = combinations_block(
-      out.mesh, out.supports, frame, options, structure, sized ? &sized->final : nullptr);
-  report["structure"]["governing"] = governing_block(report["structure"]["combinations"]);
-  report["mass"] = steel_block(out.mesh, frame, a.design.sizing.carbon_factor);
-  if (sized) {
-    report["sizing"] = sizing_block(*sized, out.mesh, frame, structure_options.sizing_options,
-                                    a.design.sizing.carbon_factor);
-    report["sizing"]["sections_list"] = a.design.sizing.sections;
-    if (!sized->sized) spdlog::warn("[sizing] not sized: {}", sized->failure);
-  }
-  write_frame_json(a.run.out_dir, analysis::gridshell_frame(out.mesh, out.supports, frame), frame,
-                   options, structure_options.level);
+  AnalysedGridshell analysed;
+  analysed.mesh = &out.mesh;
+  analysed.supports = &out.supports;
+  analysed.frame = &frame;
+  analysed.options = &options;
+  analysed.level = structure_options.level;
+  analysed.structure = &structure;
+  analysed.sized = sized;
+  analysed.sizing_options = &structure_options.sizing_options;
+  analysed.steel = a.design.checks.steel;
+  analysed.sections = a.design.sizing.sections;
+  analysed.carbon_factor = a.design.sizing.carbon_factor;
+  add_analysed_report(a.run.out_dir, analysed, report);
 }
 
 int run_baseline(const BaselineArgs& a, const CLI::App* sub) {

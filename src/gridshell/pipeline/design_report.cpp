@@ -12,6 +12,7 @@
 #include "gridshell/core/error.h"
 #include "gridshell/fabrication/fabrication_files.h"
 #include "gridshell/pipeline/buildability_report.h"
+#include "gridshell/pipeline/frame_output.h"
 #include "gridshell/pipeline/structure.h"
 #include "gridshell/sections/sections.h"
 
@@ -352,6 +353,31 @@ nlohmann::json section_block(const analysis::GridshellFrameOptions& frame) {
   j["Iz_m4"] = q.Iz;
   j["It_m4"] = q.It;
   return j;
+}
+
+double add_analysed_report(const std::filesystem::path& dir, const AnalysedGridshell& a,
+                           nlohmann::json& report) {
+  if (!a.mesh || !a.supports || !a.frame || !a.options || !a.structure ||
+      (a.sized && !a.sizing_options))
+    throw Error("report", "an analysed grid-shell without its mesh, frame or analysis");
+  const analysis::GridshellFrameOptions& frame = *a.frame;
+  report["structure"]["steel"] = a.steel;
+  report["structure"]["loads"] = to_string(frame.loads);
+  Stopwatch combinations;
+  report["structure"]["combinations"] =
+      combinations_block(*a.mesh, *a.supports, frame, *a.options, *a.structure,
+                         a.sized ? &a.sized->final : nullptr);
+  const double combinations_s = combinations.seconds();
+  report["structure"]["governing"] = governing_block(report["structure"]["combinations"]);
+  report["mass"] = steel_block(*a.mesh, frame, a.carbon_factor);
+  if (a.sized) {
+    report["sizing"] = sizing_block(*a.sized, *a.mesh, frame, *a.sizing_options, a.carbon_factor);
+    report["sizing"]["sections_list"] = a.sections;
+    if (!a.sized->sized) spdlog::warn("[sizing] not sized: {}", a.sized->failure);
+  }
+  write_frame_json(dir, analysis::gridshell_frame(*a.mesh, *a.supports, frame), frame, *a.options,
+                   a.level);
+  return combinations_s;
 }
 
 }  // namespace gridshell

@@ -21,30 +21,26 @@ namespace gridshell::report {
 
 namespace {
 
-/// report.json's structure keys beyond design_report's (steel, loads, the combinations and the
-/// governing ones, mass, sizing), and frame.json and modes.csv. Returns the seconds of the
-/// combinations' analyses (those other than the primary).
+/// report.json's analysed keys beyond design_report's (add_analysed_report: steel, loads, the
+/// combinations and the governing ones, mass, sizing) with frame.json, and modes.csv. Returns
+/// the seconds of the combinations' analyses (those other than the primary).
 double add_structure_files(const std::filesystem::path& dir, const DesignFolderInput& in,
                            const analysis::GridshellFrameOptions& frame, nlohmann::json& report) {
   const DesignResult& r = *in.result;
   const DesignOptions& options = *in.options;
-  report["structure"]["steel"] = in.steel;
-  report["structure"]["loads"] = to_string(frame.loads);
-  Stopwatch combinations;
-  report["structure"]["combinations"] =
-      combinations_block(r.mesh, r.supports, frame, options.frame_analysis, *r.structure,
-                         r.sizing ? &r.sizing->final : nullptr);
-  const double combinations_s = combinations.seconds();
-  report["structure"]["governing"] = governing_block(report["structure"]["combinations"]);
-  report["mass"] = steel_block(r.mesh, frame, in.carbon_factor);
-  if (r.sizing) {
-    report["sizing"] = sizing_block(*r.sizing, r.mesh, options.frame, options.sizing_options,
-                                    in.carbon_factor);
-    report["sizing"]["sections_list"] = in.sections;
-    if (!r.sizing->sized) spdlog::warn("[sizing] not sized: {}", r.sizing->failure);
-  }
-  write_frame_json(dir, analysis::gridshell_frame(r.mesh, r.supports, frame), frame,
-                   options.frame_analysis, options.analyze);
+  AnalysedGridshell analysed;
+  analysed.mesh = &r.mesh;
+  analysed.supports = &r.supports;
+  analysed.frame = &frame;
+  analysed.options = &options.frame_analysis;
+  analysed.level = options.analyze;
+  analysed.structure = &*r.structure;
+  analysed.sized = r.sizing ? &*r.sizing : nullptr;
+  analysed.sizing_options = &options.sizing_options;
+  analysed.steel = in.steel;
+  analysed.sections = in.sections;
+  analysed.carbon_factor = in.carbon_factor;
+  const double combinations_s = add_analysed_report(dir, analysed, report);
   write_buckling_modes(dir, *r.structure);
   return combinations_s;
 }
