@@ -46,7 +46,7 @@ struct AnalyzeArgs {
   double stop_displacement = 0;  ///< 0: MODEL.json's, else automatic
   double stop_lambda = 0;        ///< 0: MODEL.json's, else automatic
   double displacement_limit = 0;
-  std::string sheet = "2.5x1.25";
+  std::string sheet = fabrication::kDefaultSheet;
   LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --deflection-limit
   MemberOptions members;    ///< --section (mesh input), --buckling-length-factor
   SizingArgs sizing;        ///< --size (mesh input), --sections, --section-groups, …
@@ -417,7 +417,7 @@ void register_analyze(CLI::App& app, Action& action) {
   sub->add_option("--sheet", a->sheet,
                   "fabrication (grid-shell meshes): sheet size WxH in metres on which the panels "
                   "are nested")
-      ->default_str("2.5x1.25");
+      ->default_str(fabrication::kDefaultSheet);
   sub->footer(
       "Writes nodes.csv, beams.csv, path.csv (nodes_nonlinear.csv with --nonlinear-static),\n"
       "frame.vtp, figures/*.png (top, perspective, buckling_mode, load_path: docs/figures.md),\n"

@@ -14,13 +14,9 @@
 #include "gridshell/checks/member_checks.h"
 #include "gridshell/core/error.h"
 #include "gridshell/figures/figures.h"
-#include "gridshell/io/files.h"
-#include "gridshell/io/mesh_io.h"
 #include "gridshell/pipeline/design.h"
-#include "gridshell/pipeline/design_report.h"
-#include "gridshell/pipeline/frame_output.h"
 #include "gridshell/pipeline/objective.h"
-#include "gridshell/pipeline/structure.h"
+#include "gridshell/report/design_folder.h"
 
 namespace gridshell::app {
 
@@ -30,19 +26,12 @@ struct DesignArgs {
   std::string surface = kDefaultSurface;
   SurfaceOptions surface_options;
   RunOptions run;
-  DesignOptions design;
-  bool no_regularize = false;
+  /// Every design setting (pipeline/design_settings.h): the words, and the numbers in
+  /// `design.options` (D and A in its field_options); build_design_options turns them into the
+  /// pipeline's DesignOptions.
+  DesignSettings design;
   std::string objective = "balanced";
-  std::string measure = "magnitude", stretch = "along", density = "rising";
-  std::string field = "stress", analyze = "nonlinear", symmetry = "none";
-  std::string sheet = "2.5x1.25";  ///< fabrication: panels nested on sheets of W x H m
-  LoadCheckOptions checks;         ///< --steel, --loads, --glass, --snow, --deflection-limit
-  MemberOptions members;           ///< --section, --buckling-length-factor
-  SizingArgs sizing;               ///< --size, --sections, --section-groups, --lambda-min, …
-  bool single_path = false;        ///< non-linear: skip the second (imperfect) path
-  /// --analysis-resolution: cells | input
-  std::string resolution = "cells";
-  std::string panels = "free";  ///< --panels flat | free
+  std::string sheet = fabrication::kDefaultSheet;  ///< panels nested on sheets of W x H m
   bool search = true;  ///< no -D/-A/convention/--field given: search for the objective
 };
 
@@ -50,50 +39,34 @@ struct DesignArgs {
 std::string design_title(const DesignArgs& a, const DesignResult& r,
                          const ObjectiveResult* searched) {
   const nlohmann::json f = r.details.value("field", nlohmann::json::object());
-  std::string field = f.value("kind", a.field);
+  std::string field = f.value("kind", a.design.field);
   if (f.contains("D")) field += fmt::format(" D={} A={}", f["D"].dump(), f["A"].dump());
   if (searched)
     field = fmt::format("{} (chosen by --objective {})",
                         searched->candidates[searched->chosen].setting.label(), a.objective);
-  return fmt::format("gridshell design {}: field {}; {} cells, {:.0f} m of beams; analysis {}; "
-                     "seed {}",
-                     a.surface, field, r.mesh.num_faces(), r.metrics.total_length, a.analyze,
-                     a.run.seed);
+  return fmt::format(
+      "gridshell design {}: field {}; {} cells, {:.0f} m of beams; analysis {}; "
+      "seed {}",
+      a.surface, field, r.mesh.num_faces(), r.metrics.total_length, a.design.analyze, a.run.seed);
 }
 
 int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const auto guard = apply_run_options(a.run);
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  DesignOptions options = a.design;
-  options.tessellation.seed = a.run.seed;
-  options.regularize = !a.no_regularize;
   // Every option word is parsed here, before any work.
-  const std::optional<FieldSource> response = parse_frame_source(a.field);
-  if (!response) options.field = parse_field_input(a.field, &options.field_file);
-  options.analyze = analysis::parse_analysis_level(a.analyze);
+  const std::optional<FieldSource> response = parse_frame_source(a.design.field);
   ObjectiveOptions objective;
   objective.objective = parse_objective(a.objective);
   objective.progress = guard.progress;
+  DesignSettings settings = a.design;
+  settings.seed = a.run.seed;
   // --objective mass sizes every candidate: it implies --size (and so eurocode loads unless
   // --loads is given).
-  SizingArgs sizing = a.sizing;
-  sizing.size = sizing.size || (a.search && objective.objective == Objective::mass);
-  apply_load_check_options(a.checks, options.frame, options.frame_analysis, sizing.size);
-  apply_member_options(a.members, options.frame, options.frame_analysis);
-  StructureOptions structure;
-  apply_sizing_options(sizing, structure);
-  options.sizing = structure.sizing;
-  options.sizing_options = structure.sizing_options;
-  options.frame_analysis.stability = !a.single_path;
-  options.symmetry = parse_symmetry(a.symmetry);
-  options.analysis_resolution = parse_analysis_resolution(a.resolution);
-  options.panels = parse_panel_mode(a.panels);
-  options.field_options.measure = parse_stress_measure(a.measure);
-  options.field_options.stretch = parse_stretch_axis(a.stretch);
-  options.field_options.density = parse_density_trend(a.density);
+  settings.sizing.size =
+      settings.sizing.size || (a.search && objective.objective == Objective::mass);
+  DesignOptions options = build_design_options(settings);
   options.frame_analysis.arc.progress = guard.progress;
-  check_design_options(options);
   const fabrication::SheetOptions sheet = fabrication::parse_sheet(a.sheet);
   spdlog::info("[load] {}", a.surface);
   const Surface surface = load_surface(a.surface, a.surface_options);
@@ -105,80 +78,24 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
                          : response ? design_from_frame_response(surface, options, *response)
                                     : run_design(surface, options);
 
-  auto t0 = Clock::now();
+  report::DesignFolderInput folder;
+  folder.surface = &surface;
+  folder.options = &options;
+  folder.result = &r;
+  folder.search = searched ? &*searched : nullptr;
+  folder.surface_name = a.surface;
+  folder.title = design_title(a, r, folder.search);
+  folder.config = resolved_config(sub);
+  folder.sheet = sheet;
+  folder.figures = figures::parse_figure_options(a.run.figures);
+  folder.steel = a.design.checks.steel;
+  folder.sections = a.design.sizing.sections;
+  folder.carbon_factor = a.design.sizing.carbon_factor;
+  folder.timings_before = {{"load", t_load}};
+  folder.seconds_before = std::chrono::duration<double>(Clock::now() - start).count();
   const std::filesystem::path dir(a.run.out_dir);
-  io::ensure_directory(dir);
-  const GridShellOutput out = design_output(r);
-  const analysis::GridshellFrameOptions frame = analysed_frame(options, r);
-  const std::optional<fabrication::BeamResults> envelope =
-      r.sizing ? std::optional(member_envelope(*r.sizing)) : std::nullopt;
-  write_gridshell_files(dir, out);
-  const auto t_fab = Clock::now();
-  const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports,
-                                                r.structure ? &*r.structure : nullptr,
-                                                frame, sheet, envelope ? &*envelope : nullptr);
-  const double fabrication_s = std::chrono::duration<double>(Clock::now() - t_fab).count();
-  io::write_vtp(dir / "field.vtp", to_poly(surface.mesh), {}, field_attributes(r.field));
-  const auto t_fig = Clock::now();
-  const std::vector<std::string> figure_files =
-      figures::write_figures(dir, {.title = design_title(a, r, searched ? &*searched : nullptr),
-                                   .gridshell = &r.mesh,
-                                   .supports = r.supports,
-                                   .structure = r.structure ? &*r.structure : nullptr,
-                                   .surface = &surface.mesh,
-                                   .field = &r.field},
-                             figures::parse_figure_options(a.run.figures));
-  const double figures_s = std::chrono::duration<double>(Clock::now() - t_fig).count();
-  nlohmann::json report = design_report(r, options);
-  double combinations_s = 0;  // the analyses of the combinations other than the primary
-  report["surface"] = a.surface;
-  report["fabrication"] = bom;
-  report["figures"] = figure_files;
-  if (r.structure) {
-    report["structure"]["steel"] = a.checks.steel;
-    report["structure"]["loads"] = to_string(frame.loads);
-    const auto t_comb = Clock::now();
-    report["structure"]["combinations"] =
-        combinations_block(r.mesh, r.supports, frame, options.frame_analysis, *r.structure,
-                           r.sizing ? &r.sizing->final : nullptr);
-    combinations_s = std::chrono::duration<double>(Clock::now() - t_comb).count();
-    report["structure"]["governing"] = governing_block(report["structure"]["combinations"]);
-    report["mass"] = steel_block(r.mesh, frame, a.sizing.carbon_factor);
-    if (r.sizing) {
-      report["sizing"] = sizing_block(*r.sizing, r.mesh, options.frame, options.sizing_options,
-                                      a.sizing.carbon_factor);
-      report["sizing"]["sections_list"] = a.sizing.sections;
-      if (!r.sizing->sized) spdlog::warn("[sizing] not sized: {}", r.sizing->failure);
-    }
-    write_frame_json(dir, analysis::gridshell_frame(r.mesh, r.supports, frame), frame,
-                     options.frame_analysis, options.analyze);
-    write_buckling_modes(dir, *r.structure);
-  }
-  if (searched) report["objective"] = searched->report();
-  const double write_s =
-      std::chrono::duration<double>(Clock::now() - t0).count() - fabrication_s - figures_s -
-      combinations_s;
-  Timings extra{{"load", t_load},
-                {"write", write_s},
-                {"fabrication", fabrication_s},
-                {"figures", figures_s}};
-  if (combinations_s > 0) extra.add("combinations", combinations_s);
-  // The search's other candidates (the chosen design's own stages are in r.timings).
-  if (searched) extra.add("objective_search", std::max(0.0, searched->seconds - r.timings.sum()));
-  report["timings_s"] =
-      timings_block(r.timings, extra, std::chrono::duration<double>(Clock::now() - start).count());
+  const nlohmann::json report = report::write_design_folder(dir, folder);
   const nlohmann::json& timings = report["timings_s"];
-  write_config(a.run.out_dir, sub);
-  write_report(a.run.out_dir, report);
-  report::ReportInput page = report::gridshell_report_input(
-      r.mesh, r.supports, r.structure ? &*r.structure : nullptr);
-  page.density = out.d_target;
-  if (r.structure) page.beam_sections = member_designations(frame);  // sized: one per beam
-  if (envelope) {  // sized: the envelope over the ULS combinations, as beams.csv has it
-    page.utilisation = envelope->utilisation;
-    page.buckling_utilisation = envelope->buckling_utilisation;
-  }
-  write_report_page(a.run.out_dir, std::move(page), report, sub);
   spdlog::info("[done] {} joints, {} panels, {:.1f} m of beams in {:.1f} s -> {}",
                r.mesh.num_vertices(), r.mesh.num_faces(), r.metrics.total_length,
                timings["total"].get<double>(), dir.string());
@@ -196,8 +113,9 @@ void register_design(CLI::App& app, Action& action) {
   sub->add_option("surface", a->surface,
                   "PLY/OBJ/OFF file or builtin:NAME (default builtin:funicular)")
       ->default_str(kDefaultSurface);
+  DesignSettings& d = a->design;
   auto* field =
-      sub->add_option("--field", a->field,
+      sub->add_option("--field", d.field,
                       "stress (shell analysis of the surface), uniform (isotropic cells), "
                       "frame-mode / frame-energy (strain energy of the isotropic design's frame "
                       "in its buckling modes / under the load), or a field file (BLK, or CSV "
@@ -213,79 +131,64 @@ void register_design(CLI::App& app, Action& action) {
                       "sized again at --analyze (implies --size); used unless -D/-A/--field/a "
                       "convention is given")
           ->default_str("balanced");
-  std::vector<CLI::Option*> exact;
-  exact.push_back(
-      sub->add_option("-D", a->design.D, "density ratio: the densest cells are D× smaller across")
-          ->default_str("3"));
-  exact.push_back(
-      sub->add_option("-A", a->design.A, "anisotropy ratio: cells up to A× longer along u")
-          ->default_str("3"));
-  exact.push_back(sub->add_option("--stress-measure", a->measure,
-                                  "magnitude (the paper) | tension (compression counts as none) | "
-                                  "compression (tension counts as none): which stress drives u, "
-                                  "d and a")
-                      ->default_str("magnitude"));
-  exact.push_back(sub->add_option("--stretch", a->stretch,
-                                  "along (the paper) | across: cells long along u or across it")
-                      ->default_str("along"));
-  exact.push_back(sub->add_option("--density", a->density,
-                                  "rising (the paper) | falling: small cells where the stress is "
-                                  "high, or where it is low")
-                      ->default_str("rising"));
-  auto* radius = sub->add_option("--radius", a->design.tessellation.radius,
+  std::vector<CLI::Option*> exact = add_field_ratio_options(sub, d.options.field_options);
+  for (CLI::Option* o : add_field_convention_options(sub, d)) exact.push_back(o);
+  auto* radius = sub->add_option("--radius", d.options.tessellation.radius,
                                  "cell size R in metres on M' (≈ beam length where d = 1)");
-  auto* cells = sub->add_option("--cells", a->design.tessellation.cells, "number of cells");
-  auto* length = sub->add_option("--length", a->design.tessellation.length,
+  auto* cells = sub->add_option("--cells", d.options.tessellation.cells, "number of cells");
+  auto* length = sub->add_option("--length", d.options.tessellation.length,
                                  "target total beam length in metres (held within 5%)");
   radius->excludes(cells)->excludes(length);
   cells->excludes(length);
-  sub->add_option("--symmetry", a->symmetry,
+  sub->add_option("--symmetry", d.symmetry,
                   "x | y | xy: exact mirror symmetry about the bounding-box mid-planes");
-  sub->add_option("--analysis-resolution", a->resolution,
+  sub->add_option("--analysis-resolution", d.resolution,
                   "cells (stress, field, metric and tessellation on a coarsened copy when the "
                   "input is much finer than the cells need; the joints on the input) | input")
       ->default_str("cells");
-  sub->add_flag("--no-regularize", a->no_regularize, "keep the raw tessellation");
-  sub->add_option("--panels", a->panels,
+  sub->add_flag("--no-regularize", d.no_regularize,
+                "keep the raw tessellation (not with --planarize: an error)");
+  sub->add_option("--panels", d.panels,
                   "flat: every panel exactly planar (joints at plane intersections, "
                   "docs/panels.md) | free: joints on the surface")
       ->default_str("free");
-  sub->add_flag("--planarize", a->design.planarize,
-                "ShapeUp planarity projection instead of regularization");
-  sub->add_option("--restretch", a->design.regularize_options.restretch,
+  sub->add_flag("--planarize", d.planarize,
+                "ShapeUp planarity projection instead of regularization (not with "
+                "--no-regularize: an error)");
+  sub->add_option("--restretch", d.options.regularize_options.restretch,
                   "regularization: how much of each cell's stretch its target keeps, 0 (regular "
                   "polygons) … 1 (the paper's stretched regular polygons)")
       ->default_str("0.7")
       ->check(CLI::Range(0.0, 1.0));
-  sub->add_option("--size-evening", a->design.regularize_options.size_evening,
+  sub->add_option("--size-evening", d.options.regularize_options.size_evening,
                   "regularization: how far cell sizes are evened out, 0 (keep the density "
                   "field's sizes) … 1 (pull all towards their mean); evening makes beam lengths "
                   "uniform but gives back stiffness: 0 for structure-first designs")
       ->default_str("0.8")
       ->check(CLI::Range(0.0, 1.0));
-  sub->add_option("--analyze", a->analyze, "none | linear | buckling | nonlinear")
+  sub->add_option("--analyze", d.analyze, "none | linear | buckling | nonlinear")
       ->default_str("nonlinear");
-  sub->add_option("--area-load", a->design.frame.area_load_kN_m2,
+  sub->add_option("--area-load", d.options.frame.area_load_kN_m2,
                   "analysis: extra panel/snow load in kN/m² on top of the bars' weight")
       ->default_str("0");
-  sub->add_option("--elements", a->design.frame.elements, "analysis: beam elements per bar")
+  sub->add_option("--elements", d.options.frame.elements, "analysis: beam elements per bar")
       ->default_str("2");
-  sub->add_option("--diameter", a->design.frame.diameter, "analysis: solid bar diameter (m)")
+  sub->add_option("--diameter", d.options.frame.diameter, "analysis: solid bar diameter (m)")
       ->default_str("0.037");
-  sub->add_option("--displacement-limit", a->design.frame_analysis.displacement_limit,
+  sub->add_option("--displacement-limit", d.options.frame_analysis.displacement_limit,
                   "analysis: lambda_displacement_limit is the load factor at which the non-linear "
                   "path's largest displacement reaches this many metres (0 = span / 100)")
       ->default_str("0");
-  add_load_check_options(sub, a->checks);
-  add_member_options(sub, a->members);
-  add_sizing_options(sub, a->sizing);
-  sub->add_flag("--single-path", a->single_path,
+  add_load_check_options(sub, d.checks);
+  add_member_options(sub, d.members);
+  add_sizing_options(sub, d.sizing);
+  sub->add_flag("--single-path", d.single_path,
                 "non-linear analysis: follow only the perfect path (no lambda_imperfect; half "
                 "the cost)");
   sub->add_option("--sheet", a->sheet,
                   "fabrication: sheet size WxH in metres on which the flattened panels are "
                   "nested (panels.svg)")
-      ->default_str("2.5x1.25");
+      ->default_str(fabrication::kDefaultSheet);
   sub->footer(
       "Default size when none of --radius/--cells/--length is given: 300 cells.\n"
       "Writes gridshell_raw.obj, gridshell.obj, gridshell.ply, gridshell.vtp, field.vtp,\n"

@@ -171,7 +171,10 @@ void register_stress(CLI::App& app, Action& action) {
                  ->default_str("3e10");
   a->opt_nu =
       sub->add_option("--nu", a->defaults.material.nu, "Poisson's ratio")->default_str("0.2");
-  a->opt_density = sub->add_option("--density", a->defaults.material.density, "density (kg/m³)")
+  // (design's --density is the field's trend word, also spelt --density-trend there)
+  a->opt_density = sub->add_option("--density,--material-density", a->defaults.material.density,
+                                   "the shell's mass density (kg/m³); --material-density: the "
+                                   "same option")
                        ->default_str("2400");
   sub->add_option("--load", a->load_kn,
                   "surface input: uniform load per unit plan area, downward (kN/m²)")

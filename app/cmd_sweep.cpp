@@ -16,10 +16,11 @@
 #include "common.h"
 #include "gridshell/core/error.h"
 #include "gridshell/core/timings.h"
+#include "gridshell/field/field_io.h"
 #include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
-#include "gridshell/field/field_io.h"
 #include "gridshell/pipeline/design.h"
+#include "gridshell/pipeline/objective.h"
 #include "gridshell/pipeline/sweep.h"
 #include "mpi.h"
 
@@ -29,12 +30,10 @@ namespace {
 
 struct SweepArgs {
   std::string surface = kDefaultSurface;
-  std::string D = "1:4", A = "1:4", shard, analyze = "nonlinear", field = "stress";
-  std::string measure = "magnitude", stretch = "along", density = "rising";
-  std::string resolution = "cells";
-  MemberOptions members;  ///< --section, --buckling-length-factor (as design)
-  LoadCheckOptions checks;  ///< --steel, --loads, --glass, --snow, --load-case, … (as design)
-  bool single_path = false;  ///< --loads eurocode: no imperfect path (as design --single-path)
+  std::string D = "1:4", A = "1:4", shard;
+  /// What every case shares (design's words: --field, the conventions, --analyze,
+  /// --analysis-resolution, the load model, members, --single-path); a case sets D, A, seed.
+  DesignSettings design;
   int repeats = 3;
   double length = 0;
   int cells = 0;
@@ -47,30 +46,26 @@ struct SweepArgs {
 DesignOptions sweep_design_options(const SweepArgs& a) {
   if (!(a.length > 0) && a.cells <= 0)
     throw Error("--length", "give the common total beam length L (m) (or --cells N)");
-  DesignOptions o;
-  o.field = parse_field_input(a.field, &o.field_file);
-  o.analyze = analysis::parse_analysis_level(a.analyze);
-  o.analysis_resolution = parse_analysis_resolution(a.resolution);
-  apply_load_check_options(a.checks, o.frame, o.frame_analysis);
-  apply_member_options(a.members, o.frame, o.frame_analysis);
+  if (parse_frame_source(a.design.field))
+    throw Error("--field", "a sweep takes stress | uniform | FILE");
+  DesignSettings settings = a.design;
+  settings.options.tessellation.length = a.length;
+  settings.options.tessellation.cells = a.length > 0 ? 0 : a.cells;
+  // with the default D = A: the cases' D and A are checked with the cases
+  DesignOptions o = build_design_options(settings);
   for (const analysis::FileLoadCase& c : o.frame.load_cases)  // (names end up in sweep.csv)
     if (c.name.size() > SweepGoverning::kMaxLoadCaseName || c.name.find(',') != std::string::npos)
       throw Error("--load-case",
                   fmt::format("'{}': a sweep takes names of at most {} characters, no commas",
                               c.name, SweepGoverning::kMaxLoadCaseName));
-  o.field_options.measure = parse_stress_measure(a.measure);
-  o.field_options.stretch = parse_stretch_axis(a.stretch);
-  o.field_options.density = parse_density_trend(a.density);
   // The paper's table reads δ and λ only: with `nonlinear` that is the perfect path to its first
   // critical point (no imperfect path, no steps past it: arc_length stops there), so the
   // stability block's second path is not asked for. The Eurocode verdict is design's, which
   // follows the imperfect paths too (unless --single-path, as in design).
-  o.frame_analysis.stability = o.frame.loads == analysis::LoadModel::eurocode && !a.single_path;
+  o.frame_analysis.stability =
+      o.frame.loads == analysis::LoadModel::eurocode && !a.design.single_path;
   o.frame_analysis.imperfection = false;
   o.frame_analysis.path_goal = analysis::PathGoal::critical;
-  o.tessellation.length = a.length;
-  o.tessellation.cells = a.length > 0 ? 0 : a.cells;
-  check_design_options(o);  // with D = A = 1: the cases' D and A are checked with the cases
   return o;
 }
 
@@ -86,7 +81,7 @@ struct CaseRun {
 CaseRun run_case(const Surface& surface, const DesignOptions& base, const SweepCase& c,
                  const StressField* stress, DesignCache& cache) {
   DesignOptions o = base;
-  o.D = c.D, o.A = c.A;
+  o.field_options.D = c.D, o.field_options.A = c.A;
   o.tessellation.seed = c.seed;
   const DesignResult r = stress ? run_design(surface, o, *stress, cache)
                                 : run_design(surface, o, cache);
@@ -186,11 +181,11 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   const auto t_fig = std::chrono::steady_clock::now();
   report["figures"] = figures::write_sweep_figures(
       dir, rows,
-      fmt::format("gridshell sweep {}: D {}, A {}, repeats {}, {}; field {}; analysis {}; seed {}",
-                  a.surface, a.D, a.A, a.repeats,
-                  a.length > 0 ? fmt::format("length {:g} m", a.length)
-                               : fmt::format("{} cells", a.cells),
-                  a.field, a.analyze, a.run.seed),
+      fmt::format(
+          "gridshell sweep {}: D {}, A {}, repeats {}, {}; field {}; analysis {}; seed {}",
+          a.surface, a.D, a.A, a.repeats,
+          a.length > 0 ? fmt::format("length {:g} m", a.length) : fmt::format("{} cells", a.cells),
+          a.design.field, a.design.analyze, a.run.seed),
       figures::parse_figure_options(a.run.figures));
   const double figures_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
@@ -233,27 +228,24 @@ void register_sweep(CLI::App& app, Action& action) {
       "sweep", "The tuning experiment: designs over a (D, A) grid at equal length, analysed");
   sub->add_option("surface", a->surface, "PLY/OBJ/OFF file or builtin:NAME")
       ->default_str(kDefaultSurface);
-  sub->add_option("--D", a->D, "density ratios a:b[:step]")->default_str("1:4");
-  sub->add_option("--A", a->A, "anisotropy ratios a:b[:step]")->default_str("1:4");
+  DesignSettings& d = a->design;
+  // -D/-A as in design, --D/--A as the CONTRACT spells them here: both accepted.
+  sub->add_option("--D,-D", a->D, "density ratios a:b[:step]")->default_str("1:4");
+  sub->add_option("--A,-A", a->A, "anisotropy ratios a:b[:step]")->default_str("1:4");
   sub->add_option("--repeats", a->repeats, "repeats per (D, A) with different seeds")
       ->default_str("3");
   sub->add_option("--length", a->length, "common total beam length (m)");
   sub->add_option("--cells", a->cells, "number of cells instead of --length");
   sub->add_option("--shard", a->shard, "K/N: run only shard K of N (cases K-1, K-1+N, ...)");
-  sub->add_option("--field", a->field, "stress | uniform | FILE (as in design)")
-      ->default_str("stress");
-  sub->add_option("--stress-measure", a->measure, "magnitude | tension | compression (as in design)")
-      ->default_str("magnitude");
-  sub->add_option("--stretch", a->stretch, "along | across (as in design)")->default_str("along");
-  sub->add_option("--density", a->density, "rising | falling (as in design)")
-      ->default_str("rising");
-  add_member_options(sub, a->members);
-  sub->add_option("--analyze", a->analyze, "linear | buckling | nonlinear")
-      ->default_str("nonlinear");
-  sub->add_option("--analysis-resolution", a->resolution, "cells | input (as in design)")
-      ->default_str("cells");
-  add_load_check_options(sub, a->checks);
-  sub->add_flag("--single-path", a->single_path,
+  sub->add_option("--field", d.field, "stress | uniform | FILE (as in design)")
+      ->default_str(d.field);
+  add_field_convention_options(sub, d);
+  add_member_options(sub, d.members);
+  sub->add_option("--analyze", d.analyze, "linear | buckling | nonlinear")->default_str(d.analyze);
+  sub->add_option("--analysis-resolution", d.resolution, "cells | input (as in design)")
+      ->default_str(d.resolution);
+  add_load_check_options(sub, d.checks);
+  sub->add_flag("--single-path", d.single_path,
                 "--loads eurocode: follow only the perfect non-linear path (as design "
                 "--single-path; without it each case is judged with the imperfect paths too)");
   sub->footer(

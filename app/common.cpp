@@ -11,13 +11,12 @@
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 
-#include "gridshell/checks/member_checks.h"
-#include "gridshell/sections/sections.h"
 #include "gridshell/core/error.h"
 #include "gridshell/core/progress_display.h"
 #include "gridshell/figures/figures.h"
 #include "gridshell/io/files.h"
 #include "gridshell/io/json.h"
+#include "gridshell/report/design_folder.h"
 
 namespace gridshell::app {
 
@@ -48,7 +47,7 @@ void add_figure_option(CLI::App* sub, RunOptions& o) {
 
 void add_load_check_options(CLI::App* sub, LoadCheckOptions& o) {
   sub->add_option("--steel", o.steel, "member checks: steel grade S235 | S275 | S355")
-      ->default_str("S355");
+      ->default_str(o.steel);
   // No default string: config.json then leaves --loads out, and --config resolves it alike.
   sub->add_option("--loads", o.loads,
                   "grid-shell analysis: paper (the bars' weight spread over the surface, + "
@@ -73,37 +72,6 @@ void add_load_check_options(CLI::App* sub, LoadCheckOptions& o) {
       ->default_str("300");
 }
 
-void apply_load_check_options(const LoadCheckOptions& o, analysis::GridshellFrameOptions& frame,
-                              analysis::FrameAnalysisOptions& analysis, bool sized) {
-  analysis.checks.fy = checks::yield_strength(checks::parse_steel_grade(o.steel));
-  frame.loads = analysis::parse_load_model(!o.loads.empty() ? o.loads
-                                           : sized          ? std::string("eurocode")
-                                                            : std::string("paper"));
-  if (!(o.glass >= 0) || !std::isfinite(o.glass))
-    throw Error("--glass", "must be a load >= 0 (kN/m²)");
-  if (!(o.snow >= 0) || !std::isfinite(o.snow))
-    throw Error("--snow", "must be a load >= 0 (kN/m²)");
-  if (!(o.deflection_limit > 0) || !std::isfinite(o.deflection_limit))
-    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
-  frame.glass_kN_m2 = o.glass;
-  frame.snow_kN_m2 = o.snow;
-  analysis.deflection_limit_divisor = o.deflection_limit;
-  frame.load_cases.clear();
-  if (!o.load_cases.empty() && frame.loads != analysis::LoadModel::eurocode)
-    throw Error("--load-case", "load cases are combined per EN 1990: give --loads eurocode");
-  for (const std::string& spec : o.load_cases) {
-    analysis::FileLoadCase c = analysis::read_load_case_file(spec);
-    for (const analysis::FileLoadCase& other : frame.load_cases)
-      if (other.name == c.name) throw Error("--load-case", "two load cases named " + c.name);
-    frame.load_cases.push_back(std::move(c));
-  }
-}
-
-void attach_load_case_surface(analysis::GridshellFrameOptions& frame, const TriMesh& surface) {
-  for (analysis::FileLoadCase& c : frame.load_cases)
-    if (c.given == analysis::FileLoadCase::Given::surface_vertex) analysis::attach_surface(c, surface);
-}
-
 void add_member_options(CLI::App* sub, MemberOptions& o) {
   sub->add_option("--section", o.section,
                   "member section: 'CHS 88.9x4.0', 'RHS 120x60x4', 'SHS 100x5', 'bar 37' (mm; "
@@ -112,16 +80,6 @@ void add_member_options(CLI::App* sub, MemberOptions& o) {
   sub->add_option("--buckling-length-factor", o.buckling_length_factor,
                   "member checks: buckling length = this × member length (joint to joint)")
       ->default_str("1");
-}
-
-void apply_member_options(const MemberOptions& o, analysis::GridshellFrameOptions& frame,
-                          analysis::FrameAnalysisOptions& analysis) {
-  if (!(o.buckling_length_factor > 0) || !(o.buckling_length_factor <= 10))
-    throw Error("--buckling-length-factor", "must be a factor in (0, 10]");
-  analysis.checks.buckling_length_factor = o.buckling_length_factor;
-  if (o.section.empty()) return;
-  sections::parse_section(o.section, "--section");
-  frame.section = o.section;
 }
 
 void add_sizing_options(CLI::App* sub, SizingArgs& o) {
@@ -141,21 +99,33 @@ void add_sizing_options(CLI::App* sub, SizingArgs& o) {
   sub->add_option("--carbon-factor", o.carbon_factor,
                   "embodied carbon of the steel in kgCO2e/kg (default: ICE v3.0, steel "
                   "section, world average)")
-      ->default_str("1.55");
+      ->default_str(fmt::format("{}", o.carbon_factor));
 }
 
-void apply_sizing_options(const SizingArgs& o, StructureOptions& structure) {
-  if (!(o.carbon_factor >= 0) || !std::isfinite(o.carbon_factor))
-    throw Error("--carbon-factor", "must be a number >= 0 (kgCO2e/kg)");
-  if (o.groups < 0 || o.groups > 10000)
-    throw Error("--section-groups", "must be 0 (each member its own) … 10000");
-  if (!(o.lambda_min > 0) || !(o.lambda_min <= 100))
-    throw Error("--lambda-min", "must be a load factor in (0, 100]");
-  structure.sizing = o.size ? sizing::MemberSizing::sized : sizing::MemberSizing::given;
-  if (!o.size) return;
-  structure.sizing_options.catalogue = sizing::parse_section_list(o.sections);
-  structure.sizing_options.groups = o.groups;
-  structure.sizing_options.lambda_min = o.lambda_min;
+std::vector<CLI::Option*> add_field_ratio_options(CLI::App* sub, FieldOptions& field,
+                                                  const std::string& prefix) {
+  return {
+      sub->add_option("-D,--D", field.D,
+                      prefix + "density ratio: the densest cells are D× smaller across")
+          ->default_str(fmt::format("{}", field.D)),
+      sub->add_option("-A,--A", field.A, prefix + "anisotropy ratio: cells up to A× longer along u")
+          ->default_str(fmt::format("{}", field.A))};
+}
+
+std::vector<CLI::Option*> add_field_convention_options(CLI::App* sub, DesignSettings& d,
+                                                       const std::string& prefix) {
+  return {sub->add_option("--stress-measure", d.measure,
+                          prefix + "magnitude (the paper) | tension (compression counts as none) | "
+                                   "compression (tension counts as none): which stress drives u, d "
+                                   "and a")
+              ->default_str(d.measure),
+          sub->add_option("--stretch", d.stretch,
+                          prefix + "along (the paper) | across: cells long along u or across it")
+              ->default_str(d.stretch),
+          sub->add_option("--density,--density-trend", d.density,
+                          prefix + "rising (the paper) | falling: small cells where the stress is "
+                                   "high, or where it is low (--density-trend: the same option)")
+              ->default_str(d.density)};
 }
 
 RunGuard apply_run_options(const RunOptions& o) {
@@ -220,15 +190,7 @@ void write_report(const std::string& dir, const nlohmann::json& report) {
 
 void write_report_page(const std::string& dir, report::ReportInput page,
                        const nlohmann::json& report, const CLI::App* sub) {
-  page.config = resolved_config(sub);
-  page.report = report;
-  page.title = "gridshell " + sub->get_name();
-  for (const auto& p : page.config["positional"]) page.title += " " + p.get<std::string>();
-  if (page.config["positional"].empty() && report.contains("surface"))
-    page.title += " " + report["surface"].get<std::string>();
-  const report::ReportWritten w = report::write_report_html(dir, page);
-  spdlog::info("[report] report.html: {:.1f} MB, {} figures, {:.3f} s", w.bytes / 1e6, w.figures,
-               w.seconds);
+  report::write_report_page(dir, std::move(page), report, resolved_config(sub));
 }
 
 std::vector<std::string> expand_config(const std::vector<std::string>& args, const CLI::App& cli) {

@@ -12,6 +12,7 @@
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/progress.h"
+#include "gridshell/pipeline/design_settings.h"
 #include "gridshell/pipeline/structure.h"
 #include "gridshell/report/report_html.h"
 #include "gridshell/surfaces/load.h"
@@ -35,52 +36,24 @@ void add_run_options(CLI::App* sub, RunOptions& options);
 /// --figures WxH|none: the size of the PNGs in DIR/figures/ (checked by apply_run_options).
 void add_figure_option(CLI::App* sub, RunOptions& options);
 
-/// The load model and member-check options of the commands that analyse a grid-shell (design,
-/// analyze, baseline): --steel, --loads, --glass, --snow, --deflection-limit (docs/checks.md).
-struct LoadCheckOptions {
-  std::string steel = "S355";     ///< S235 | S275 | S355
-  std::string loads;              ///< paper | eurocode; empty = paper, or eurocode with --size
-  double glass = 0.4;             ///< eurocode G2 [kN/m² of surface]
-  double snow = 1.0;              ///< eurocode Q: s_k [kN/m² of plan]
-  double deflection_limit = 300;  ///< δ passes when at most span / this
-  std::vector<std::string> load_cases;  ///< --load-case NAME=FILE.csv (repeatable)
-};
+/// The CLI11 options of the load model and member checks (pipeline/design_settings.h):
+/// --steel, --loads, --glass, --snow, --deflection-limit, --load-case.
 void add_load_check_options(CLI::App* sub, LoadCheckOptions& options);
-/// The members (docs/checks.md): --section "CHS 88.9x4.0" | "RHS 120x60x4" | "SHS 100x5" |
-/// "bar 37" [cold] (sections/sections.h; empty = the solid bar of --diameter) and
-/// --buckling-length-factor F (L_cr = F × member length, default 1).
-struct MemberOptions {
-  std::string section;
-  double buckling_length_factor = 1;
-};
+/// --section, --buckling-length-factor.
 void add_member_options(CLI::App* sub, MemberOptions& options);
-/// Checks them (Error naming the option, exit 2, before any work) and sets frame.section and
-/// analysis.checks.buckling_length_factor.
-void apply_member_options(const MemberOptions& options, analysis::GridshellFrameOptions& frame,
-                          analysis::FrameAnalysisOptions& analysis);
-/// Parses and checks them (Error naming the option) and sets `frame`'s load model (no --loads:
-/// eurocode when `sized`, else paper), glass, snow and file load cases (read here: a bad file is
-/// an Error before any work), and `analysis`'s fy and deflection limit.
-void apply_load_check_options(const LoadCheckOptions& options,
-                              analysis::GridshellFrameOptions& frame,
-                              analysis::FrameAnalysisOptions& analysis, bool sized = false);
-
-/// Member sizing (docs/sizing.md): --size, --sections chs|rhs|bar|'chs cold'|FILE,
-/// --section-groups N, --lambda-min, --carbon-factor.
-struct SizingArgs {
-  bool size = false;
-  std::string sections = "chs";
-  int groups = 0;
-  double lambda_min = 1.0;
-  double carbon_factor = 1.55;  ///< kgCO2e/kg (pipeline/structure.h kSteelCarbonFactor)
-};
+/// --size, --sections, --section-groups, --lambda-min, --carbon-factor.
 void add_sizing_options(CLI::App* sub, SizingArgs& options);
-/// Checks them (Error naming the option, exit 2) and sets `structure`'s sizing mode and options
-/// (the section list read here).
-void apply_sizing_options(const SizingArgs& options, StructureOptions& structure);
 
-/// Gives the file load cases on the input surface's vertices that surface (checks the ids).
-void attach_load_case_surface(analysis::GridshellFrameOptions& frame, const TriMesh& surface);
+/// -D/--D and -A/--A (both spellings, in design, baseline and sweep): the field's density and
+/// anisotropy ratios, stored in `field` (FieldOptions::D, A: their one place). `prefix` starts
+/// the help (e.g. "quad-aniso: "). Returns the two options.
+std::vector<CLI::Option*> add_field_ratio_options(CLI::App* sub, FieldOptions& field,
+                                                  const std::string& prefix = "");
+/// The field's conventions into `design`'s words: --stress-measure, --stretch and
+/// --density-trend (also spelt --density, as before; `stress --density` is the shell's mass
+/// density, there also spelt --material-density). Returns the three options.
+std::vector<CLI::Option*> add_field_convention_options(CLI::App* sub, DesignSettings& design,
+                                                       const std::string& prefix = "");
 
 /// What a run holds while it works: the thread limit, and the progress display on stderr.
 struct RunGuard {

@@ -22,7 +22,7 @@ void BM_FineParaboloidDesign(benchmark::State& state, AnalysisResolution resolut
   b.res = 354;
   const Surface s = make_builtin("paraboloid", b);
   DesignOptions o;
-  o.D = o.A = 3;
+  o.field_options.D = o.field_options.A = 3;
   o.tessellation.cells = 1000;
   o.analyze = analysis::AnalysisLevel::linear;
   o.analysis_resolution = resolution;

@@ -83,7 +83,7 @@ void BM_LiliumNonlinear(benchmark::State& state) {
   state.counters["dofs"] = r.num_dofs;
   state.counters["lambda_lba"] = r.lambda_linear_buckling.value_or(0);
   state.counters["lambda_nl"] = r.lambda_nonlinear.value_or(0);
-  state.counters["limit_point"] = r.limit_type == "limit point" ? 1 : 0;
+  state.counters["limit_point"] = r.limit_type == gridshell::fem::LimitType::limit_point ? 1 : 0;
   state.counters["steps"] = r.nonlinear_steps;
   state.counters["iterations"] = r.nonlinear_iterations;
   state.counters["factorizations"] = r.nonlinear_factorizations;

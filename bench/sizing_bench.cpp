@@ -23,7 +23,7 @@ namespace {
 
 DesignOptions sized_options(analysis::AnalysisLevel level) {
   DesignOptions o;
-  o.D = o.A = 2;
+  o.field_options.D = o.field_options.A = 2;
   o.analyze = level;
   o.frame.loads = analysis::LoadModel::eurocode;
   o.sizing = sizing::MemberSizing::sized;

@@ -70,7 +70,7 @@ TEST(AnalysisResolution, CoarseFieldWithinToleranceOfTheFullOne) {
 TEST(AnalysisResolution, DesignOnAFineInputLiesOnTheInput) {
   const Surface fine = paraboloid(96);
   DesignOptions o;
-  o.D = o.A = 2;
+  o.field_options.D = o.field_options.A = 2;
   o.tessellation.cells = 60;
   o.analyze = analysis::AnalysisLevel::none;
   const DesignResult r = run_design(fine, o);
@@ -98,7 +98,7 @@ TEST(AnalysisResolution, CachedDesignsEqualUncachedOnes) {
   DesignCache cache;
   for (std::uint64_t seed : {3u, 4u}) {
     DesignOptions o;
-    o.D = o.A = 2;
+    o.field_options.D = o.field_options.A = 2;
     o.tessellation.cells = 40;
     o.tessellation.seed = seed;
     o.analyze = analysis::AnalysisLevel::none;
@@ -119,7 +119,7 @@ TEST(AnalysisResolution, CachedDesignsEqualUncachedOnes) {
 TEST(AnalysisResolution, WarmedCacheGivesTheUncachedDesigns) {
   const Surface s = paraboloid(96);
   DesignOptions o;
-  o.D = o.A = 2;
+  o.field_options.D = o.field_options.A = 2;
   o.symmetry = Symmetry::xy;
   o.tessellation.cells = 48;
   o.tessellation.seed = 5;

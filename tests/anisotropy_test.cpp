@@ -356,7 +356,7 @@ TEST(Anisotropy, DefaultFunicularDeformsWithoutFolds) {
   // And the whole pipeline runs at the requested contrast, first seed.
   DesignOptions d;
   d.analyze = analysis::AnalysisLevel::none;
-  d.regularize = false;
+  d.finish = Finish::raw;
   const DesignResult r = run_design(s, d);
   EXPECT_FALSE(r.details["field"].contains("softened_from"));
   EXPECT_FALSE(r.details.contains("tessellation_seed_retries"));
@@ -398,10 +398,10 @@ TEST(Anisotropy, BarrelAtThreeExtractsWithoutSoftening) {
   // detached piece to the neighbouring cell it shares most border with.
   const Surface s = make_builtin("barrel");
   DesignOptions d;
-  d.D = 3;
-  d.A = 3;
+  d.field_options.D = 3;
+  d.field_options.A = 3;
   d.analyze = analysis::AnalysisLevel::none;
-  d.regularize = false;
+  d.finish = Finish::raw;
   const DesignResult r = run_design(s, d);
   const Tessellation& t = r.tessellation;
   std::printf("barrel D = A = 3: %d faces, %d vertices moved from detached pieces, hex %.3f\n",

@@ -90,18 +90,54 @@ TEST(DesignCli, WritesTheContractFiles) {
 
 TEST(DesignCli, RejectsBadOptions) {
   const fs::path d = temp_dir("bad");
-  for (const char* args : {"-A 0.5", "-D -1", "--analyze sideways", "--symmetry z",
-                           "--radius 1 --cells 10", "--cells -5", "--field /nonexistent.blk",
-                           "--displacement-limit -0.1", "--size-evening 2",
-                           "--objective strongest", "--objective lambda -D 2",
-                           "--objective delta --stretch across", "--stretch sideways",
-                           "--density up", "--stress-measure von-mises"}) {
+  for (const char* args :
+       {"-A 0.5", "-D -1", "--analyze sideways", "--symmetry z", "--radius 1 --cells 10",
+        "--cells -5", "--field /nonexistent.blk", "--displacement-limit -0.1", "--size-evening 2",
+        "--objective strongest", "--objective lambda -D 2", "--objective delta --stretch across",
+        "--stretch sideways", "--density up", "--density-trend up", "--stress-measure von-mises",
+        "--no-regularize --planarize"}) {
     const auto r = run_gridshell(std::string("design builtin:dome ") + args + " -o " + d.string());
     EXPECT_EQ(r.status, 2) << args << ": " << r.err;
     EXPECT_NE(r.err.find("gridshell: error"), std::string::npos) << args << ": " << r.err;
   }
   const auto missing = run_gridshell("design /nonexistent.ply -o " + d.string());
   EXPECT_EQ(missing.status, 2);
+}
+
+TEST(DesignCli, FinishFlagsContradictingEachOtherAreOneLineAndExitTwo) {
+  // --planarize replaces the regularization and --no-regularize keeps the raw tessellation:
+  // together they ask for two finishes (pipeline/design_settings.h finish_from_flags).
+  const fs::path d = temp_dir("finish");
+  const auto r =
+      run_gridshell("design builtin:dome --cells 40 --no-regularize --planarize -o " + d.string());
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("gridshell: error: --planarize:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--no-regularize"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "report.json"));
+}
+
+TEST(DesignCli, BothSpellingsOfTheRatiosAndTheDensityTrendGiveTheSameDesign) {
+  // -D/-A (design's spelling) and --D/--A (sweep's) are one option each; --density-trend is
+  // --density. Same options, same seed: the same bytes, and D, A where the field stage uses them.
+  const fs::path d = temp_dir("spellings");
+  const std::string common =
+      "design builtin:dome --cells 40 --seed 3 --analyze none "
+      "--figures none --quiet -o ";
+  const auto a = run_gridshell(common + (d / "short").string() + " -D 2 -A 1.5 --density falling");
+  ASSERT_EQ(a.status, 0) << a.err;
+  const auto b =
+      run_gridshell(common + (d / "long").string() + " --D 2 --A 1.5 --density-trend falling");
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_EQ(slurp(d / "short" / "gridshell.obj"), slurp(d / "long" / "gridshell.obj"));
+  EXPECT_EQ(slurp(d / "short" / "cells.csv"), slurp(d / "long" / "cells.csv"));
+  const auto report = nlohmann::json::parse(slurp(d / "long" / "report.json"));
+  const auto& field = report.at("design").at("field");
+  EXPECT_EQ(field.at("D").get<double>(), 2.0) << field.dump();
+  EXPECT_EQ(field.at("A").get<double>(), 1.5) << field.dump();
+  // config.json keeps one name per option (as before: "D", "A", "density").
+  const auto config = nlohmann::json::parse(slurp(d / "long" / "config.json"));
+  EXPECT_EQ(config.at("options").at("D"), "2");
+  EXPECT_EQ(config.at("options").at("density"), "falling");
 }
 
 TEST(DesignCli, StressDrivenPipelineWithAnalysis) {

@@ -124,7 +124,7 @@ Pair designs(const std::string& spec, int cells) {
   o.analyze = analysis::AnalysisLevel::none;
   o.tessellation.cells = cells;
   o.tessellation.seed = 1;
-  o.D = o.A = 2;
+  o.field_options.D = o.field_options.A = 2;
   Pair p;
   p.free = run_design(s, o);
   o.panels = PanelMode::flat;

@@ -248,9 +248,9 @@ TEST(FrameNonlinear, LambdaAtADisplacementLimitOnTheElastica) {
   ASSERT_TRUE(r.lambda_displacement_limit.has_value());
   std::printf("elastica: lambda at |u| = %.5f L: %.5f (exact 1), %zu path points, %s\n",
               o.displacement_limit, *r.lambda_displacement_limit, r.path.size(),
-              r.limit_type.c_str());
+              to_string(r.limit_type));
   EXPECT_NEAR(*r.lambda_displacement_limit, 1.0, 0.01);
-  EXPECT_EQ(r.limit_type, "none");
+  EXPECT_EQ(r.limit_type, LimitType::none);
   EXPECT_DOUBLE_EQ(r.displacement_limit_m, o.displacement_limit);
   // Default limit: span / 100 (span = L here), nearly linear: λ ≈ (L/100) / δ.
   o.displacement_limit = 0;
@@ -363,15 +363,15 @@ TEST(FrameStarDome, LinearBucklingAndLimitPoint) {
   ArcLengthOptions opt;
   opt.initial_lambda = 10;
   const ArcLengthResult nl = arc_length(mesh, asmb, opt, reference_state(mesh));
-  EXPECT_EQ(nl.limit_type, "limit point");
+  EXPECT_EQ(nl.limit_type, LimitType::limit_point);
   EXPECT_NEAR(nl.lambda_critical / 146.7, 1.0, 0.02);
   const double w = nl.critical_state.x(0, 2) - m.nodes(0, 2);
   EXPECT_NEAR(-w, 0.30, 0.05);
   std::printf(
       "star dome: crown %.6f in at 220.46 lb, LBA %.2f lb, limit %.3f lb (%s), w %.4f in, "
       "%d steps, %d iterations, %d factorisations\n",
-      lin.displacement(0, 2) * 220.46, b.lambdas[0], nl.lambda_critical, nl.limit_type.c_str(), w,
-      nl.steps, nl.iterations, nl.factorizations);
+      lin.displacement(0, 2) * 220.46, b.lambdas[0], nl.lambda_critical, to_string(nl.limit_type),
+      w, nl.steps, nl.iterations, nl.factorizations);
 }
 
 namespace {
@@ -411,9 +411,10 @@ TEST(FrameBuckling, EulerColumnNonlinear) {
     const ArcLengthResult r = arc_length(mesh, asmb, opt, reference_state(mesh));
     // Round-off lets the arc-length switch onto the (stable, flat) buckled branch right at the
     // bifurcation, or it detects the pivot change: either way λ must sit at P_cr.
-    EXPECT_TRUE(r.limit_type == "bifurcation" || r.limit_type == "none") << r.limit_type;
+    EXPECT_TRUE(r.limit_type == LimitType::bifurcation || r.limit_type == LimitType::none)
+        << to_string(r.limit_type);
     std::printf("Euler column perfect, arc-length (8 elements): P/Pcr = %.6f (%s)\n",
-                r.lambda_critical * 1000 / Pcr, r.limit_type.c_str());
+                r.lambda_critical * 1000 / Pcr, to_string(r.limit_type));
     EXPECT_NEAR(r.lambda_critical * 1000 / Pcr, 1.0, 0.005);
   }
   {  // imperfect (L/1000 half-sine): the load approaches P_cr as the column bows to L/10
@@ -424,7 +425,7 @@ TEST(FrameBuckling, EulerColumnNonlinear) {
     opt.initial_lambda = 10;
     opt.max_displacement = L / 10;
     const ArcLengthResult r = arc_length(mesh, asmb, opt, reference_state(mesh));
-    EXPECT_EQ(r.limit_type, "none");
+    EXPECT_EQ(r.limit_type, LimitType::none);
     std::printf("Euler column L/1000 imperfection, at L/10 sway: P/Pcr = %.6f\n",
                 r.lambda_critical * 1000 / Pcr);
     EXPECT_NEAR(r.lambda_critical * 1000 / Pcr, 1.0, 0.02);
@@ -490,7 +491,7 @@ TEST(FrameClassic, VonMisesTrussLimitLoad) {
   ArcLengthOptions opt;
   opt.initial_lambda = Pmax / 20;
   const ArcLengthResult r = arc_length(mesh, asmb, opt, reference_state(mesh));
-  EXPECT_EQ(r.limit_type, "limit point");
+  EXPECT_EQ(r.limit_type, LimitType::limit_point);
   std::printf("von Mises truss: limit %.6f, closed form %.6f\n", r.lambda_critical, Pmax);
   EXPECT_NEAR(r.lambda_critical / Pmax, 1.0, 1e-3);
   EXPECT_NEAR(h - r.critical_state.x(1, 2), wmax, 0.02 * wmax);
@@ -528,9 +529,9 @@ TEST(FrameClassic, LeesFrameLimitLoad) {
   ArcLengthOptions opt;
   opt.initial_lambda = 1;
   const ArcLengthResult r = arc_length(mesh, asmb, opt, reference_state(mesh));
-  EXPECT_EQ(r.limit_type, "limit point");
+  EXPECT_EQ(r.limit_type, LimitType::limit_point);
   std::printf("Lee's frame: P L^2/EI = %.4f (%s)\n", r.lambda_critical * 120 * 120 / (720 * 2),
-              r.limit_type.c_str());
+              to_string(r.limit_type));
   EXPECT_NEAR(r.lambda_critical * 120 * 120 / (720 * 2) / 18.55, 1.0, 0.02);
 }
 
@@ -586,7 +587,7 @@ TEST(GridshellFrame, LinearEquilibriumAndPath) {
   ASSERT_TRUE(r.lambda_linear_buckling.has_value());
   ASSERT_TRUE(r.lambda_nonlinear.has_value());
   EXPECT_GT(*r.lambda_nonlinear, 1);
-  EXPECT_NE(r.limit_type, "none");
+  EXPECT_NE(r.limit_type, LimitType::none);
   // The non-linear path starts on the linear solution: the first point's displacement per λ
   // matches δ within a few percent.
   ASSERT_GE(r.path.size(), 3u);
@@ -596,7 +597,8 @@ TEST(GridshellFrame, LinearEquilibriumAndPath) {
   EXPECT_LE(*r.lambda_displacement_limit, *r.lambda_nonlinear * (1 + 1e-12));
   EXPECT_GT(*r.lambda_displacement_limit, 0);
   std::printf("quad grid-shell: lambda_LBA %.4f, lambda_nl %.4f (%s), %zu path points\n",
-              *r.lambda_linear_buckling, *r.lambda_nonlinear, r.limit_type.c_str(), r.path.size());
+              *r.lambda_linear_buckling, *r.lambda_nonlinear, to_string(r.limit_type),
+              r.path.size());
 }
 
 // Every joint pinned (joint loads straight into the supports): no displacement, no buckling,
@@ -859,4 +861,14 @@ TEST(FrameAssembly, PatternIsTheUnionOfTheElementEntries) {
   const LinearResult lin = linear_static(mesh, asmb);
   const SpMat K = asmb.linear_stiffness();
   EXPECT_LT((K * lin.u - mesh.load).norm(), 1e-9 * mesh.load.norm());
+}
+
+TEST(LimitType, ReportWordsRoundTripAndAnOtherWordIsAnError) {
+  // report.json keeps the CONTRACT's words: "limit point" | "bifurcation" | "none".
+  for (const LimitType t : {LimitType::limit_point, LimitType::bifurcation, LimitType::none})
+    EXPECT_EQ(parse_limit_type(to_string(t)), t);
+  EXPECT_STREQ(to_string(LimitType::limit_point), "limit point");
+  EXPECT_STREQ(to_string(LimitType::bifurcation), "bifurcation");
+  EXPECT_STREQ(to_string(LimitType::none), "none");
+  EXPECT_THROW(parse_limit_type("limit_point"), gridshell::Error);
 }

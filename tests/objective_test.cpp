@@ -40,7 +40,7 @@ TEST(Objective, ReferenceIsTheIsotropicBaselineAndTheChoiceFollowsTheRule) {
   // The reference: the same as an isotropic design (baseline --kind voronoi-iso) of that size.
   DesignOptions iso = base;
   iso.field = FieldInput::uniform;
-  iso.D = iso.A = 1;
+  iso.field_options.D = iso.field_options.A = 1;
   const DesignResult plain = run_design(surface, iso);
   ASSERT_TRUE(plain.structure && plain.structure->lambda_linear_buckling);
 

@@ -76,8 +76,8 @@ QuadAnisoResult plane_grid(const Surface& s, Fd d, Field& field) {
 /// (returned in `field`), as `gridshell baseline --kind quad-aniso` builds it.
 QuadAnisoResult stress_grid(const Surface& s, double D, double A, double length, Field& field) {
   DesignOptions d;
-  d.D = D;
-  d.A = A;
+  d.field_options.D = D;
+  d.field_options.A = A;
   field = baseline_field(s, d);
   QuadAnisoOptions o;
   o.length = length;

@@ -106,6 +106,27 @@ TEST(StudioRequest, BadParametersGiveTheCommandLinesMessage) {
             "surface=builtin:dome&D=2.5&A=1&cells=150&symmetry=none&analyze=buckling&seed=7");
 }
 
+TEST(StudioRequest, OptionsComeFromTheCommandLinesBuilderAndTheConfigSaysWhatDiffers) {
+  // The studio's options are build_design_options' (pipeline/design_settings.h) for the
+  // request's settings; the one thing the studio does differently from `design`'s defaults (the
+  // perfect non-linear path only) is written into its config.json.
+  using gridshell::studio::parse_request;
+  const auto r = parse_request({{"D", "2.5"}, {"A", "1.5"}, {"cells", "90"}, {"seed", "4"},
+                                {"analyze", "nonlinear"}});
+  const gridshell::DesignOptions o = gridshell::studio::design_options(r);
+  EXPECT_EQ(o.field_options.D, 2.5);
+  EXPECT_EQ(o.field_options.A, 1.5);
+  EXPECT_EQ(o.tessellation.cells, 90);
+  EXPECT_EQ(o.tessellation.seed, 4u);
+  EXPECT_EQ(o.finish, gridshell::Finish::regularize);
+  EXPECT_FALSE(o.frame_analysis.stability);
+  const nlohmann::json config = gridshell::studio::request_config(r, "builtin:funicular");
+  EXPECT_EQ(config["options"]["single-path"], true);
+  const nlohmann::json buckling =
+      gridshell::studio::request_config(parse_request({{"analyze", "buckling"}}), "x");
+  EXPECT_FALSE(buckling["options"].contains("single-path"));
+}
+
 TEST(StudioZip, CrcAndArchiveCheckWithUnzip) {
   EXPECT_EQ(gridshell::studio::crc32("123456789"), 0xCBF43926u);  // the CRC-32 check value
   EXPECT_EQ(gridshell::studio::crc32(""), 0u);
@@ -197,6 +218,21 @@ TEST_F(StudioServerTest, ConfigRepeatsTheDesignAndExportHasTheDesignFiles) {
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_EQ(slurp(dir / "cli" / "gridshell.obj"), slurp(dir / "zip" / "gridshell.obj"));
   EXPECT_EQ(slurp(dir / "cli" / "beams.csv"), slurp(dir / "zip" / "beams.csv"));
+  // One writer for both (report/design_folder.h): the export has design's analysis files too,
+  // the buckling modes and the frame, and report.json's load combinations and steel.
+  for (const char* f : {"modes.csv", "frame.json"}) {
+    ASSERT_TRUE(fs::exists(dir / "zip" / f)) << f;
+    EXPECT_EQ(slurp(dir / "cli" / f), slurp(dir / "zip" / f)) << f;
+  }
+  const nlohmann::json cli = nlohmann::json::parse(slurp(dir / "cli" / "report.json"));
+  const nlohmann::json zipped = nlohmann::json::parse(slurp(dir / "zip" / "report.json"));
+  ASSERT_TRUE(zipped["structure"].contains("combinations"));
+  EXPECT_EQ(zipped["structure"]["combinations"], cli["structure"]["combinations"]);
+  EXPECT_EQ(zipped["structure"]["governing"], cli["structure"]["governing"]);
+  for (const char* key : {"steel", "loads"})
+    EXPECT_EQ(zipped["structure"][key], cli["structure"][key]) << key;
+  EXPECT_EQ(zipped["mass"], cli["mass"]);
+  EXPECT_EQ(zipped["fabrication"], cli["fabrication"]);
 }
 
 TEST_F(StudioServerTest, BadInputGets400AndTheServerLivesOn) {

@@ -291,6 +291,21 @@ TEST(SweepEurocode, BadLoadsAreOneLineAndExitTwo) {
   }
 }
 
+TEST(SweepCliSpelling, DesignsShortRatioOptionsGiveTheSameRows) {
+  // The CONTRACT spells the ranges --D/--A here; design's -D/-A are accepted too.
+  const fs::path dir = temp_dir("sweep_spelling");
+  const std::string common = "sweep builtin:dome --repeats 1 --cells 20 --analyze linear --quiet ";
+  const auto a = run_gridshell(common + "--D 1:2 --A 1 -o " + (dir / "long").string());
+  ASSERT_EQ(a.status, 0) << a.err;
+  const auto b = run_gridshell(common + "-D 1:2 -A 1 -o " + (dir / "short").string());
+  ASSERT_EQ(b.status, 0) << b.err;
+  const auto long_rows = csv_rows(dir / "long" / "sweep.csv");
+  ASSERT_EQ(long_rows.size(), 2u);
+  EXPECT_EQ(long_rows.at(1).at("D"), "2");
+  EXPECT_EQ(gridshell::test::slurp(dir / "short" / "sweep.csv"),
+            gridshell::test::slurp(dir / "long" / "sweep.csv"));
+}
+
 TEST(SweepEurocode, ConfigRepeatsTheSweep) {
   // config.json holds --D/--A (long one-letter options) and the load options; --config gives
   // the same rows.

@@ -243,14 +243,14 @@ std::vector<std::pair<int, double>> imperfection_candidates(const FrameAnalysisO
 
 /// Why λ_imperfect came out above λ_perfect (report.json structure.imperfection.note).
 std::string imperfection_note(const ArcLengthResult& perfect, const ArcLengthResult& imperfect) {
-  if (perfect.limit_type == "none")
+  if (perfect.limit_type == fem::LimitType::none)
     return fmt::format("the perfect path stopped before a critical point ({}) at lambda {:.4g}; "
                        "its lambda is where it stopped, not a critical load",
                        perfect.stop_reason, perfect.lambda_critical);
-  if (perfect.limit_type == "bifurcation")
+  if (perfect.limit_type == fem::LimitType::bifurcation)
     return "the perfect structure's critical point is a bifurcation; the imperfect paths (both "
            "signs of the modes tried) pass it on a stable branch and reach a higher limit point";
-  if (imperfect.limit_type == "none")
+  if (imperfect.limit_type == fem::LimitType::none)
     return fmt::format("every imperfect path tried stopped before a critical point ({})",
                        imperfect.stop_reason);
   return "every imperfection tried (both signs of the modes within the margin) stiffens the "
@@ -268,7 +268,8 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   res.displacement_limit_m = o.displacement_limit > 0 ? o.displacement_limit : span / 100;
   // λ of a path that stopped at the displacement limit is not its critical λ.
   const auto critical_lambda = [&](const ArcLengthResult& a) -> std::optional<double> {
-    if (o.path_goal == PathGoal::displacement_limit && a.limit_type == "none") return std::nullopt;
+    if (o.path_goal == PathGoal::displacement_limit && a.limit_type == fem::LimitType::none)
+      return std::nullopt;
     return a.lambda_critical;
   };
   // Loads that go straight into the supports (every loaded joint pinned) leave nothing to
@@ -304,7 +305,7 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
     const double l = critical_lambda(al).value_or(std::numeric_limits<double>::infinity());
     res.imperfections_tried.push_back({mode, sign, critical_lambda(al)});
     spdlog::info("non-linear (imperfect, mode {} sign {:+}): lambda = {:.6g} ({})", mode + 1, sign,
-                 al.lambda_critical, al.limit_type);
+                 al.lambda_critical, fem::to_string(al.limit_type));
     if (!imperfect || l < best) {
       best = l;
       imperfect = std::move(runs[i]);
@@ -338,10 +339,10 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   res.nonlinear_iterations = al.iterations;
   res.nonlinear_factorizations = al.factorizations;
   res.lambda_displacement_limit = lambda_at_displacement(al.path, res.displacement_limit_m);
-  if (!res.lambda_displacement_limit && al.limit_type != "none")
+  if (!res.lambda_displacement_limit && al.limit_type != fem::LimitType::none)
     res.lambda_displacement_limit = al.lambda_critical;
   spdlog::info("non-linear: lambda = {:.6g} ({}; {} steps, {} iterations)", al.lambda_critical,
-               al.limit_type, al.steps, al.iterations);
+               fem::to_string(al.limit_type), al.steps, al.iterations);
 }
 
 /// The non-linear equilibrium at one load factor.

@@ -98,7 +98,7 @@ struct FrameResult {
   std::optional<double> lambda_linear_buckling;
   std::vector<double> buckling_lambdas;
   std::optional<double> lambda_nonlinear;
-  std::string limit_type = "none";
+  fem::LimitType limit_type = fem::LimitType::none;  ///< report.json words: fem/limit_type.h
   std::string nonlinear_stop_reason;
   /// λ_δ: the load factor at which the non-linear path's largest displacement first reaches
   /// `displacement_limit_m` (linear interpolation between path points), or λ of the first

@@ -18,6 +18,10 @@
 
 namespace gridshell::fabrication {
 
+/// The default `--sheet` of design, baseline and analyze: 2.5 m × 1.25 m, the size of
+/// SheetOptions{}.
+inline constexpr const char* kDefaultSheet = "2.5x1.25";
+
 struct SheetOptions {
   double width = 2.5;    ///< sheet size [m] (x)
   double height = 1.25;  ///< [m] (y)

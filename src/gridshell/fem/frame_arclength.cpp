@@ -360,7 +360,7 @@ double classify_critical(const FrameMesh& mesh, const TangentSolver& solver,
   const bool pivot = next.negative > base_negative;
   const bool bifurcation =
       pivot ? along < 0.5 : along < 0.5 || path_alignment(mesh, cur.state, phi) < 0.5;
-  res.limit_type = bifurcation ? "bifurcation" : "limit point";
+  res.limit_type = bifurcation ? LimitType::bifurcation : LimitType::limit_point;
   return bifurcation && pivot ? 0.5 * (cur.lambda + next.lambda)
                               : std::max({cur.lambda, next.lambda, lam_max});
 }

@@ -33,6 +33,7 @@
 
 #include "gridshell/core/progress.h"
 #include "gridshell/fem/frame_solver.h"
+#include "gridshell/fem/limit_type.h"
 
 namespace gridshell::fem {
 
@@ -61,7 +62,7 @@ struct PathPoint {
 struct ArcLengthResult {
   std::vector<PathPoint> path;  ///< converged points (λ = 0 first)
   double lambda_critical = 0;   ///< first limit point / bifurcation; else the largest λ reached
-  std::string limit_type = "none";
+  LimitType limit_type = LimitType::none;
   FrameState critical_state;  ///< the last stable state before the critical point
   FrameState final_state;
   int steps = 0, iterations = 0, cutbacks = 0;

@@ -539,7 +539,7 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
     legend.push_back(
         {delta_color, LegendSymbol::marker, "λ_δ = " + number(*st.lambda_displacement_limit)});
   }
-  if (st.lambda_nonlinear && st.limit_type != "none") {
+  if (st.lambda_nonlinear && st.limit_type != fem::LimitType::none) {
     // At the path point nearest the critical factor.
     std::size_t best = 0;
     for (std::size_t k = 1; k < path.size(); ++k)
@@ -548,8 +548,9 @@ Canvas draw_load_path(const FigureInput& in, const FigureOptions& options) {
         best = k;
     draw_marker(canvas, axes.to_pixel(path[best].displacement * 1000, *st.lambda_nonlinear),
                 0.5 * fs, critical_color);
-    legend.push_back({critical_color, LegendSymbol::marker,
-                      fmt::format("λ = {} ({})", number(*st.lambda_nonlinear), st.limit_type)});
+    legend.push_back(
+        {critical_color, LegendSymbol::marker,
+         fmt::format("λ = {} ({})", number(*st.lambda_nonlinear), fem::to_string(st.limit_type))});
   }
   cairo_restore(cr);
   draw_axes(canvas, axes, "largest displacement [mm]", "load factor λ  (× reference load)");

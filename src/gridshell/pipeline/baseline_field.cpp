@@ -19,10 +19,9 @@ Field baseline_field(const Surface& surface, const DesignOptions& o) {
     spdlog::info("[stress] shell analysis of {} triangles", surface.mesh.num_faces());
     stress = fem::analyze_surface_stress(surface, o.shell).stress;
   }
-  FieldOptions fo = o.field_options;
-  fo.D = o.D, fo.A = o.A;
-  spdlog::info("[field] direction, density (D = {}), anisotropy (A = {})", o.D, o.A);
-  return make_field(surface.mesh, stress, fo);
+  spdlog::info("[field] direction, density (D = {}), anisotropy (A = {})", o.field_options.D,
+               o.field_options.A);
+  return make_field(surface.mesh, stress, o.field_options);
 }
 
 std::optional<Surface> baseline_surface(const Surface& surface, const DesignOptions& options,

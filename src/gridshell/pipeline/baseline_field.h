@@ -13,8 +13,8 @@
 
 namespace gridshell {
 
-/// Stress (shell analysis, or the file of `options.field_file`) → make_field at (options.D,
-/// options.A) with options.field_options' conventions. Unlike run_design, D = A = 1 keeps the
+/// Stress (shell analysis, or the file of `options.field_file`) → make_field with
+/// options.field_options (its D, A and conventions). Unlike run_design, D = A = 1 keeps the
 /// stress directions u (d = a = 1): an isotropic grid that still follows the stress. With
 /// FieldInput::uniform: uniform_field. Throws Error as check_design_options and make_field do.
 Field baseline_field(const Surface& surface, const DesignOptions& options);

@@ -37,7 +37,7 @@ void lap(Timings& timings, const char* stage, Clock::time_point& t) {
 }
 
 bool is_isotropic(const DesignOptions& o) {
-  return o.field == FieldInput::uniform || (o.D == 1 && o.A == 1);
+  return o.field == FieldInput::uniform || (o.field_options.D == 1 && o.field_options.A == 1);
 }
 
 /// Field values of the faces of `sub`, a mesh whose faces come from `parent` faces of a mesh
@@ -374,7 +374,8 @@ Tessellated tessellate_with_retries(const Surface& surface, const StressField& s
   std::string last_error;
   for (double strength : isotropic ? std::vector<double>{0.0} : std::vector<double>{1.0, 0.5, 0.0}) {
     auto t = Clock::now();
-    const double D = 1 + strength * (o.D - 1), A = 1 + strength * (o.A - 1);
+    const double D = 1 + strength * (o.field_options.D - 1),
+                 A = 1 + strength * (o.field_options.A - 1);
     if (cache) {  // the field and M′ do not depend on the seed: shared between designs
       const Staged<Field>& f = shared_field(*cache, surface.mesh, stress, o, D, A, given);
       r.field = f.value;
@@ -382,7 +383,8 @@ Tessellated tessellate_with_retries(const Surface& surface, const StressField& s
     } else {
       r.field = design_field(surface.mesh, stress, o, D, A, given, r);
     }
-    if (strength != 1.0 && !isotropic) r.details["field"]["softened_from"] = {o.D, o.A};
+    if (strength != 1.0 && !isotropic)
+      r.details["field"]["softened_from"] = {o.field_options.D, o.field_options.A};
     lap(r.timings, "field", t);
     Metric m;
     if (cache && strength != 0.0) {
@@ -482,17 +484,19 @@ void finish(InputSurface& M, const DesignOptions& o, const std::vector<Plane>& p
             const std::vector<std::vector<int>>& mirror,
             const std::vector<VertexConstraint>& constraints, DesignResult& r) {
   r.raw_metrics = mesh_metrics(r.raw);
-  if (o.planarize || o.regularize) {
+  if (o.finish != Finish::raw) {
     RegularizeStats stats;
-    spdlog::info("[{}] {} faces", o.planarize ? "planarize" : "regularize", r.raw.num_faces());
-    r.mesh = o.planarize
+    spdlog::info("[{}] {} faces", o.finish == Finish::planarize ? "planarize" : "regularize",
+                 r.raw.num_faces());
+    r.mesh = o.finish == Finish::planarize
                  ? planarize(r.raw, M.mesh(), constraints, planarize_options(), &stats)
                  : regularize(r.raw, M.projector(), constraints, o.regularize_options, &stats);
     if (!planes.empty()) enforce_symmetry(r.mesh, planes, mirror);
-    r.details["regularization"] = {{"kind", o.planarize ? "planarize" : "regularize"},
-                                   {"iterations", stats.iterations},
-                                   {"converged", stats.converged},
-                                   {"max_surface_distance", stats.max_surface_distance}};
+    r.details["regularization"] = {
+        {"kind", o.finish == Finish::planarize ? "planarize" : "regularize"},
+        {"iterations", stats.iterations},
+        {"converged", stats.converged},
+        {"max_surface_distance", stats.max_surface_distance}};
   } else {
     r.mesh = r.raw;
   }
@@ -528,7 +532,7 @@ void on_input_surface(const TriMesh& coarse, InputSurface& M, const DesignOption
   if (r.field.size() != coarse.num_faces())
     throw Error("field transfer", "the field does not match the analysis surface");
   r.field = transfer_field(r.field, M.to_input(coarse), M.mesh());
-  if (!o.planarize && !o.regularize) {
+  if (o.finish == Finish::raw) {
     const SurfaceProjector& projector = M.projector();
     for (int v = 0; v < r.mesh.num_vertices(); ++v)
       r.mesh.V.row(v) = projector.closest_point(r.mesh.vertex(v)).transpose();
@@ -576,11 +580,13 @@ std::optional<Surface> design_analysis_surface(const Surface& surface, const Des
 }
 
 void check_design_options(const DesignOptions& o) {
-  if (!(o.D >= 1) || !std::isfinite(o.D)) throw Error("-D", "must be a number ≥ 1");
-  if (!(o.A >= 1) || !std::isfinite(o.A)) throw Error("-A", "must be a number ≥ 1");
-  if (o.D > 8 || o.A > 8)
-    spdlog::warn("design: D or A above ~4 may fold the deformed surface (D = {}, A = {})", o.D,
-                 o.A);
+  if (!(o.field_options.D >= 1) || !std::isfinite(o.field_options.D))
+    throw Error("-D", "must be a number ≥ 1");
+  if (!(o.field_options.A >= 1) || !std::isfinite(o.field_options.A))
+    throw Error("-A", "must be a number ≥ 1");
+  if (o.field_options.D > 8 || o.field_options.A > 8)
+    spdlog::warn("design: D or A above ~4 may fold the deformed surface (D = {}, A = {})",
+                 o.field_options.D, o.field_options.A);
   if (!(o.frame_analysis.displacement_limit >= 0) ||
       !std::isfinite(o.frame_analysis.displacement_limit))
     throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
@@ -677,18 +683,18 @@ void prepare(const Surface& surface, const DesignOptions& o, const StressField* 
 /// What prepare_design_cache computes (see design.h).
 void warm_up(const Surface& surface, const DesignOptions& o, DesignCache::Impl* cache) {
   InputSurface M(surface.mesh, cache);
-  if (!o.planarize && o.regularize) M.projector();  // needs only the input: first
+  if (o.finish == Finish::regularize) M.projector();  // needs only the input: first
   if (o.symmetry != Symmetry::none) M.symmetry();
   DesignResult scratch;
   Prepared prepared;
   prepare(surface, o, nullptr, cache, M, prepared, scratch);
   const std::optional<Surface>& coarse = *prepared.coarse;
   if (!is_isotropic(o))
-    shared_field(*cache, coarse ? coarse->mesh : surface.mesh, *prepared.stress, o, o.D, o.A,
-                 false);
+    shared_field(*cache, coarse ? coarse->mesh : surface.mesh, *prepared.stress, o,
+                 o.field_options.D, o.field_options.A, false);
   if (coarse) {
     M.to_input(coarse->mesh);
-    if (!o.planarize) M.projector();
+    if (o.finish != Finish::planarize) M.projector();
   }
 }
 
@@ -744,8 +750,8 @@ DesignResult design(const Surface& surface, const DesignOptions& o, const Stress
     spdlog::info(
         "[analysis] delta = {:.4g} m, lambda_LBA = {}, lambda_nonlinear = {} ({}), lambda at "
         "{:.3g} m = {}",
-        st.delta_max_m, num(st.lambda_linear_buckling), num(st.lambda_nonlinear), st.limit_type,
-        st.displacement_limit_m, num(st.lambda_displacement_limit));
+        st.delta_max_m, num(st.lambda_linear_buckling), num(st.lambda_nonlinear),
+        fem::to_string(st.limit_type), st.displacement_limit_m, num(st.lambda_displacement_limit));
     lap(r.timings, "analysis", t);
   }
   return r;

@@ -57,17 +57,25 @@ enum class AnalysisResolution {
 AnalysisResolution parse_analysis_resolution(const std::string& word);
 const char* to_string(AnalysisResolution resolution);
 
+/// The finishing step after the tessellation (optimize/regularize.h).
+enum class Finish {
+  raw,         ///< none: the tessellation as it is (`--no-regularize`)
+  regularize,  ///< stretched-regular faces (the paper; the default)
+  planarize,   ///< ShapeUp planarity projection instead (`--planarize`)
+};
+/// (Its words and the command line's flags: pipeline/design_settings.h.)
+
 struct DesignOptions {
   FieldInput field = FieldInput::stress;
   std::string field_file;  ///< with FieldInput::file
-  double D = 3;  ///< density ratio: densest cells D× smaller across than the sparsest
-  double A = 3;  ///< anisotropy ratio: cells up to A× longer along u than across
   analysis::AnalysisLevel analyze = analysis::AnalysisLevel::nonlinear;
-  bool regularize = true;
-  bool planarize = false;  ///< ShapeUp planarity projection instead of regularization
+  Finish finish = Finish::regularize;
   Symmetry symmetry = Symmetry::none;
   TessellationOptions tessellation;
-  FieldOptions field_options;  ///< D and A are taken from above
+  /// The field's conventions and its ratios, stored here only: D (density ratio: the densest
+  /// cells D× smaller across than the sparsest, default 3) and A (anisotropy ratio: cells up to
+  /// A× longer along u than across, default 3).
+  FieldOptions field_options;
   fem::ShellDefaults shell;
   DeformOptions deform;  ///< max_edge is set from the cell size (metric_edge × R)
   /// Edges of M′ are refined to metric_edge × R by the deformation; the tessellation engine then

@@ -12,6 +12,7 @@
 #include "gridshell/core/error.h"
 #include "gridshell/fabrication/fabrication_files.h"
 #include "gridshell/pipeline/buildability_report.h"
+#include "gridshell/pipeline/frame_output.h"
 #include "gridshell/pipeline/structure.h"
 #include "gridshell/sections/sections.h"
 
@@ -46,7 +47,7 @@ nlohmann::json structure_block(const analysis::FrameResult& r) {
   st["delta_max_m"] = r.delta_max_m;
   st["lambda_linear_buckling"] = optional_number(r.lambda_linear_buckling);
   st["lambda_nonlinear"] = optional_number(r.lambda_nonlinear);
-  st["limit_type"] = r.limit_type;
+  st["limit_type"] = fem::to_string(r.limit_type);
   st["lambda_displacement_limit"] = optional_number(r.lambda_displacement_limit);
   st["displacement_limit_m"] =
       r.displacement_limit_m > 0 ? nlohmann::json(r.displacement_limit_m) : nlohmann::json();
@@ -265,8 +266,8 @@ nlohmann::json design_report(const DesignResult& r, const DesignOptions& options
       buildability_block(r.mesh, member_designations(analysed_frame(options, r)));
   report["design"] = r.details;
   report["design"]["panels_requested"] = to_string(options.panels);
-  report["design"]["regularized"] = options.regularize && !options.planarize;
-  report["design"]["planarized"] = options.planarize;
+  report["design"]["regularized"] = options.finish == Finish::regularize;
+  report["design"]["planarized"] = options.finish == Finish::planarize;
   report["design"]["restretch"] = options.regularize_options.restretch;
   report["design"]["size_evening"] = options.regularize_options.size_evening;
   report["design"]["analysis"] = to_string(options.analyze);
@@ -352,6 +353,31 @@ nlohmann::json section_block(const analysis::GridshellFrameOptions& frame) {
   j["Iz_m4"] = q.Iz;
   j["It_m4"] = q.It;
   return j;
+}
+
+double add_analysed_report(const std::filesystem::path& dir, const AnalysedGridshell& a,
+                           nlohmann::json& report) {
+  if (!a.mesh || !a.supports || !a.frame || !a.options || !a.structure ||
+      (a.sized && !a.sizing_options))
+    throw Error("report", "an analysed grid-shell without its mesh, frame or analysis");
+  const analysis::GridshellFrameOptions& frame = *a.frame;
+  report["structure"]["steel"] = a.steel;
+  report["structure"]["loads"] = to_string(frame.loads);
+  Stopwatch combinations;
+  report["structure"]["combinations"] =
+      combinations_block(*a.mesh, *a.supports, frame, *a.options, *a.structure,
+                         a.sized ? &a.sized->final : nullptr);
+  const double combinations_s = combinations.seconds();
+  report["structure"]["governing"] = governing_block(report["structure"]["combinations"]);
+  report["mass"] = steel_block(*a.mesh, frame, a.carbon_factor);
+  if (a.sized) {
+    report["sizing"] = sizing_block(*a.sized, *a.mesh, frame, *a.sizing_options, a.carbon_factor);
+    report["sizing"]["sections_list"] = a.sections;
+    if (!a.sized->sized) spdlog::warn("[sizing] not sized: {}", a.sized->failure);
+  }
+  write_frame_json(dir, analysis::gridshell_frame(*a.mesh, *a.supports, frame), frame, *a.options,
+                   a.level);
+  return combinations_s;
 }
 
 }  // namespace gridshell

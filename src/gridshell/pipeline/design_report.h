@@ -17,6 +17,7 @@
 #include "gridshell/fabrication/nesting.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/gridshell_output.h"
+#include "gridshell/sizing/sizing.h"
 
 namespace gridshell {
 
@@ -49,6 +50,31 @@ nlohmann::json fabrication_report(const std::filesystem::path& dir, const PolyMe
                                   const analysis::GridshellFrameOptions& frame,
                                   const fabrication::SheetOptions& sheet,
                                   const fabrication::BeamResults* envelope = nullptr);
+
+/// An analysed grid-shell, for add_analysed_report. Pointers must outlive the call; `sized` is
+/// null unless its members were sized.
+struct AnalysedGridshell {
+  const PolyMesh* mesh = nullptr;
+  const std::vector<int>* supports = nullptr;
+  /// As analysed: with a sized design's member sections (analysed_frame, analyze_structure).
+  const analysis::GridshellFrameOptions* frame = nullptr;
+  const analysis::FrameAnalysisOptions* options = nullptr;
+  analysis::AnalysisLevel level = analysis::AnalysisLevel::nonlinear;
+  const analysis::FrameResult* structure = nullptr;  ///< the primary combination
+  const sizing::SizingResult* sized = nullptr;
+  const sizing::SizingOptions* sizing_options = nullptr;  ///< with `sized`
+  std::string steel;          ///< the grade's word (`--steel`)
+  std::string sections;       ///< the section list's word (`--sections`)
+  double carbon_factor = 0;   ///< kgCO2e/kg
+};
+/// What design and baseline (and the studio's export) write alike for an analysed grid-shell:
+/// report.json's `structure.steel`, `structure.loads`, `structure.combinations` and
+/// `structure.governing` (combinations_block, governing_block, analysing the combinations other
+/// than the primary), `mass` (steel_block) and, when sized, `sizing` (sizing_block with
+/// `sections_list`), and DIR/frame.json (frame_output.h). Returns the seconds of the
+/// combinations' analyses.
+double add_analysed_report(const std::filesystem::path& dir, const AnalysedGridshell& analysed,
+                           nlohmann::json& report);
 
 /// report.json's `structure.section`: the members' section (`frame.section`, else the bar of
 /// `frame.diameter`) — designation, shape, process, whether a catalogue size, A, mass per metre,

@@ -28,8 +28,8 @@ double seconds_since(Clock::time_point t) {
 
 DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s, double length) {
   DesignOptions o = base;
-  o.D = s.D;
-  o.A = s.A;
+  o.field_options.D = s.D;
+  o.field_options.A = s.A;
   o.field = s.source == FieldSource::uniform ? FieldInput::uniform : FieldInput::stress;
   o.field_options.measure = s.measure;
   o.field_options.stretch = s.stretch;

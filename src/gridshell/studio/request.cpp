@@ -7,16 +7,12 @@
 #include <fmt/format.h>
 
 #include "gridshell/core/error.h"
-#include "gridshell/fabrication/nesting.h"
-#include "gridshell/field/field.h"
-#include "gridshell/figures/figures.h"
-#include "gridshell/io/files.h"
-#include "gridshell/io/mesh_io.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/pipeline/design_report.h"
-#include "gridshell/pipeline/gridshell_output.h"
+#include "gridshell/pipeline/design_settings.h"
+#include "gridshell/report/design_folder.h"
 #include "gridshell/report/report_html.h"
 #include "gridshell/surfaces/builtin.h"
-#include "gridshell/mesh/geometry.h"
 
 namespace gridshell::studio {
 
@@ -90,7 +86,7 @@ StudioRequest parse_request(const Params& params) {
   if (p.count("length") && p.count("cells"))
     throw Error("--radius/--cells/--length", "give at most one of them");
   if (r.length > 0) r.cells = 0;
-  check_design_options(design_options(r));
+  design_options(r);  // parses the rest and checks (build_design_options)
   return r;
 }
 
@@ -121,16 +117,19 @@ std::string request_query(const StudioRequest& r) {
 }
 
 DesignOptions design_options(const StudioRequest& r) {
-  DesignOptions o;
-  o.D = r.D;
-  o.A = r.A;
-  o.tessellation.cells = r.cells;
-  o.tessellation.length = r.length;
-  o.tessellation.seed = r.seed;
-  o.symmetry = r.symmetry;
-  o.panels = r.panels;
-  o.analyze = r.analyze;
-  return o;
+  // The command line's builder, so a request means what `gridshell design` with request_config
+  // means.
+  DesignSettings s;
+  s.options.field_options.D = r.D;
+  s.options.field_options.A = r.A;
+  s.options.tessellation.cells = r.cells;
+  s.options.tessellation.length = r.length;
+  s.seed = r.seed;
+  s.symmetry = to_string(r.symmetry);
+  s.panels = to_string(r.panels);
+  s.analyze = analysis::to_string(r.analyze);
+  s.single_path = true;  // the studio follows the perfect path only (request_config says so)
+  return build_design_options(s);
 }
 
 StudioDesign design_request(const Surface& surface, const StudioRequest& request,
@@ -177,6 +176,7 @@ nlohmann::json request_config(const StudioRequest& r, const std::string& surface
   options["symmetry"] = to_string(r.symmetry);
   if (r.panels == PanelMode::flat) options["panels"] = "flat";
   options["analyze"] = analysis::to_string(r.analyze);
+  if (r.analyze == analysis::AnalysisLevel::nonlinear) options["single-path"] = true;
   options["seed"] = std::to_string(r.seed);
   return {{"command", "design"}, {"positional", {surface_arg}}, {"options", options}};
 }
@@ -208,38 +208,19 @@ nlohmann::json design_answer(const StudioDesign& d, const std::string& surface_a
 
 void write_design_folder(const std::filesystem::path& dir, const StudioDesign& d,
                          const Surface& surface, const std::string& surface_arg) {
-  const DesignResult& r = d.result;
   const DesignOptions options = design_options(d.request);
-  const analysis::FrameResult* structure = r.structure ? &*r.structure : nullptr;
-  io::ensure_directory(dir);
-  const GridShellOutput out = design_output(r);
-  write_gridshell_files(dir, out);
-  const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports, structure, options.frame,
-                                                fabrication::parse_sheet("2.5x1.25"));
-  io::write_vtp(dir / "field.vtp", to_poly(surface.mesh), {}, field_attributes(r.field));
-  const std::vector<std::string> figure_files = figures::write_figures(
-      dir,
-      {.title = fmt::format("gridshell studio {}: {}; {} cells, {:.0f} m of beams; seed {}",
-                            surface_arg, request_query(d.request), r.mesh.num_faces(),
-                            r.metrics.total_length, d.request.seed),
-       .gridshell = &r.mesh,
-       .supports = r.supports,
-       .structure = structure,
-       .surface = &surface.mesh,
-       .field = &r.field},
-      figures::parse_figure_options("1600x1200"));
-  nlohmann::json report = d.report;
-  report["fabrication"] = bom;
-  report["figures"] = figure_files;
-  const nlohmann::json config = request_config(d.request, surface_arg);
-  io::write_file_atomic(dir / "config.json", config.dump(2) + "\n");
-  io::write_file_atomic(dir / "report.json", report.dump(2) + "\n");
-  report::ReportInput page = report::gridshell_report_input(r.mesh, r.supports, structure);
-  page.density = out.d_target;
-  page.report = report;
-  page.config = config;
-  page.title = "gridshell design " + surface_arg;
-  report::write_report_html(dir, page);
+  report::DesignFolderInput folder;
+  folder.surface = &surface;
+  folder.options = &options;
+  folder.result = &d.result;
+  folder.search = d.search ? &*d.search : nullptr;
+  folder.surface_name = d.request.surface;
+  folder.title = fmt::format("gridshell studio {}: {}; {} cells, {:.0f} m of beams; seed {}",
+                             surface_arg, request_query(d.request), d.result.mesh.num_faces(),
+                             d.result.metrics.total_length, d.request.seed);
+  folder.config = request_config(d.request, surface_arg);
+  folder.seconds_before = d.seconds;
+  report::write_design_folder(dir, folder);
 }
 
 }  // namespace gridshell::studio

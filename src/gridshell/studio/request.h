@@ -87,9 +87,10 @@ nlohmann::json request_config(const StudioRequest& request, const std::string& s
 /// The JSON answer of /api/design (see above).
 nlohmann::json design_answer(const StudioDesign& design, const std::string& surface_arg);
 
-/// Writes what `gridshell design -o DIR` writes for this design into `dir` (created): the
-/// grid-shell files, fabrication files, field.vtp, figures, report.json, config.json and
-/// report.html. `surface`: the surface it was designed on.
+/// Writes what `gridshell design -o DIR` writes for this design into `dir` (created), with the
+/// one writer `gridshell design` calls (report/design_folder.h): the grid-shell, fabrication and
+/// frame files, field.vtp, modes.csv, figures, report.json (with the load combinations),
+/// config.json (request_config) and report.html. `surface`: the surface it was designed on.
 void write_design_folder(const std::filesystem::path& dir, const StudioDesign& design,
                          const Surface& surface, const std::string& surface_arg);
 
