@@ -45,20 +45,6 @@ cholmod_sparse upper_csc_view(int n, int* p, int* i, double* x = nullptr);
 /// Lock held for the duration of a CHOLMOD symbolic analysis (see above).
 [[nodiscard]] std::unique_lock<std::mutex> lock_symbolic_analysis();
 
-/// `solver.analyzePattern(A)` under the analysis lock (Eigen's Cholmod* classes).
-template <class Solver, class Matrix>
-void analyze_pattern(Solver& solver, const Matrix& A) {
-  const auto lock = lock_symbolic_analysis();
-  solver.analyzePattern(A);
-}
-
-/// `solver.compute(A)` with the symbolic analysis under the lock.
-template <class Solver, class Matrix>
-void compute_factorization(Solver& solver, const Matrix& A) {
-  analyze_pattern(solver, A);
-  solver.factorize(A);
-}
-
 /// Largest block `dpotrf_` factorises itself rather than passing it on to the system LAPACK.
 inline constexpr int kSmallPotrfMax = 96;
 
