@@ -8,8 +8,12 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
+#include <cstdlib>
 #include <numeric>
 #include <vector>
+
+#include "gridshell/core/error.h"
 
 namespace gridshell {
 namespace {
@@ -138,13 +142,21 @@ TEST(SparseCholesky, LdltInertiaMatchesTheEigenvalueSigns) {
   const Eigen::VectorXd b = rhs(static_cast<int>(A.rows()));
   EXPECT_LT((A * ldlt.solve(b) - b).norm(), 1e-10 * b.norm());
 
-  // The supernodal LLᵀ of the same matrix fails; of K it succeeds, reusing the analysis.
-  SparseCholesky llt;
-  ASSERT_TRUE(llt.analyze(A));
-  EXPECT_FALSE(llt.factorize(A).ok);
-  EXPECT_TRUE(llt.factorize(K).ok);
-  const Eigen::VectorXd x = llt.solve(b);
-  EXPECT_LT((K * x - b).norm(), 1e-12 * b.norm());
+  // The LLᵀ of the same matrix fails (at a column of the matrix); of K it succeeds, reusing the
+  // analysis.
+  for (const CholeskyMode mode : {CholeskyMode::supernodal, CholeskyMode::simplicial}) {
+    SparseCholeskyOptions lo;
+    lo.mode = mode;
+    SparseCholesky llt(lo);
+    ASSERT_TRUE(llt.analyze(A));
+    const CholeskyStatus failed = llt.factorize(A);
+    EXPECT_FALSE(failed.ok);
+    EXPECT_GE(failed.failed_column, 0);
+    EXPECT_LT(failed.failed_column, A.rows());
+    EXPECT_TRUE(llt.factorize(K).ok);
+    const Eigen::VectorXd x = llt.solve(b);
+    EXPECT_LT((K * x - b).norm(), 1e-12 * b.norm());
+  }
 }
 
 TEST(SparseCholesky, TriangularSystemsComposeToTheSolve) {
@@ -166,6 +178,24 @@ TEST(SparseCholesky, TriangularSystemsComposeToTheSolve) {
     const Eigen::MatrixXd X = solver.solve(B);
     EXPECT_LT((A * X - B).norm(), 1e-12 * B.norm());
   }
+}
+
+TEST(SparseCholesky, TheEnvironmentSwitchSetsModeAndAmalgamation) {
+  SparseCholeskyOptions o;
+  ::setenv("GRIDSHELL_CHOLESKY", "supernodal:8,32,64:0.9,0.2,0.1", 1);
+  SparseCholeskyOptions e = with_environment(o);
+  EXPECT_EQ(e.mode, CholeskyMode::supernodal);
+  EXPECT_EQ(e.nrelax, (std::array<int, 3>{8, 32, 64}));
+  EXPECT_EQ(e.zrelax, (std::array<double, 3>{0.9, 0.2, 0.1}));
+  ::setenv("GRIDSHELL_CHOLESKY", "simplicial", 1);
+  EXPECT_EQ(with_environment(o).mode, CholeskyMode::simplicial);
+  EXPECT_EQ(with_environment(o, /*allow_simplicial=*/false).mode, CholeskyMode::supernodal);
+  ::setenv("GRIDSHELL_CHOLESKY", "supernodal:8", 1);
+  EXPECT_THROW(with_environment(o), Error);
+  ::unsetenv("GRIDSHELL_CHOLESKY");
+  e = with_environment(o);
+  EXPECT_EQ(e.nrelax, o.nrelax);
+  EXPECT_EQ(e.mode, o.mode);
 }
 
 TEST(SparseCholesky, GraphOrderingsArePermutationsAndSeparators) {

@@ -1,7 +1,8 @@
 #pragma once
 /// \file cholmod_support.h
-/// What every CHOLMOD user in the library shares, so that results are the same bits run to run
-/// and for any number of concurrent solves (a parallel `sweep` factorises in several threads).
+/// What the library's CHOLMOD use (core/sparse_cholesky.h, the one caller) shares, so that
+/// results are the same bits run to run and for any number of concurrent solves (a parallel
+/// `sweep` factorises in several threads), and the small dense kernels the executables link.
 ///
 /// - METIS (called by CHOLMOD's symbolic analysis: explicitly, with nmethods > 1, or as the
 ///   default's fallback when AMD fills badly) keeps its random-number state in a process-wide

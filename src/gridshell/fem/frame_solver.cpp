@@ -321,10 +321,15 @@ namespace {
 // METIS nested dissection. For grid-shell frames METIS saves about a quarter of the flops; the
 // extra analysis is done once per pattern.
 //
-// K is stored whole (frame_pattern.h); the supernodal LLᵀ reads its upper triangle, from which
-// CHOLMOD forms the permuted matrix it factorises with one transpose (from the lower triangle
-// it takes two; CHOLMOD's transposes were 5 % of the Aquadom LBA's process). Only the failing
-// column of an indefinite K is wanted: the factorisation stops there.
+// Supernodal: a frame's supernodes are tiny (Aquadom: 11 281 of 12 732 have ≤ 6 columns), but
+// with the executables' small dense kernels (src/interpose/) the supernodal factorisation is
+// still faster than the simplicial one, which has no BLAS calls (docs/performance.md, "The
+// sparse solver": simplicial ×1.2–1.3 on the Aquadom and Lilium frames).
+//
+// K is stored whole (frame_pattern.h); the LLᵀ reads its upper triangle, from which CHOLMOD forms
+// the permuted matrix it factorises with one transpose (from the lower triangle it takes two;
+// CHOLMOD's transposes were 5 % of the Aquadom LBA's process). Only the failing column of an
+// indefinite K is wanted: the factorisation stops there.
 SparseCholeskyOptions llt_options() {
   SparseCholeskyOptions o;
   o.ordering = CholeskyOrdering::best_of_amd_metis;

@@ -1,22 +1,35 @@
 #include "gridshell/fem/split_cholesky.h"
 
 #include <cholmod.h>
+#include <dlfcn.h>
 #include <tbb/parallel_invoke.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <bit>
 
 #include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/sparse_cholesky.h"
 
-extern "C" void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
 
 namespace gridshell::fem {
 
 namespace {
 
 using DenseMatrix = Eigen::MatrixXd;
+
+// LAPACK's dpotrf, looked up in the process (CHOLMOD's LAPACK is loaded with it): the dense
+// Cholesky that reports the failing column, without a link-time dependency of the library on
+// LAPACK. An executable that exports its own dpotrf_ (src/interpose/) is found first.
+int lapack_potrf_lower(int n, double* a) {
+  using Potrf = void (*)(const char*, const int*, double*, const int*, int*);
+  static const auto potrf = std::bit_cast<Potrf>(dlsym(RTLD_DEFAULT, "dpotrf_"));
+  if (potrf == nullptr) return small_potrf('L', n, a, n);
+  int info = 0;
+  potrf("L", &n, a, &n, &info);
+  return info;
+}
 
 // A half's factorisation: supernodal LLᵀ (the separator block is read off its last
 // supernodes) of its upper triangle, in the given (already fill-reducing, S last) order.
@@ -263,8 +276,7 @@ long SplitCholesky::factorize(const cholmod_sparse& K) {
     I.C(r, c) -= Kx[k];
     if (r != c) I.C(c, r) -= Kx[k];
   }
-  int info = 0;
-  dpotrf_("L", &m, I.C.data(), &m, &info);
+  const int info = lapack_potrf_lower(m, I.C.data());
   if (info > 0) return I.sep_dof[info - 1];
   I.C.triangularView<Eigen::StrictlyUpper>().setZero();
   return -1;
