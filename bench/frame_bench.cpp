@@ -15,7 +15,6 @@
 #include <ctime>
 #include <filesystem>
 
-#include <Eigen/CholmodSupport>
 
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"

@@ -1,7 +1,8 @@
 #pragma once
 /// \file cholmod_support.h
-/// What every CHOLMOD user in the library shares, so that results are the same bits run to run
-/// and for any number of concurrent solves (a parallel `sweep` factorises in several threads).
+/// What the library's CHOLMOD use (core/sparse_cholesky.h, the one caller) shares, so that
+/// results are the same bits run to run and for any number of concurrent solves (a parallel
+/// `sweep` factorises in several threads), and the small dense kernels the executables link.
 ///
 /// - METIS (called by CHOLMOD's symbolic analysis: explicitly, with nmethods > 1, or as the
 ///   default's fallback when AMD fills badly) keeps its random-number state in a process-wide
@@ -44,20 +45,6 @@ cholmod_sparse upper_csc_view(int n, int* p, int* i, double* x = nullptr);
 
 /// Lock held for the duration of a CHOLMOD symbolic analysis (see above).
 [[nodiscard]] std::unique_lock<std::mutex> lock_symbolic_analysis();
-
-/// `solver.analyzePattern(A)` under the analysis lock (Eigen's Cholmod* classes).
-template <class Solver, class Matrix>
-void analyze_pattern(Solver& solver, const Matrix& A) {
-  const auto lock = lock_symbolic_analysis();
-  solver.analyzePattern(A);
-}
-
-/// `solver.compute(A)` with the symbolic analysis under the lock.
-template <class Solver, class Matrix>
-void compute_factorization(Solver& solver, const Matrix& A) {
-  analyze_pattern(solver, A);
-  solver.factorize(A);
-}
 
 /// Largest block `dpotrf_` factorises itself rather than passing it on to the system LAPACK.
 inline constexpr int kSmallPotrfMax = 96;

@@ -9,10 +9,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
-#include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 
-#include "gridshell/core/cholmod_support.h"
+#include "gridshell/core/sparse_cholesky.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/frame_pattern.h"
 
@@ -318,92 +317,79 @@ Eigen::VectorXd FrameAssembler::expand(const Eigen::VectorXd& free) const {
 // Factorisation
 
 namespace {
-// Fill-reducing ordering for all CHOLMOD factorisations: the better (fewer flops) of AMD and
+// Fill-reducing ordering for all the frame's factorisations: the better (fewer flops) of AMD and
 // METIS nested dissection. For grid-shell frames METIS saves about a quarter of the flops; the
 // extra analysis is done once per pattern.
-void configure(cholmod_common& c) {
-  c.print = 0;
-  c.nmethods = 2;
-  c.method[0].ordering = CHOLMOD_AMD;
-  c.method[1].ordering = CHOLMOD_METIS;
-  c.postorder = 1;
+//
+// Supernodal: a frame's supernodes are tiny (Aquadom: 11 281 of 12 732 have ≤ 6 columns), but
+// with the executables' small dense kernels (src/interpose/) the supernodal factorisation is
+// still faster than the simplicial one, which has no BLAS calls (docs/performance.md, "The
+// sparse solver": simplicial ×1.2–1.3 on the Aquadom and Lilium frames).
+//
+// K is stored whole (frame_pattern.h); the LLᵀ reads its upper triangle, from which CHOLMOD forms
+// the permuted matrix it factorises with one transpose (from the lower triangle it takes two;
+// CHOLMOD's transposes were 5 % of the Aquadom LBA's process). Only the failing column of an
+// indefinite K is wanted: the factorisation stops there.
+SparseCholeskyOptions llt_options() {
+  SparseCholeskyOptions o;
+  o.ordering = CholeskyOrdering::best_of_amd_metis;
+  o.triangle = StoredTriangle::upper;
+  o.stop_at_failure = true;
+  return with_environment(o);
 }
 
-// K is stored whole (frame_pattern.h); the supernodal LLᵀ reads its upper triangle, from which
-// CHOLMOD forms the permuted matrix it factorises with one transpose (from the lower triangle
-// it takes two; CHOLMOD's transposes were 5 % of the Aquadom LBA's process).
-class Llt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
- public:
-  Llt() { configure(cholmod()); }
-  cholmod_factor* factor() const { return m_cholmodFactor; }
-  cholmod_common* common() const { return &const_cast<Llt*>(this)->cholmod(); }
-};
-
-// Simplicial LDLᵀ (no pivoting) for indefinite tangents; D is read off the factor. The lower
+// Simplicial LDLᵀ (no pivoting) for indefinite tangents; D gives the inertia. The lower
 // triangle is the one CHOLMOD's simplicial factorisation permutes with one transpose.
-class Ldlt : public Eigen::CholmodSimplicialLDLT<SpMat, Eigen::Lower> {
- public:
-  Ldlt() { configure(cholmod()); }
-  const cholmod_factor* factor() const { return m_cholmodFactor; }
-};
+SparseCholeskyOptions ldlt_options() {
+  SparseCholeskyOptions o;
+  o.ordering = CholeskyOrdering::best_of_amd_metis;
+  o.mode = CholeskyMode::simplicial;
+  o.kind = CholeskyKind::ldlt;
+  o.triangle = StoredTriangle::lower;
+  return o;
+}
 
 }  // namespace
 
 struct TangentSolver::Impl {
-  Llt llt;
-  Ldlt ldlt;
-  bool llt_analyzed = false, ldlt_analyzed = false;
+  SparseCholesky llt{llt_options()};
+  SparseCholesky ldlt{ldlt_options()};
 };
 
-TangentSolver::TangentSolver() : impl_(std::make_unique<Impl>()) {
-  impl_->llt.cholmod().quick_return_if_not_posdef = 1;
-}
+TangentSolver::TangentSolver() : impl_(std::make_unique<Impl>()) {}
 TangentSolver::~TangentSolver() = default;
 
 void TangentSolver::analyze(const SpMat& pattern) {
   Impl& m = *impl_;
-  if (m.llt_analyzed) return;
-  analyze_pattern(m.llt, pattern);
-  m.llt_analyzed = true;
+  if (!m.llt.analyzed()) m.llt.analyze(pattern);
 }
 
 bool TangentSolver::factorize(const SpMat& K) {
   Impl& m = *impl_;
   analyze(K);
-  {
-    const SerialOpenMpScope serial_openmp;
-    m.llt.factorize(K);
-  }
+  const CholeskyStatus status = m.llt.factorize(K);
   failed_ = -1;
   min_ratio_ = 0;
   min_eq_ = -1;
-  const cholmod_factor* L = m.llt.factor();
-  const int* perm = static_cast<const int*>(L->Perm);
-  if (m.llt.info() == Eigen::Success && L->is_super) {
+  if (status.ok) {
     pd_ = true;
     negative_ = 0;
-    const double* x = static_cast<const double*>(L->x);
-    const int* super = static_cast<const int*>(L->super);
-    const int* pi = static_cast<const int*>(L->pi);
-    const int* px = static_cast<const int*>(L->px);
-    min_ratio_ = 1e300;
+    const int* perm = m.llt.permutation();
+    const Eigen::VectorXd l = m.llt.diagonal();
     const Eigen::VectorXd diagonal = K.diagonal();
-    for (size_t k = 0; k < L->nsuper; ++k) {
-      const int ncols = super[k + 1] - super[k], nrows = pi[k + 1] - pi[k];
-      for (int j = 0; j < ncols; ++j) {
-        const double l = x[px[k] + j * (nrows + 1)];
-        const int eq = perm ? perm[super[k] + j] : super[k] + j;
-        const double ratio = l * l / std::abs(diagonal(eq));
-        if (ratio < min_ratio_) {
-          min_ratio_ = ratio;
-          min_eq_ = eq;
-        }
+    min_ratio_ = 1e300;
+    for (Eigen::Index k = 0; k < l.size(); ++k) {
+      const int eq = perm ? perm[k] : static_cast<int>(k);
+      const double ratio = l(k) * l(k) / std::abs(diagonal(eq));
+      if (ratio < min_ratio_) {
+        min_ratio_ = ratio;
+        min_eq_ = eq;
       }
     }
     return true;
   }
   pd_ = false;
-  if (L->minor < L->n) failed_ = perm ? perm[L->minor] : static_cast<int>(L->minor);
+  failed_ = static_cast<int>(status.failed_column);
   K_ = K;
   ldlt_done_ = false;
   return true;
@@ -414,23 +400,12 @@ bool TangentSolver::ldlt() const {
   Impl& m = *impl_;
   if (!ldlt_done_) {
     ldlt_done_ = true;
-    if (!m.ldlt_analyzed) {
-      analyze_pattern(m.ldlt, K_);
-      m.ldlt_analyzed = true;
-    }
-    m.ldlt.factorize(K_);
+    if (!m.ldlt.analyzed()) m.ldlt.analyze(K_);
     negative_ = -1;
-    const cholmod_factor* L = m.ldlt.factor();
-    if (m.ldlt.info() != Eigen::Success || L->is_super || L->is_ll) return false;
-    const double* x = static_cast<const double*>(L->x);
-    const int* p = static_cast<const int*>(L->p);
-    int neg = 0;
-    for (size_t j = 0; j < L->n; ++j) {
-      const double d = x[p[j]];  // the diagonal of an LDLᵀ factor holds D
-      if (!std::isfinite(d) || d == 0) return false;
-      if (d < 0) ++neg;
-    }
-    negative_ = neg;
+    if (!m.ldlt.factorize(K_).ok) return false;
+    const Inertia inertia = m.ldlt.inertia();
+    if (inertia.singular > 0) return false;
+    negative_ = inertia.negative;
   }
   return negative_ >= 0;
 }
@@ -541,35 +516,23 @@ namespace {
 class BucklingOp {
  public:
   using Scalar = double;
-  BucklingOp(const Llt& llt, SpMat B)
-      : llt_(llt),
-        B_(std::move(B)),
-        perm_(static_cast<const int*>(llt.factor()->Perm)),
-        a_(B_.rows()),
-        b_(B_.rows()) {}
-  ~BucklingOp() {
-    cholmod_common* c = llt_.common();
-    cholmod_free_dense(&x_, c);
-    cholmod_free_dense(&y_, c);
-    cholmod_free_dense(&e_, c);
-  }
-  BucklingOp(const BucklingOp&) = delete;
-  BucklingOp& operator=(const BucklingOp&) = delete;
+  BucklingOp(const SparseCholesky& llt, SpMat B)
+      : llt_(llt), B_(std::move(B)), perm_(llt.permutation()), a_(B_.rows()), b_(B_.rows()) {}
   Eigen::Index rows() const { return B_.rows(); }
   Eigen::Index cols() const { return B_.cols(); }
   void perform_op(const double* x_in, double* y_out) const {
     const Eigen::Index n = rows();
     a_ = Eigen::Map<const Eigen::VectorXd>(x_in, n);
-    triangular(CHOLMOD_Lt, a_);                              // a = L⁻ᵀ x
+    llt_.solve_in_place(CholeskySystem::Lt, a_);             // a = L⁻ᵀ x
     unpermute(a_, b_);                                       // b = Pᵀ a
     a_.noalias() = B_.selfadjointView<Eigen::Upper>() * b_;  // a = B b
     permute(a_, b_);                                         // b = P a
-    triangular(CHOLMOD_L, b_);                               // b = L⁻¹ b
+    llt_.solve_in_place(CholeskySystem::L, b_);              // b = L⁻¹ b
     Eigen::Map<Eigen::VectorXd>(y_out, n) = b_;
   }
   Eigen::VectorXd back(const Eigen::VectorXd& y) const {
     a_ = y;
-    triangular(CHOLMOD_Lt, a_);
+    llt_.solve_in_place(CholeskySystem::Lt, a_);
     Eigen::VectorXd out(rows());
     unpermute(a_, out);
     return out;
@@ -583,24 +546,10 @@ class BucklingOp {
   void unpermute(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
     for (Eigen::Index k = 0; k < v.size(); ++k) out(perm_ ? perm_[k] : k) = v(k);
   }
-  // v = L⁻¹ v or L⁻ᵀ v in place.
-  void triangular(int sys, Eigen::VectorXd& v) const {
-    cholmod_dense b;
-    b.nrow = b.nzmax = b.d = static_cast<size_t>(v.size());
-    b.ncol = 1;
-    b.x = v.data();
-    b.z = nullptr;
-    b.xtype = CHOLMOD_REAL;
-    b.dtype = CHOLMOD_DOUBLE;
-    if (!cholmod_solve2(sys, llt_.factor(), &b, nullptr, &x_, nullptr, &y_, &e_, llt_.common()))
-      throw std::runtime_error("CHOLMOD solve failed");
-    v = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(x_->x), v.size());
-  }
-  const Llt& llt_;
+  const SparseCholesky& llt_;
   SpMat B_;
   const int* perm_;
   mutable Eigen::VectorXd a_, b_;
-  mutable cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;
 };
 
 double max_translation(const FrameMesh& mesh, const Eigen::VectorXd& v) {
@@ -644,8 +593,7 @@ BucklingResult linear_buckling(const FrameMesh& mesh, const FrameAssembler& asse
       stiffness = std::move(fresh);
     }
     if (!stiffness->positive_definite()) return out;
-    const Llt& llt = stiffness->impl().llt;
-    BucklingOp op(llt, std::move(B));
+    BucklingOp op(stiffness->impl().llt, std::move(B));
     const int nev = std::min(options.modes, n - 2);
     const int ncv = std::min(n, std::max(2 * nev + 1, 24));
     Spectra::SymEigsSolver<BucklingOp> eigs(op, nev, ncv);

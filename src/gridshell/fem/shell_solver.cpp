@@ -12,11 +12,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
-#include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
 
 #include "gridshell/core/cholmod_support.h"
+#include "gridshell/core/sparse_cholesky.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/shell_element.h"
 #include "gridshell/fem/split_cholesky.h"
@@ -33,67 +33,39 @@ double seconds_since(Clock::time_point t0) {
 
 using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
-// CHOLMOD's supernodal LLᵀ with access to the column where a factorisation failed.
-class CholmodLlt : public Eigen::CholmodSupernodalLLT<SpMat, Eigen::Upper> {
- public:
-  CholmodLlt() {
-    this->cholmod().print = 0;
-    // Fallback ordering (analyze_by_nodes normally gives its own): METIS nested dissection; on
-    // shell meshes it beats AMD (14.8 vs 24 GFlop at 50 K triangles).
-    this->cholmod().nmethods = 1;
-    this->cholmod().method[0].ordering = CHOLMOD_METIS;
-    this->cholmod().postorder = 1;
+// The monolithic factorisation's options: supernodal LLᵀ of K's upper triangle. Its ordering
+// is normally given (analyze_by_nodes); the fallback is METIS nested dissection of the dofs: on
+// shell meshes it beats AMD (14.8 vs 24 GFlop at 50 K triangles).
+SparseCholeskyOptions shell_llt_options() {
+  SparseCholeskyOptions o;
+  o.ordering = CholeskyOrdering::metis;
+  o.triangle = StoredTriangle::upper;
+  return with_environment(o);
+}
+
+/// Symbolic analysis with METIS nested dissection of the node graph (6× smaller than the dof
+/// graph), each node's 6 dofs kept together. `graph` is the upper pattern of the node graph
+/// (with diagonal) in CSC; K the upper triangle of the stiffness (CSC, 6 dofs per node).
+/// Returns whether the METIS node ordering was used (else the options' METIS of the dofs); the
+/// analysis's success is `llt.analyzed()`.
+bool analyze_by_nodes(SparseCholesky& llt, const cholmod_sparse& K, const std::vector<int>& gp,
+                      const std::vector<int>& gi) {
+  const int nn = static_cast<int>(gp.size()) - 1;
+  std::vector<int> node_perm(nn), perm(6 * static_cast<std::size_t>(nn));
+  // One METIS call at a time (core/cholmod_support.h; test:
+  // ShellSolver.ConcurrentSolvesAreIdenticalToASerialOne): both calls hold the lock.
+  if (nn > 1 && metis_graph_order(nn, gp.data(), gi.data(), node_perm.data())) {
+    for (int q = 0; q < nn; ++q)
+      for (int k = 0; k < 6; ++k) perm[6 * q + k] = 6 * node_perm[q] + k;
+    SparseCholeskyOptions given = shell_llt_options();
+    given.ordering = CholeskyOrdering::given;
+    llt = SparseCholesky(given);
+    llt.analyze(K, perm.data());
+    return true;
   }
-  /// Symbolic analysis with METIS nested dissection of the node graph (6× smaller than the dof
-  /// graph), each node's 6 dofs kept together. `graph` is the upper pattern of the node graph
-  /// (with diagonal) in CSC; K the upper triangle of the stiffness (CSC, 6 dofs per node).
-  /// Returns whether the METIS node ordering was used (else CHOLMOD's default ordering).
-  bool analyze_by_nodes(cholmod_sparse* K, std::vector<int>& gp, std::vector<int>& gi) {
-    cholmod_common& c = this->cholmod();
-    if (this->m_cholmodFactor) {
-      cholmod_free_factor(&this->m_cholmodFactor, &c);
-      this->m_cholmodFactor = nullptr;
-    }
-    const int nn = static_cast<int>(gp.size()) - 1;
-    cholmod_sparse G = upper_csc_view(nn, gp.data(), gi.data());
-    std::vector<int> node_perm(nn), perm(6 * static_cast<std::size_t>(nn));
-    // One METIS call at a time (core/cholmod_support.h; test:
-    // ShellSolver.ConcurrentSolvesAreIdenticalToASerialOne); the fallback cholmod_analyze may
-    // call METIS too.
-    bool by_nodes = false;
-    std::unique_lock<std::mutex> lock = lock_symbolic_analysis();
-    if (nn > 1 && cholmod_metis(&G, nullptr, 0, 0, node_perm.data(), &c)) {
-      lock.unlock();
-      for (int q = 0; q < nn; ++q)
-        for (int k = 0; k < 6; ++k) perm[6 * q + k] = 6 * node_perm[q] + k;
-      c.nmethods = 1;
-      c.method[0].ordering = CHOLMOD_GIVEN;
-      this->m_cholmodFactor = cholmod_analyze_p(K, perm.data(), nullptr, 0, &c);
-      by_nodes = true;
-    } else {
-      this->m_cholmodFactor = cholmod_analyze(K, &c);
-    }
-    this->m_isInitialized = true;
-    this->m_info = this->m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
-    this->m_analysisIsOk = this->m_cholmodFactor != nullptr;
-    this->m_factorizationIsOk = false;
-    return by_nodes;
-  }
-  void factorize_raw(cholmod_sparse* K) {
-    cholmod_factorize(K, this->m_cholmodFactor, &this->cholmod());
-    this->m_info = this->m_cholmodFactor->minor == this->m_cholmodFactor->n ? Eigen::Success
-                                                                            : Eigen::NumericalIssue;
-    this->m_factorizationIsOk = true;
-  }
-  /// Original index of the column at which the factorisation found a non-positive pivot, or -1.
-  long failed_column() const {
-    const cholmod_factor* L = this->m_cholmodFactor;
-    if (L == nullptr || L->minor >= L->n) return -1;
-    const long k = static_cast<long>(L->minor);
-    if (L->Perm == nullptr) return k;
-    return static_cast<long>(static_cast<const int*>(L->Perm)[k]);
-  }
-};
+  llt.analyze(K);
+  return false;
+}
 
 const char* kDofNames[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
 
@@ -440,7 +412,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   // thread while the element matrices are computed and added (a pattern-only view of K, so the
   // analysis never reads the values being written).
   cholmod_sparse K = upper_csc_view(ndof, pattern.colptr.data(), pattern.rowidx.data());
-  CholmodLlt llt;
+  SparseCholesky llt(shell_llt_options());
   SplitCholesky split;
   bool use_split = false;
   std::future<double> analysis = std::async(std::launch::async, [&, Kp = K]() mutable {
@@ -453,7 +425,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
     if (use_split)
       res.ordering = "split-metis-nodes";
     else
-      res.ordering = llt.analyze_by_nodes(&Kp, gp, gi) ? "metis-nodes" : "cholmod-default";
+      res.ordering = analyze_by_nodes(llt, Kp, gp, gi) ? "metis-nodes" : "cholmod-default";
     return seconds_since(ta);
   });
   assemble_stiffness(m, sec, pattern, vals);
@@ -466,7 +438,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
 
   // Factorise and solve.
   res.t_order = analysis.get();  // its own duration, overlapped with the assembly
-  if (!use_split && llt.info() != Eigen::Success)
+  if (!use_split && !llt.analyzed())
     throw Error("model", "sparse analysis failed (out of memory?)");
   auto t1 = Clock::now();
   const std::clock_t c1 = std::clock();
@@ -476,15 +448,14 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
     col = split.factorize(K);
     ok = col < 0;
   } else {
-    SerialOpenMpScope serial_openmp;
-    llt.factorize_raw(&K);
-    ok = llt.info() == Eigen::Success;
-    if (!ok) col = llt.failed_column();
+    const CholeskyStatus status = llt.factorize(K);
+    ok = status.ok;
+    col = status.failed_column;
   }
   res.cpu_factor = static_cast<double>(std::clock() - c1) / CLOCKS_PER_SEC;
   res.t_factor = seconds_since(t1);
-  res.factor_nnz = use_split ? split.factor_nnz() : llt.cholmod().lnz;
-  res.factor_flops = use_split ? split.factor_flops() : llt.cholmod().fl;
+  res.factor_nnz = use_split ? split.factor_nnz() : llt.factor_nonzeros();
+  res.factor_flops = use_split ? split.factor_flops() : llt.factor_flops();
   if (!ok) {
     if (col >= 0)
       throw Error("model", fmt::format("the structure is a mechanism or ill-conditioned: the "

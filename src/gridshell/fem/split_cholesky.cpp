@@ -1,15 +1,17 @@
 #include "gridshell/fem/split_cholesky.h"
 
 #include <cholmod.h>
+#include <dlfcn.h>
 #include <tbb/parallel_invoke.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <bit>
 
 #include "gridshell/core/cholmod_support.h"
+#include "gridshell/core/sparse_cholesky.h"
 
-extern "C" void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
 
 namespace gridshell::fem {
 
@@ -17,10 +19,30 @@ namespace {
 
 using DenseMatrix = Eigen::MatrixXd;
 
+// LAPACK's dpotrf, looked up in the process (CHOLMOD's LAPACK is loaded with it): the dense
+// Cholesky that reports the failing column, without a link-time dependency of the library on
+// LAPACK. An executable that exports its own dpotrf_ (src/interpose/) is found first.
+int lapack_potrf_lower(int n, double* a) {
+  using Potrf = void (*)(const char*, const int*, double*, const int*, int*);
+  static const auto potrf = std::bit_cast<Potrf>(dlsym(RTLD_DEFAULT, "dpotrf_"));
+  if (potrf == nullptr) return small_potrf('L', n, a, n);
+  int info = 0;
+  potrf("L", &n, a, &n, &info);
+  return info;
+}
+
+// A half's factorisation: supernodal LLᵀ (the separator block is read off its last
+// supernodes) of its upper triangle, in the given (already fill-reducing, S last) order.
+SparseCholeskyOptions half_options() {
+  SparseCholeskyOptions o;
+  o.ordering = CholeskyOrdering::given;
+  o.triangle = StoredTriangle::upper;
+  return with_environment(o, /*allow_simplicial=*/false);
+}
+
 // One half h ∪ S of the split, factorised by CHOLMOD with S ordered last.
 struct Half {
-  cholmod_common c{};
-  cholmod_factor* L = nullptr;
+  SparseCholesky llt{half_options()};
   cholmod_sparse K{};           // local upper CSC: pattern and values
   std::vector<int> p, i;        // K's arrays
   std::vector<double> x;        //
@@ -30,13 +52,6 @@ struct Half {
   int nh = 0;                   // dofs of the half itself (S follows)
   std::vector<int> s_order;     // position q in the factor's S block → separator dof index
   DenseMatrix Lss;              // dense trailing block of L (factor order), lower
-  Half() { cholmod_start(&c); }
-  ~Half() {
-    if (L) cholmod_free_factor(&L, &c);
-    cholmod_finish(&c);
-  }
-  Half(const Half&) = delete;
-  Half& operator=(const Half&) = delete;
 };
 
 }  // namespace
@@ -48,16 +63,7 @@ namespace {
 /// the nodes, or a half under 20 %).
 bool bisect_nodes(const std::vector<int>& gp, const std::vector<int>& gi, std::vector<int>& part) {
   const int nn = static_cast<int>(gp.size()) - 1;
-  cholmod_common c;
-  cholmod_start(&c);
-  c.print = 0;
-  cholmod_sparse G = upper_csc_view(nn, const_cast<int*>(gp.data()), const_cast<int*>(gi.data()));
-  long nsep = -1;
-  {
-    const auto lock = lock_symbolic_analysis();
-    nsep = cholmod_bisect(&G, nullptr, 0, 1, part.data(), &c);
-  }
-  cholmod_finish(&c);
+  const long nsep = bisect_graph(nn, gp.data(), gi.data(), part.data());
   if (nsep <= 0) return false;
   const long n0 = std::count(part.begin(), part.end(), 0);
   const long n1 = std::count(part.begin(), part.end(), 1);
@@ -67,8 +73,7 @@ bool bisect_nodes(const std::vector<int>& gp, const std::vector<int>& gi, std::v
 /// The nodes of half h, in the fill-reducing (METIS) order of the half's own node graph.
 /// Empty and false when METIS fails.
 bool half_nodes_in_order(const std::vector<int>& gp, const std::vector<int>& gi,
-                         const std::vector<int>& part, int h, cholmod_common& c,
-                         std::vector<int>& ordered) {
+                         const std::vector<int>& part, int h, std::vector<int>& ordered) {
   const int nn = static_cast<int>(gp.size()) - 1;
   std::vector<int> local(nn, -1), nodes;
   for (int v = 0; v < nn; ++v)
@@ -85,12 +90,8 @@ bool half_nodes_in_order(const std::vector<int>& gp, const std::vector<int>& gi,
     hp[q + 1] = static_cast<int>(hi.size());
   }
   // gi is sorted per column and local[] is increasing in v: hi stays sorted, upper.
-  cholmod_sparse G = upper_csc_view(nh_nodes, hp.data(), hi.data());
   std::vector<int> node_perm(nh_nodes);
-  {
-    const auto lock = lock_symbolic_analysis();
-    if (!cholmod_metis(&G, nullptr, 0, 0, node_perm.data(), &c)) return false;
-  }
+  if (!metis_graph_order(nh_nodes, hp.data(), hi.data(), node_perm.data())) return false;
   ordered.resize(nh_nodes);
   for (int q = 0; q < nh_nodes; ++q) ordered[q] = nodes[node_perm[q]];
   return true;
@@ -143,12 +144,8 @@ void build_local_pattern(const cholmod_sparse& K, const std::vector<int>& dof_lo
 bool analyze_separator_last(int m, Half& H) {
   std::vector<int> ident(H.n);
   for (int l = 0; l < H.n; ++l) ident[l] = l;
-  H.c.nmethods = 1;
-  H.c.method[0].ordering = CHOLMOD_GIVEN;
-  H.c.postorder = 1;
-  H.L = cholmod_analyze_p(&H.K, ident.data(), nullptr, 0, &H.c);
-  if (H.L == nullptr) return false;
-  const int* perm = static_cast<const int*>(H.L->Perm);
+  if (!H.llt.analyze(H.K, ident.data())) return false;
+  const int* perm = H.llt.permutation();
   H.s_order.resize(m);
   for (int q = 0; q < m; ++q) {
     const int l = perm[H.nh + q];
@@ -163,10 +160,8 @@ bool analyze_separator_last(int m, Half& H) {
 bool prepare_half(const cholmod_sparse& K, int dpn, const std::vector<int>& gp,
                   const std::vector<int>& gi, const std::vector<int>& part,
                   const std::vector<int>& sep_dof, int h, Half& H) {
-  H.c.print = 0;
-  H.c.supernodal = CHOLMOD_SUPERNODAL;
   std::vector<int> nodes;
-  if (!half_nodes_in_order(gp, gi, part, h, H.c, nodes)) return false;
+  if (!half_nodes_in_order(gp, gi, part, h, nodes)) return false;
   const int nh_nodes = static_cast<int>(nodes.size());
   const int m = static_cast<int>(sep_dof.size()), ndof = static_cast<int>(K.ncol);
   std::vector<int> dof_local(ndof, -1);
@@ -244,21 +239,20 @@ long SplitCholesky::factorize(const cholmod_sparse& K) {
   auto run = [&](int h) {
     Half& H = *I.half[h];
     for (std::size_t k = 0; k < H.x.size(); ++k) H.x[k] = Kx[H.source[k]];
-    SerialOpenMpScope serial_openmp;
-    cholmod_factorize(&H.K, H.L, &H.c);
-    if (H.L->minor < H.L->n) {
-      const int* perm = static_cast<const int*>(H.L->Perm);
-      failed[h] = H.global_dof[perm[H.L->minor]];
+    const CholeskyStatus status = H.llt.factorize(H.K);
+    if (!status.ok) {
+      failed[h] = status.failed_column >= 0 ? H.global_dof[status.failed_column] : 0;
       return;
     }
     // The trailing m × m block of the supernodal factor (its last supernodes).
     H.Lss = DenseMatrix::Zero(m, m);
-    const int* super = static_cast<const int*>(H.L->super);
-    const int* pi = static_cast<const int*>(H.L->pi);
-    const int* px = static_cast<const int*>(H.L->px);
-    const int* Ls = static_cast<const int*>(H.L->s);
-    const double* Lx = static_cast<const double*>(H.L->x);
-    for (long s = static_cast<long>(H.L->nsuper) - 1; s >= 0 && super[s + 1] > H.nh; --s) {
+    const cholmod_factor* L = H.llt.factor();
+    const int* super = static_cast<const int*>(L->super);
+    const int* pi = static_cast<const int*>(L->pi);
+    const int* px = static_cast<const int*>(L->px);
+    const int* Ls = static_cast<const int*>(L->s);
+    const double* Lx = static_cast<const double*>(L->x);
+    for (long s = static_cast<long>(L->nsuper) - 1; s >= 0 && super[s + 1] > H.nh; --s) {
       const int k1 = super[s], k2 = super[s + 1];
       const int nsrow = pi[s + 1] - pi[s];
       for (int col = std::max(k1, H.nh); col < k2; ++col)
@@ -282,8 +276,7 @@ long SplitCholesky::factorize(const cholmod_sparse& K) {
     I.C(r, c) -= Kx[k];
     if (r != c) I.C(c, r) -= Kx[k];
   }
-  int info = 0;
-  dpotrf_("L", &m, I.C.data(), &m, &info);
+  const int info = lapack_potrf_lower(m, I.C.data());
   if (info > 0) return I.sep_dof[info - 1];
   I.C.triangularView<Eigen::StrictlyUpper>().setZero();
   return -1;
@@ -292,19 +285,15 @@ long SplitCholesky::factorize(const cholmod_sparse& K) {
 Eigen::VectorXd SplitCholesky::solve(const Eigen::VectorXd& b) const {
   const Impl& I = *impl_;
   const int m = static_cast<int>(I.sep_dof.size());
-  std::array<cholmod_dense*, 2> w{nullptr, nullptr};
+  std::array<Eigen::VectorXd, 2> w;  // L⁻¹ P r of each half, then its back substitution
   std::array<Eigen::VectorXd, 2> g;  // Σ contributions L_SS w_S, separator order
   auto forward = [&](int h) {
-    Half& H = *I.half[h];
-    cholmod_dense* r = cholmod_zeros(H.n, 1, CHOLMOD_REAL, &H.c);
-    double* rx = static_cast<double*>(r->x);
-    for (int l = 0; l < H.nh; ++l) rx[l] = b(H.global_dof[l]);
-    cholmod_dense* pr = cholmod_solve(CHOLMOD_P, H.L, r, &H.c);
-    w[h] = cholmod_solve(CHOLMOD_L, H.L, pr, &H.c);
-    cholmod_free_dense(&r, &H.c);
-    cholmod_free_dense(&pr, &H.c);
-    const Eigen::Map<const Eigen::VectorXd> ws(static_cast<double*>(w[h]->x) + H.nh, m);
-    const Eigen::VectorXd t = H.Lss.triangularView<Eigen::Lower>() * ws;
+    const Half& H = *I.half[h];
+    w[h] = Eigen::VectorXd::Zero(H.n);
+    for (int l = 0; l < H.nh; ++l) w[h](l) = b(H.global_dof[l]);
+    H.llt.solve_in_place(CholeskySystem::P, w[h]);
+    H.llt.solve_in_place(CholeskySystem::L, w[h]);
+    const Eigen::VectorXd t = H.Lss.triangularView<Eigen::Lower>() * w[h].tail(m);
     g[h] = Eigen::VectorXd(m);
     for (int q = 0; q < m; ++q) g[h](H.s_order[q]) = t(q);
   };
@@ -317,18 +306,13 @@ Eigen::VectorXd SplitCholesky::solve(const Eigen::VectorXd& b) const {
   Eigen::VectorXd x(I.ndof);
   for (int k = 0; k < m; ++k) x(I.sep_dof[k]) = xs(k);
   auto backward = [&](int h) {
-    Half& H = *I.half[h];
+    const Half& H = *I.half[h];
     Eigen::VectorXd xq(m);  // x_S in this half's factor order
     for (int q = 0; q < m; ++q) xq(q) = xs(H.s_order[q]);
-    Eigen::Map<Eigen::VectorXd> ws(static_cast<double*>(w[h]->x) + H.nh, m);
-    ws = H.Lss.triangularView<Eigen::Lower>().transpose() * xq;
-    cholmod_dense* y = cholmod_solve(CHOLMOD_Lt, H.L, w[h], &H.c);
-    cholmod_dense* z = cholmod_solve(CHOLMOD_Pt, H.L, y, &H.c);
-    const double* zx = static_cast<const double*>(z->x);
-    for (int l = 0; l < H.nh; ++l) x(H.global_dof[l]) = zx[l];
-    cholmod_free_dense(&y, &H.c);
-    cholmod_free_dense(&z, &H.c);
-    cholmod_free_dense(&w[h], &H.c);
+    w[h].tail(m) = H.Lss.triangularView<Eigen::Lower>().transpose() * xq;
+    H.llt.solve_in_place(CholeskySystem::Lt, w[h]);
+    H.llt.solve_in_place(CholeskySystem::Pt, w[h]);
+    for (int l = 0; l < H.nh; ++l) x(H.global_dof[l]) = w[h](l);
   };
   tbb::parallel_invoke([&] { backward(0); }, [&] { backward(1); });
   return x;
@@ -339,7 +323,7 @@ double SplitCholesky::factor_nnz() const {
   const double m = static_cast<double>(I.sep_dof.size());
   double s = m * (m + 1) / 2;
   for (const auto& h : I.half)
-    if (h) s += h->c.lnz;
+    if (h) s += h->llt.factor_nonzeros();
   return s;
 }
 
@@ -348,7 +332,7 @@ double SplitCholesky::factor_flops() const {
   const double m = static_cast<double>(I.sep_dof.size());
   double s = m * m * m / 3 + 2 * m * m * m / 2;  // dense factor + the two L_SS L_SSᵀ
   for (const auto& h : I.half)
-    if (h) s += h->c.fl;
+    if (h) s += h->llt.factor_flops();
   return s;
 }
 

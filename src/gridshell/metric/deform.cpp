@@ -7,12 +7,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
-#include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <Eigen/Sparse>
 
-#include "gridshell/core/cholmod_support.h"
+#include "gridshell/core/sparse_cholesky.h"
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
@@ -37,15 +36,11 @@ constexpr double kMaxCotangentSum = 1e3;
 /// the bending system's two-ring stencil), then converted to a simplicial factor, whose solves
 /// with three right-hand sides are faster than the supernodal ones (per-supernode BLAS calls
 /// on small blocks) — the iterations only solve.
-class GlobalLlt : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> {
- public:
-  void compute(const Eigen::SparseMatrix<double>& A) {
-    const SerialOpenMpScope serial;
-    compute_factorization(*this, A);
-    if (info() == Eigen::Success && m_cholmodFactor->is_super)
-      cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, m_cholmodFactor, &cholmod());
-  }
-};
+SparseCholeskyOptions global_llt_options() {
+  SparseCholeskyOptions o;
+  o.simplicial_solves = true;
+  return with_environment(o);
+}
 
 /// Per-face data of the local/global solver on one mesh level.
 struct Level {
@@ -61,7 +56,7 @@ struct Level {
   std::vector<Eigen::Triplet<double>> Lfc;  ///< free × fixed couplings
   Eigen::SparseMatrix<double> muB;          ///< bending matrix (all vertices), may be empty
   Eigen::MatrixXd bending_rhs;              ///< muB · X_ref (all vertices), may be empty
-  GlobalLlt llt;
+  SparseCholesky llt{global_llt_options()};
 };
 
 /// Unit tangent u of face f (field direction projected) and u⊥ = n × u.
@@ -173,8 +168,7 @@ void build_level(Level& lv, const TriMesh& rest, const Field& field, double bend
   lv.Lff.resize(lv.num_free, lv.num_free);
   lv.Lff.setFromTriplets(trip.begin(), trip.end());
   if (lv.num_free > 0) {
-    lv.llt.compute(lv.Lff);
-    if (lv.llt.info() != Eigen::Success)
+    if (!lv.llt.compute(lv.Lff).ok)
       throw Error("metric", "deformation system could not be factorised");
   }
 }
@@ -213,7 +207,7 @@ void global_step(Level& lv, const TriMesh& rest, Points& X, const std::vector<Ma
       if (lv.free_index[v] >= 0) rhs.row(lv.free_index[v]) += lv.bending_rhs.row(v);
   if (lv.num_free > 0) {
     const Eigen::MatrixXd sol = lv.llt.solve(rhs);
-    if (lv.llt.info() != Eigen::Success || !sol.allFinite())
+    if (!sol.allFinite())
       throw Error("metric", "deformation solve failed");
     for (int v = 0; v < rest.num_vertices(); ++v)
       if (lv.free_index[v] >= 0) X.row(v) = sol.row(lv.free_index[v]);

@@ -4,13 +4,11 @@
 #include <chrono>
 #include <cmath>
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
-#include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/enum_words.h"
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"

@@ -9,10 +9,9 @@
 
 #include <array>
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
-#include "gridshell/core/cholmod_support.h"
+#include "gridshell/core/sparse_cholesky.h"
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/optimize/flat_panels_internal.h"
 #include "gridshell/optimize/metrics.h"
@@ -390,11 +389,9 @@ int optimise(Problem& P, Planes& pl, const TriMesh& surface, const SurfaceProjec
                   "design: {} interior, {} boundary",
                   x.size(), boundary, far_interior, far_boundary);
   }
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
   // A factorisation that fails (a step with too small a damping on a nearly singular system) is
-  // handled below by more damping: CHOLMOD's own warning on stdout would only be noise.
-  solver.cholmod().print = 0;
-  bool analysed = false;
+  // handled below by more damping.
+  SparseCholesky solver;
   double mu = 1e-3;
   int it = 0;
   for (; it < P.o.max_iterations; ++it) {
@@ -414,12 +411,8 @@ int optimise(Problem& P, Planes& pl, const TriMesh& surface, const SurfaceProjec
     for (int attempt = 0; attempt < 12 && !accepted; ++attempt) {
       Eigen::SparseMatrix<double> A = H;
       for (int i = 0; i < nu; ++i) A.coeffRef(i, i) += mu * (diag[i] + 1e-9);
-      if (!analysed) {
-        analyze_pattern(solver, A);
-        analysed = true;
-      }
-      solver.factorize(A);
-      if (solver.info() != Eigen::Success) {
+      if (!solver.analyzed()) solver.analyze(A);
+      if (!solver.factorize(A).ok) {
         mu *= 10;
         continue;
       }

@@ -8,10 +8,9 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
-#include "gridshell/core/cholmod_support.h"
+#include "gridshell/core/sparse_cholesky.h"
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
@@ -204,6 +203,13 @@ Unknowns number_unknowns(const PolyMesh& mesh, const std::vector<VertexConstrain
   return u;
 }
 
+/// Simplicial LLᵀ (why: GlobalSystem).
+SparseCholeskyOptions simplicial_options() {
+  SparseCholeskyOptions o;
+  o.mode = CholeskyMode::simplicial;
+  return o;
+}
+
 /// The global step's system, factorised once. Σ_f |N_f x_f − N_f t_f|² is minimised in its
 /// incidence form Σ_f Σ_{i∈f} |x_i − c_f − t̃_{f,i}|² with one extra unknown per face, its
 /// centroid c_f (t̃ = targets minus their mean): eliminating c_f gives back the original energy
@@ -218,7 +224,7 @@ struct GlobalSystem {
     int row, fixed_vertex;
     double value;
   };
-  Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>> llt;
+  SparseCholesky llt{simplicial_options()};
   std::vector<Coupling> couplings;
 };
 
@@ -279,8 +285,7 @@ void factorize_global(const PolyMesh& mesh, const Topology& topo, const Unknowns
   for (int r = 0; r < nfree; ++r) trip.emplace_back(r, r, o.closeness);
   Eigen::SparseMatrix<double> A(nrows, nrows);
   A.setFromTriplets(trip.begin(), trip.end());
-  compute_factorization(sys.llt, A);
-  if (sys.llt.info() != Eigen::Success)
+  if (!sys.llt.compute(A).ok)
     throw Error("regularize", "the per-vertex system could not be factorised");
 }
 

@@ -1,9 +1,8 @@
 #include "gridshell/surfaces/force_density.h"
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
-#include "gridshell/core/cholmod_support.h"
+#include "gridshell/core/sparse_cholesky.h"
 #include "gridshell/core/error.h"
 
 namespace gridshell {
@@ -35,11 +34,10 @@ ForceDensityResult solve_force_density(const ForceDensityProblem& pb) {
   }
   Eigen::SparseMatrix<double> D(nfree, nfree);
   D.setFromTriplets(trip.begin(), trip.end());
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
-  compute_factorization(solver, D);
-  if (solver.info() != Eigen::Success)
+  SparseCholesky solver;
+  if (!solver.compute(D).ok)
     throw Error("force density", "network has free nodes not connected to an anchor");
-  Eigen::MatrixX3d xf = solver.solve(rhs);
+  const Eigen::MatrixX3d xf = solver.solve(rhs);
   ForceDensityResult r;
   r.X = pb.X;
   for (int i = 0; i < n; ++i)

@@ -1,0 +1,332 @@
+#include "gridshell/core/sparse_cholesky.h"
+
+#include <cholmod.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+#include "gridshell/core/cholmod_support.h"
+#include "gridshell/core/error.h"
+
+namespace gridshell {
+
+namespace {
+
+// The CHOLMOD settings of the options (analysis and factorisation).
+void configure(const SparseCholeskyOptions& o, cholmod_common& c) {
+  c.print = 0;
+  switch (o.ordering) {
+    case CholeskyOrdering::natural:
+      c.nmethods = 1;
+      c.method[0].ordering = CHOLMOD_NATURAL;
+      break;
+    case CholeskyOrdering::amd:
+      c.nmethods = 1;
+      c.method[0].ordering = CHOLMOD_AMD;
+      break;
+    case CholeskyOrdering::metis:
+      c.nmethods = 1;
+      c.method[0].ordering = CHOLMOD_METIS;
+      break;
+    case CholeskyOrdering::best_of_amd_metis:
+      c.nmethods = 2;
+      c.method[0].ordering = CHOLMOD_AMD;
+      c.method[1].ordering = CHOLMOD_METIS;
+      break;
+    case CholeskyOrdering::cholmod_default:
+    case CholeskyOrdering::given:  // set per analysis (a permutation is needed)
+      break;
+  }
+  c.postorder = 1;
+  if (o.kind == CholeskyKind::ldlt) {
+    if (o.mode != CholeskyMode::simplicial)
+      throw std::logic_error("SparseCholesky: LDLᵀ is simplicial only");
+    c.supernodal = CHOLMOD_SIMPLICIAL;
+    c.final_asis = 1;  // keep LDLᵀ
+  } else if (o.mode == CholeskyMode::simplicial) {
+    c.supernodal = CHOLMOD_SIMPLICIAL;
+    c.final_asis = 0;  // CHOLMOD's simplicial factorisation is LDLᵀ; converted to LLᵀ at the end
+    c.final_ll = 1;
+  } else {
+    c.supernodal = CHOLMOD_SUPERNODAL;
+    c.final_asis = 1;
+  }
+  for (int k = 0; k < 3; ++k) {
+    c.nrelax[k] = static_cast<std::size_t>(o.nrelax[k]);
+    c.zrelax[k] = o.zrelax[k];
+  }
+  c.quick_return_if_not_posdef = o.stop_at_failure ? 1 : 0;
+}
+
+// A CHOLMOD view, without copy, of a compressed-column matrix read from one triangle.
+cholmod_sparse view(const SparseCholesky::SpMat& A, StoredTriangle t) {
+  auto& M = const_cast<SparseCholesky::SpMat&>(A);
+  cholmod_sparse s{};
+  s.nrow = static_cast<std::size_t>(A.rows());
+  s.ncol = static_cast<std::size_t>(A.cols());
+  s.nzmax = static_cast<std::size_t>(A.nonZeros());
+  s.p = M.outerIndexPtr();
+  s.i = M.innerIndexPtr();
+  s.x = M.valuePtr();
+  s.nz = A.isCompressed() ? nullptr : M.innerNonZeroPtr();
+  s.packed = A.isCompressed() ? 1 : 0;
+  s.sorted = 1;
+  s.stype = t == StoredTriangle::upper ? 1 : -1;
+  s.itype = CHOLMOD_INT;
+  s.xtype = CHOLMOD_REAL;
+  s.dtype = CHOLMOD_DOUBLE;
+  return s;
+}
+
+// A CHOLMOD view of a column-major dense block.
+cholmod_dense dense_view(double* x, Eigen::Index rows, Eigen::Index cols) {
+  cholmod_dense d{};
+  d.nrow = d.d = static_cast<std::size_t>(rows);
+  d.ncol = static_cast<std::size_t>(cols);
+  d.nzmax = d.nrow * d.ncol;
+  d.x = x;
+  d.xtype = CHOLMOD_REAL;
+  d.dtype = CHOLMOD_DOUBLE;
+  return d;
+}
+
+int cholmod_system(CholeskySystem s) {
+  switch (s) {
+    case CholeskySystem::A: return CHOLMOD_A;
+    case CholeskySystem::L: return CHOLMOD_L;
+    case CholeskySystem::Lt: return CHOLMOD_Lt;
+    case CholeskySystem::P: return CHOLMOD_P;
+    case CholeskySystem::Pt: return CHOLMOD_Pt;
+  }
+  return CHOLMOD_A;
+}
+
+}  // namespace
+
+struct SparseCholesky::Impl {
+  SparseCholeskyOptions options;
+  mutable cholmod_common c{};
+  cholmod_factor* L = nullptr;
+  // solve_in_place's workspaces (cholmod_solve2): kept from one call to the next.
+  mutable cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
+
+  explicit Impl(const SparseCholeskyOptions& o) : options(o) {
+    cholmod_start(&c);
+    configure(options, c);
+  }
+  ~Impl() {
+    cholmod_free_dense(&x, &c);
+    cholmod_free_dense(&y, &c);
+    cholmod_free_dense(&e, &c);
+    if (L) cholmod_free_factor(&L, &c);
+    cholmod_finish(&c);
+  }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+};
+
+SparseCholesky::SparseCholesky(const SparseCholeskyOptions& options)
+    : impl_(std::make_unique<Impl>(options)) {}
+SparseCholesky::~SparseCholesky() = default;
+SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
+SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
+
+bool SparseCholesky::analyze(const SpMat& A, const int* permutation) {
+  const cholmod_sparse s = view(A, impl_->options.triangle);
+  return analyze(s, permutation);
+}
+
+bool SparseCholesky::analyze(const cholmod_sparse& A, const int* permutation) {
+  Impl& m = *impl_;
+  if (m.L) cholmod_free_factor(&m.L, &m.c);
+  auto& a = const_cast<cholmod_sparse&>(A);
+  const CholeskyOrdering o = m.options.ordering;
+  if (o == CholeskyOrdering::given) {
+    if (permutation == nullptr) throw std::logic_error("SparseCholesky: no permutation given");
+    m.c.nmethods = 1;
+    m.c.method[0].ordering = CHOLMOD_GIVEN;
+    m.L = cholmod_analyze_p(&a, const_cast<int*>(permutation), nullptr, 0, &m.c);
+  } else {
+    // METIS (also CHOLMOD's default's fallback) keeps its state in a global: one at a time.
+    std::optional<std::unique_lock<std::mutex>> lock;
+    if (o != CholeskyOrdering::natural && o != CholeskyOrdering::amd)
+      lock.emplace(lock_symbolic_analysis());
+    m.L = cholmod_analyze(&a, &m.c);
+  }
+  return m.L != nullptr;
+}
+
+bool SparseCholesky::analyzed() const {
+  return impl_->L != nullptr;
+}
+
+CholeskyStatus SparseCholesky::factorize(const SpMat& A) {
+  const cholmod_sparse s = view(A, impl_->options.triangle);
+  if (!analyzed()) analyze(s);
+  return factorize(s);
+}
+
+CholeskyStatus SparseCholesky::factorize(const cholmod_sparse& A) {
+  Impl& m = *impl_;
+  CholeskyStatus status;
+  if (m.L == nullptr) return status;
+  {
+    std::optional<SerialOpenMpScope> serial;
+    if (m.options.threads == CholeskyThreads::calling_thread) serial.emplace();
+    cholmod_factorize(const_cast<cholmod_sparse*>(&A), m.L, &m.c);
+  }
+  status.ok = m.L->minor == m.L->n;
+  if (!status.ok) {
+    if (m.L->minor < m.L->n) {
+      const int* perm = static_cast<const int*>(m.L->Perm);
+      const long k = static_cast<long>(m.L->minor);
+      status.failed_column = perm ? perm[k] : k;
+    }
+    return status;
+  }
+  if (m.options.simplicial_solves && m.L->is_super)
+    cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, m.L, &m.c);
+  return status;
+}
+
+CholeskyStatus SparseCholesky::compute(const SpMat& A) {
+  const cholmod_sparse s = view(A, impl_->options.triangle);
+  if (!analyze(s)) return {};
+  return factorize(s);
+}
+
+Eigen::MatrixXd SparseCholesky::solve_columns(const double* B, Eigen::Index rows,
+                                              Eigen::Index cols, Eigen::Index stride) const {
+  const Impl& m = *impl_;
+  cholmod_dense b = dense_view(const_cast<double*>(B), rows, cols);
+  b.d = static_cast<std::size_t>(stride);
+  b.nzmax = b.d * b.ncol;
+  cholmod_dense* x = m.L ? cholmod_solve(CHOLMOD_A, m.L, &b, &m.c) : nullptr;
+  if (x == nullptr)
+    return Eigen::MatrixXd::Constant(rows, cols, std::numeric_limits<double>::quiet_NaN());
+  Eigen::MatrixXd out =
+      Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x), rows, cols);
+  cholmod_free_dense(&x, &m.c);
+  return out;
+}
+
+Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
+  return solve_columns(b.data(), b.size(), 1, b.size()).col(0);
+}
+
+void SparseCholesky::solve_in_place(CholeskySystem system, Eigen::VectorXd& v) const {
+  const Impl& m = *impl_;
+  cholmod_dense b = dense_view(v.data(), v.size(), 1);
+  if (m.L == nullptr ||
+      !cholmod_solve2(cholmod_system(system), m.L, &b, nullptr, &m.x, nullptr, &m.y, &m.e, &m.c)) {
+    v.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
+  v = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(m.x->x), v.size());
+}
+
+const int* SparseCholesky::permutation() const {
+  return impl_->L ? static_cast<const int*>(impl_->L->Perm) : nullptr;
+}
+
+Eigen::VectorXd SparseCholesky::diagonal() const {
+  const cholmod_factor* L = impl_->L;
+  if (L == nullptr || L->xtype == CHOLMOD_PATTERN) return {};
+  Eigen::VectorXd d(static_cast<Eigen::Index>(L->n));
+  const double* x = static_cast<const double*>(L->x);
+  if (L->is_super) {
+    const int* super = static_cast<const int*>(L->super);
+    const int* pi = static_cast<const int*>(L->pi);
+    const int* px = static_cast<const int*>(L->px);
+    for (std::size_t k = 0; k < L->nsuper; ++k) {
+      const int ncols = super[k + 1] - super[k], nrows = pi[k + 1] - pi[k];
+      for (int j = 0; j < ncols; ++j) d(super[k] + j) = x[px[k] + j * (nrows + 1)];
+    }
+  } else {
+    const int* p = static_cast<const int*>(L->p);  // the diagonal leads each column
+    for (std::size_t j = 0; j < L->n; ++j) d(static_cast<Eigen::Index>(j)) = x[p[j]];
+  }
+  return d;
+}
+
+Inertia SparseCholesky::inertia() const {
+  Inertia in;
+  const Eigen::VectorXd d = diagonal();
+  for (const double v : d) {
+    if (!std::isfinite(v) || v == 0)
+      ++in.singular;
+    else if (v < 0)
+      ++in.negative;
+    else
+      ++in.positive;
+  }
+  return in;
+}
+
+double SparseCholesky::factor_nonzeros() const {
+  return impl_->c.lnz;
+}
+
+double SparseCholesky::factor_flops() const {
+  return impl_->c.fl;
+}
+
+const cholmod_factor* SparseCholesky::factor() const {
+  return impl_->L;
+}
+
+SparseCholeskyOptions with_environment(SparseCholeskyOptions options, bool allow_simplicial) {
+  const char* env = std::getenv("GRIDSHELL_CHOLESKY");
+  if (env == nullptr || *env == '\0' || options.kind != CholeskyKind::llt) return options;
+  const std::string value(env);
+  if (value == "simplicial") {
+    if (allow_simplicial) options.mode = CholeskyMode::simplicial;
+    return options;
+  }
+  options.mode = CholeskyMode::supernodal;
+  if (value == "supernodal") return options;
+  std::array<int, 3> n{};
+  std::array<double, 3> z{};
+  if (std::sscanf(env, "supernodal:%d,%d,%d:%lf,%lf,%lf", &n[0], &n[1], &n[2], &z[0], &z[1],
+                  &z[2]) != 6)
+    throw Error("GRIDSHELL_CHOLESKY", "expected simplicial, supernodal or "
+                                      "supernodal:N0,N1,N2:Z0,Z1,Z2, not '" + value + "'");
+  options.nrelax = n;
+  options.zrelax = z;
+  return options;
+}
+
+bool metis_graph_order(int n, const int* p, const int* i, int* order) {
+  cholmod_common c;
+  cholmod_start(&c);
+  c.print = 0;
+  cholmod_sparse G = upper_csc_view(n, const_cast<int*>(p), const_cast<int*>(i));
+  bool ok = false;
+  {
+    const auto lock = lock_symbolic_analysis();
+    ok = cholmod_metis(&G, nullptr, 0, 0, order, &c) != 0;
+  }
+  cholmod_finish(&c);
+  return ok;
+}
+
+long bisect_graph(int n, const int* p, const int* i, int* part) {
+  cholmod_common c;
+  cholmod_start(&c);
+  c.print = 0;
+  cholmod_sparse G = upper_csc_view(n, const_cast<int*>(p), const_cast<int*>(i));
+  long nsep = -1;
+  {
+    const auto lock = lock_symbolic_analysis();
+    nsep = cholmod_bisect(&G, nullptr, 0, 1, part, &c);
+  }
+  cholmod_finish(&c);
+  return nsep;
+}
+
+}  // namespace gridshell
