@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -120,6 +121,7 @@ TEST_F(KitTest, JointsAreSolidsWithSocketsAlongTheBeams) {
   const auto beams = read_csv(*dir_ / "design" / "beams.csv");
   ASSERT_GT(joints.size(), 10u);
   std::map<std::pair<int, int>, double> seat;  // (joint, beam) → measured seat [mm]
+  double worst_angle = 0, worst_depth = 0, worst_clearance = 0, worst_rod = 0;
   for (const auto& j : joints) {
     const int id = std::stoi(j[0]);
     const Vec3 p(std::stod(j[1]), std::stod(j[2]), std::stod(j[3]));
@@ -145,6 +147,9 @@ TEST_F(KitTest, JointsAreSolidsWithSocketsAlongTheBeams) {
       EXPECT_LT(angle, 0.5) << path << " beam " << b;
       EXPECT_NEAR(s.depth, kDepth, 0.05) << path << " beam " << b;
       EXPECT_NEAR(s.radius - kRod / 2, kClearance, 0.05) << path << " beam " << b;
+      worst_angle = std::max(worst_angle, angle);
+      worst_depth = std::max(worst_depth, std::abs(s.depth - kDepth));
+      worst_clearance = std::max(worst_clearance, std::abs(s.radius - kRod / 2 - kClearance));
       seat[{id, b}] = s.seat;
     }
   }
@@ -159,12 +164,17 @@ TEST_F(KitTest, JointsAreSolidsWithSocketsAlongTheBeams) {
     EXPECT_EQ(jj, std::stoi(beams[b][2]));
     const double expected =
         std::stod(beams[b][3]) * 1000 / kScale - seat.at({i, b}) - seat.at({jj, b});
+    worst_rod = std::max(worst_rod, std::abs(std::stod(rods[k][3]) - expected));
     EXPECT_NEAR(std::stod(rods[k][3]), expected, 0.05) << "rod " << b;
     if (k > 0) {
       EXPECT_GE(std::stod(rods[k - 1][3]), std::stod(rods[k][3]));
     }
   }
   EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(beams.size()));
+  std::cout << fmt::format(
+      "kit: {} joints, {} rods; largest socket axis error {:.1e} deg, depth error {:.1e} mm, "
+      "clearance error {:.1e} mm, rod length error {:.1e} mm\n",
+      joints.size(), rods.size(), worst_angle, worst_depth, worst_clearance, worst_rod);
 }
 
 TEST_F(KitTest, BadInputIsOneLineAndExitTwo) {
