@@ -22,6 +22,8 @@
 #include <CGAL/Surface_mesh.h>
 #include <fmt/format.h>
 
+#include "gridshell/io/files.h"
+#include "gridshell/kit/kit.h"
 #include "gridshell/mesh/mesh.h"
 #include "test_support.h"
 
@@ -177,6 +179,31 @@ TEST_F(KitTest, JointsAreSolidsWithSocketsAlongTheBeams) {
       joints.size(), rods.size(), worst_angle, worst_depth, worst_clearance, worst_rod);
 }
 
+// A corner support of the default design: two beams along +x and +y, mirror images about the
+// plane x = y. Mirror-image polygons used to meet along edges shared by four faces (a pinched,
+// non-manifold STL); the hub must be a closed manifold solid.
+TEST(Kit, MirrorSymmetricCornerJointIsAManifoldSolid) {
+  kit::KitFrame frame;
+  frame.joints = {{0, Vec3(-10, -10, 0), true, {0, 1}},
+                  {1, Vec3(-9.52, -10, 0), true, {0}},
+                  {2, Vec3(-10, -9.52, 0), true, {1}}};
+  frame.beams = {{0, 0, 1, 0.48}, {1, 0, 2, 0.48}};
+  kit::KitOptions options;
+  options.scale = 10;
+  const auto hubs = kit::plan_hubs(frame, options);
+  const auto path = test::temp_dir("kit_corner") / "J0.stl";
+  io::write_file_atomic(path, kit::hub_stl(hubs[0], options));
+  Mesh m;
+  ASSERT_TRUE(CGAL::IO::read_polygon_mesh(path.string(), m));
+  EXPECT_TRUE(CGAL::is_closed(m));
+  EXPECT_FALSE(PMP::does_self_intersect(m));
+  EXPECT_TRUE(PMP::does_bound_a_volume(m));
+  // Seat: two holes of r = 1.6 mm at 90° a 1.2 mm wall apart: s = (0.6 + r cos 45°) / sin 45°.
+  const double r = 1.6, expected = (0.6 + r * std::sqrt(0.5)) / std::sqrt(0.5);
+  EXPECT_NEAR(hubs[0].sockets[0].seat, expected, 1e-12);
+  EXPECT_NEAR(measure_socket(m, Vec3::UnitX()).seat, expected, 0.05);
+}
+
 TEST_F(KitTest, BadInputIsOneLineAndExitTwo) {
   const std::string design = (*dir_ / "design").string();
   const auto empty = test::temp_dir("kit_empty");
@@ -186,7 +213,7 @@ TEST_F(KitTest, BadInputIsOneLineAndExitTwo) {
       {fmt::format("kit {} --scale 1:0", design), "--scale"},
       {fmt::format("kit {} --rod 3in", design), "--rod"},
       {fmt::format("kit {} --rod 0mm", design), "--rod"},
-      {fmt::format("kit {} --scale 1:5000", design), "too short"},
+      {fmt::format("kit {} --scale 1:5000", design), "too short at 1:5000"},
   };
   for (const auto& [args, word] : cases) {
     const auto r = test::run_gridshell(args);

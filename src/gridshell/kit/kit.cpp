@@ -220,15 +220,25 @@ std::vector<Rod> cut_list(const KitFrame& frame, const std::vector<HubPlan>& hub
     if (!h.sockets.empty()) seat[h.joint] = h.sockets.front().seat;
   }
   std::vector<Rod> rods;
+  int too_short = 0, worst = -1;
+  double largest_n = o.scale * 1e6;  // the smallest model (largest N) every rod fits
   for (const KitBeam& b : frame.beams) {
-    const double length = b.length * 1000 / o.scale - seat[b.joint_i] - seat[b.joint_j];
+    const double seats = seat[b.joint_i] + seat[b.joint_j];
+    const double length = b.length * 1000 / o.scale - seats;
+    largest_n = std::min(largest_n, b.length * 1000 / (seats + o.gap + o.rod_diameter));
     if (!(length > o.gap + o.rod_diameter)) {  // sockets at least rod/2 deep
-      throw Error("--scale", fmt::format("beam {} is {:.2f} mm at 1:{:g}, too short for its two "
-                                         "hubs' seats ({:.2f} mm); choose a larger model",
-                                         b.id, b.length * 1000 / o.scale, o.scale,
-                                         seat[b.joint_i] + seat[b.joint_j]));
+      if (worst < 0 || b.length < frame.beams[worst].length) worst = b.id;
+      ++too_short;
     }
     rods.push_back(Rod{b.id, b.joint_i, b.joint_j, length});
+  }
+  if (too_short > 0) {
+    const KitBeam& b = frame.beams[worst];
+    throw Error("--scale", fmt::format("{} beams too short at 1:{:g} for their hubs (beam {}: "
+                                       "{:.2f} mm, seats {:.2f} mm); 1:N with N <= {} fits",
+                                       too_short, o.scale, b.id, b.length * 1000 / o.scale,
+                                       seat[b.joint_i] + seat[b.joint_j],
+                                       static_cast<long>(std::floor(largest_n))));
   }
   std::stable_sort(rods.begin(), rods.end(),
                    [](const Rod& a, const Rod& b) { return a.length_mm > b.length_mm; });

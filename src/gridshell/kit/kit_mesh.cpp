@@ -34,6 +34,17 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 /// sqrt(1 + kSleeveStart²) sleeve radii (plan_hubs: 1.25).
 constexpr double kSleeveStart = 0.5;
 
+/// Symmetric designs have joints whose beams mirror each other; mirror-image sleeves meet the
+/// mirror-symmetric sphere and each other along edges shared by four faces (CGAL's output is
+/// then a pinched, non-manifold STL). The sphere's longitudes are turned by an angle no mirror
+/// plane through its axes maps onto itself, and socket k's polygons by frac(k · 0.382) of a side.
+constexpr double kSphereTurn = 0.1234;  // [rad]
+double socket_turn(std::size_t k, int segments) {
+  const double golden = 0.3819660112501051;
+  const double f = static_cast<double>(k + 1) * golden;
+  return (f - std::floor(f)) * 2 * std::numbers::pi / segments;
+}
+
 Point point(const Vec3& p) {
   return Point(p.x(), p.y(), p.z());
 }
@@ -48,7 +59,7 @@ Mesh sphere(double radius, int rings, int segments) {
   for (int i = 1; i < rings; ++i) {
     const double phi = pi * i / rings;
     for (int k = 0; k < segments; ++k) {
-      const double lambda = 2 * pi * k / segments;
+      const double lambda = kSphereTurn + 2 * pi * k / segments;
       ring[i - 1].push_back(
           m.add_vertex(Point(radius * std::sin(phi) * std::cos(lambda),
                              radius * std::sin(phi) * std::sin(lambda), radius * std::cos(phi))));
@@ -101,11 +112,12 @@ Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
   const auto fail = [&hub](const char* what) {
     return Error(fmt::format("joint {}", hub.joint), what);
   };
-  for (const Socket& s : hub.sockets) {
+  for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
+    const Socket& s = hub.sockets[k];
     // Starting off-centre (its start cap still inside the sphere), no two sleeves' caps share
     // a point: nearly opposite beams would otherwise give nearly coplanar caps.
     Mesh sleeve = cylinder(s.axis, kSleeveStart * hub.sleeve_radius, s.seat + s.depth,
-                           hub.sleeve_radius, o.segments);
+                           hub.sleeve_radius, o.segments, socket_turn(k, o.segments));
     if (!PMP::corefine_and_compute_union(solid, sleeve, solid)) {
       throw fail("the union of the hub and a sleeve is not a closed manifold solid");
     }
@@ -115,10 +127,11 @@ Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
   // of a sleeve cap's fan edge (a degenerate edge-edge crossing) left the mouth's ring doubled.
   const double half_side = std::numbers::pi / o.segments;
   Mesh holes;
-  for (const Socket& s : hub.sockets) {
+  for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
+    const Socket& s = hub.sockets[k];
     // The hole runs a rod's diameter past the sleeve's mouth: no coplanar faces to cut.
     CGAL::copy_face_graph(cylinder(s.axis, s.seat, s.seat + s.depth + o.rod_diameter, s.radius,
-                                   o.segments, half_side),
+                                   o.segments, socket_turn(k, o.segments) + half_side),
                           holes);
   }
   if (!PMP::corefine_and_compute_difference(solid, holes, solid)) {
