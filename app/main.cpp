@@ -9,6 +9,10 @@
 #include "common.h"
 #include "gridshell/core/error.h"
 
+namespace gridshell::app {
+void register_kit(CLI::App& app, Action& action);  // cmd_kit.cpp
+}  // namespace gridshell::app
+
 namespace {
 
 int run(int argc, char** argv) {
@@ -25,6 +29,7 @@ int run(int argc, char** argv) {
   app::register_sweep(cli, action);
   app::register_baseline(cli, action);
   app::register_studio(cli, action);
+  app::register_kit(cli, action);
 
   std::vector<std::string> args(argv, argv + argc);
   try {

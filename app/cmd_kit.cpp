@@ -1,0 +1,83 @@
+// gridshell kit DIR -o OUT [--scale 1:50] [--rod 3mm] [--clearance 0.1mm]: a desk model of a
+// design folder's grid-shell: a printable hub per joint (OUT/joints/J<id>.stl) and the rods'
+// cut list (OUT/rods.csv). docs/fabrication.md "Model kit".
+
+#include <cmath>
+#include <iostream>
+#include <regex>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "common.h"
+#include "gridshell/core/error.h"
+#include "gridshell/kit/kit.h"
+
+namespace gridshell::app {
+
+namespace {
+
+struct KitArgs {
+  std::string dir;
+  std::string out;
+  std::string scale = "1:50";
+  std::string rod = "3mm";
+  std::string clearance = "0.1mm";
+  bool quiet = false;
+};
+
+/// "1:N" (or "N") → N; Error naming --scale otherwise.
+double parse_scale(const std::string& s) {
+  static const std::regex form(R"(^\s*(?:1\s*:\s*)?([0-9]+(?:\.[0-9]+)?)\s*$)");
+  std::smatch m;
+  if (!std::regex_match(s, m, form)) {
+    throw Error("--scale", fmt::format("'{}' is not a scale like 1:50", s));
+  }
+  return std::stod(m[1].str());
+}
+
+/// "3mm", "3" (mm) or "0.3cm" → millimetres; Error naming `option` otherwise.
+double parse_length_mm(const std::string& option, const std::string& s) {
+  static const std::regex form(R"(^\s*([0-9]+(?:\.[0-9]+)?|\.[0-9]+)\s*(mm|cm|m)?\s*$)");
+  std::smatch m;
+  if (!std::regex_match(s, m, form)) {
+    throw Error(option, fmt::format("'{}' is not a length like 3mm", s));
+  }
+  const double x = std::stod(m[1].str());
+  const std::string unit = m[2].str();
+  return unit == "cm" ? 10 * x : unit == "m" ? 1000 * x : x;
+}
+
+int run_kit(const KitArgs& a) {
+  kit::KitOptions options;
+  options.scale = parse_scale(a.scale);
+  options.rod_diameter = parse_length_mm("--rod", a.rod);
+  options.clearance = parse_length_mm("--clearance", a.clearance);
+  kit::check_kit_options(options);
+  if (a.quiet) spdlog::set_level(spdlog::level::warn);
+  const std::filesystem::path out =
+      a.out.empty() ? std::filesystem::path(a.dir) / "kit" : std::filesystem::path(a.out);
+  const kit::KitResult r = kit::write_kit(a.dir, out, options);
+  spdlog::info("kit: {} joints in {}, {} rods ({:.0f} mm in all) in {}", r.joints,
+               (out / "joints").string(), r.rods, r.rod_total_mm, (out / "rods.csv").string());
+  return 0;
+}
+
+}  // namespace
+
+void register_kit(CLI::App& app, Action& action) {
+  auto a = std::make_shared<KitArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "kit", "A desk model of a design folder: printable joints (STL) and the rods' cut list");
+  sub->add_option("dir", a->dir, "a design / baseline / analyze output folder")->required();
+  sub->add_option("-o,--out", a->out, "output folder (created if missing; default DIR/kit)");
+  sub->add_option("--scale", a->scale, "model scale 1:N")->default_str(a->scale);
+  sub->add_option("--rod", a->rod, "rod diameter (mm unless cm or m is given)")
+      ->default_str(a->rod);
+  sub->add_option("--clearance", a->clearance, "radial play between rod and socket")
+      ->default_str(a->clearance);
+  sub->add_flag("--quiet", a->quiet, "only warnings and errors on stderr");
+  sub->callback([a, &action] { action = [a] { return run_kit(*a); }; });
+}
+
+}  // namespace gridshell::app

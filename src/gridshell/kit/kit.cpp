@@ -1,0 +1,283 @@
+#include "gridshell/kit/kit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "gridshell/core/error.h"
+#include "gridshell/io/files.h"
+
+namespace gridshell::kit {
+
+namespace {
+
+/// Splits one CSV line at commas (the fabrication files never quote a field).
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream in(line);
+  while (std::getline(in, field, ',')) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+/// The lines of a CSV file without the trailing '\r'; Error when missing.
+std::vector<std::string> csv_lines(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path)) {
+    throw Error(path.string(),
+                "missing (not a design folder: gridshell kit needs joints.csv "
+                "and beams.csv)");
+  }
+  std::istringstream in(io::read_file(path));
+  std::vector<std::string> lines;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (!line.empty()) lines.push_back(line);
+  }
+  if (lines.empty()) throw Error(path.string(), "empty file");
+  return lines;
+}
+
+/// Index of `name` in the header; Error when absent.
+int column(const std::vector<std::string>& header, const std::string& name,
+           const std::filesystem::path& path) {
+  const auto it = std::find(header.begin(), header.end(), name);
+  if (it == header.end()) throw Error(path.string(), "header has no column '" + name + "'");
+  return static_cast<int>(it - header.begin());
+}
+
+double to_number(const std::string& s, const std::filesystem::path& path, std::size_t row) {
+  std::size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != s.size() || !std::isfinite(x)) {
+    throw Error(path.string(), fmt::format("line {}: '{}' is not a number", row + 1, s));
+  }
+  return x;
+}
+
+int to_id(const std::string& s, const std::filesystem::path& path, std::size_t row) {
+  const double x = to_number(s, path, row);
+  if (x < 0 || x != std::floor(x) || x > 1e8) {
+    throw Error(path.string(), fmt::format("line {}: '{}' is not an id", row + 1, s));
+  }
+  return static_cast<int>(x);
+}
+
+/// Reads joints.csv: ids must be 0..n-1 in order (as fabrication writes them).
+std::vector<KitJoint> read_joints(const std::filesystem::path& path) {
+  const auto lines = csv_lines(path);
+  const auto header = split_csv(lines[0]);
+  const int cj = column(header, "joint", path), cx = column(header, "x", path),
+            cy = column(header, "y", path), cz = column(header, "z", path),
+            cs = column(header, "support", path), cb = column(header, "beams", path);
+  const int need = std::max({cj, cx, cy, cz, cs, cb}) + 1;
+  std::vector<KitJoint> joints;
+  for (std::size_t r = 1; r < lines.size(); ++r) {
+    const auto f = split_csv(lines[r]);
+    if (static_cast<int>(f.size()) < need) {
+      throw Error(path.string(), fmt::format("line {}: too few fields", r + 1));
+    }
+    KitJoint j;
+    j.id = to_id(f[cj], path, r);
+    if (j.id != static_cast<int>(joints.size())) {
+      throw Error(path.string(), fmt::format("line {}: joint ids must be 0, 1, … in order", r + 1));
+    }
+    j.position =
+        Vec3(to_number(f[cx], path, r), to_number(f[cy], path, r), to_number(f[cz], path, r));
+    j.support = to_number(f[cs], path, r) != 0;
+    std::istringstream beams(f[cb]);
+    std::string b;
+    while (beams >> b) j.beams.push_back(to_id(b, path, r));
+    joints.push_back(std::move(j));
+  }
+  return joints;
+}
+
+/// Reads beams.csv: ids 0..m-1 in order, end joints that exist and differ, positive lengths.
+std::vector<KitBeam> read_beams(const std::filesystem::path& path, int num_joints) {
+  const auto lines = csv_lines(path);
+  const auto header = split_csv(lines[0]);
+  const int cb = column(header, "beam", path), ci = column(header, "node_i", path),
+            cj = column(header, "node_j", path), cl = column(header, "length", path);
+  const int need = std::max({cb, ci, cj, cl}) + 1;
+  std::vector<KitBeam> beams;
+  for (std::size_t r = 1; r < lines.size(); ++r) {
+    const auto f = split_csv(lines[r]);
+    if (static_cast<int>(f.size()) < need) {
+      throw Error(path.string(), fmt::format("line {}: too few fields", r + 1));
+    }
+    KitBeam b{to_id(f[cb], path, r), to_id(f[ci], path, r), to_id(f[cj], path, r),
+              to_number(f[cl], path, r)};
+    if (b.id != static_cast<int>(beams.size())) {
+      throw Error(path.string(), fmt::format("line {}: beam ids must be 0, 1, … in order", r + 1));
+    }
+    if (b.joint_i >= num_joints || b.joint_j >= num_joints || b.joint_i == b.joint_j ||
+        !(b.length > 0)) {
+      throw Error(path.string(), fmt::format("line {}: bad end joints or length", r + 1));
+    }
+    beams.push_back(b);
+  }
+  return beams;
+}
+
+/// The seat of a joint's sockets: every pair of holes at least a wall apart, floor off-centre.
+double joint_seat(const std::vector<Vec3>& axes, double r, double wall) {
+  double seat = r;
+  for (std::size_t a = 0; a < axes.size(); ++a) {
+    for (std::size_t b = a + 1; b < axes.size(); ++b) {
+      const double theta = std::acos(std::clamp(axes[a].dot(axes[b]), -1.0, 1.0));
+      const double s = std::sin(theta / 2), c = std::cos(theta / 2);
+      if (s < 1e-3) {
+        throw Error("joint", "two beams of a joint are parallel; no hub can hold both");
+      }
+      seat = std::max(seat, (wall / 2 + r * c) / s);
+    }
+  }
+  return seat;
+}
+
+}  // namespace
+
+void check_kit_options(const KitOptions& o) {
+  if (!(o.scale >= 1 && o.scale <= 1e4)) throw Error("--scale", "must be 1:N with 1 <= N <= 10000");
+  if (!(o.rod_diameter >= 0.5 && o.rod_diameter <= 50)) {
+    throw Error("--rod", "must be between 0.5mm and 50mm");
+  }
+  if (!(o.clearance >= 0 && o.clearance <= o.rod_diameter)) {
+    throw Error("--clearance", "must be between 0 and the rod's diameter");
+  }
+  if (!(o.depth_factor > 0 && o.depth_factor <= 20)) throw Error("depth", "must be in (0, 20]");
+  if (!(o.wall > 0 && o.wall <= 20)) throw Error("wall", "must be in (0, 20] mm");
+  if (!(o.gap >= 0)) throw Error("gap", "must be >= 0");
+  if (o.segments < 8 || o.segments > 256) throw Error("segments", "must be in [8, 256]");
+}
+
+KitFrame read_kit_frame(const std::filesystem::path& dir) {
+  if (!std::filesystem::is_directory(dir)) throw Error(dir.string(), "not a folder");
+  KitFrame frame;
+  frame.joints = read_joints(dir / "joints.csv");
+  frame.beams = read_beams(dir / "beams.csv", static_cast<int>(frame.joints.size()));
+  for (const KitJoint& j : frame.joints) {
+    for (int b : j.beams) {
+      if (b >= static_cast<int>(frame.beams.size()) ||
+          (frame.beams[b].joint_i != j.id && frame.beams[b].joint_j != j.id)) {
+        throw Error((dir / "joints.csv").string(),
+                    fmt::format("joint {} lists beam {}, which does not end at it", j.id, b));
+      }
+    }
+  }
+  return frame;
+}
+
+std::vector<HubPlan> plan_hubs(const KitFrame& frame, const KitOptions& o) {
+  const double r = o.rod_diameter / 2 + o.clearance;
+  std::vector<HubPlan> hubs(frame.joints.size());
+  std::vector<double> seats(frame.joints.size(), 0);
+  for (const KitJoint& j : frame.joints) {
+    HubPlan& hub = hubs[j.id];
+    hub.joint = j.id;
+    hub.sleeve_radius = r + o.wall;
+    hub.hub_radius = 1.25 * hub.sleeve_radius;
+    std::vector<Vec3> axes;
+    for (int b : j.beams) {
+      const KitBeam& beam = frame.beams[b];
+      const int other = beam.joint_i == j.id ? beam.joint_j : beam.joint_i;
+      const Vec3 d = frame.joints[other].position - j.position;
+      if (!(d.norm() > 0)) throw Error(fmt::format("beam {}", b), "its joints coincide");
+      axes.push_back(d.normalized());
+      hub.sockets.push_back(Socket{b, axes.back(), 0, 0, r});
+    }
+    try {
+      seats[j.id] = joint_seat(axes, r, o.wall);
+    } catch (const Error&) {
+      throw Error(fmt::format("joint {}", j.id), "two of its beams are parallel");
+    }
+  }
+  for (HubPlan& hub : hubs) {
+    for (Socket& s : hub.sockets) {
+      const KitBeam& beam = frame.beams[s.beam];
+      const double free = beam.length * 1000 / o.scale - seats[beam.joint_i] - seats[beam.joint_j];
+      s.seat = seats[hub.joint];
+      s.depth = std::min(o.depth_factor * o.rod_diameter, (free - o.gap) / 2);
+    }
+  }
+  return hubs;
+}
+
+std::vector<Rod> cut_list(const KitFrame& frame, const std::vector<HubPlan>& hubs,
+                          const KitOptions& o) {
+  std::vector<double> seat(hubs.size(), 0);
+  for (const HubPlan& h : hubs) {
+    if (!h.sockets.empty()) seat[h.joint] = h.sockets.front().seat;
+  }
+  std::vector<Rod> rods;
+  int too_short = 0, worst = -1;
+  double largest_n = o.scale * 1e6;  // the smallest model (largest N) every rod fits
+  for (const KitBeam& b : frame.beams) {
+    const double seats = seat[b.joint_i] + seat[b.joint_j];
+    const double length = b.length * 1000 / o.scale - seats;
+    largest_n = std::min(largest_n, b.length * 1000 / (seats + o.gap + o.rod_diameter));
+    if (!(length > o.gap + o.rod_diameter)) {  // sockets at least rod/2 deep
+      if (worst < 0 || b.length < frame.beams[worst].length) worst = b.id;
+      ++too_short;
+    }
+    rods.push_back(Rod{b.id, b.joint_i, b.joint_j, length});
+  }
+  if (too_short > 0) {
+    const KitBeam& b = frame.beams[worst];
+    throw Error("--scale", fmt::format("{} beams too short at 1:{:g} for their hubs (beam {}: "
+                                       "{:.2f} mm, seats {:.2f} mm); 1:N with N <= {} fits",
+                                       too_short, o.scale, b.id, b.length * 1000 / o.scale,
+                                       seat[b.joint_i] + seat[b.joint_j],
+                                       static_cast<long>(std::floor(largest_n))));
+  }
+  std::stable_sort(rods.begin(), rods.end(),
+                   [](const Rod& a, const Rod& b) { return a.length_mm > b.length_mm; });
+  return rods;
+}
+
+std::string rods_csv(const std::vector<Rod>& rods) {
+  std::string s = "rod,joint_i,joint_j,length_mm\n";
+  for (const Rod& r : rods) {
+    s += fmt::format("{},{},{},{}\n", r.beam, r.joint_i, r.joint_j, io::format_number(r.length_mm));
+  }
+  return s;
+}
+
+KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::path& out,
+                    const KitOptions& options) {
+  check_kit_options(options);
+  const KitFrame frame = read_kit_frame(dir);
+  const std::vector<HubPlan> hubs = plan_hubs(frame, options);
+  const std::vector<Rod> rods = cut_list(frame, hubs, options);
+  KitResult result;
+  const double full = options.depth_factor * options.rod_diameter;
+  for (const HubPlan& h : hubs) {
+    for (const Socket& s : h.sockets) result.short_sockets += s.depth < full - 1e-9 ? 1 : 0;
+  }
+  if (result.short_sockets > 0) {
+    spdlog::warn("kit: {} sockets shallower than {:.3g} mm (beams short at 1:{:g})",
+                 result.short_sockets, full, options.scale);
+  }
+  io::ensure_directory(out / "joints");
+  for (const HubPlan& h : hubs) {
+    if (h.sockets.empty()) continue;
+    io::write_file_atomic(out / "joints" / fmt::format("J{}.stl", h.joint), hub_stl(h, options));
+    ++result.joints;
+  }
+  io::write_file_atomic(out / "rods.csv", rods_csv(rods));
+  result.rods = static_cast<int>(rods.size());
+  for (const Rod& r : rods) result.rod_total_mm += r.length_mm;
+  return result;
+}
+
+}  // namespace gridshell::kit

@@ -1,0 +1,180 @@
+// The printable hub of a joint: primitives (sphere, cylinders) as CGAL surface meshes and the
+// corefinement booleans that join them. The only file of the kit with the (slow to compile)
+// corefinement headers.
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Surface_mesh.h>
+#include <fmt/format.h>
+
+#include "gridshell/core/error.h"
+#include "gridshell/kit/kit.h"
+
+namespace gridshell::kit {
+
+namespace {
+
+// Exact constructions: a chain of booleans on rounded points can meet faces that are coplanar
+// up to rounding (seen crashing on a support joint with nearly opposite beams).
+using Kernel = CGAL::Exact_predicates_exact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+using VertexIndex = Mesh::Vertex_index;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+/// Where the sleeves start along their axis, in sleeve radii; the sphere's radius must exceed
+/// sqrt(1 + kSleeveStart²) sleeve radii (plan_hubs: 1.25).
+constexpr double kSleeveStart = 0.5;
+
+/// Symmetric designs have joints whose beams mirror each other; mirror-image sleeves meet the
+/// mirror-symmetric sphere and each other along edges shared by four faces (CGAL's output is
+/// then a pinched, non-manifold STL). The sphere's longitudes are turned by an angle no mirror
+/// plane through its axes maps onto itself, and socket k's polygons by frac(k · 0.382) of a side.
+constexpr double kSphereTurn = 0.1234;  // [rad]
+double socket_turn(std::size_t k, int segments) {
+  const double golden = 0.3819660112501051;
+  const double f = static_cast<double>(k + 1) * golden;
+  return (f - std::floor(f)) * 2 * std::numbers::pi / segments;
+}
+
+Point point(const Vec3& p) {
+  return Point(p.x(), p.y(), p.z());
+}
+
+/// A UV sphere of `radius` about the origin, `rings` latitude bands, `segments` longitudes,
+/// oriented outward.
+Mesh sphere(double radius, int rings, int segments) {
+  Mesh m;
+  const double pi = std::numbers::pi;
+  const VertexIndex north = m.add_vertex(Point(0, 0, radius));
+  std::vector<std::vector<VertexIndex>> ring(rings - 1);
+  for (int i = 1; i < rings; ++i) {
+    const double phi = pi * i / rings;
+    for (int k = 0; k < segments; ++k) {
+      const double lambda = kSphereTurn + 2 * pi * k / segments;
+      ring[i - 1].push_back(
+          m.add_vertex(Point(radius * std::sin(phi) * std::cos(lambda),
+                             radius * std::sin(phi) * std::sin(lambda), radius * std::cos(phi))));
+    }
+  }
+  const VertexIndex south = m.add_vertex(Point(0, 0, -radius));
+  for (int k = 0; k < segments; ++k) {
+    const int k1 = (k + 1) % segments;
+    m.add_face(north, ring.front()[k], ring.front()[k1]);
+    for (int i = 0; i + 1 < rings - 1; ++i) {
+      m.add_face(ring[i][k], ring[i + 1][k], ring[i + 1][k1]);
+      m.add_face(ring[i][k], ring[i + 1][k1], ring[i][k1]);
+    }
+    m.add_face(south, ring.back()[k1], ring.back()[k]);
+  }
+  PMP::orient_to_bound_a_volume(m);
+  return m;
+}
+
+/// A closed cylinder about `axis` (unit) from t0 to t1 along it, its polygon's vertices on
+/// `radius` (the first at angle `phase`), oriented outward.
+Mesh cylinder(const Vec3& axis, double t0, double t1, double radius, int segments,
+              double phase = 0) {
+  const Vec3 helper = std::abs(axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 u = axis.cross(helper).normalized(), v = axis.cross(u);
+  Mesh m;
+  std::vector<VertexIndex> bottom, top;
+  for (int k = 0; k < segments; ++k) {
+    const double phi = phase + 2 * std::numbers::pi * k / segments;
+    const Vec3 radial = radius * (std::cos(phi) * u + std::sin(phi) * v);
+    bottom.push_back(m.add_vertex(point(t0 * axis + radial)));
+    top.push_back(m.add_vertex(point(t1 * axis + radial)));
+  }
+  const VertexIndex c0 = m.add_vertex(point(t0 * axis)), c1 = m.add_vertex(point(t1 * axis));
+  for (int k = 0; k < segments; ++k) {
+    const int k1 = (k + 1) % segments;
+    m.add_face(bottom[k], bottom[k1], top[k1]);
+    m.add_face(bottom[k], top[k1], top[k]);
+    m.add_face(c1, top[k], top[k1]);
+    m.add_face(c0, bottom[k1], bottom[k]);
+  }
+  PMP::orient_to_bound_a_volume(m);
+  return m;
+}
+
+/// The hub as one closed mesh: sphere ∪ sleeves, minus the holes.
+Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
+  // The sphere only rounds the core: a coarser polygon than the sockets' is enough.
+  Mesh solid = sphere(hub.hub_radius, std::max(4, o.segments / 4), std::max(8, o.segments / 2));
+  const auto fail = [&hub](const char* what) {
+    return Error(fmt::format("joint {}", hub.joint), what);
+  };
+  for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
+    const Socket& s = hub.sockets[k];
+    // Starting off-centre (its start cap still inside the sphere), no two sleeves' caps share
+    // a point: nearly opposite beams would otherwise give nearly coplanar caps.
+    Mesh sleeve = cylinder(s.axis, kSleeveStart * hub.sleeve_radius, s.seat + s.depth,
+                           hub.sleeve_radius, o.segments, socket_turn(k, o.segments));
+    if (!PMP::corefine_and_compute_union(solid, sleeve, solid)) {
+      throw fail("the union of the hub and a sleeve is not a closed manifold solid");
+    }
+  }
+  // The holes are a wall apart (plan_hubs' seat): one mesh of disjoint cylinders, one cut. A
+  // hole's polygon is turned half a side against its sleeve's: a hole edge lying in the plane
+  // of a sleeve cap's fan edge (a degenerate edge-edge crossing) left the mouth's ring doubled.
+  const double half_side = std::numbers::pi / o.segments;
+  Mesh holes;
+  for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
+    const Socket& s = hub.sockets[k];
+    // The hole runs a rod's diameter past the sleeve's mouth: no coplanar faces to cut.
+    CGAL::copy_face_graph(cylinder(s.axis, s.seat, s.seat + s.depth + o.rod_diameter, s.radius,
+                                   o.segments, socket_turn(k, o.segments) + half_side),
+                          holes);
+  }
+  if (!PMP::corefine_and_compute_difference(solid, holes, solid)) {
+    throw fail("cutting the sockets left no closed manifold solid");
+  }
+  return solid;
+}
+
+/// Binary STL of a closed mesh: 80-byte header, triangle count, per triangle the unit normal and
+/// three corners as little-endian float32, and a zero attribute word.
+std::string stl_bytes(const Mesh& m, const std::string& name) {
+  std::string out(80, ' ');
+  out.replace(0, std::min<std::size_t>(80, name.size()), name.substr(0, 80));
+  const auto put_u32 = [&out](std::uint32_t x) {
+    for (int b = 0; b < 4; ++b) out.push_back(static_cast<char>((x >> (8 * b)) & 0xFF));
+  };
+  const auto put_float = [&put_u32](double x) {
+    put_u32(std::bit_cast<std::uint32_t>(static_cast<float>(x)));
+  };
+  put_u32(static_cast<std::uint32_t>(m.number_of_faces()));
+  for (const auto f : m.faces()) {
+    std::array<Vec3, 3> p;
+    int k = 0;
+    for (const auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+      const Point& q = m.point(v);
+      p[k++] = Vec3(CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z()));
+    }
+    const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]).normalized();
+    for (int i = 0; i < 3; ++i) put_float(std::isfinite(n(i)) ? n(i) : 0.0);
+    for (const Vec3& c : p) {
+      for (int i = 0; i < 3; ++i) put_float(c(i));
+    }
+    out.push_back(0);
+    out.push_back(0);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string hub_stl(const HubPlan& hub, const KitOptions& options) {
+  const Mesh m = hub_mesh(hub, options);
+  return stl_bytes(m, fmt::format("gridshell kit joint J{} (mm)", hub.joint));
+}
+
+}  // namespace gridshell::kit
