@@ -1,4 +1,4 @@
-// A finely meshed input (issue 20): `design builtin:paraboloid:res=354 --cells 1000 -D 3 -A 3
+// A finely meshed input: `design builtin:paraboloid:res=354 --cells 1000 -D 3 -A 3
 // --analyze linear` — 250 632 triangles — at the resolution the cells need (the default) and at
 // the input's (goal: ≤ 10 s and ≤ 1 GB on 2 idle cores; docs/shell.md "Analysis resolution").
 // Peak RSS is the process's, so run one benchmark per process for the memory figure:

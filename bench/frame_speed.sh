@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The frame analyses users wait for, timed as whole processes, A/B between two builds (issue 20):
+# The frame analyses users wait for, timed as whole processes, A/B between two builds:
 #   * the Aquadom design at -D 2 -A 2 --length 6000 (8 188 beams) analysed non-linearly (the
 #     perfect and the imperfect path, as `design` and `analyze` do by default);
 #   * the triangulated Aquadom as a frame (11 748 bars): linear + LBA, 5 modes.

@@ -1,6 +1,6 @@
 // The objective search (design --objective) as a whole, wall time on all cores:
 //
-//   ./build/objective_bench                        Botanic at 2018 m (the issue's ~1200-cell
+//   ./build/objective_bench                        Botanic at 2018 m (the goal's ~1200-cell
 //                                                  surface, goal ≤ 60 s on 2 cores) and the
 //                                                  built-in default surface at 300 cells (the
 //                                                  default `gridshell design` searches: ≤ 10 s

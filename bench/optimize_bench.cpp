@@ -6,7 +6,7 @@
 //       regularizes a raw tessellation (e.g. gridshell_raw.obj of `design`) on its surface with
 //       RegularizeOptions overrides (restretch, size_anchor, size_evening, planarity_guard,
 //       boundary_fairing, max_iterations; scale= scales the surface as `--scale`) and prints the
-//       acceptance ratios of issue 7 against the raw mesh. Environment: GRIDSHELL_WRITE=FILE.obj
+//       acceptance ratios (docs/regularization.md) against the raw mesh. Environment: GRIDSHELL_WRITE=FILE.obj
 //       writes the result, GRIDSHELL_HISTORY=1 prints the energy per iteration,
 //       GRIDSHELL_WALKCHECK=A compares SurfaceProjector's walk with its tree for moves of A × the
 //       diagonal.

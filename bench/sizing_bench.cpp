@@ -2,7 +2,7 @@
 //
 //   ./build/sizing_bench    the built-in funicular at D = A = 2 (the default surface, 300 cells,
 //                           eurocode loads, hot-finished CHS): the whole sized design at the
-//                           non-linear level (the goal: ≤ 15 s on 2 cores), and the
+//                           non-linear level (goal: ≤ 15 s on 2 cores), and the
 //                           sizing alone at the LBA level on the same grid
 //
 // Counters: members, sized (1/0), mass (kg), iterations, and the seconds of the cheap iterations

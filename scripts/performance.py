@@ -89,7 +89,7 @@ def goals(work):
            "--length", "2018", "--analyze", "nonlinear", "-o", str(work / "sweep_botanic"),
            "--quiet"]], True),
         ("results-md", "docs/results.md regenerated from scratch (scripts/results.py, 2 jobs; "
-         "written to the work folder, not docs/)", 900, None, "issue 20: ≈ 45 min", 2700,
+         "written to the work folder, not docs/)", 900, None, "≈ 45 min", 2700,
          "script",
          [[sys.executable, str(ROOT / "scripts" / "results.py"), "--exe", "{exe}", "--work",
            str(work / "results_work"), "--out", str(work / "results.md"), "--jobs", "2"]],

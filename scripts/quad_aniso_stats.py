@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The acceptance table of `baseline --kind quad-aniso` (issue 16, docs/quad_aniso.md).
+"""The acceptance table of `baseline --kind quad-aniso` (docs/quad_aniso.md).
 
     python3 scripts/quad_aniso_stats.py [--exe build/gridshell] [--work quad_aniso_work]
                                         [--jobs 2] [--only NAME,...] [--settings 3x3,1x1,2x4]
@@ -9,7 +9,7 @@ Runs `gridshell baseline SURFACE --kind quad-aniso -D D -A A --length L --analyz
 six shared surfaces (../shared/data, skipped when absent) and the built-in surfaces, at each
 (D, A) setting and each surface's lengths (plus any --surface given: a mesh file of your own at
 the lengths listed; with --surface and no --only, only those), and prints a Markdown table of the figures of
-report.json's `quad_aniso` block against the issue's targets:
+report.json's `quad_aniso` block against its targets:
 
   valence 4 >= 85 % and quads >= 85 % of the interior, every face simple, shortest beam >= 10 %
   of the median, length within 5 %; where a >= 2, >= 70 % of beams within 15 deg of u or u-perp;

@@ -161,7 +161,7 @@ def design_jobs(size_for):
         jobs.append((f"{s}_voronoi", ["design"] + base + ["-D", str(D), "-A", str(A)] + size))
         jobs.append((f"{s}_voronoi_noreg", ["design"] + base +
                      ["-D", str(D), "-A", str(A), "--no-regularize"] + size))
-        # Geometry of the finishing stage at D = A = 3 (issue 7's acceptance), no analysis.
+        # Geometry of the finishing stage at D = A = 3 (the regularization's acceptance), no analysis.
         geo = ["design"] + base + ["-D", "3", "-A", "3", "--analyze", "none"] + size
         jobs.append((f"{s}_geometry33", geo))
         jobs.append((f"{s}_planarize33", geo + ["--planarize"]))

@@ -1,4 +1,4 @@
-// Cell-level acceptance of the stress-driven anisotropic tessellation (issue 6): the field is
+// Cell-level acceptance of the stress-driven anisotropic tessellation: the field is
 // turned into a metric (deform_metric), the engine tessellates M′ and maps the cells back to M,
 // and the cells on M are measured against what the field asks for:
 //   - density ramp (D = 4): cell area ∝ 1/d², median areas of the extreme thirds in the ratio

@@ -243,7 +243,7 @@ TEST(DesignCli, FinishingStepThatMovesTheLengthIsCorrected) {
   EXPECT_TRUE(report.at("design").contains("length_retry"));
 }
 
-// Issue 7's acceptance on shared surfaces at D = A = 3 and the paper's lengths: regularity ≥ 3×
+// The regularization's acceptance on shared surfaces at D = A = 3 and the paper's lengths: regularity ≥ 3×
 // better than raw, beam-length CV ≤ 0.75× raw, planarity ≤ 1.10× raw, topology unchanged,
 // joints within 1e-3 of the diagonal from M. Returns the output folder.
 namespace {

@@ -142,7 +142,7 @@ TEST_P(FlatBuiltin, EveryPanelFlatSimpleAndNearTheSurface) {
   const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
   const double span = std::max(extent.x(), extent.y());
   expect_flat(p.flat.mesh, s.mesh, span);
-  // The free design's panels are not flat (the point), the flat one's are.
+  // The free design's panels are not flat (the point of the flat stage), the flat one's are.
   EXPECT_GT(p.free.panels.out_of_plane_max, 1e-3);
   EXPECT_LE(p.flat.panels.out_of_plane_max, 1e-6);
   // The cells keep their size: total beam length within 10 % of the free design's.

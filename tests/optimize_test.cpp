@@ -1,7 +1,7 @@
 // Regularization, planarization, face metrics and symmetry (src/gridshell/optimize).
 // References: closed forms (affine images of regular polygons are their own targets, skew quad
 // planarity), invariants (fixed points, constraints, exact mirror images, manifoldness), and the
-// issue's measured acceptance ratios on perturbed duals of the built-in surfaces.
+// measured acceptance ratios on perturbed duals of the built-in surfaces.
 
 #include <gtest/gtest.h>
 

@@ -98,7 +98,7 @@ TEST(PanelsCli, AFailedFlatStageKeepsTheFreeGridAndSaysWhy) {
 }
 
 TEST(PanelsCli, FlatDoublyCurvedDesignsKeepTheirBucklingLoad) {
-  // λ_LBA of the flat design within 10 % of the free one's (docs/panels.md; the bound)
+  // λ_LBA of the flat design within 10 % of the free one's (docs/panels.md)
   // where the flat stage passes on a doubly curved roof. Measured at 120 cells: dome +10 %,
   // paraboloid +8 % (the joints leave the surface a little towards a funicular shape).
   for (const std::string surface : {"dome", "paraboloid"}) {

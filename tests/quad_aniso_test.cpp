@@ -84,7 +84,7 @@ QuadAnisoResult stress_grid(const Surface& s, double D, double A, double length,
   return quad_aniso(s, field, o);
 }
 
-/// Issue 16's regularity targets: valence 4 and quads ≥ 85 %, simple faces, no stub beams.
+/// The regularity targets (docs/quad_aniso.md): valence 4 and quads ≥ 85 %, simple faces, no stub beams.
 void expect_regular_quads(const QuadMeshStats& st) {
   EXPECT_GE(st.valence4_share, 0.85);
   EXPECT_GE(st.quad_share, 0.85);
@@ -155,7 +155,7 @@ TEST(QuadAniso, PlaneWithGradedDensityHasSizesInverseToD) {
 }
 
 namespace {
-/// Issue 16's targets for a strongly anisotropic field (a ≥ 2.5 asked): regular, simple, no
+/// The targets for a strongly anisotropic field (a ≥ 2.5 asked): regular, simple, no
 /// stub beams, beams along the field, quads stretched.
 void expect_issue_targets(const QuadMeshStats& st) {
   expect_regular_quads(st);
@@ -166,7 +166,7 @@ void expect_issue_targets(const QuadMeshStats& st) {
 }  // namespace
 
 // The direction turns by 60° across the plane and a = 3: M′ is curved, so the lattice needs
-// defects; the issue's targets hold all the same (valence 4 and quads ≥ 85 %, ≥ 70 % of beams
+// defects; the targets hold all the same (valence 4 and quads ≥ 85 %, ≥ 70 % of beams
 // within 15° of u or u⊥, median aspect ≥ 1.5 where a ≥ 2.5).
 TEST(QuadAniso, PlaneWithTurningFieldMeetsTheTargets) {
   const Surface s = plane(40, 20, 80, 40);
@@ -216,7 +216,7 @@ TEST(QuadAniso, DirectionsWhereTheMetricIsIsotropicDoNotBendTheLattice) {
   expect_issue_targets(weighted);
 }
 
-// The issue's acceptance on the surface it names: Botanic at (3, 3) with the design's stress
+// The acceptance on the surface the targets name: Botanic at (3, 3) with the design's stress
 // field, at the paper's 2018 m.
 TEST(QuadAniso, BotanicAt33MeetsTheTargets) {
   SKIP_WITHOUT_SHARED_DATA();
@@ -322,8 +322,8 @@ TEST(QuadAniso, HoopFieldOnADiskScalesTheSpacingAsRToTheKappa) {
 TEST(QuadAniso, LengthOfSmallGridsIsMetByOtherLatticeStarts) {
   const Surface s = make_builtin("dome:res=24");
   Field field = uniform_field(s.mesh);
-  // The premise, checked: at 140 m the two spacings tried give no grid within ±5 % (since session
-  // 13's secant on the median length; before, it was 165 m), so without the extra starts it throws.
+  // The premise, checked: at 140 m the two spacings tried (the secant on the median length) give
+  // no grid within ±5 %, so without the extra starts it throws.
   QuadAnisoOptions without;
   without.length = 140;
   without.max_fits = 2;

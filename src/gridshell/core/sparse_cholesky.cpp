@@ -301,32 +301,34 @@ SparseCholeskyOptions with_environment(SparseCholeskyOptions options, bool allow
   return options;
 }
 
-bool metis_graph_order(int n, const int* p, const int* i, int* order) {
+namespace {
+// Calls `call(G, c)` on the graph of an upper CSC pattern under the METIS lock, with a
+// cholmod_common of its own.
+template <class Call>
+auto on_graph(int n, const int* p, const int* i, Call call) {
   cholmod_common c;
   cholmod_start(&c);
   c.print = 0;
   cholmod_sparse G = upper_csc_view(n, const_cast<int*>(p), const_cast<int*>(i));
-  bool ok = false;
-  {
+  const auto result = [&] {
     const auto lock = lock_symbolic_analysis();
-    ok = cholmod_metis(&G, nullptr, 0, 0, order, &c) != 0;
-  }
+    return call(G, c);
+  }();
   cholmod_finish(&c);
-  return ok;
+  return result;
+}
+}  // namespace
+
+bool metis_graph_order(int n, const int* p, const int* i, int* order) {
+  return on_graph(n, p, i, [&](cholmod_sparse& G, cholmod_common& c) {
+    return cholmod_metis(&G, nullptr, 0, 0, order, &c) != 0;
+  });
 }
 
 long bisect_graph(int n, const int* p, const int* i, int* part) {
-  cholmod_common c;
-  cholmod_start(&c);
-  c.print = 0;
-  cholmod_sparse G = upper_csc_view(n, const_cast<int*>(p), const_cast<int*>(i));
-  long nsep = -1;
-  {
-    const auto lock = lock_symbolic_analysis();
-    nsep = cholmod_bisect(&G, nullptr, 0, 1, part, &c);
-  }
-  cholmod_finish(&c);
-  return nsep;
+  return on_graph(n, p, i, [&](cholmod_sparse& G, cholmod_common& c) {
+    return static_cast<long>(cholmod_bisect(&G, nullptr, 0, 1, part, &c));
+  });
 }
 
 }  // namespace gridshell

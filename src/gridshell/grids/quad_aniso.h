@@ -71,7 +71,7 @@ struct QuadAnisoOptions {
   /// Relative: the fit stops at the first spacing whose best start is this close.
   double length_tolerance = 0.03;
   /// Relative: when no grid came within `length_tolerance`, the closest is kept if within this
-  /// (the issue's ±5 %), else Error. Among the grids within `length_tolerance` (every lattice
+  /// (±5 %), else Error. Among the grids within `length_tolerance` (every lattice
   /// start at every spacing tried) the one of the highest quality (`starts`) is kept.
   double length_limit = 0.05;
   int max_fits = 8;  ///< spacings tried by the fit (each with `starts` lattice starts)

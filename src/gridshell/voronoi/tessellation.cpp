@@ -77,7 +77,7 @@ double length_on_planes(const PolyMesh& mesh, const TessellationOptions& o) {
   return sum;
 }
 
-/// The closed-form length of a tessellation of cell size R (issue 20: meet --length in one run):
+/// The closed-form length of a tessellation of cell size R (to meet --length in one run):
 /// a hexagonal tiling of M′ has 3/(kHexArea R) metres of edges per square metre of M′ and the
 /// boundary seeds sit on a lattice row, so cutting the tiling along the boundary adds the
 /// boundary itself: ℓ′ = 3 A′/(kHexArea R) + P′. The output lives on M: an edge of M′ with
