@@ -84,58 +84,68 @@ void SearchProgress::one_more() {
                   fmt::format("{} designs", n));
 }
 
+Evaluated evaluate_candidate(const CandidateRun& run, const CandidateJudge& how) {
+  const auto t = Clock::now();
+  Evaluated ev;
+  ev.field = run.stress;
+  ev.candidate.setting = run.setting;
+  ev.candidate.round = run.round;
+  try {
+    const DesignOptions o = how.options();
+    const FieldSource source = run.setting.source;
+    const bool response = source == FieldSource::frame_mode || source == FieldSource::frame_energy;
+    DesignResult r = response ? run_design(run.surface, o, *run.stress, run.cache)
+                              : run_design(run.surface, o, run.cache);
+    ev.candidate.length = r.metrics.total_length;
+    ev.candidate.cells = r.mesh.num_faces();
+    how.judge(o, r, ev.candidate);
+    ev.design = std::move(r);
+  } catch (const Error& e) {
+    if (run.rethrow) throw;
+    ev.candidate.error = e.message();
+  }
+  ev.candidate.seconds = seconds_since(t);
+  spdlog::info("[objective] {}: {}", run.setting.label(),
+               ev.candidate.ok ? how.summary(ev.candidate)
+                               : fmt::format("{}: {}", how.failed, ev.candidate.error));
+  return ev;
+}
+
 }  // namespace objective_detail
 
 namespace {
 
 using namespace objective_detail;
 
-/// Designs and judges one candidate. A failure marks the candidate failed, unless `rethrow`
-/// (the reference: its failure is the user's — a bad size or surface).
+/// Designs and judges one candidate at equal length (λ_LBA and δ); the reference rethrows.
 /// Shell-stress and uniform candidates share the analysis surface, the shell stress, their
 /// fields and M′ through `cache`; a frame response is a stress per input triangle.
 Evaluated evaluate(const Surface& surface, const DesignOptions& base, const FieldSetting& s,
                    const StressField* stress, DesignCache& cache, double length, int round,
                    bool rethrow = false) {
-  const auto t = Clock::now();
-  Evaluated ev;
-  ev.field = stress;
-  ev.candidate.setting = s;
-  ev.candidate.round = round;
-  try {
-    const DesignOptions o = candidate_options(base, s, length);
-    const bool response =
-        s.source == FieldSource::frame_mode || s.source == FieldSource::frame_energy;
-    DesignResult r =
-        response ? run_design(surface, o, *stress, cache) : run_design(surface, o, cache);
-    ev.candidate.length = r.metrics.total_length;
-    ev.candidate.cells = r.mesh.num_faces();
+  CandidateJudge how;
+  how.options = [&] { return candidate_options(base, s, length); };
+  how.judge = [&](const DesignOptions&, const DesignResult& r, Candidate& c) {
     if (r.structure) {
-      ev.candidate.delta = r.structure->delta_max_m;
-      ev.candidate.lambda = r.structure->lambda_linear_buckling.value_or(0.0);
-      ev.candidate.ok = ev.candidate.delta > 0 && std::isfinite(ev.candidate.delta);
+      c.delta = r.structure->delta_max_m;
+      c.lambda = r.structure->lambda_linear_buckling.value_or(0.0);
+      c.ok = c.delta > 0 && std::isfinite(c.delta);
     }
-    if (!ev.candidate.ok) ev.candidate.error = "no frame result";
+    if (!c.ok) c.error = "no frame result";
     // Judged only at the same steel: a candidate whose total length missed the target by more
     // than --length's tolerance is not comparable.
-    const double off = length > 0 ? ev.candidate.length / length - 1 : 0.0;
-    if (ev.candidate.ok && std::abs(off) > base.tessellation.length_tolerance) {
-      ev.candidate.ok = false;
-      ev.candidate.error = fmt::format("total length {:.1f} m is {:+.1f} % off the target",
-                                       ev.candidate.length, 100 * off);
+    const double off = length > 0 ? c.length / length - 1 : 0.0;
+    if (c.ok && std::abs(off) > base.tessellation.length_tolerance) {
+      c.ok = false;
+      c.error = fmt::format("total length {:.1f} m is {:+.1f} % off the target", c.length,
+                            100 * off);
     }
-    ev.design = std::move(r);
-  } catch (const Error& e) {
-    if (rethrow) throw;
-    ev.candidate.error = e.message();
-  }
-  ev.candidate.seconds = seconds_since(t);
-  spdlog::info("[objective] {}: {}", s.label(),
-               ev.candidate.ok
-                   ? fmt::format("lambda_LBA = {:.4g}, delta = {:.4g} m, {:.1f} m",
-                                 ev.candidate.lambda, ev.candidate.delta, ev.candidate.length)
-                   : "failed: " + ev.candidate.error);
-  return ev;
+  };
+  how.summary = [](const Candidate& c) {
+    return fmt::format("lambda_LBA = {:.4g}, delta = {:.4g} m, {:.1f} m", c.lambda, c.delta,
+                       c.length);
+  };
+  return evaluate_candidate({surface, s, stress, cache, round, rethrow}, how);
 }
 
 /// Relative gains over the reference: positive = better.

@@ -74,45 +74,29 @@ void governing_check(const sizing::SizingResult& s, double lambda_min, Candidate
 /// its failure is the user's).
 Evaluated evaluate_mass(MassSearch& m, const FieldSetting& s, const StressField* stress, int round,
                         bool rethrow = false) {
-  const auto t = Clock::now();
-  Evaluated ev;
-  ev.field = stress;
-  ev.candidate.setting = s;
-  ev.candidate.round = round;
-  try {
-    const DesignOptions o = mass_options(m, s);
-    const bool response =
-        s.source == FieldSource::frame_mode || s.source == FieldSource::frame_energy;
-    DesignResult r =
-        response ? run_design(m.surface, o, *stress, m.cache) : run_design(m.surface, o, m.cache);
-    Candidate& c = ev.candidate;
-    c.length = r.metrics.total_length;
-    c.cells = r.mesh.num_faces();
+  CandidateJudge how;
+  how.options = [&] { return mass_options(m, s); };
+  how.judge = [&](const DesignOptions& o, const DesignResult& r, Candidate& c) {
     if (r.structure) {
       c.delta = r.structure->delta_max_m;
       c.lambda = r.structure->lambda_linear_buckling.value_or(0.0);
     }
-    if (r.sizing) {
-      c.sized = r.sizing->sized;
-      c.mass_kg = sizing::steel_mass(r.mesh, analysed_frame(o, r));
-      governing_check(*r.sizing, m.sizing.lambda_min, c);
-      c.ok = c.sized && std::isfinite(c.mass_kg) && c.mass_kg > 0;
-      if (!c.sized) c.error = r.sizing->failure;
-    } else {
+    if (!r.sizing) {
       c.error = "no sizing";
+      return;
     }
-    ev.design = std::move(r);
-  } catch (const Error& e) {
-    if (rethrow) throw;
-    ev.candidate.error = e.message();
-  }
-  ev.candidate.seconds = seconds_since(t);
-  const Candidate& c = ev.candidate;
-  spdlog::info("[objective] {}: {}", s.label(),
-               c.ok ? fmt::format("{:.0f} kg, {} cells, governed by {} ({:.2f})", c.mass_kg,
-                                  c.cells, c.governing, c.governing_ratio)
-                    : "not sized: " + c.error);
-  return ev;
+    c.sized = r.sizing->sized;
+    c.mass_kg = sizing::steel_mass(r.mesh, analysed_frame(o, r));
+    governing_check(*r.sizing, m.sizing.lambda_min, c);
+    c.ok = c.sized && std::isfinite(c.mass_kg) && c.mass_kg > 0;
+    if (!c.sized) c.error = r.sizing->failure;
+  };
+  how.summary = [](const Candidate& c) {
+    return fmt::format("{:.0f} kg, {} cells, governed by {} ({:.2f})", c.mass_kg, c.cells,
+                       c.governing, c.governing_ratio);
+  };
+  how.failed = "not sized";
+  return evaluate_candidate({m.surface, s, stress, m.cache, round, rethrow}, how);
 }
 
 /// The reference (isotropic, requested size) with the shell-stress candidates' shared values

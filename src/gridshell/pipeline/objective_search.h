@@ -6,6 +6,8 @@
 #include <atomic>
 #include <chrono>
 #include <deque>
+#include <functional>
+#include <string>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -28,6 +30,27 @@ struct Evaluated {
   std::optional<DesignResult> design;
   const StressField* field = nullptr;  ///< the stress it was designed from (null: isotropic)
 };
+
+/// One candidate of either search: where and from what it is designed.
+struct CandidateRun {
+  const Surface& surface;
+  const FieldSetting& setting;
+  const StressField* stress;  ///< a frame response's stress (null: the setting's own field)
+  DesignCache& cache;
+  int round = 0;
+  bool rethrow = false;  ///< the reference: its failure is the user's (a bad size or surface)
+};
+/// How a search designs and judges a candidate: its options, the reading of its design into the
+/// Candidate (`ok`, the figures, `error`), the log line of one that passed.
+struct CandidateJudge {
+  std::function<DesignOptions()> options;
+  std::function<void(const DesignOptions&, const DesignResult&, Candidate&)> judge;
+  std::function<std::string(const Candidate&)> summary;
+  const char* failed = "failed";  ///< the log's word for one that did not pass
+};
+/// Designs `run`'s candidate with `how`, times it and logs it; a candidate's Error marks it
+/// failed (its message in `error`) unless `run.rethrow`.
+Evaluated evaluate_candidate(const CandidateRun& run, const CandidateJudge& how);
 
 /// Candidates designed so far, told to the progress listener (from any thread).
 struct SearchProgress {
