@@ -84,6 +84,20 @@ void SearchProgress::one_more() {
                   fmt::format("{} designs", n));
 }
 
+nlohmann::json candidate_entry(const Candidate& c) {
+  nlohmann::json e = {{"label", c.setting.label()}, {"source", to_string(c.setting.source)},
+                      {"D", c.setting.D},           {"A", c.setting.A},
+                      {"round", c.round},           {"ok", c.ok},
+                      {"seconds", c.seconds}};
+  if (c.setting.source == FieldSource::shell_stress) {
+    e["stress_measure"] = to_string(c.setting.measure);
+    e["stretch"] = to_string(c.setting.stretch);
+    e["density"] = to_string(c.setting.density);
+  }
+  if (c.setting.feedback > 0) e["feedback"] = c.setting.feedback;
+  return e;
+}
+
 Evaluated evaluate_candidate(const CandidateRun& run, const CandidateJudge& how) {
   const auto t = Clock::now();
   Evaluated ev;
@@ -278,16 +292,7 @@ nlohmann::json ObjectiveResult::report() const {
   j["delta_gain"] = delta_gain(candidates[chosen], ref);
   nlohmann::json list = nlohmann::json::array();
   for (const Candidate& c : candidates) {
-    nlohmann::json e = {{"label", c.setting.label()}, {"source", to_string(c.setting.source)},
-                        {"D", c.setting.D},           {"A", c.setting.A},
-                        {"round", c.round},           {"ok", c.ok},
-                        {"seconds", c.seconds}};
-    if (c.setting.source == FieldSource::shell_stress) {
-      e["stress_measure"] = to_string(c.setting.measure);
-      e["stretch"] = to_string(c.setting.stretch);
-      e["density"] = to_string(c.setting.density);
-    }
-    if (c.setting.feedback > 0) e["feedback"] = c.setting.feedback;
+    nlohmann::json e = candidate_entry(c);
     if (c.ok) {
       e["lambda_linear_buckling"] = c.lambda;
       e["delta_max_m"] = c.delta;

@@ -286,21 +286,9 @@ nlohmann::json mass_report(const ObjectiveResult& r) {
   }
   nlohmann::json list = nlohmann::json::array();
   for (const Candidate& c : r.candidates) {
-    nlohmann::json e = {{"label", c.setting.label()},
-                        {"source", to_string(c.setting.source)},
-                        {"D", c.setting.D},
-                        {"A", c.setting.A},
-                        {"size", c.setting.size},
-                        {"round", c.round},
-                        {"ok", c.ok},
-                        {"sized", c.sized},
-                        {"seconds", c.seconds}};
-    if (c.setting.source == FieldSource::shell_stress) {
-      e["stress_measure"] = to_string(c.setting.measure);
-      e["stretch"] = to_string(c.setting.stretch);
-      e["density"] = to_string(c.setting.density);
-    }
-    if (c.setting.feedback > 0) e["feedback"] = c.setting.feedback;
+    nlohmann::json e = candidate_entry(c);
+    e["size"] = c.setting.size;
+    e["sized"] = c.sized;
     if (c.cells > 0) {
       e["cells"] = c.cells;
       e["total_length_m"] = c.length;

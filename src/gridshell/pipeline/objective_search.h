@@ -31,6 +31,10 @@ struct Evaluated {
   const StressField* field = nullptr;  ///< the stress it was designed from (null: isotropic)
 };
 
+/// report.json's entry of a candidate in either search: its setting, round, verdict and seconds
+/// (each search adds its figures).
+nlohmann::json candidate_entry(const Candidate& c);
+
 /// One candidate of either search: where and from what it is designed.
 struct CandidateRun {
   const Surface& surface;
