@@ -1,10 +1,12 @@
-// gridshell kit DIR -o OUT [--scale 1:50] [--rod 3mm] [--clearance 0.1mm]: a desk model of a
-// design folder's grid-shell: a printable hub per joint (OUT/joints/J<id>.stl) and the rods'
-// cut list (OUT/rods.csv). docs/fabrication.md "Model kit".
+// gridshell kit DIR -o OUT [--scale 1:50] [--rod 3mm] [--clearance 0.1mm] [--bed 600x400mm]
+// [--kerf 0.15mm]: a desk model of a design folder's grid-shell: a printable hub per joint
+// (OUT/joints/J<id>.stl), the rods' cut list (OUT/rods.csv) and the panels for a laser cutter
+// (OUT/panels.svg, OUT/panels.dxf). docs/fabrication.md "Model kit".
 
 #include <cmath>
 #include <iostream>
 #include <regex>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -23,6 +25,8 @@ struct KitArgs {
   std::string scale = "1:50";
   std::string rod = "3mm";
   std::string clearance = "0.1mm";
+  std::string bed = "600x400mm";
+  std::string kerf = "0.15mm";
   bool quiet = false;
 };
 
@@ -48,11 +52,24 @@ double parse_length_mm(const std::string& option, const std::string& s) {
   return unit == "cm" ? 10 * x : unit == "m" ? 1000 * x : x;
 }
 
+/// "600x400mm" (or "600x400", "0.6x0.4m") → {width, height} in millimetres.
+std::pair<double, double> parse_bed_mm(const std::string& s) {
+  static const std::regex form(R"(^\s*([0-9.]+)\s*x\s*([0-9.]+)\s*(mm|cm|m)?\s*$)");
+  std::smatch m;
+  if (!std::regex_match(s, m, form)) {
+    throw Error("--bed", fmt::format("'{}' is not a size like 600x400mm", s));
+  }
+  const std::string unit = m[3].str();
+  return {parse_length_mm("--bed", m[1].str() + unit), parse_length_mm("--bed", m[2].str() + unit)};
+}
+
 int run_kit(const KitArgs& a) {
   kit::KitOptions options;
   options.scale = parse_scale(a.scale);
   options.rod_diameter = parse_length_mm("--rod", a.rod);
   options.clearance = parse_length_mm("--clearance", a.clearance);
+  std::tie(options.bed_width, options.bed_height) = parse_bed_mm(a.bed);
+  options.kerf = parse_length_mm("--kerf", a.kerf);
   kit::check_kit_options(options);
   if (a.quiet) spdlog::set_level(spdlog::level::warn);
   const std::filesystem::path out =
@@ -60,6 +77,9 @@ int run_kit(const KitArgs& a) {
   const kit::KitResult r = kit::write_kit(a.dir, out, options);
   spdlog::info("kit: {} joints in {}, {} rods ({:.0f} mm in all) in {}", r.joints,
                (out / "joints").string(), r.rods, r.rod_total_mm, (out / "rods.csv").string());
+  if (r.panels > 0)
+    spdlog::info("kit: {} panels on {} laser beds in {}", r.panels, r.panel_sheets,
+                 (out / "panels.dxf").string());
   return 0;
 }
 
@@ -76,6 +96,10 @@ void register_kit(CLI::App& app, Action& action) {
       ->default_str(a->rod);
   sub->add_option("--clearance", a->clearance, "radial play between rod and socket")
       ->default_str(a->clearance);
+  sub->add_option("--bed", a->bed, "the laser cutter's bed WxH for the panels")
+      ->default_str(a->bed);
+  sub->add_option("--kerf", a->kerf, "width the laser burns away (outlines offset by half)")
+      ->default_str(a->kerf);
   sub->add_flag("--quiet", a->quiet, "only warnings and errors on stderr");
   sub->callback([a, &action] { action = [a] { return run_kit(*a); }; });
 }

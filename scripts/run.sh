@@ -28,6 +28,10 @@ PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libsuitespa
 # docs/performance.md). Optional: without it CMake falls back to glibc's malloc.
 PACKAGES+=(libjemalloc-dev)
 
+# DXF and glTF: panels.dxf, beams.dxf and gridshell.glb in every design folder
+# (src/gridshell/exchange/); ezdxf is the tests' independent DXF reader.
+PACKAGES+=(libdxflib-dev libtinygltf-dev python3-ezdxf)
+
 # Open MPI: the optional distributed sweep (`mpirun -n K gridshell sweep ...`) and its test.
 PACKAGES+=(libopenmpi-dev openmpi-bin)
 

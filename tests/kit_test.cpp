@@ -21,6 +21,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "gridshell/io/files.h"
 #include "gridshell/kit/kit.h"
@@ -204,6 +205,58 @@ TEST(Kit, MirrorSymmetricCornerJointIsAManifoldSolid) {
   EXPECT_NEAR(measure_socket(m, Vec3::UnitX()).seat, expected, 0.05);
 }
 
+/// Area of a closed polygon (counter-clockwise positive).
+double polygon_area_2d(const std::vector<Eigen::Vector2d>& q) {
+  double a = 0;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const auto& p = q[k];
+    const auto& r = q[(k + 1) % q.size()];
+    a += p.x() * r.y() - p.y() * r.x();
+  }
+  return a / 2;
+}
+
+TEST_F(KitTest, PanelsAreCutAtScaleWithTheKerf) {
+  const nlohmann::json dxf = test::read_dxf(*dir_ / "kit" / "panels.dxf");
+  if (dxf.is_null()) SKIP_OR_FAIL_IN_CI("no python3-ezdxf: the independent DXF reader");
+  EXPECT_EQ(dxf["units"], 4);
+  const auto outlines = kit::read_panel_outlines(*dir_ / "design" / "panels.csv");
+  std::vector<nlohmann::json> cut, labels;
+  for (const auto& p : dxf["polylines"])
+    if (p[0] == "PANELS" || p[0] == "OVERSIZE") cut.push_back(p);
+  for (const auto& t : dxf["texts"])
+    if (t[0] == "LABELS") labels.push_back(t);
+  ASSERT_EQ(cut.size(), outlines.size());
+  ASSERT_EQ(labels.size(), outlines.size());
+  // A convex outline (mm at 1:50) offset outward by d = kerf / 2 with mitred corners has the
+  // area A + P d + d² Σ tan(φ/2), φ the turning angle at each corner.
+  const double d = 0.15 / 2;
+  int convex = 0;
+  for (std::size_t k = 0; k < cut.size(); ++k) {
+    const int id = std::stoi(labels[k][1].get<std::string>());
+    std::vector<Eigen::Vector2d> q;
+    for (const auto& x : outlines.at(id)) q.push_back(1000 * x / kScale);
+    double perimeter = 0, corners = 0;
+    bool is_convex = true;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      const Eigen::Vector2d e0 = q[i] - q[(i + q.size() - 1) % q.size()],
+                            e1 = q[(i + 1) % q.size()] - q[i];
+      perimeter += e1.norm();
+      const double turn = std::atan2(e0.x() * e1.y() - e0.y() * e1.x(), e0.dot(e1));
+      is_convex = is_convex && turn > 0 && turn < 1.8;  // no bevelled corner either
+      corners += std::tan(turn / 2);
+    }
+    if (!is_convex) continue;
+    ++convex;
+    std::vector<Eigen::Vector2d> drawn;
+    for (const auto& x : cut[k][1]) drawn.emplace_back(x[0].get<double>(), x[1].get<double>());
+    EXPECT_NEAR(polygon_area_2d(drawn), polygon_area_2d(q) + perimeter * d + d * d * corners,
+                1e-6)
+        << "panel " << id;
+  }
+  EXPECT_GT(convex, static_cast<int>(cut.size()) / 2);
+}
+
 TEST_F(KitTest, BadInputIsOneLineAndExitTwo) {
   const std::string design = (*dir_ / "design").string();
   const auto empty = test::temp_dir("kit_empty");
@@ -213,6 +266,9 @@ TEST_F(KitTest, BadInputIsOneLineAndExitTwo) {
       {fmt::format("kit {} --scale 1:0", design), "--scale"},
       {fmt::format("kit {} --rod 3in", design), "--rod"},
       {fmt::format("kit {} --rod 0mm", design), "--rod"},
+      {fmt::format("kit {} --kerf 5mm", design), "--kerf"},
+      {fmt::format("kit {} --bed 10x10mm", design), "--bed"},
+      {fmt::format("kit {} --bed 600", design), "--bed"},
       {fmt::format("kit {} --scale 1:5000", design), "too short at 1:5000"},
   };
   for (const auto& [args, word] : cases) {

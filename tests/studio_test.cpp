@@ -209,7 +209,8 @@ TEST_F(StudioServerTest, ConfigRepeatsTheDesignAndExportHasTheDesignFiles) {
   // What `design -o` writes.
   for (const char* f : {"gridshell.obj", "gridshell_raw.obj", "gridshell.ply", "gridshell.vtp",
                         "field.vtp", "cells.csv", "joints.csv", "beams.csv", "panels.csv",
-                        "panels.svg", "report.json", "config.json", "report.html"})
+                        "panels.svg", "panels.dxf", "beams.dxf", "gridshell.glb", "report.json",
+                        "config.json", "report.html"})
     EXPECT_TRUE(fs::exists(dir / "zip" / f)) << f;
   EXPECT_FALSE(fs::is_empty(dir / "zip" / "figures"));
   // `gridshell design --config` gives the same grid-shell, byte for byte.
@@ -218,6 +219,7 @@ TEST_F(StudioServerTest, ConfigRepeatsTheDesignAndExportHasTheDesignFiles) {
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_EQ(slurp(dir / "cli" / "gridshell.obj"), slurp(dir / "zip" / "gridshell.obj"));
   EXPECT_EQ(slurp(dir / "cli" / "beams.csv"), slurp(dir / "zip" / "beams.csv"));
+  EXPECT_EQ(slurp(dir / "cli" / "gridshell.glb"), slurp(dir / "zip" / "gridshell.glb"));
   // One writer for both (report/design_folder.h): the export has design's analysis files too,
   // the buckling modes and the frame, and report.json's load combinations and steel.
   for (const char* f : {"modes.csv", "frame.json"}) {

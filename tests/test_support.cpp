@@ -48,16 +48,38 @@ nlohmann::json read_json(const fs::path& p) {
   return nlohmann::json::parse(in);
 }
 
-RunResult run_gridshell(const std::string& args) {
+RunResult run_command(const std::string& command) {
   fs::path d = temp_dir("run");
-  std::string cmd = std::string(GRIDSHELL_EXE) + " " + args + " >" + (d / "out").string() + " 2>" +
-                    (d / "err").string() + " </dev/null";
+  std::string cmd = command + " >" + (d / "out").string() + " 2>" + (d / "err").string() +
+                    " </dev/null";
   int rc = std::system(cmd.c_str());
   RunResult r;
   r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
   r.out = slurp(d / "out");
   r.err = slurp(d / "err");
   return r;
+}
+
+RunResult run_gridshell(const std::string& args) {
+  return run_command(std::string(GRIDSHELL_EXE) + " " + args);
+}
+
+nlohmann::json read_dxf(const fs::path& file) {
+  const fs::path script = temp_dir("ezdxf") / "read.py";
+  std::ofstream(script) << (
+             "import ezdxf, json, sys\n"
+             "doc = ezdxf.readfile(sys.argv[1])\n"
+             "audit = doc.audit()\n"
+             "msp = doc.modelspace()\n"
+             "print(json.dumps({'units': doc.header.get('$INSUNITS'),\n"
+             "  'audit_errors': len(audit.errors),\n"
+             "  'polylines': [[e.dxf.layer, [list(p) for p in e.get_points('xy')], e.closed]\n"
+             "                for e in msp if e.dxftype() == 'LWPOLYLINE'],\n"
+             "  'texts': [[e.dxf.layer, e.dxf.text, e.dxf.height] for e in msp\n"
+             "            if e.dxftype() == 'TEXT']}))\n");
+  const auto r = run_command("/usr/bin/python3 " + script.string() + " " + file.string());
+  if (r.status != 0) return nlohmann::json();
+  return nlohmann::json::parse(r.out);
 }
 
 }  // namespace gridshell::test

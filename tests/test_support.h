@@ -28,14 +28,21 @@ nlohmann::json read_json(const std::filesystem::path& path);
 /// A fresh empty folder under the system temp dir, unique per test.
 std::filesystem::path temp_dir(const std::string& name);
 
-/// Runs the gridshell executable with `args` (a shell-quoted string); returns the exit status and
-/// captures stdout and stderr.
+/// A finished command: its exit status and what it wrote.
 struct RunResult {
   int status = -1;
   std::string out;
   std::string err;
 };
+/// Runs a shell command (stdin from /dev/null); its exit status, stdout and stderr.
+RunResult run_command(const std::string& command);
+/// Runs the gridshell executable with `args` (a shell-quoted string).
 RunResult run_gridshell(const std::string& args);
+
+/// A DXF file read back by an independent reader (Debian's python3-ezdxf) as JSON: `units`
+/// ($INSUNITS), `audit_errors`, `polylines` ([layer, [[x, y], …], closed] in file order) and
+/// `texts` ([layer, text, height]); null when the reader is missing or fails.
+nlohmann::json read_dxf(const std::filesystem::path& file);
 
 /// Centroid of triangle f.
 inline Vec3 centroid(const TriMesh& m, int f) {

@@ -8,6 +8,9 @@
 #include <fmt/format.h>
 
 #include "gridshell/core/error.h"
+#include "gridshell/exchange/glb.h"
+#include "gridshell/fabrication/exchange_files.h"
+#include "gridshell/fabrication/panel_sheets.h"
 #include "gridshell/io/files.h"
 #include "gridshell/mesh/topology.h"
 
@@ -33,11 +36,6 @@ std::string joined(const std::vector<T>& v, F f) {
 
 std::string ints(const std::vector<int>& v) {
   return joined(v, [](int i) { return std::to_string(i); });
-}
-
-/// Millimetres with 0.01 mm resolution for the SVG.
-std::string mm(double x) {
-  return fmt::format("{:.2f}", x * 1000);
 }
 
 }  // namespace
@@ -124,84 +122,18 @@ std::string panels_csv(const FabricationData& d) {
   return s;
 }
 
+namespace {
+
+std::vector<std::vector<Eigen::Vector2d>> flat_outlines(const FabricationData& d) {
+  std::vector<std::vector<Eigen::Vector2d>> out;
+  for (const Panel& p : d.parts.panels) out.push_back(p.flat.outline);
+  return out;
+}
+
+}  // namespace
+
 std::string panels_svg(const FabricationData& d, const SheetOptions& sheet) {
-  // Sheets stacked top to bottom, 100 mm apart; oversize panels in a row below them.
-  const double space = 0.1;
-  const double pitch = sheet.height + space;
-  double oversize_w = 0, oversize_h = 0;
-  std::vector<std::pair<int, Placement>> big;
-  for (int id : d.nesting.oversize) {
-    const auto& q = d.parts.panels[id].flat.outline;
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = -lo;
-    for (const auto& x : q) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-    Placement p;
-    p.offset = Eigen::Vector2d(oversize_w, 0) - lo;
-    big.emplace_back(id, p);
-    oversize_w += hi.x() - lo.x() + space;
-    oversize_h = std::max(oversize_h, hi.y() - lo.y());
-  }
-  const double width = std::max(sheet.width, oversize_w);
-  const double height =
-      d.nesting.sheets * pitch + (big.empty() ? 0.0 : oversize_h + 2 * space) + space;
-  std::string s = fmt::format(
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}mm\" height=\"{1}mm\" "
-      "viewBox=\"0 0 {0} {1}\">\n"
-      "<title>gridshell panels: {2} panels on {3} sheets of {4} x {5} m ({6} oversize)</title>\n"
-      "<style>polygon{{fill:#cfe3f3;stroke:#000;stroke-width:1}} .big{{fill:#f6c9c9;"
-      "stroke:#c00}} rect{{fill:none;stroke:#888;stroke-width:2}} text{{font-family:sans-serif;"
-      "text-anchor:middle;dominant-baseline:central}}</style>\n",
-      mm(width), mm(height), d.parts.panels.size(), d.nesting.sheets, num(sheet.width),
-      num(sheet.height), big.size());
-  // A point on sheet k (y up) in SVG millimetres (y down).
-  auto svg_point = [&](const Eigen::Vector2d& p, double top) {
-    return mm(p.x()) + "," + mm(top + sheet.height - p.y());
-  };
-  for (int k = 0; k < d.nesting.sheets; ++k) {
-    const double top = space + k * pitch;
-    s += fmt::format("<g id=\"sheet{}\">\n<rect x=\"0\" y=\"{}\" width=\"{}\" height=\"{}\"/>\n"
-                     "<text x=\"{}\" y=\"{}\" font-size=\"30\">sheet {}</text>\n",
-                     k, mm(top), mm(sheet.width), mm(sheet.height), mm(sheet.width / 2),
-                     mm(top - space / 2), k);
-    for (const Panel& p : d.parts.panels) {
-      const Placement& pl = d.nesting.placements[p.id];
-      if (pl.sheet != k) continue;
-      const auto q = placed_outline(p.flat.outline, pl);
-      Eigen::Vector2d c = Eigen::Vector2d::Zero(), lo = Eigen::Vector2d::Constant(1e300),
-                      hi = -lo;
-      for (const auto& x : q) c += x, lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-      c /= static_cast<double>(q.size());
-      const double font = std::clamp(0.25 * std::min(hi.x() - lo.x(), hi.y() - lo.y()), 0.01, 0.08);
-      s += "<polygon points=\"" + joined(q, [&](const Eigen::Vector2d& x) {
-             return svg_point(x, top);
-           }) + "\"/>\n";
-      s += fmt::format("<text x=\"{}\" y=\"{}\" font-size=\"{}\">{}</text>\n", mm(c.x()),
-                       mm(top + sheet.height - c.y()), mm(font), p.id);
-    }
-    s += "</g>\n";
-  }
-  if (!big.empty()) {
-    const double top = space + d.nesting.sheets * pitch + space;
-    s += fmt::format("<g id=\"oversize\">\n<text x=\"0\" y=\"{}\" font-size=\"30\" "
-                     "style=\"text-anchor:start\">larger than a sheet</text>\n",
-                     mm(top - space / 2));
-    for (const auto& [id, pl] : big) {
-      const auto q = placed_outline(d.parts.panels[id].flat.outline, pl);
-      Eigen::Vector2d c = Eigen::Vector2d::Zero();
-      for (const auto& x : q) c += x;
-      c /= static_cast<double>(q.size());
-      // y up inside a band of height oversize_h.
-      auto pt = [&](const Eigen::Vector2d& x) {
-        return mm(x.x()) + "," + mm(top + oversize_h - x.y());
-      };
-      s += "<polygon class=\"big\" points=\"" + joined(q, pt) + "\"/>\n";
-      s += fmt::format("<text x=\"{}\" y=\"{}\" font-size=\"80\">{}</text>\n", mm(c.x()),
-                       mm(top + oversize_h - c.y()), id);
-    }
-    s += "</g>\n";
-  }
-  s += "</svg>\n";
-  return s;
+  return fabrication::panels_svg(panel_sheets(flat_outlines(d), d.nesting, sheet));
 }
 
 nlohmann::json bill_of_materials(const FabricationData& d, const FabricationFileOptions& o) {
@@ -276,7 +208,11 @@ nlohmann::json write_fabrication_files(const std::filesystem::path& dir, const P
   io::write_file_atomic(dir / "joints.csv", joints_csv(d));
   io::write_file_atomic(dir / "beams.csv", beams_csv(d));
   io::write_file_atomic(dir / "panels.csv", panels_csv(d));
-  io::write_file_atomic(dir / "panels.svg", panels_svg(d, options.sheet));
+  const PanelSheets sheets = panel_sheets(flat_outlines(d), d.nesting, options.sheet);
+  io::write_file_atomic(dir / "panels.svg", panels_svg(sheets));
+  exchange::write_dxf(dir / "panels.dxf", panels_dxf(sheets));
+  exchange::write_dxf(dir / "beams.dxf", cut_list_dxf(d));
+  exchange::write_glb(dir / "gridshell.glb", glb_model(mesh, d));
   return bill_of_materials(d, options);
 }
 

@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "gridshell/core/error.h"
+#include "gridshell/exchange/dxf.h"
 #include "gridshell/io/files.h"
 
 namespace gridshell::kit {
@@ -129,6 +130,38 @@ std::vector<KitBeam> read_beams(const std::filesystem::path& path, int num_joint
   return beams;
 }
 
+}  // namespace
+
+std::vector<std::vector<Eigen::Vector2d>> read_panel_outlines(const std::filesystem::path& path) {
+  const auto lines = csv_lines(path);
+  const auto header = split_csv(lines[0]);
+  const int cp = column(header, "panel", path), co = column(header, "outline", path);
+  const int need = std::max(cp, co) + 1;
+  std::vector<std::vector<Eigen::Vector2d>> outlines;
+  for (std::size_t r = 1; r < lines.size(); ++r) {
+    const auto f = split_csv(lines[r]);
+    if (static_cast<int>(f.size()) < need) {
+      throw Error(path.string(), fmt::format("line {}: too few fields", r + 1));
+    }
+    if (to_id(f[cp], path, r) != static_cast<int>(outlines.size())) {
+      throw Error(path.string(), fmt::format("line {}: panel ids must be 0, 1, … in order", r + 1));
+    }
+    std::istringstream in(f[co]);
+    std::vector<double> xy;
+    std::string word;
+    while (in >> word) xy.push_back(to_number(word, path, r));
+    if (xy.size() < 6 || xy.size() % 2) {
+      throw Error(path.string(), fmt::format("line {}: an outline needs x y pairs of 3 corners or more", r + 1));
+    }
+    std::vector<Eigen::Vector2d> q;
+    for (std::size_t k = 0; k < xy.size(); k += 2) q.emplace_back(xy[k], xy[k + 1]);
+    outlines.push_back(std::move(q));
+  }
+  return outlines;
+}
+
+namespace {
+
 /// The seat of a joint's sockets: every pair of holes at least a wall apart, floor off-centre.
 double joint_seat(const std::vector<Vec3>& axes, double r, double wall) {
   double seat = r;
@@ -159,6 +192,9 @@ void check_kit_options(const KitOptions& o) {
   if (!(o.wall > 0 && o.wall <= 20)) throw Error("wall", "must be in (0, 20] mm");
   if (!(o.gap >= 0)) throw Error("gap", "must be >= 0");
   if (o.segments < 8 || o.segments > 256) throw Error("segments", "must be in [8, 256]");
+  if (!(o.bed_width >= 50 && o.bed_width <= 5000 && o.bed_height >= 50 && o.bed_height <= 5000))
+    throw Error("--bed", "must be WxH with sides between 50mm and 5000mm");
+  if (!(o.kerf >= 0 && o.kerf <= 2)) throw Error("--kerf", "must be between 0 and 2mm");
 }
 
 KitFrame read_kit_frame(const std::filesystem::path& dir) {
@@ -253,6 +289,30 @@ std::string rods_csv(const std::vector<Rod>& rods) {
   return s;
 }
 
+fabrication::PanelSheets kit_panel_sheets(
+    const std::vector<std::vector<Eigen::Vector2d>>& outlines, const KitOptions& o) {
+  std::vector<std::vector<Eigen::Vector2d>> model;  // [m] of the model
+  for (const auto& q : outlines) {
+    std::vector<Eigen::Vector2d> m;
+    for (const auto& x : q) m.push_back(x / o.scale);
+    model.push_back(std::move(m));
+  }
+  fabrication::SheetOptions bed;
+  bed.width = o.bed_width / 1000;
+  bed.height = o.bed_height / 1000;
+  bed.gap = 0.003;
+  bed.margin = 0.005;
+  const fabrication::Nesting nesting = fabrication::nest_panels(model, bed);
+  fabrication::PanelSheetOptions drawing;
+  drawing.kerf = o.kerf / 1000;
+  drawing.label_min = 0.0015;
+  drawing.label_max = 0.004;
+  drawing.title = 0.006;
+  drawing.space = 0.02;
+  drawing.stroke = 0.0001;
+  return fabrication::panel_sheets(model, nesting, bed, drawing);
+}
+
 KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::path& out,
                     const KitOptions& options) {
   check_kit_options(options);
@@ -276,6 +336,14 @@ KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::pat
   }
   io::write_file_atomic(out / "rods.csv", rods_csv(rods));
   result.rods = static_cast<int>(rods.size());
+  if (std::filesystem::is_regular_file(dir / "panels.csv")) {
+    const fabrication::PanelSheets sheets =
+        kit_panel_sheets(read_panel_outlines(dir / "panels.csv"), options);
+    io::write_file_atomic(out / "panels.svg", fabrication::panels_svg(sheets));
+    exchange::write_dxf(out / "panels.dxf", fabrication::panels_dxf(sheets));
+    result.panels = static_cast<int>(sheets.outlines.size());
+    result.panel_sheets = static_cast<int>(sheets.sheets.size());
+  }
   for (const Rod& r : rods) result.rod_total_mm += r.length_mm;
   return result;
 }

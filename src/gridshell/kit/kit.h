@@ -12,6 +12,11 @@
 /// - rods.csv  `rod,joint_i,joint_j,length_mm` (rod = beam id of beams.csv), longest first:
 ///   rod length = beam length at scale − the two seats (the distance from each joint's centre to
 ///   its socket's floor).
+/// - panels.svg, panels.dxf  (when the folder has panels.csv) every panel's flat outline at
+///   scale, labelled with its id, nested on the laser's bed (`bed_width` × `bed_height`), each
+///   outline offset outward by half the `kerf` so that the part cut out has the panel's size
+///   (fabrication/panel_sheets.h). The outline is the panel's centre-line polygon: the panel
+///   rests on the rods.
 ///
 /// Geometry per joint: socket hole radius r = rod/2 + clearance, sleeve radius r + wall. The
 /// seat s (socket floor's distance from the centre) is the smallest that keeps every pair of
@@ -26,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "gridshell/fabrication/panel_sheets.h"
 #include "gridshell/mesh/mesh.h"
 
 namespace gridshell::kit {
@@ -38,6 +44,8 @@ struct KitOptions {
   double wall = 1.2;        ///< sleeve wall, and the least material between two holes [mm]
   double gap = 1;           ///< least free rod between the sleeves of two joints [mm]
   int segments = 32;        ///< sides of the polygons approximating cylinders (vertices on r)
+  double bed_width = 600, bed_height = 400;  ///< the laser cutter's bed [mm]
+  double kerf = 0.15;  ///< width the laser burns away [mm] (0.1–0.2 mm in 3 mm acrylic)
 };
 
 /// Throws Error naming the option (`--scale`, `--rod`, …) when an option is out of range.
@@ -95,12 +103,22 @@ std::string rods_csv(const std::vector<Rod>& rods);
 /// boolean fails.
 std::string hub_stl(const HubPlan& hub, const KitOptions& options);
 
+/// The `outline` column of DIR/panels.csv (each panel's flat outline [m], panel id order).
+/// Throws Error (one line) for a malformed file.
+std::vector<std::vector<Eigen::Vector2d>> read_panel_outlines(const std::filesystem::path& path);
+
+/// The outlines at the kit's scale nested on its laser bed, offset for its kerf.
+fabrication::PanelSheets kit_panel_sheets(
+    const std::vector<std::vector<Eigen::Vector2d>>& outlines, const KitOptions& options);
+
 struct KitResult {
   int joints = 0, rods = 0;
+  int panels = 0, panel_sheets = 0;  ///< laser-cut panels and the beds they take
   int short_sockets = 0;  ///< sockets shortened on beams too short at scale
   double rod_total_mm = 0;
 };
-/// Writes OUT/joints/J<id>.stl and OUT/rods.csv (atomically) for the design folder `dir`.
+/// Writes OUT/joints/J<id>.stl, OUT/rods.csv and (with panels.csv) OUT/panels.svg and
+/// OUT/panels.dxf, atomically, for the design folder `dir`.
 KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::path& out,
                     const KitOptions& options = {});
 
