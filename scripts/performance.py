@@ -29,9 +29,12 @@ SURF = DATA / "surfaces"
 
 
 def goals(work):
-    """(name, what, goal seconds, goal GB or None, anchor text, anchor seconds or None, kind,
+    """(name, what, goal seconds, goal MiB or None, anchor text, anchor seconds or None, kind,
     spec, long). kind "cmd": spec is a list of argument lists (setup commands first, the last one
-    timed). kind "bench": spec is (program, benchmark name)."""
+    timed). kind "stage": the same, but the time is one stage of the timed command's
+    report.json (in its -o folder): spec[-1] is the dotted key of that time, spec[-2] the
+    command.
+    kind "bench": spec is (program, benchmark name)."""
     aq = str(SURF / "aquadom_Vouga.ply")
     aq22 = str(work / "aquadom_22")
     return [
@@ -43,8 +46,8 @@ def goals(work):
          [["design", aq, "-D", "3", "-A", "3", "--length", "3898", "--analyze", "none",
            "--figures", "none", "-o", str(work / "aquadom_33"), "--quiet"]], False),
         ("aquadom-lba", "Aquadom triangulation as a frame (11 748 bars), linear + LBA, 5 modes",
-         1.5, None, "CalculiX *BUCKLE, same frame", 42, "cmd",
-         [["analyze", aq, "--analyze", "buckling", "--figures", "none", "-o",
+         1.0, None, "CalculiX *BUCKLE, same frame", 42, "cmd",
+         [["analyze", aq, "--analyze", "buckling", "-o",
            str(work / "aquadom_lba"), "--quiet"]], False),
         ("aquadom-nonlinear", "non-linear path of the Aquadom design D = A = 2, --length 6000 "
          "(8188 beams), perfect structure", 30, None,
@@ -53,18 +56,38 @@ def goals(work):
            "--figures", "none", "-o", aq22, "--quiet"],
           ["analyze", aq22 + "/gridshell.obj", "--analyze", "nonlinear", "--single-path",
            "--figures", "none", "-o", str(work / "aquadom_22_nl"), "--quiet"]], False),
+        ("aquadom-stability", "the stability block (report.json structure.timings_s.nonlinear: "
+         "perfect path and every imperfect one, both signs) of the Aquadom design -D 2 -A 2 "
+         "--length 6000 --analyze nonlinear", 15, None, "paper: over a day per non-linear "
+         "analysis", 86400, "stage",
+         [["design", aq, "-D", "2", "-A", "2", "--length", "6000", "--analyze", "nonlinear",
+           "--figures", "none", "-o", str(work / "aquadom_stability"), "--quiet"],
+          "structure.timings_s.nonlinear"], False),
         ("fine-input", "design of a 250 K-triangle input (builtin:paraboloid:res=354), 1000 "
-         "cells, linear analysis", 10, 1.0, None, None, "cmd",
+         "cells, linear analysis (the default objective search)", 6, 600, None, None, "cmd",
          [["design", "builtin:paraboloid:res=354", "--cells", "1000", "--analyze", "linear",
-           "--figures", "none", "-o", str(work / "fine"), "--quiet"]], False),
+           "-o", str(work / "fine"), "--quiet"]], False),
         ("fine-input-one", "the same input, one design (-D 3 -A 3) instead of the default "
-         "objective search", 10, 1.0, None, None, "cmd",
+         "objective search", 6, 600, None, None, "cmd",
          [["design", "builtin:paraboloid:res=354", "--cells", "1000", "-D", "3", "-A", "3",
            "--analyze", "linear", "--figures", "none", "-o", str(work / "fine_one"),
            "--quiet"]], False),
+        ("fine-input-2m", "a 2 M-triangle input (builtin:paraboloid:res=1000), 1000 cells, "
+         "linear analysis (the default objective search)", 30, 2048, None, None, "cmd",
+         [["design", "builtin:paraboloid:res=1000", "--cells", "1000", "--analyze", "linear",
+           "-o", str(work / "fine_2m"), "--quiet"]], False),
+        ("fine-input-2m-default", "the same input, the default design (objective search, "
+         "300 cells), linear analysis", 20, 2048, None, None, "cmd",
+         [["design", "builtin:paraboloid:res=1000", "--analyze", "linear",
+           "-o", str(work / "fine_2m_default"), "--quiet"]], False),
+        ("real-size-court", "a roof at real size: BritishQuadTang --scale 16 --length 10000 "
+         "(96 x 77 m, about 4000 cells; objective search, then both non-linear paths)", 60,
+         None, None, None, "cmd",
+         [["design", str(SURF / "BritishQuadTang.ply"), "--scale", "16", "--length", "10000",
+           "-o", str(work / "real_size_court"), "--quiet"]], False),
         ("studio-300", "studio /api/design, 300 cells, linear + LBA (median of 7)", 1, None,
          None, None, "bench", ("studio_bench", "BM_StudioDesign/300"), False),
-        ("studio-1000", "studio /api/design, 1000 cells, linear + LBA (median of 7)", 3, None,
+        ("studio-1000", "studio /api/design, 1000 cells, linear + LBA (median of 7)", 0.8, None,
          None, None, "bench", ("studio_bench", "BM_StudioDesign/1000"), False),
         ("shell-50k", "shell stress FEM, 50 K triangles (split factorisation)", 2, None,
          None, None, "bench", ("shell_bench", "BM_Shell50K/160/1"), False),
@@ -98,7 +121,7 @@ def goals(work):
 
 
 def run_timed(exe, args):
-    """Wall seconds, peak RSS in GB and CPU seconds (user + system, all threads) of one process
+    """Wall seconds, peak RSS in MiB and CPU seconds (user + system, all threads) of one process
     (exe None: args is the whole command); raises on failure."""
     with tempfile.NamedTemporaryFile("r", suffix=".time") as t:
         cmd = ["/usr/bin/time", "-f", "%e %M %U %S", "-o", t.name] + \
@@ -109,7 +132,21 @@ def run_timed(exe, args):
         if p.returncode != 0:
             raise RuntimeError(f"{' '.join(args)} failed: {p.stderr.strip()[-300:]}")
         fields = Path(t.name).read_text().split()
-        return wall, int(fields[-3]) / 1e6, float(fields[-2]) + float(fields[-1])
+        return wall, int(fields[-3]) / 1024, float(fields[-2]) + float(fields[-1])
+
+
+def mib_text(mib, goal_mib):
+    """Memory as people read it: MiB below 1 GiB, else GiB; ✗ above the goal."""
+    text = f"{mib:.0f} MiB" if mib < 1024 else f"{mib / 1024:.2f} GiB"
+    return text + (" ✗" if goal_mib and mib > goal_mib else "")
+
+
+def report_time(args, key):
+    """Seconds under the dotted `key` of report.json in the command's -o folder."""
+    value = json.loads((Path(args[args.index("-o") + 1]) / "report.json").read_text())
+    for part in key.split("."):
+        value = value[part]
+    return float(value)
 
 
 def run_bench(build, program, name):
@@ -151,7 +188,7 @@ def main():
     print(f"load average before: {os.getloadavg()[0]:.2f}", file=sys.stderr)
     print("| goal | what | ours: wall (median; runs) | CPU | peak | goal | anchor | anchor / ours |")
     print("|---|---|---|---|---|---|---|---|")
-    for (name, what, goal_s, goal_gb, anchor, anchor_s, kind, spec, long) in goals(work):
+    for (name, what, goal_s, goal_mib, anchor, anchor_s, kind, spec, long) in goals(work):
         if only and name not in only:
             continue
         if long and not a.long and name not in only:
@@ -166,15 +203,21 @@ def main():
                 shutil.rmtree(args[args.index("--work") + 1], ignore_errors=True)
                 runs = [run_timed(None, args)]
                 ours, cpu = runs[0][0], f"{runs[0][2]:.2f} s"
-                peak, detail = f"{runs[0][1]:.2f} GB", "1 run"
-            elif kind == "cmd":
-                for setup in spec[:-1]:
+                peak, detail = mib_text(runs[0][1], None), "1 run"
+            elif kind in ("cmd", "stage"):
+                cmds = spec[:-1] if kind == "stage" else spec
+                for setup in cmds[:-1]:
                     run_timed(exe, setup)
-                runs = [run_timed(exe, spec[-1]) for _ in range(1 if long else a.repeats)]
+                runs = []
+                for _ in range(1 if long else a.repeats):
+                    wall, mib, cpu_s = run_timed(exe, cmds[-1])
+                    if kind == "stage":
+                        wall = report_time(cmds[-1], spec[-1])
+                    runs.append((wall, mib, cpu_s))
                 ours = statistics.median(w for w, _, _ in runs)
-                cpu = f"{statistics.median(c for _, _, c in runs):.2f} s"
-                gb = max(m for _, m, _ in runs)
-                peak = f"{gb:.2f} GB" + (" ✗" if goal_gb and gb > goal_gb else "")
+                cpu = f"{statistics.median(c for _, _, c in runs):.2f} s" + \
+                    (" (process)" if kind == "stage" else "")
+                peak = mib_text(max(m for _, m, _ in runs), goal_mib)
                 detail = " / ".join(f"{w:.2f}" for w, _, _ in runs)
             else:
                 ours = run_bench(build, *spec)
@@ -183,7 +226,7 @@ def main():
             print(f"| {name} | {what} | failed: {e} | | | | | |")
             continue
         mark = "" if ours <= goal_s else " ✗"
-        goal = f"≤ {goal_s:g} s" + (f", ≤ {goal_gb:g} GB" if goal_gb else "")
+        goal = f"≤ {goal_s:g} s" + (f", ≤ {mib_text(goal_mib, None)}" if goal_mib else "")
         ratio = (f"{anchor_s / ours:.0f}×" if anchor_s / ours >= 10 else
                  f"{anchor_s / ours:.1f}×") if anchor_s else ""
         print(f"| {name} | {what} | {ours:.2f} s{mark} ({detail}) | {cpu} | {peak} | {goal} | "
