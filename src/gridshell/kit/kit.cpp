@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
 
 #include "gridshell/core/error.h"
 #include "gridshell/exchange/dxf.h"
@@ -329,11 +330,13 @@ KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::pat
                  result.short_sockets, full, options.scale);
   }
   io::ensure_directory(out / "joints");
-  for (const HubPlan& h : hubs) {
-    if (h.sockets.empty()) continue;
+  // Each joint's solid is independent of the others (and the same whatever the thread).
+  tbb::parallel_for(std::size_t{0}, hubs.size(), [&](std::size_t k) {
+    const HubPlan& h = hubs[k];
+    if (h.sockets.empty()) return;
     io::write_file_atomic(out / "joints" / fmt::format("J{}.stl", h.joint), hub_stl(h, options));
-    ++result.joints;
-  }
+  });
+  for (const HubPlan& h : hubs) result.joints += h.sockets.empty() ? 0 : 1;
   io::write_file_atomic(out / "rods.csv", rods_csv(rods));
   result.rods = static_cast<int>(rods.size());
   if (std::filesystem::is_regular_file(dir / "panels.csv")) {
