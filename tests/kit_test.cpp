@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gridshell/io/files.h"
+#include "gridshell/kit/assembly.h"
 #include "gridshell/kit/kit.h"
 #include "gridshell/mesh/mesh.h"
 #include "test_support.h"
@@ -255,6 +256,41 @@ TEST_F(KitTest, PanelsAreCutAtScaleWithTheKerf) {
         << "panel " << id;
   }
   EXPECT_GT(convex, static_cast<int>(cut.size()) / 2);
+}
+
+TEST_F(KitTest, AssemblyPlacesEveryJointOnceJoinedToWhatStands) {
+  const kit::KitFrame frame = kit::read_kit_frame(*dir_ / "design");
+  const auto steps = kit::assembly_order(frame);
+  std::vector<int> order(frame.joints.size(), -1);
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    ASSERT_EQ(order[steps[k].joint], -1) << "joint placed twice";
+    order[steps[k].joint] = static_cast<int>(k);
+  }
+  int rods = 0, supports = 0;
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const auto& j = frame.joints[steps[k].joint];
+    supports += j.support;
+    if (j.support) {
+      EXPECT_EQ(static_cast<int>(k), supports - 1) << "supports come first";
+    }
+    // Every beam to an earlier joint is inserted now, none to a later one.
+    int earlier = 0;
+    for (int b : j.beams) {
+      const auto& beam = frame.beams[b];
+      const int other = beam.joint_i == steps[k].joint ? beam.joint_j : beam.joint_i;
+      earlier += order[other] < static_cast<int>(k);
+    }
+    EXPECT_EQ(static_cast<int>(steps[k].rods.size()), earlier);
+    if (!j.support && k > 0) {
+      EXPECT_GT(earlier, 0) << "a connected grid grows from what stands";
+    }
+    rods += static_cast<int>(steps[k].rods.size());
+  }
+  EXPECT_EQ(rods, static_cast<int>(frame.beams.size()));  // every rod inserted exactly once
+  const std::string html = test::slurp(*dir_ / "kit" / "assembly.html");
+  EXPECT_NE(html.find(fmt::format("Assembly: {} joints", steps.size())), std::string::npos);
+  for (const char* fetches : {"src=", "href=", "fetch(", "import(", "XMLHttpRequest", "url("})
+    EXPECT_EQ(html.find(fetches), std::string::npos) << fetches;  // one offline file
 }
 
 TEST_F(KitTest, BadInputIsOneLineAndExitTwo) {

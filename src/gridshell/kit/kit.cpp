@@ -1,5 +1,7 @@
 #include "gridshell/kit/kit.h"
 
+#include "gridshell/kit/assembly.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -338,6 +340,8 @@ KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::pat
   });
   for (const HubPlan& h : hubs) result.joints += h.sockets.empty() ? 0 : 1;
   io::write_file_atomic(out / "rods.csv", rods_csv(rods));
+  io::write_file_atomic(out / "assembly.html",
+                        assembly_html(frame, assembly_order(frame), rods, options));
   result.rods = static_cast<int>(rods.size());
   if (std::filesystem::is_regular_file(dir / "panels.csv")) {
     const fabrication::PanelSheets sheets =

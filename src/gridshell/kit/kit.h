@@ -17,6 +17,7 @@
 ///   outline offset outward by half the `kerf` so that the part cut out has the panel's size
 ///   (fabrication/panel_sheets.h). The outline is the panel's centre-line polygon: the panel
 ///   rests on the rods.
+/// - assembly.html  the joints in the order to put them together (kit/assembly.h).
 ///
 /// Geometry per joint: socket hole radius r = rod/2 + clearance, sleeve radius r + wall. The
 /// seat s (socket floor's distance from the centre) is the smallest that keeps every pair of
