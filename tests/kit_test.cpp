@@ -206,6 +206,44 @@ TEST(Kit, MirrorSymmetricCornerJointIsAManifoldSolid) {
   EXPECT_NEAR(measure_socket(m, Vec3::UnitX()).seat, expected, 0.05);
 }
 
+TEST_F(KitTest, SupportedJointsStandOnAFlatFoot) {
+  const kit::KitFrame frame = kit::read_kit_frame(*dir_ / "design");
+  kit::KitOptions options;
+  options.scale = kScale;
+  options.rod_diameter = kRod;
+  const auto hubs = kit::plan_hubs(frame, options);
+  int feet = 0;
+  for (const kit::HubPlan& hub : hubs) {
+    if (hub.sockets.empty()) continue;
+    Mesh m;
+    const auto path = *dir_ / "kit" / "joints" / fmt::format("J{}.stl", hub.joint);
+    ASSERT_TRUE(CGAL::IO::read_polygon_mesh(path.string(), m)) << path;
+    double low = 1e300;
+    for (const auto v : m.vertices()) low = std::min(low, m.point(v).z());
+    if (!frame.joints[hub.joint].support) {
+      EXPECT_EQ(hub.foot, 0);
+      continue;
+    }
+    if (hub.foot == 0) continue;  // a beam points down: no foot (counted below)
+    ++feet;
+    // The base: the faces facing straight down at the lowest level, a disc of foot_radius.
+    double base = 0;
+    for (const auto f : m.faces()) {
+      const auto n = PMP::compute_face_normal(f, m);
+      bool at_base = n.z() < -0.99999;
+      for (const auto v : CGAL::vertices_around_face(m.halfedge(f), m))
+        at_base = at_base && std::abs(m.point(v).z() - low) < 1e-4;
+      if (at_base) base += PMP::face_area(f, m);
+    }
+    EXPECT_NEAR(low, -hub.foot, 1e-4) << path;
+    // A 64-gon of radius R has 0.998 of the disc's area; the socket holes never reach the base.
+    EXPECT_GT(base, 0.99 * std::numbers::pi * hub.foot_radius * hub.foot_radius) << path;
+  }
+  int supported = 0;
+  for (const auto& j : frame.joints) supported += j.support && !j.beams.empty();
+  EXPECT_GT(feet, supported / 2);
+}
+
 /// Area of a closed polygon (counter-clockwise positive).
 double polygon_area_2d(const std::vector<Eigen::Vector2d>& q) {
   double a = 0;

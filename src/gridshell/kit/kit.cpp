@@ -217,6 +217,25 @@ KitFrame read_kit_frame(const std::filesystem::path& dir) {
   return frame;
 }
 
+namespace {
+
+/// The foot of a supported joint (HubPlan::foot): its base a wall below the lowest point of
+/// the sphere and the sleeves.
+void plan_foot(HubPlan& hub, const KitOptions& o) {
+  double lowest = hub.hub_radius;  // depth below the centre
+  for (const Socket& s : hub.sockets) {
+    if (s.axis.z() < -std::sqrt(0.5)) return;  // within 45° of straight down: no room
+    const double horizontal = std::sqrt(std::max(0.0, 1 - s.axis.z() * s.axis.z()));
+    // The hole runs a rod past the mouth (kit_mesh.cpp): it must stay above the base too.
+    const double reach = s.seat + s.depth + o.rod_diameter;
+    lowest = std::max(lowest, -reach * s.axis.z() + hub.sleeve_radius * horizontal);
+  }
+  hub.foot = lowest + o.wall;
+  hub.foot_radius = 2 * hub.sleeve_radius;
+}
+
+}  // namespace
+
 std::vector<HubPlan> plan_hubs(const KitFrame& frame, const KitOptions& o) {
   const double r = o.rod_diameter / 2 + o.clearance;
   std::vector<HubPlan> hubs(frame.joints.size());
@@ -248,6 +267,7 @@ std::vector<HubPlan> plan_hubs(const KitFrame& frame, const KitOptions& o) {
       s.seat = seats[hub.joint];
       s.depth = std::min(o.depth_factor * o.rod_diameter, (free - o.gap) / 2);
     }
+    if (frame.joints[hub.joint].support) plan_foot(hub, o);
   }
   return hubs;
 }

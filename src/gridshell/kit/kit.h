@@ -8,7 +8,8 @@
 ///
 /// - joints/J<id>.stl  binary STL, one closed solid per joint, in the joint's own frame (the
 ///   joint's centre at the origin, the grid-shell's axes): a sphere hub united with one sleeve
-///   per beam (CGAL corefinement), the socket holes subtracted.
+///   per beam (CGAL corefinement) and, for a supported joint, a foot with a flat base, the
+///   socket holes subtracted.
 /// - rods.csv  `rod,joint_i,joint_j,length_mm` (rod = beam id of beams.csv), longest first:
 ///   rod length = beam length at scale − the two seats (the distance from each joint's centre to
 ///   its socket's floor).
@@ -85,6 +86,11 @@ struct HubPlan {
   double hub_radius = 0;     ///< the central sphere [mm]
   double sleeve_radius = 0;  ///< outer radius of the sleeves [mm]
   std::vector<Socket> sockets;
+  /// A supported joint's foot: a stem straight down (−z) ending in a flat disc of radius
+  /// `foot_radius` whose underside lies `foot` below the centre, below every other part of
+  /// the hub, so the joint stands on the base board as it stands in the roof [mm]; 0 = none
+  /// (not supported, or a beam points within 45° of straight down, where the stem would be).
+  double foot = 0, foot_radius = 0;
 };
 
 /// The hubs of every joint (joint id order) and their sockets' seats and depths.

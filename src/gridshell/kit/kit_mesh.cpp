@@ -122,6 +122,19 @@ Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
       throw fail("the union of the hub and a sleeve is not a closed manifold solid");
     }
   }
+  if (hub.foot > 0) {
+    // A stem from inside the sphere (off-centre, like the sleeves, but not at their start) into
+    // a disc whose underside is the flat base; the stem ends inside the disc, no shared cap.
+    const Vec3 down = -Vec3::UnitZ();
+    Mesh stem = cylinder(down, 0.3 * hub.sleeve_radius, hub.foot - 0.5 * o.wall,
+                         hub.sleeve_radius, o.segments, 0.5 * kSphereTurn);
+    Mesh disc = cylinder(down, hub.foot - o.wall, hub.foot, hub.foot_radius, 2 * o.segments,
+                         0.25 * kSphereTurn);
+    if (!PMP::corefine_and_compute_union(solid, stem, solid) ||
+        !PMP::corefine_and_compute_union(solid, disc, solid)) {
+      throw fail("the union of the hub and its foot is not a closed manifold solid");
+    }
+  }
   // The holes are a wall apart (plan_hubs' seat): one mesh of disjoint cylinders, one cut. A
   // hole's polygon is turned half a side against its sleeve's: a hole edge lying in the plane
   // of a sleeve cap's fan edge (a degenerate edge-edge crossing) left the mouth's ring doubled.
