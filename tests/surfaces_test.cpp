@@ -57,6 +57,18 @@ TEST(Builtin, EveryBuiltinIsAValidSurface) {
   }
 }
 
+// The vertex cap (kMaxBuiltinVertices) admits the largest sizes it promises: a 1001 × 1001
+// paraboloid (res=1000, 2 M triangles) and a dome of 577 rings (res=1155: 1 + 3·577·578
+// vertices). The next sizes are refused in malformed_input_test.
+TEST(Builtin, VertexCapAdmitsItsLargestSizes) {
+  const Surface par = make_builtin(std::string("paraboloid:res=1000"));
+  EXPECT_EQ(par.mesh.num_vertices(), kMaxBuiltinVertices);
+  EXPECT_EQ(par.mesh.num_faces(), 2 * 1000 * 1000);
+  const Surface dome = make_builtin(std::string("dome:res=1155"));
+  EXPECT_EQ(dome.mesh.num_vertices(), 1 + 3 * 577 * 578);
+  EXPECT_THROW(make_builtin(std::string("dome:res=1156")), Error);
+}
+
 TEST(Builtin, ShapesMatchTheirDefinitions) {
   // Dome: every vertex on the sphere through the rim and the crown.
   BuiltinOptions o;
