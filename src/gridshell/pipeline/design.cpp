@@ -531,7 +531,7 @@ void on_input_surface(const TriMesh& coarse, InputSurface& M, const DesignOption
   auto t = Clock::now();
   if (r.field.size() != coarse.num_faces())
     throw Error("field transfer", "the field does not match the analysis surface");
-  r.field = transfer_field(r.field, M.to_input(coarse), M.mesh());
+  if (o.field_on_input) r.field = transfer_field(r.field, M.to_input(coarse), M.mesh());
   if (o.finish == Finish::raw) {
     const SurfaceProjector& projector = M.projector();
     for (int v = 0; v < r.mesh.num_vertices(); ++v)
@@ -764,6 +764,19 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o, DesignCache& cache) {
   return design(surface, o, nullptr, &cache.impl());
+}
+
+void carry_field_to_input(const Surface& surface, DesignResult& r, DesignCache& cache) {
+  if (r.field.size() == surface.mesh.num_faces()) return;
+  auto t = Clock::now();
+  const auto& coarse = cache.impl().surface.get(0, []() -> Staged<std::optional<Surface>> {
+    throw Error("field transfer", "the design was not made from this cache");
+  });
+  if (!coarse.value || r.field.size() != coarse.value->mesh.num_faces())
+    throw Error("field transfer", "the field does not match the analysis surface");
+  InputSurface M(surface.mesh, &cache.impl());
+  r.field = transfer_field(r.field, M.to_input(coarse.value->mesh), M.mesh());
+  lap(r.timings, "coarsen", t);
 }
 
 void prepare_design_cache(const Surface& surface, const DesignOptions& o, DesignCache& cache) {
