@@ -57,16 +57,24 @@ TEST(Builtin, EveryBuiltinIsAValidSurface) {
   }
 }
 
-// The vertex cap (kMaxBuiltinVertices) admits the largest sizes it promises: a 1001 × 1001
-// paraboloid (res=1000, 2 M triangles) and a dome of 577 rings (res=1155: 1 + 3·577·578
-// vertices). The next sizes are refused in malformed_input_test.
-TEST(Builtin, VertexCapAdmitsItsLargestSizes) {
+// The vertex cap (kMaxBuiltinVertices) admits the largest size it promises: a 1001 × 1001
+// paraboloid (res=1000, 2 M triangles). The next sizes (and dome's past res=1155, 578 rings of
+// 1 + 3·578·579 vertices) are refused in malformed_input_test.
+TEST(Builtin, VertexCapAdmitsItsLargestSize) {
   const Surface par = make_builtin(std::string("paraboloid:res=1000"));
   EXPECT_EQ(par.mesh.num_vertices(), kMaxBuiltinVertices);
   EXPECT_EQ(par.mesh.num_faces(), 2 * 1000 * 1000);
-  const Surface dome = make_builtin(std::string("dome:res=1155"));
-  EXPECT_EQ(dome.mesh.num_vertices(), 1 + 3 * 577 * 578);
-  EXPECT_THROW(make_builtin(std::string("dome:res=1156")), Error);
+  EXPECT_EQ(par.supports.size(), 4u * 1000u);
+}
+
+// The paraboloid's supports are its whole boundary, listed from the grid's rim without building
+// the topology: the same list as the topology's boundary vertices.
+TEST(Builtin, ParaboloidSupportsAreTheBoundary) {
+  for (const char* spec : {"paraboloid", "paraboloid:res=2", "paraboloid:res=90"}) {
+    SCOPED_TRACE(spec);
+    const Surface s = make_builtin(std::string(spec));
+    EXPECT_EQ(s.supports, boundary_vertices(build_topology(s.mesh)));
+  }
 }
 
 TEST(Builtin, ShapesMatchTheirDefinitions) {
