@@ -579,36 +579,6 @@ std::optional<Surface> design_analysis_surface(const Surface& surface, const Des
   return analysis_surface(surface, o, scratch);
 }
 
-void check_design_options(const DesignOptions& o) {
-  if (!(o.field_options.D >= 1) || !std::isfinite(o.field_options.D))
-    throw Error("-D", "must be a number ≥ 1");
-  if (!(o.field_options.A >= 1) || !std::isfinite(o.field_options.A))
-    throw Error("-A", "must be a number ≥ 1");
-  if (o.field_options.D > 8 || o.field_options.A > 8)
-    spdlog::warn("design: D or A above ~4 may fold the deformed surface (D = {}, A = {})",
-                 o.field_options.D, o.field_options.A);
-  if (!(o.frame_analysis.displacement_limit >= 0) ||
-      !std::isfinite(o.frame_analysis.displacement_limit))
-    throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
-  if (!(o.frame_analysis.deflection_limit_divisor > 0))
-    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
-  if (o.frame.loads == analysis::LoadModel::eurocode) {
-    if (o.frame.area_load_kN_m2 != 0)
-      throw Error("--area-load",
-                  "with --loads eurocode give the surface loads as --glass and --snow");
-    if (!(o.frame.glass_kN_m2 >= 0) || !std::isfinite(o.frame.glass_kN_m2))
-      throw Error("--glass", "must be a load >= 0 (kN/m²)");
-    if (!(o.frame.snow_kN_m2 >= 0) || !std::isfinite(o.frame.snow_kN_m2))
-      throw Error("--snow", "must be a load >= 0 (kN/m²)");
-  }
-  if (o.analyze != analysis::AnalysisLevel::none) analysis::member_section(o.frame);  // --section
-  if (o.field == FieldInput::file && o.field_file.empty())
-    throw Error("--field", "no field file given");
-  if (!(o.analysis_edges_per_radius > 0) || !std::isfinite(o.analysis_edges_per_radius))
-    throw Error("analysis resolution", "edges per cell radius must be a number > 0");
-  check_tessellation_options(o.tessellation);
-}
-
 analysis::GridshellFrameOptions analysed_frame(const DesignOptions& options,
                                               const DesignResult& result) {
   analysis::GridshellFrameOptions f = options.frame;
@@ -772,8 +742,7 @@ void carry_field_to_input(const Surface& surface, DesignResult& r, DesignCache& 
   const auto& coarse = cache.impl().surface.get(0, []() -> Staged<std::optional<Surface>> {
     throw Error("field transfer", "the design was not made from this cache");
   });
-  if (!coarse.value || r.field.size() != coarse.value->mesh.num_faces())
-    throw Error("field transfer", "the field does not match the analysis surface");
+  if (!coarse.value) throw Error("field transfer", "the field does not match the input");
   InputSurface M(surface.mesh, &cache.impl());
   r.field = transfer_field(r.field, M.to_input(coarse.value->mesh), M.mesh());
   lap(r.timings, "coarsen", t);
