@@ -276,6 +276,36 @@ TEST(MeshIO, VtpIsWellFormed) {
   EXPECT_NE(s.find("</VTKFile>"), std::string::npos);
 }
 
+// field.vtp of a fine input: the triangle-mesh writer gives the bytes of the polygon-mesh one,
+// across the writer's batches of rows (16 blocks of 4096, formatted on several threads and
+// written in order); a non-finite value late in the file leaves no file and no temp file.
+TEST(MeshIO, TriangleVtpEqualsPolygonVtp) {
+  BuiltinOptions bo;
+  bo.res = 200;  // 80 000 triangles, 40 401 vertices: more than one batch of rows
+  const Surface s = make_builtin("paraboloid", bo);
+  const fs::path d = test::temp_dir("trivtp");
+  io::Attributes point, cell;
+  point["height"] = s.mesh.V.col(2);
+  Eigen::MatrixXd faces(s.mesh.num_faces(), 2);
+  for (int f = 0; f < s.mesh.num_faces(); ++f) faces.row(f) << f / 7.0, -f;
+  cell["face"] = faces;
+  io::write_vtp(d / "tri.vtp", s.mesh, point, cell);
+  io::write_vtp(d / "poly.vtp", to_poly(s.mesh), point, cell);
+  const std::string tri = io::read_file(d / "tri.vtp");
+  EXPECT_EQ(tri, io::read_file(d / "poly.vtp"));
+  // Rows in order: the first triangle's row, the last offset, the last value of `face`.
+  EXPECT_NE(tri.find(fmt::format("connectivity\" format=\"ascii\">\n{} {} {} \n", s.mesh.F(0, 0),
+                                 s.mesh.F(0, 1), s.mesh.F(0, 2))),
+            std::string::npos);
+  EXPECT_NE(tri.find("\n240000\n</DataArray>\n</Polys>"), std::string::npos);
+  EXPECT_NE(tri.find(fmt::format("{} -79999 \n</DataArray>", 79999 / 7.0)), std::string::npos);
+  cell["face"](79990, 1) = std::nan("");
+  EXPECT_THROW(io::write_vtp(d / "bad.vtp", s.mesh, point, cell), Error);
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(d)) files += e.is_regular_file();
+  EXPECT_EQ(files, 2);  // tri.vtp and poly.vtp: nothing half-written, no temp file
+}
+
 TEST(MeshIO, RefusesToWriteNaN) {
   PolyMesh m = mixed_mesh();
   m.V(0, 0) = std::nan("");
@@ -286,7 +316,8 @@ TEST(MeshIO, RefusesToWriteNaN) {
 
 TEST(MeshIO, AFailedWriteKeepsThePreviousFile) {
   // Every writer builds the whole text first and hands it to write_file_atomic (temp file +
-  // rename): a writer that fails part-way leaves the previous file as it was, and no temp file.
+  // rename), or writes it in pieces through AtomicFileWriter (VTP): a writer that fails part-way
+  // leaves the previous file as it was, and no temp file.
   fs::path d = test::temp_dir("atomic");
   PolyMesh m = mixed_mesh();
   io::write_obj(d / "m.obj", m);

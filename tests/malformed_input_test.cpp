@@ -167,8 +167,12 @@ TEST(MalformedInput, BuiltinParameterBounds) {
   expect_clean_error("info builtin:barrel:length=85899346", "length must be");
   expect_clean_error("info builtin:barrel:span=0.1,rise=0.05,length=1000,res=100", "vertices");
   expect_clean_error("info builtin:court:span=0.1,width=1000,hole=0.01", "vertices");
-  expect_clean_error("info builtin:paraboloid:res=1000", "1000000");
-  expect_clean_error("info builtin:dome:res=1154", "vertices");
+  // The cap is a 1001 × 1001 grid: res=1000 is the largest paraboloid and funicular (accepted in
+  // surfaces_test), the next even res is refused, and dome's rings 1 + 3n(n + 1) pass it at
+  // n = res / 2 = 578.
+  expect_clean_error("info builtin:paraboloid:res=1002", "1002001");
+  expect_clean_error("info builtin:funicular:res=1002", "1006009 vertices");
+  expect_clean_error("info builtin:dome:res=1156", "vertices");
   expect_clean_error("info builtin:funicular:res=2002", "res must be");
   expect_clean_error("info builtin:dome:res=32.0", "whole number");
   expect_clean_error("info builtin:dome:res=1e3", "whole number");

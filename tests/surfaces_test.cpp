@@ -57,6 +57,26 @@ TEST(Builtin, EveryBuiltinIsAValidSurface) {
   }
 }
 
+// The vertex cap (kMaxBuiltinVertices) admits the largest size it promises: a 1001 × 1001
+// paraboloid (res=1000, 2 M triangles). The next sizes (and dome's past res=1155, 578 rings of
+// 1 + 3·578·579 vertices) are refused in malformed_input_test.
+TEST(Builtin, VertexCapAdmitsItsLargestSize) {
+  const Surface par = make_builtin(std::string("paraboloid:res=1000"));
+  EXPECT_EQ(par.mesh.num_vertices(), kMaxBuiltinVertices);
+  EXPECT_EQ(par.mesh.num_faces(), 2 * 1000 * 1000);
+  EXPECT_EQ(par.supports.size(), 4u * 1000u);
+}
+
+// The paraboloid's supports are its whole boundary, listed from the grid's rim without building
+// the topology: the same list as the topology's boundary vertices.
+TEST(Builtin, ParaboloidSupportsAreTheBoundary) {
+  for (const char* spec : {"paraboloid", "paraboloid:res=2", "paraboloid:res=90"}) {
+    SCOPED_TRACE(spec);
+    const Surface s = make_builtin(std::string(spec));
+    EXPECT_EQ(s.supports, boundary_vertices(build_topology(s.mesh)));
+  }
+}
+
 TEST(Builtin, ShapesMatchTheirDefinitions) {
   // Dome: every vertex on the sphere through the rim and the crown.
   BuiltinOptions o;

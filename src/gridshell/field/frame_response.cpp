@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/core/error.h"
@@ -37,10 +38,10 @@ StressField frame_response_field(const TriMesh& surface, const PolyMesh& gridshe
     joint[v] = area[v] > 0 ? Eigen::Matrix3d(joint[v] / area[v]) : Eigen::Matrix3d::Zero();
   const auto nearest = nearest_points(gridshell.V, surface.V, 3);
   std::vector<Eigen::Matrix3d> vertex(surface.num_vertices(), Eigen::Matrix3d::Zero());
-  for (int v = 0; v < surface.num_vertices(); ++v) {
+  tbb::parallel_for(0, surface.num_vertices(), [&](int v) {  // each vertex on its own
     for (int j : nearest[v]) vertex[v] += joint[j];
     vertex[v] /= static_cast<double>(nearest[v].size());
-  }
+  });
   return principal_stress_from_vertex_tensors(surface, vertex);
 }
 

@@ -4,6 +4,8 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "gridshell/core/error.h"
 
@@ -44,12 +46,21 @@ std::vector<int> nearest_faces(const TriMesh& from, const TriMesh& to) {
   if (triangles.empty()) throw Error("field transfer", "the source mesh has no triangle");
   Tree tree(triangles.cbegin(), triangles.cend());
   tree.accelerate_distance_queries();
+  tree.build();
+  (void)tree.closest_point(triangles.front().vertex(0));  // the search tree, before the threads
   std::vector<int> out(to.num_faces());
-  for (int f = 0; f < to.num_faces(); ++f) {
-    const Vec3 c = (to.vertex(to.F(f, 0)) + to.vertex(to.F(f, 1)) + to.vertex(to.F(f, 2))) / 3;
-    const auto hit = tree.closest_point_and_primitive(Point(c.x(), c.y(), c.z()));
-    out[f] = face[hit.second - triangles.cbegin()];
-  }
+  // Independent queries, each writing its own entry: the same map on any number of threads.
+  tbb::parallel_for(tbb::blocked_range<int>(0, to.num_faces(), 1024),
+                    [&](const tbb::blocked_range<int>& range) {
+                      for (int f = range.begin(); f < range.end(); ++f) {
+                        const Vec3 c = (to.vertex(to.F(f, 0)) + to.vertex(to.F(f, 1)) +
+                                        to.vertex(to.F(f, 2))) /
+                                       3;
+                        const auto hit =
+                            tree.closest_point_and_primitive(Point(c.x(), c.y(), c.z()));
+                        out[f] = face[hit.second - triangles.cbegin()];
+                      }
+                    });
   return out;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <sstream>
 #include <string_view>
@@ -14,6 +15,7 @@
 #include <CGAL/IO/STL.h>
 #include <CGAL/Simple_cartesian.h>
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
@@ -602,80 +604,141 @@ void append_number(std::string& s, double x, char sep) {
   fmt::format_to(std::back_inserter(s), "{}{}", x, sep);
 }
 
-void append_data_arrays(std::string& s, const Attributes& attrs, Eigen::Index rows) {
-  for (const auto& [name, values] : attrs) {
-    if (values.rows() != rows)
-      throw Error(name,
-                  fmt::format("internal: attribute has {} rows, expected {}", values.rows(), rows));
-    s += fmt::format(
-        "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
-        name, values.cols());
-    for (Eigen::Index i = 0; i < values.rows(); ++i) {
-      for (Eigen::Index c = 0; c < values.cols(); ++c) append_number(s, values(i, c), ' ');
-      s += '\n';
-    }
-    s += "</DataArray>\n";
+/// Appends rows 0 … rows−1, each formatted by `row(s, i)`, to `out`: blocks of rows are
+/// formatted on all threads and written in order (the same bytes as one thread), a batch of
+/// blocks at a time (a few MB of text in memory, whatever the file's size).
+template <class Row>
+void append_rows(AtomicFileWriter& out, Eigen::Index rows, const Row& row) {
+  constexpr Eigen::Index kBlock = 4096, kBlocks = 16;
+  std::vector<std::string> parts(kBlocks);
+  for (Eigen::Index first = 0; first < rows; first += kBlock * kBlocks) {
+    const Eigen::Index end = std::min(rows, first + kBlock * kBlocks);
+    const auto blocks = static_cast<int>((end - first + kBlock - 1) / kBlock);
+    tbb::parallel_for(0, blocks, [&](int b) {
+      std::string& s = parts[b];
+      s.clear();
+      const Eigen::Index from = first + b * kBlock, to = std::min(end, from + kBlock);
+      for (Eigen::Index i = from; i < to; ++i) row(s, i);
+    });
+    for (int b = 0; b < blocks; ++b) out.append(parts[b]);
   }
 }
 
-void append_points(std::string& s, const Points& V) {
-  s += "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (Eigen::Index v = 0; v < V.rows(); ++v)
+void check_rows(const Attributes& attrs, Eigen::Index rows) {
+  for (const auto& [name, values] : attrs)
+    if (values.rows() != rows)
+      throw Error(name,
+                  fmt::format("internal: attribute has {} rows, expected {}", values.rows(), rows));
+}
+
+void append_data_arrays(AtomicFileWriter& out, const Attributes& attrs, Eigen::Index rows) {
+  check_rows(attrs, rows);
+  for (const auto& [name, values] : attrs) {
+    out.append(fmt::format(
+        "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
+        name, values.cols()));
+    const Eigen::MatrixXd& m = values;
+    append_rows(out, m.rows(), [&m](std::string& s, Eigen::Index i) {
+      for (Eigen::Index c = 0; c < m.cols(); ++c) append_number(s, m(i, c), ' ');
+      s += '\n';
+    });
+    out.append("</DataArray>\n");
+  }
+}
+
+void append_points(AtomicFileWriter& out, const Points& V) {
+  out.append("<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+  append_rows(out, V.rows(), [&V](std::string& s, Eigen::Index v) {
     for (int c = 0; c < 3; ++c) append_number(s, V(v, c), c < 2 ? ' ' : '\n');
-  s += "</DataArray>\n</Points>\n";
+  });
+  out.append("</DataArray>\n</Points>\n");
+}
+
+/// The polygons of a piece: how many, each one's vertex count, and its connectivity row.
+struct Polys {
+  Eigen::Index count = 0;
+  std::function<std::size_t(Eigen::Index)> size;
+  std::function<void(std::string&, Eigen::Index)> row;  ///< "v0 v1 … \n"
+};
+
+Polys polys_of(const std::vector<std::vector<int>>& faces) {
+  return {static_cast<Eigen::Index>(faces.size()),
+          [&faces](Eigen::Index i) { return faces[i].size(); },
+          [&faces](std::string& s, Eigen::Index i) {
+            for (int v : faces[i]) fmt::format_to(std::back_inserter(s), "{} ", v);
+            s += '\n';
+          }};
 }
 
 /// VTK XML PolyData with any of line segments and polygons (VTK orders cells lines first).
 void write_polydata(const fs::path& path, const Points& V,
-                    const std::vector<std::array<int, 2>>& lines,
-                    const std::vector<std::vector<int>>& polys, const Attributes& point_data,
-                    const Attributes& cell_data) {
-  std::string s =
-      "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" "
-      "byte_order=\"LittleEndian\">\n<PolyData>\n";
+                    const std::vector<std::array<int, 2>>& lines, const Polys& polys,
+                    const Attributes& point_data, const Attributes& cell_data) {
+  const auto cells = static_cast<Eigen::Index>(lines.size()) + polys.count;
+  check_rows(point_data, V.rows());
+  check_rows(cell_data, cells);
+  AtomicFileWriter out(path);
+  std::string& s = out.buffer();
+  s += "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" "
+       "byte_order=\"LittleEndian\">\n<PolyData>\n";
   s += fmt::format("<Piece NumberOfPoints=\"{}\"", V.rows());
   if (!lines.empty()) s += fmt::format(" NumberOfLines=\"{}\"", lines.size());
-  if (!polys.empty() || lines.empty()) s += fmt::format(" NumberOfPolys=\"{}\"", polys.size());
+  if (polys.count > 0 || lines.empty()) s += fmt::format(" NumberOfPolys=\"{}\"", polys.count);
   s += ">\n";
-  append_points(s, V);
+  append_points(out, V);
   if (!lines.empty()) {
-    s += "<Lines>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-    for (const auto& l : lines) fmt::format_to(std::back_inserter(s), "{} {}\n", l[0], l[1]);
-    s += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    for (std::size_t i = 0; i < lines.size(); ++i)
-      fmt::format_to(std::back_inserter(s), "{}\n", 2 * (i + 1));
-    s += "</DataArray>\n</Lines>\n";
+    out.append("<Lines>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+    append_rows(out, static_cast<Eigen::Index>(lines.size()), [&lines](std::string& t, Eigen::Index i) {
+      fmt::format_to(std::back_inserter(t), "{} {}\n", lines[i][0], lines[i][1]);
+    });
+    out.append("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+    append_rows(out, static_cast<Eigen::Index>(lines.size()), [](std::string& t, Eigen::Index i) {
+      fmt::format_to(std::back_inserter(t), "{}\n", 2 * (static_cast<std::size_t>(i) + 1));
+    });
+    out.append("</DataArray>\n</Lines>\n");
   }
-  if (!polys.empty() || lines.empty()) {
-    s += "<Polys>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-    for (const auto& f : polys) {
-      for (int v : f) fmt::format_to(std::back_inserter(s), "{} ", v);
-      s += '\n';
-    }
-    s += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    std::size_t offset = 0;
-    for (const auto& f : polys) fmt::format_to(std::back_inserter(s), "{}\n", offset += f.size());
-    s += "</DataArray>\n</Polys>\n";
+  if (polys.count > 0 || lines.empty()) {
+    out.append("<Polys>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+    append_rows(out, polys.count, polys.row);
+    out.append("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+    std::vector<std::size_t> offset(polys.count);
+    std::size_t sum = 0;
+    for (Eigen::Index i = 0; i < polys.count; ++i) offset[i] = sum += polys.size(i);
+    append_rows(out, polys.count, [&offset](std::string& t, Eigen::Index i) {
+      fmt::format_to(std::back_inserter(t), "{}\n", offset[i]);
+    });
+    out.append("</DataArray>\n</Polys>\n");
   }
-  s += "<PointData>\n";
-  append_data_arrays(s, point_data, V.rows());
-  s += "</PointData>\n<CellData>\n";
-  append_data_arrays(s, cell_data, static_cast<Eigen::Index>(lines.size() + polys.size()));
-  s += "</CellData>\n</Piece>\n</PolyData>\n</VTKFile>\n";
-  write_file_atomic(path, s);
+  out.append("<PointData>\n");
+  append_data_arrays(out, point_data, V.rows());
+  out.append("</PointData>\n<CellData>\n");
+  append_data_arrays(out, cell_data, cells);
+  out.append("</CellData>\n</Piece>\n</PolyData>\n</VTKFile>\n");
+  out.commit();
 }
 
 }  // namespace
 
 void write_vtp(const fs::path& path, const PolyMesh& mesh, const Attributes& point_data,
                const Attributes& cell_data) {
-  write_polydata(path, mesh.V, {}, mesh.faces, point_data, cell_data);
+  write_polydata(path, mesh.V, {}, polys_of(mesh.faces), point_data, cell_data);
+}
+
+void write_vtp(const fs::path& path, const TriMesh& mesh, const Attributes& point_data,
+               const Attributes& cell_data) {
+  const Triangles& F = mesh.F;
+  const Polys polys{F.rows(), [](Eigen::Index) { return std::size_t{3}; },
+                    [&F](std::string& s, Eigen::Index i) {
+                      fmt::format_to(std::back_inserter(s), "{} {} {} \n", F(i, 0), F(i, 1),
+                                     F(i, 2));
+                    }};
+  write_polydata(path, mesh.V, {}, polys, point_data, cell_data);
 }
 
 void write_vtp_lines(const fs::path& path, const Points& V,
                      const std::vector<std::array<int, 2>>& lines, const Attributes& point_data,
                      const Attributes& cell_data) {
-  write_polydata(path, V, lines, {}, point_data, cell_data);
+  write_polydata(path, V, lines, Polys{}, point_data, cell_data);
 }
 
 void write_vtp_beams_and_panels(const fs::path& path, const PolyMesh& mesh,
@@ -702,7 +765,7 @@ void write_vtp_beams_and_panels(const fs::path& path, const PolyMesh& mesh,
   Eigen::MatrixXd is_beam = Eigen::MatrixXd::Zero(nl + nf, 1);
   is_beam.topRows(nl).setOnes();
   cells["is_beam"] = is_beam;
-  write_polydata(path, mesh.V, lines, mesh.faces, point_data, cells);
+  write_polydata(path, mesh.V, lines, polys_of(mesh.faces), point_data, cells);
 }
 
 }  // namespace gridshell::io

@@ -11,9 +11,14 @@
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_length_stop_predicate.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <optional>
 
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
@@ -129,27 +134,49 @@ std::vector<std::uint8_t> vertex_roles(const Surface& s, double corner_angle_deg
   return role;
 }
 
-/// Moves each interior vertex of `mesh` onto the closest point of `surface`.
-void project_interior(TriMesh& mesh, const std::vector<int>& source, const TriMesh& surface) {
+/// A CGAL AABB tree over the non-degenerate triangles of a surface, for closest points. Built in
+/// the order of the original single-threaded code (distance-query kd-tree over the primitives as
+/// given, then the tree): the kd-tree's hint decides between equally close triangles, so another
+/// order (SurfaceProjector's) places a few vertices differently at round-off.
+class ClosestPoints {
+ public:
+  explicit ClosestPoints(const TriMesh& surface) {
+    triangles_.reserve(surface.num_faces());
+    auto point = [&](int v) { return Point(surface.V(v, 0), surface.V(v, 1), surface.V(v, 2)); };
+    for (int f = 0; f < surface.num_faces(); ++f) {
+      const Kernel::Triangle_3 t(point(surface.F(f, 0)), point(surface.F(f, 1)),
+                                 point(surface.F(f, 2)));
+      if (!t.is_degenerate()) triangles_.push_back(t);
+    }
+    if (triangles_.empty()) return;
+    tree_.insert(triangles_.cbegin(), triangles_.cend());
+    tree_.accelerate_distance_queries();
+    tree_.build();
+  }
+  bool empty() const { return triangles_.empty(); }
+  /// Thread-safe once built.
+  Vec3 closest_point(const Vec3& p) const {
+    const Point q = tree_.closest_point(Point(p.x(), p.y(), p.z()));
+    return Vec3(q.x(), q.y(), q.z());
+  }
+
+ private:
   using Primitive =
       CGAL::AABB_triangle_primitive<Kernel, std::vector<Kernel::Triangle_3>::const_iterator>;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-  std::vector<Kernel::Triangle_3> triangles;
-  triangles.reserve(surface.num_faces());
-  auto point = [&](int v) { return Point(surface.V(v, 0), surface.V(v, 1), surface.V(v, 2)); };
-  for (int f = 0; f < surface.num_faces(); ++f) {
-    const Kernel::Triangle_3 t(point(surface.F(f, 0)), point(surface.F(f, 1)),
-                               point(surface.F(f, 2)));
-    if (!t.is_degenerate()) triangles.push_back(t);
-  }
-  if (triangles.empty()) return;
-  Tree tree(triangles.cbegin(), triangles.cend());
-  tree.accelerate_distance_queries();
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (source[v] >= 0) continue;
-    const Point q = tree.closest_point(Point(mesh.V(v, 0), mesh.V(v, 1), mesh.V(v, 2)));
-    mesh.V.row(v) << q.x(), q.y(), q.z();
-  }
+  std::vector<Kernel::Triangle_3> triangles_;
+  CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>> tree_;
+};
+
+/// Moves each interior vertex of `mesh` onto the closest point of the input (`closest`); the
+/// queries run in parallel, each writing its own row.
+void project_interior(TriMesh& mesh, const std::vector<int>& source, const ClosestPoints& closest) {
+  if (closest.empty()) return;
+  tbb::parallel_for(tbb::blocked_range<int>(0, mesh.num_vertices(), 256),
+                    [&](const tbb::blocked_range<int>& range) {
+                      for (int v = range.begin(); v < range.end(); ++v)
+                        if (source[v] < 0)
+                          mesh.V.row(v) = closest.closest_point(mesh.vertex(v)).transpose();
+                    });
 }
 
 CoarseSurface unchanged(const Surface& surface) {
@@ -179,6 +206,11 @@ CoarseSurface coarsen_surface(const Surface& surface, const CoarsenOptions& opti
     maps.role[vertex[v]] = role[v], maps.source[vertex[v]] = v;
   for (int v : surface.supports) maps.support[vertex[v]] = 1;
 
+  // The input's closest-point tree (for the copy's interior vertices at the end) is built on
+  // another thread while the collapse runs.
+  std::optional<ClosestPoints> closest;
+  tbb::task_group tree;
+  tree.run([&] { closest.emplace(in); });
   SMS::Edge_length_stop_predicate<double> stop(options.edge_length);
   SMS::edge_collapse(sm, stop,
                      CGAL::parameters::get_cost(SMS::Edge_length_cost<SurfaceMesh>())
@@ -205,7 +237,8 @@ CoarseSurface coarsen_surface(const Surface& surface, const CoarsenOptions& opti
       mesh.F(static_cast<int>(f), k++) = static_cast<int>(v);
   }
   std::sort(out.surface.supports.begin(), out.surface.supports.end());
-  project_interior(mesh, out.source_vertex, in);
+  tree.wait();
+  project_interior(mesh, out.source_vertex, *closest);
   return out;
 }
 

@@ -531,7 +531,7 @@ void on_input_surface(const TriMesh& coarse, InputSurface& M, const DesignOption
   auto t = Clock::now();
   if (r.field.size() != coarse.num_faces())
     throw Error("field transfer", "the field does not match the analysis surface");
-  r.field = transfer_field(r.field, M.to_input(coarse), M.mesh());
+  if (o.field_on_input) r.field = transfer_field(r.field, M.to_input(coarse), M.mesh());
   if (o.finish == Finish::raw) {
     const SurfaceProjector& projector = M.projector();
     for (int v = 0; v < r.mesh.num_vertices(); ++v)
@@ -577,36 +577,6 @@ FieldInput parse_field_input(const std::string& word, std::string* file) {
 std::optional<Surface> design_analysis_surface(const Surface& surface, const DesignOptions& o) {
   DesignResult scratch;
   return analysis_surface(surface, o, scratch);
-}
-
-void check_design_options(const DesignOptions& o) {
-  if (!(o.field_options.D >= 1) || !std::isfinite(o.field_options.D))
-    throw Error("-D", "must be a number ≥ 1");
-  if (!(o.field_options.A >= 1) || !std::isfinite(o.field_options.A))
-    throw Error("-A", "must be a number ≥ 1");
-  if (o.field_options.D > 8 || o.field_options.A > 8)
-    spdlog::warn("design: D or A above ~4 may fold the deformed surface (D = {}, A = {})",
-                 o.field_options.D, o.field_options.A);
-  if (!(o.frame_analysis.displacement_limit >= 0) ||
-      !std::isfinite(o.frame_analysis.displacement_limit))
-    throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
-  if (!(o.frame_analysis.deflection_limit_divisor > 0))
-    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
-  if (o.frame.loads == analysis::LoadModel::eurocode) {
-    if (o.frame.area_load_kN_m2 != 0)
-      throw Error("--area-load",
-                  "with --loads eurocode give the surface loads as --glass and --snow");
-    if (!(o.frame.glass_kN_m2 >= 0) || !std::isfinite(o.frame.glass_kN_m2))
-      throw Error("--glass", "must be a load >= 0 (kN/m²)");
-    if (!(o.frame.snow_kN_m2 >= 0) || !std::isfinite(o.frame.snow_kN_m2))
-      throw Error("--snow", "must be a load >= 0 (kN/m²)");
-  }
-  if (o.analyze != analysis::AnalysisLevel::none) analysis::member_section(o.frame);  // --section
-  if (o.field == FieldInput::file && o.field_file.empty())
-    throw Error("--field", "no field file given");
-  if (!(o.analysis_edges_per_radius > 0) || !std::isfinite(o.analysis_edges_per_radius))
-    throw Error("analysis resolution", "edges per cell radius must be a number > 0");
-  check_tessellation_options(o.tessellation);
 }
 
 analysis::GridshellFrameOptions analysed_frame(const DesignOptions& options,
@@ -764,6 +734,18 @@ DesignResult run_design(const Surface& surface, const DesignOptions& o) {
 
 DesignResult run_design(const Surface& surface, const DesignOptions& o, DesignCache& cache) {
   return design(surface, o, nullptr, &cache.impl());
+}
+
+void carry_field_to_input(const Surface& surface, DesignResult& r, DesignCache& cache) {
+  if (r.field.size() == surface.mesh.num_faces()) return;
+  auto t = Clock::now();
+  const auto& coarse = cache.impl().surface.get(0, []() -> Staged<std::optional<Surface>> {
+    throw Error("field transfer", "the design was not made from this cache");
+  });
+  if (!coarse.value) throw Error("field transfer", "the field does not match the input");
+  InputSurface M(surface.mesh, &cache.impl());
+  r.field = transfer_field(r.field, M.to_input(coarse.value->mesh), M.mesh());
+  lap(r.timings, "coarsen", t);
 }
 
 void prepare_design_cache(const Surface& surface, const DesignOptions& o, DesignCache& cache) {

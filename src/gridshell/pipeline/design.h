@@ -90,6 +90,11 @@ struct DesignOptions {
   /// triangle). Measured in docs/shell.md "Analysis resolution".
   AnalysisResolution analysis_resolution = AnalysisResolution::cells;
   double analysis_edges_per_radius = 3;
+  /// false: a design on a coarsened analysis surface keeps `DesignResult::field` on that
+  /// surface's triangles instead of carrying it to the input's (the objective search's
+  /// candidates: only the chosen one's field is written, and on a 2 M-triangle input each
+  /// carried field is 2 M triangles of memory); carry_field_to_input does it later, the same bits.
+  bool field_on_input = true;
   RegularizeOptions regularize_options;
   /// flat: after the finishing step every panel is made exactly planar (optimize/flat_panels.h;
   /// docs/panels.md); when that fails its post-check the free panels stay, with a warning and
@@ -165,6 +170,10 @@ DesignResult run_design(const Surface& surface, const DesignOptions& options, De
 /// not kept).
 DesignResult run_design(const Surface& surface, const DesignOptions& options,
                         const StressField& stress, DesignCache& cache);
+/// For a design made from `cache` with DesignOptions::field_on_input = false on a coarsened
+/// analysis surface: carries its field to the input's triangles, as run_design would have
+/// (nothing when it is there already). The seconds are added to the design's `coarsen` timing.
+void carry_field_to_input(const Surface& surface, DesignResult& result, DesignCache& cache);
 /// Computes into `cache` now what designs of `surface` with `options` take from it before their
 /// metric: the analysis surface, the stress and the field (for a stress or file field), and of
 /// the input surface the projector of the finishing step, its symmetry and the map from the

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <spdlog/spdlog.h>
+
 #include "gridshell/checks/member_checks.h"
 #include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
@@ -111,6 +113,37 @@ DesignOptions build_design_options(const DesignSettings& s) {
   o.field_options.density = parse_density_trend(s.density);
   check_design_options(o);
   return o;
+}
+
+// The checks run_design makes before any work (declared in design.h).
+void check_design_options(const DesignOptions& o) {
+  if (!(o.field_options.D >= 1) || !std::isfinite(o.field_options.D))
+    throw Error("-D", "must be a number ≥ 1");
+  if (!(o.field_options.A >= 1) || !std::isfinite(o.field_options.A))
+    throw Error("-A", "must be a number ≥ 1");
+  if (o.field_options.D > 8 || o.field_options.A > 8)
+    spdlog::warn("design: D or A above ~4 may fold the deformed surface (D = {}, A = {})",
+                 o.field_options.D, o.field_options.A);
+  if (!(o.frame_analysis.displacement_limit >= 0) ||
+      !std::isfinite(o.frame_analysis.displacement_limit))
+    throw Error("--displacement-limit", "must be a length >= 0 (m; 0 = span / 100)");
+  if (!(o.frame_analysis.deflection_limit_divisor > 0))
+    throw Error("--deflection-limit", "must be a span divisor > 0 (e.g. 300 for span/300)");
+  if (o.frame.loads == analysis::LoadModel::eurocode) {
+    if (o.frame.area_load_kN_m2 != 0)
+      throw Error("--area-load",
+                  "with --loads eurocode give the surface loads as --glass and --snow");
+    if (!(o.frame.glass_kN_m2 >= 0) || !std::isfinite(o.frame.glass_kN_m2))
+      throw Error("--glass", "must be a load >= 0 (kN/m²)");
+    if (!(o.frame.snow_kN_m2 >= 0) || !std::isfinite(o.frame.snow_kN_m2))
+      throw Error("--snow", "must be a load >= 0 (kN/m²)");
+  }
+  if (o.analyze != analysis::AnalysisLevel::none) analysis::member_section(o.frame);  // --section
+  if (o.field == FieldInput::file && o.field_file.empty())
+    throw Error("--field", "no field file given");
+  if (!(o.analysis_edges_per_radius > 0) || !std::isfinite(o.analysis_edges_per_radius))
+    throw Error("analysis resolution", "edges per cell radius must be a number > 0");
+  check_tessellation_options(o.tessellation);
 }
 
 }  // namespace gridshell

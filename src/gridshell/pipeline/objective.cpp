@@ -36,6 +36,7 @@ DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s
   o.field_options.density = s.density;
   o.analyze = analysis::AnalysisLevel::buckling;
   o.sizing = sizing::MemberSizing::given;  // judged at the given section; the choice is sized
+  o.field_on_input = false;  // the chosen design's field is carried to the input in the end
   if (length > 0) {
     o.tessellation.length = length;
     o.tessellation.cells = 0;
@@ -409,8 +410,9 @@ Pending local_round(const std::vector<Evaluated>& all, const ObjectiveOptions& o
 }
 
 /// The choice among all candidates, why, and the chosen design analysed as `base` asks.
-ObjectiveResult choose(std::vector<Evaluated>& all, const DesignOptions& base,
-                       const ObjectiveOptions& options) {
+ObjectiveResult choose(const Surface& surface, std::vector<Evaluated>& all,
+                       const DesignOptions& base, const ObjectiveOptions& options,
+                       DesignCache& cache) {
   const int best = best_index(all, options);
   ObjectiveResult res;
   res.objective = options.objective;
@@ -436,6 +438,7 @@ ObjectiveResult choose(std::vector<Evaluated>& all, const DesignOptions& base,
         res.candidates.size());
   }
   res.design = std::move(*all[best].design);
+  carry_field_to_input(surface, res.design, cache);
   if (base.analyze == analysis::AnalysisLevel::none) {
     res.design.structure.reset();
   } else if (base.analyze != analysis::AnalysisLevel::buckling ||
@@ -484,7 +487,7 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   }
   report_progress(options.progress, "objective search", 1, fmt::format("{} designs", all.size()));
   if (stop_requested(options.stop)) throw Stopped{};
-  ObjectiveResult res = choose(all, base, options);
+  ObjectiveResult res = choose(surface, all, base, options, cache);
   res.seconds = seconds_since(t0);
   return res;
 }

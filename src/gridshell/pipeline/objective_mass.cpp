@@ -180,7 +180,7 @@ Pending second_round(const std::vector<Evaluated>& all, int max_designs) {
 }
 
 /// The lightest sized candidate, why, and its design sized again at the user's level.
-ObjectiveResult choose_lightest(std::vector<Evaluated>& all, const MassSearch& m,
+ObjectiveResult choose_lightest(std::vector<Evaluated>& all, MassSearch& m,
                                 const ObjectiveOptions& options) {
   ObjectiveResult res;
   res.objective = Objective::mass;
@@ -214,6 +214,7 @@ ObjectiveResult choose_lightest(std::vector<Evaluated>& all, const MassSearch& m
   }
   if (stop_requested(options.stop)) throw Stopped{};
   res.design = std::move(*all[res.chosen].design);
+  carry_field_to_input(m.surface, res.design, m.cache);
   if (m.base.analyze != m.level) {
     GridshellStructure s =
         analyze_structure(res.design.mesh, res.design.supports, m.base.frame, m.base.frame_analysis,

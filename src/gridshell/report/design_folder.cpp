@@ -64,7 +64,7 @@ nlohmann::json write_design_folder(const std::filesystem::path& dir, const Desig
   const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports, structure, frame,
                                                 in.sheet, envelope ? &*envelope : nullptr);
   const double fabrication_s = fabrication_watch.seconds();
-  io::write_vtp(dir / "field.vtp", to_poly(in.surface->mesh), {}, field_attributes(r.field));
+  io::write_vtp(dir / "field.vtp", in.surface->mesh, {}, field_attributes(r.field));
   Stopwatch figures_watch;
   const std::vector<std::string> figure_files =
       figures::write_figures(dir,

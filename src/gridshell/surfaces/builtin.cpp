@@ -46,6 +46,16 @@ TriMesh make_grid(int nx, int ny, const std::function<Vec3(int, int)>& map) {
   return m;
 }
 
+/// The boundary vertices of make_grid(nx, ny, …) in increasing order: the rim of the grid (what
+/// boundary_vertices(build_topology(mesh)) finds, without the topology of up to 2 M triangles).
+std::vector<int> grid_boundary(int nx, int ny) {
+  std::vector<int> out;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i)
+      if (i == 0 || i == nx || j == 0 || j == ny) out.push_back(j * (nx + 1) + i);
+  return out;
+}
+
 double or_default(double v, double d) {
   return v > 0 ? v : d;
 }
@@ -75,7 +85,7 @@ Surface paraboloid(const BuiltinOptions& o) {
     const double x = -h + span * i / n, y = -h + span * j / n;
     return Vec3(x, y, rise * (1 - (x * x + y * y) / (2 * h * h)));
   });
-  s.supports = boundary_vertices(build_topology(s.mesh));
+  s.supports = grid_boundary(n, n);
   return s;
 }
 

@@ -23,7 +23,7 @@
 /// for dome and barrel); hole in [0.01, 500] m and inside the rectangle; edge_q in [0.01, 100];
 /// res and corner whole numbers written as digits, res in [2, 2000], corner in [0, 2000]. The
 /// mesh's vertex count is computed before anything is allocated and may not exceed
-/// kMaxBuiltinVertices (e.g. res ≤ 998 for paraboloid and funicular, ≤ 1153 for dome; a barrel's
+/// kMaxBuiltinVertices (res ≤ 1000 for paraboloid and funicular, ≤ 1155 for dome; a barrel's
 /// rows grow with length / span).
 
 #include <string>
@@ -33,8 +33,9 @@
 
 namespace gridshell {
 
-/// The most vertices a built-in surface may have (about 100 MB of mesh and topology).
-inline constexpr long kMaxBuiltinVertices = 1'000'000;
+/// The most vertices a built-in surface may have: a 1001 × 1001 grid, res=1000 of a paraboloid
+/// or funicular (about 2 M triangles; about 100 MB of mesh and topology).
+inline constexpr long kMaxBuiltinVertices = 1001L * 1001L;
 inline constexpr double kBuiltinMinSize = 0.1;   ///< m: span, width, length
 inline constexpr double kBuiltinMaxSize = 1000;  ///< m: span, width, length, rise
 inline constexpr double kBuiltinMinRise = 1e-6;  ///< m: rise (a nearly flat plate is a valid test surface)

@@ -231,8 +231,11 @@ Surface load_surface(const std::string& spec, const SurfaceOptions& o) {
   std::vector<std::string> notes;
   if (spec.rfind("builtin:", 0) == 0) {
     Surface b = make_builtin(spec.substr(8));
-    s.mesh = b.mesh;
-    s.supports = resolve_supports(o, to_poly(b.mesh), nullptr, {}, &b.supports, notes);
+    // "auto" takes the built-in's own supports: no polygon copy of a mesh of up to 2 M triangles.
+    s.supports = o.supports == "auto"
+                     ? b.supports
+                     : resolve_supports(o, to_poly(b.mesh), nullptr, {}, &b.supports, notes);
+    s.mesh = std::move(b.mesh);
   } else {
     io::MeshFile file = io::read_mesh(spec);
     const RepairReport repair = repaired(file, spec, notes);
