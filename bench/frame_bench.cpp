@@ -3,6 +3,8 @@
 //   Aquadom triangulation as a frame (11 748 beams, 2 elements per beam): linear, LBA (5 modes),
 //   one Lanczos step's forward and back substitution (CHOLMOD's and ours);
 //   Lilium triangulation (7 547 beams, 2 elements per beam): the non-linear λ (arc-length).
+//   The Aquadom design −D 2 −A 2 --length 6000 (8 327 beams): the stability block (the perfect
+//   path and four imperfection candidates).
 //   One corotational element: force, analytical tangent, finite-difference tangent (µs).
 // Run: ./build/frame_bench  (needs ../shared/data; prints δ and λ as counters). The Lilium case
 // also prints the arc-length effort: steps, Newton iterations, tangent factorisations, seconds
@@ -19,6 +21,8 @@
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/fem/frame_solver.h"
+#include "gridshell/pipeline/design.h"
+#include "gridshell/pipeline/design_settings.h"
 #include "gridshell/surfaces/load.h"
 
 using namespace gridshell;
@@ -92,6 +96,42 @@ void BM_LiliumNonlinear(benchmark::State& state) {
   state.counters["cpu_all_threads_s"] = cpu;
 }
 BENCHMARK(BM_LiliumNonlinear)->Unit(benchmark::kSecond)->Iterations(1);
+
+// The stability block of a large roof: `design aquadom_Vouga.ply -D 2 -A 2 --length 6000
+// --analyze nonlinear` (8 327 beams), its frame analysed as the design does it: the perfect path
+// and the imperfection candidates (both signs of the first two buckling modes), followed
+// together. The design is made in the setup (not timed). Counters: λ perfect and imperfect, the
+// governing mode, the seconds of the non-linear stage, and the process CPU time of all threads.
+void BM_AquadomStability(benchmark::State& state) {
+  const std::string surface = shared("surfaces/aquadom_Vouga.ply");
+  if (!std::filesystem::exists(surface)) {
+    state.SkipWithError("shared data absent");
+    return;
+  }
+  DesignSettings settings;
+  settings.options.field_options.D = 2;
+  settings.options.field_options.A = 2;
+  settings.options.tessellation.length = 6000;
+  settings.analyze = "none";
+  const DesignOptions o = build_design_options(settings);
+  const DesignResult design = run_design(load_surface(surface), o);
+  analysis::FrameResult r;
+  double cpu = 0;
+  for (auto _ : state) {
+    const double c0 = process_cpu_seconds();
+    r = analyze_gridshell(design.mesh, design.supports, analysis::AnalysisLevel::nonlinear,
+                          o.frame, o.frame_analysis);
+    cpu = process_cpu_seconds() - c0;
+  }
+  state.counters["beams"] = static_cast<double>(r.axial_force.size());
+  state.counters["lambda_perfect"] = r.lambda_perfect.value_or(0);
+  state.counters["lambda_imperfect"] = r.lambda_imperfect.value_or(0);
+  state.counters["imperfection_mode"] = r.imperfection_mode + 1;
+  state.counters["imperfection_sign"] = r.imperfection_sign;
+  state.counters["t_nonlinear_s"] = r.timings["nonlinear"];
+  state.counters["cpu_all_threads_s"] = cpu;
+}
+BENCHMARK(BM_AquadomStability)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 // One corotational beam element in a deformed state (Ø37 steel, 0.7 m, rotated ends): the
 // internal force, the analytical tangent and the finite-difference reference (24 force

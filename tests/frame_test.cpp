@@ -454,6 +454,79 @@ TEST(FrameBuckling, EulerColumnModeShapeIsTheHalfSine) {
 
 // Von Mises two-bar truss: the limit load of the closed form P(w) = −2 N (h − w) / l with
 // N = EA (l − l0) / l0, l = √(a² + (h − w)²), maximised over the apex deflection w.
+namespace {
+// The von Mises two-bar truss (half-span a = 10, rise h = 1, EA = 1e5, pin-jointed, the apex
+// loaded downwards) and its closed-form limit load max P(w) = max −2 EA (l − l0)/l0 (h − w)/l.
+FrameModel von_mises_truss(double& Pmax) {
+  const double a = 10, h = 1, EA = 1e5;
+  FrameModel m;
+  m.nodes.resize(3, 3);
+  m.nodes << -a, 0, 0, 0, 0, h, a, 0, 0;
+  FrameSection s;
+  s.A = 1;
+  s.Iy = s.Iz = s.J = 1;
+  m.sections = {s};
+  m.materials = {{"m", EA, 0.3, 0}};
+  for (int k : {0, 2}) {
+    FrameMember mb;
+    mb.i = k;
+    mb.j = 1;
+    mb.type = MemberType::truss;
+    m.members.push_back(mb);
+  }
+  m.supports = {fix(0, {true, true, true, false, false, false}),
+                fix(2, {true, true, true, false, false, false}),
+                fix(1, {false, true, false, false, false, false})};
+  m.loads = {{1, Vec3(0, 0, -1), Vec3::Zero()}};
+  const double l0 = std::sqrt(a * a + h * h);
+  Pmax = 0;
+  for (int i = 0; i <= 200000; ++i) {
+    const double w = h * i / 100000.0;
+    const double l = std::sqrt(a * a + (h - w) * (h - w));
+    Pmax = std::max(Pmax, -2 * EA * (l - l0) / l0 * (h - w) / l);
+  }
+  return m;
+}
+}  // namespace
+
+TEST(FrameNonlinear, APathAdvancedStepByStepIsTheWholePathAndEndsWhereItIsStopped) {
+  // ArcLengthPath advanced to its end is arc_length (the same points, bit for bit, and the
+  // closed-form limit load); ended early it reports where it stopped, as the largest λ reached,
+  // with no critical point, and the points before it are the whole path's.
+  double Pmax = 0;
+  const FrameModel m = von_mises_truss(Pmax);
+  const FrameMesh mesh = discretize(m);
+  const FrameAssembler asmb(mesh);
+  ArcLengthOptions opt;
+  opt.initial_lambda = Pmax / 20;
+  const ArcLengthResult whole = arc_length(mesh, asmb, opt, reference_state(mesh));
+  ArcLengthPath path(mesh, asmb, opt, reference_state(mesh));
+  while (path.advance()) {
+  }
+  const ArcLengthResult stepped = path.finish("unused");
+  EXPECT_EQ(stepped.limit_type, LimitType::limit_point);
+  EXPECT_NEAR(stepped.lambda_critical / Pmax, 1.0, 1e-4);
+  EXPECT_EQ(stepped.lambda_critical, whole.lambda_critical);
+  EXPECT_EQ(stepped.stop_reason, "critical point found");
+  ASSERT_EQ(stepped.path.size(), whole.path.size());
+  for (std::size_t k = 0; k < whole.path.size(); ++k)
+    EXPECT_EQ(stepped.path[k].lambda, whole.path[k].lambda);
+  // Ended once λ passes half the limit load.
+  ArcLengthPath part(mesh, asmb, opt, reference_state(mesh));
+  while (part.lambda() <= 0.5 * Pmax && part.advance()) {
+  }
+  const double reached = part.lambda();
+  const ArcLengthResult early = part.finish("stopped by the caller");
+  EXPECT_GT(reached, 0.5 * Pmax);
+  EXPECT_LT(reached, Pmax);
+  EXPECT_EQ(early.limit_type, LimitType::none);
+  EXPECT_EQ(early.lambda_critical, reached);
+  EXPECT_EQ(early.stop_reason, "stopped by the caller");
+  ASSERT_LT(early.path.size(), whole.path.size());
+  for (std::size_t k = 0; k < early.path.size(); ++k)
+    EXPECT_EQ(early.path[k].lambda, whole.path[k].lambda);
+}
+
 TEST(FrameClassic, VonMisesTrussLimitLoad) {
   const double a = 10, h = 1, EA = 1e5;
   FrameModel m;

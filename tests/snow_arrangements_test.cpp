@@ -10,6 +10,8 @@
 #include <fstream>
 #include <map>
 
+#include <tbb/global_control.h>
+
 #include "gridshell/analysis/frame_analysis.h"
 #include "gridshell/analysis/gridshell_frame.h"
 #include "gridshell/analysis/load_cases.h"
@@ -229,14 +231,14 @@ TEST(FileLoadCases, BadFilesAreOneLineErrors) {
                Error);
 }
 
-TEST(Imperfection, TheUnfavourableSignOfASymmetricModeGoverns) {
-  // A shallow circular arch (span 10 m, rise 0.2 m, Ø100 mm) of 20 segments in the xz plane,
-  // pinned at its ends, held out of plane and at the crown horizontally (which rules out the
-  // antisymmetric modes), under equal vertical loads at its joints: its first buckling mode is
-  // the symmetric snap-through, and the imperfection that flattens the arch lowers the limit
-  // load (measured: 2.15 against 2.87 for the other sign; λ_perfect 4.58, λ_LBA 7.42).
+namespace {
+// A shallow circular arch (span 10 m, rise 0.2 m, Ø100 mm) of 20 segments in the xz plane,
+// pinned at its ends, held out of plane and at the crown horizontally (which rules out the
+// antisymmetric modes), under equal vertical loads at its joints.
+constexpr double kArchSpan = 10;
+fem::FrameModel shallow_arch() {
   const int n = 20;
-  const double span = 10, rise = 0.2, R = (span * span / 4 + rise * rise) / (2 * rise);
+  const double span = kArchSpan, rise = 0.2, R = (span * span / 4 + rise * rise) / (2 * rise);
   fem::FrameModel m;
   m.nodes.resize(n + 1, 3);
   for (int k = 0; k <= n; ++k) {
@@ -257,10 +259,22 @@ TEST(Imperfection, TheUnfavourableSignOfASymmetricModeGoverns) {
     m.supports.push_back({k, {end || crown, true, end, true, false, true}});
     if (!end) m.loads.push_back({k, Vec3(0, 0, -1e3), Vec3::Zero()});
   }
+  return m;
+}
+}  // namespace
+
+TEST(Imperfection, TheUnfavourableSignOfASymmetricModeGoverns) {
+  // The shallow arch's first buckling mode is the symmetric snap-through, and the imperfection
+  // that flattens the arch lowers the limit load (measured: 2.15 against 2.87 for the other
+  // sign; λ_perfect 4.58, λ_LBA 7.42).
+  const int n = 20;
+  const double span = kArchSpan;
+  const fem::FrameModel m = shallow_arch();
   FrameAnalysisOptions o;
   o.stability = true;
   o.imperfection_amplitude = span / 300;
   o.imperfection_max_modes = 1;
+  o.imperfection_full_paths = true;  // both signs to their critical points
   const FrameResult r = analyze_frame(m, o);
   ASSERT_EQ(r.imperfections_tried.size(), 2u);
   ASSERT_TRUE(r.imperfections_tried[0].lambda && r.imperfections_tried[1].lambda);
@@ -272,4 +286,48 @@ TEST(Imperfection, TheUnfavourableSignOfASymmetricModeGoverns) {
   // The chosen sign moves the crown down (flattens the arch).
   const Points& mode = r.buckling_modes.front();
   EXPECT_LT(r.imperfection_sign * mode(n / 2, 2), 0);
+}
+
+TEST(Imperfection, ACandidateAboveTheLowestEndsThereTheSameWhateverTheThreads) {
+  // The candidates are followed together and the one that passes the lower one's limit load
+  // (2.15) without a critical point of its own (its own lies at 2.87) is ended there: λ_imperfect
+  // and the governing sign are those of following both to their ends, and the other candidate
+  // reports the first λ of its path above 2.15 instead of a λ it never reached — the same on one
+  // thread as on two.
+  FrameAnalysisOptions o;
+  o.stability = true;
+  o.imperfection_amplitude = kArchSpan / 300;
+  o.imperfection_max_modes = 1;
+  FrameAnalysisOptions full = o;
+  full.imperfection_full_paths = true;
+  const FrameResult all = analyze_frame(shallow_arch(), full);
+  const FrameResult r = analyze_frame(shallow_arch(), o);
+  FrameResult one;
+  {
+    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
+    one = analyze_frame(shallow_arch(), o);
+  }
+  ASSERT_TRUE(all.lambda_imperfect && r.lambda_imperfect && one.lambda_imperfect);
+  EXPECT_EQ(*r.lambda_imperfect, *all.lambda_imperfect);
+  EXPECT_EQ(r.imperfection_sign, all.imperfection_sign);
+  ASSERT_EQ(r.imperfections_tried.size(), 2u);
+  const int low = r.imperfections_tried[0].lambda ? 0 : 1;
+  const auto& lowest = r.imperfections_tried[low];
+  const auto& other = r.imperfections_tried[1 - low];
+  ASSERT_TRUE(lowest.lambda);
+  EXPECT_EQ(*lowest.lambda, *r.lambda_imperfect);
+  EXPECT_FALSE(lowest.lambda_above);
+  EXPECT_FALSE(other.lambda);
+  ASSERT_TRUE(other.lambda_above);
+  ASSERT_TRUE(all.imperfections_tried[1 - low].lambda);
+  EXPECT_GT(*other.lambda_above, *r.lambda_imperfect);
+  EXPECT_LT(*other.lambda_above, *all.imperfections_tried[1 - low].lambda);
+  // The first point above the lowest λ: the full path's points below it are the same.
+  EXPECT_GT(*all.imperfections_tried[1 - low].lambda, 1.2 * *r.lambda_imperfect);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(one.imperfections_tried[k].lambda, r.imperfections_tried[k].lambda);
+    EXPECT_EQ(one.imperfections_tried[k].lambda_above, r.imperfections_tried[k].lambda_above);
+  }
+  EXPECT_EQ(*one.lambda_imperfect, *r.lambda_imperfect);
+  EXPECT_EQ(*one.lambda_perfect, *r.lambda_perfect);
 }

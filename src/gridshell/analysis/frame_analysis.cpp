@@ -4,12 +4,15 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <optional>
 
 #include <fmt/format.h>
 
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
@@ -190,21 +193,43 @@ std::optional<double> lambda_at_utilisation(const std::vector<double>& lambdas,
   return lambda_at_level(utilisation, lambdas, 1.0);
 }
 
-/// One non-linear path (of the geometry perturbed by the first mode when `imperfect`) to its
+/// One non-linear path (of the geometry perturbed by a buckling mode, or the perfect one) to its
 /// first critical point, with the largest cross-section utilisation at every path point.
 struct PathRun {
   ArcLengthResult al;
   std::vector<double> lambdas, utilisation;
 };
-/// `mode` < 0: the perfect path; else the geometry perturbed by `sign` × that buckling mode.
-PathRun follow_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysisOptions& o,
-                    const BucklingResult& lba, const FrameResult& res, int mode, double sign) {
+
+/// One path of run_path being followed: the (perturbed) frame, its assembler and arc-length
+/// options, the path, and what its points gave. Not movable (the assembler and the path refer to
+/// the members).
+struct PathJob {
+  int mode = -1;  ///< < 0: the perfect path; else the geometry perturbed by sign × this mode
+  double sign = 1;
+  FrameMesh mesh;
+  std::optional<FrameAssembler> assembler;
+  ArcLengthOptions options;
+  std::optional<ArcLengthPath> path;
+  PathRun run;
+  bool busy = false, done = false;
+  bool stopped = false;  ///< ended early, above the lowest critical λ of the finished candidates
+};
+
+/// The job of one path: `mode` < 0 the perfect path; else the geometry perturbed by `sign` ×
+/// that buckling mode (scaled to the imperfection amplitude).
+std::unique_ptr<PathJob> path_job(const FrameModel& model, const FrameMesh& mesh,
+                                  const FrameAnalysisOptions& o, const BucklingResult& lba,
+                                  const FrameResult& res, int mode, double sign) {
   const double span = plan_span(mesh.X);
-  FrameMesh nl_mesh = mesh;
+  auto job = std::make_unique<PathJob>();
+  job->mode = mode;
+  job->sign = sign;
+  job->mesh = mesh;
   if (mode >= 0 && mode < static_cast<int>(lba.modes.size()))
-    perturb_geometry(nl_mesh, lba.modes[mode], sign * res.imperfection_amplitude_m);
-  const FrameAssembler nl_asm(nl_mesh);
-  ArcLengthOptions ao = o.arc;
+    perturb_geometry(job->mesh, lba.modes[mode], sign * res.imperfection_amplitude_m);
+  job->assembler.emplace(job->mesh);
+  ArcLengthOptions& ao = job->options;
+  ao = o.arc;
   if (!(ao.initial_lambda > 0)) {
     ao.initial_lambda = res.lambda_linear_buckling
                             ? *res.lambda_linear_buckling / 10
@@ -216,14 +241,63 @@ PathRun follow_path(const FrameModel& model, const FrameMesh& mesh, const FrameA
     ao.max_displacement = std::min(ao.max_displacement, res.displacement_limit_m);
   if (res.lambda_linear_buckling && ao.max_lambda >= 1e9)
     ao.max_lambda = 20 * *res.lambda_linear_buckling;
-  PathRun run;
-  ao.on_point = [&](const FrameState& state, double lambda) {
-    run.lambdas.push_back(lambda);
-    run.utilisation.push_back(checks::max_section_utilisation(
-        model, member_forces(nl_mesh, element_section_forces(nl_mesh, state)), o.checks));
+  PathJob* j = job.get();
+  ao.on_point = [j, &model, &o](const FrameState& state, double lambda) {
+    j->run.lambdas.push_back(lambda);
+    j->run.utilisation.push_back(checks::max_section_utilisation(
+        model, member_forces(j->mesh, element_section_forces(j->mesh, state)), o.checks));
   };
-  run.al = arc_length(nl_mesh, nl_asm, ao, reference_state(nl_mesh));
-  return run;
+  job->path.emplace(job->mesh, *job->assembler, ao, reference_state(job->mesh));
+  return job;
+}
+
+/// Ends a job's path (when `reason` is not empty, early, for that reason) and frees its solvers.
+void end_job(PathJob& job, const std::string& reason) {
+  job.run.al = job.path->finish(reason);
+  job.path.reset();
+  job.assembler.reset();
+}
+
+/// Follows the jobs' paths on up to as many threads as TBB may use, one attempted step at a
+/// time, always advancing the free path of the lowest λ: the paths climb together. With `cap`,
+/// an imperfection candidate (mode ≥ 0) whose λ has passed `critical(result)` of a candidate
+/// that has ended is ended there: its critical point, if any, lies higher, so it cannot be the
+/// lowest. Which candidates are ended early, and where, depends on the timing;
+/// report_candidates turns it into what does not.
+template <class Critical>
+void follow_paths(std::vector<std::unique_ptr<PathJob>>& jobs, bool cap, const Critical& critical) {
+  std::mutex mutex;
+  double bound = std::numeric_limits<double>::infinity();
+  const int threads =
+      static_cast<int>(std::min<std::size_t>(tbb::this_task_arena::max_concurrency(), jobs.size()));
+  const auto next_job = [&]() -> PathJob* {
+    std::lock_guard lock(mutex);
+    PathJob* best = nullptr;
+    for (const auto& j : jobs) {
+      if (j->busy || j->done) continue;
+      if (cap && j->mode >= 0 && j->path->lambda() > bound) {
+        j->done = j->stopped = true;
+        end_job(*j, "stopped above a lower candidate's critical point");
+        continue;
+      }
+      if (!best || j->path->lambda() < best->path->lambda()) best = j.get();
+    }
+    if (best) best->busy = true;
+    return best;
+  };
+  tbb::parallel_for(0, std::max(threads, 1), [&](int) {
+    while (PathJob* job = next_job()) {
+      bool more = true;
+      tbb::this_task_arena::isolate([&] { more = job->path->advance(); });
+      if (!more) end_job(*job, "");
+      std::lock_guard lock(mutex);
+      job->busy = false;
+      if (more) continue;
+      job->done = true;
+      if (job->mode >= 0)
+        bound = std::min(bound, critical(job->run.al).value_or(std::numeric_limits<double>::infinity()));
+    }
+  });
 }
 
 /// The imperfections tried (FrameAnalysisOptions::imperfection_mode_margin): both signs of the
@@ -237,6 +311,40 @@ std::vector<std::pair<int, double>> imperfection_candidates(const FrameAnalysisO
       break;
     out.emplace_back(static_cast<int>(k), 1.0);
     if (o.imperfection_both_signs) out.emplace_back(static_cast<int>(k), -1.0);
+  }
+  return out;
+}
+
+/// What a candidate reports: its critical λ, or, when it has passed the lowest candidate's
+/// critical λ (λ_min) before any critical point of its own, the first of its points above λ_min
+/// (`lambda_above`: no critical point up to there; it cannot be the lowest). Decided from the
+/// path's points and λ_min alone — every candidate is followed at least to that point or to its
+/// own critical point, whichever comes first, whatever follow_paths ended early —, so it does
+/// not depend on the timing or the threads.
+struct CandidateReport {
+  std::optional<double> lambda, lambda_above;
+  int steps = 0, factorizations = 0;  ///< the effort spent (for the log; timing-dependent)
+};
+
+template <class Critical>
+std::vector<CandidateReport> report_candidates(const std::vector<std::unique_ptr<PathJob>>& jobs,
+                                               bool cap, const Critical& critical) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const auto& j : jobs)
+    if (j->mode >= 0 && !j->stopped)
+      lowest = std::min(lowest, critical(j->run.al).value_or(lowest));
+  std::vector<CandidateReport> out(jobs.size());
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const ArcLengthResult& al = jobs[i]->run.al;
+    CandidateReport& r = out[i];
+    r.steps = al.steps;
+    r.factorizations = al.factorizations;
+    if (jobs[i]->mode < 0) continue;
+    // The converged points before the critical point (a bracketed path's last point lies past it).
+    const std::size_t end = al.path.size() - (al.limit_type != fem::LimitType::none ? 1 : 0);
+    for (std::size_t k = 1; cap && k < end && !r.lambda_above; ++k)
+      if (al.path[k].lambda > lowest) r.lambda_above = al.path[k].lambda;
+    if (!r.lambda_above) r.lambda = critical(al);
   }
   return out;
 }
@@ -281,36 +389,45 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   }
   const bool can_perturb = !lba.modes.empty();
   const bool main_imperfect = o.imperfection && can_perturb;
-  // The paths are independent: followed in parallel (each the same whatever the threads).
-  std::vector<std::pair<int, double>> tasks;  // (mode, sign); mode −1: the perfect path
-  if (!main_imperfect || o.stability) tasks.emplace_back(-1, 1.0);
+  // The paths are independent: followed together (each the same whatever the threads).
+  std::vector<std::unique_ptr<PathJob>> jobs;
+  if (!main_imperfect || o.stability) jobs.push_back(path_job(model, mesh, o, lba, res, -1, 1.0));
   if (can_perturb && (main_imperfect || o.stability))
-    for (const auto& c : imperfection_candidates(o, lba)) tasks.push_back(c);
-  std::vector<std::optional<PathRun>> runs(tasks.size());
-  tbb::parallel_for(0, static_cast<int>(tasks.size()), [&](int i) {
-    FrameAnalysisOptions oi = o;
-    if (i > 0) oi.arc.progress = {};  // one progress display
-    runs[i] = follow_path(model, mesh, oi, lba, res, tasks[i].first, tasks[i].second);
-  });
+    for (const auto& [mode, sign] : imperfection_candidates(o, lba))
+      jobs.push_back(path_job(model, mesh, o, lba, res, mode, sign));
+  for (std::size_t i = 1; i < jobs.size(); ++i) jobs[i]->options.progress = {};  // one display
+  // Candidates are ended above a lower one's critical point only when that is what they are
+  // followed for (with the displacement-limit goal a path's λ is not its critical λ).
+  const bool cap = o.path_goal == PathGoal::critical && !o.imperfection_full_paths;
+  follow_paths(jobs, cap, critical_lambda);
   std::optional<PathRun> perfect, imperfect;
+  const std::vector<CandidateReport> reports = report_candidates(jobs, cap, critical_lambda);
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < tasks.size(); ++i) {
-    const int mode = tasks[i].first;
-    const double sign = tasks[i].second;
-    if (mode < 0) {
-      perfect = std::move(runs[i]);
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    PathJob& job = *jobs[i];
+    if (job.mode < 0) {
+      perfect = std::move(job.run);
       continue;
     }
-    const ArcLengthResult& al = runs[i]->al;
-    const double l = critical_lambda(al).value_or(std::numeric_limits<double>::infinity());
-    res.imperfections_tried.push_back({mode, sign, critical_lambda(al)});
-    spdlog::info("non-linear (imperfect, mode {} sign {:+}): lambda = {:.6g} ({})", mode + 1, sign,
-                 al.lambda_critical, fem::to_string(al.limit_type));
-    if (!imperfect || l < best) {
+    const ArcLengthResult& al = job.run.al;
+    const CandidateReport& report = reports[i];
+    res.imperfections_tried.push_back({job.mode, job.sign, report.lambda, report.lambda_above});
+    if (report.lambda_above)
+      spdlog::info("non-linear (imperfect, mode {} sign {:+}): no critical point up to lambda = "
+                   "{:.6g}, above the lowest candidate's ({} steps, {} factorisations)",
+                   job.mode + 1, job.sign, *report.lambda_above, report.steps,
+                   report.factorizations);
+    else
+      spdlog::info("non-linear (imperfect, mode {} sign {:+}): lambda = {:.6g} ({}; {} steps, {} "
+                   "factorisations)",
+                   job.mode + 1, job.sign, al.lambda_critical, fem::to_string(al.limit_type),
+                   al.steps, al.factorizations);
+    const double l = report.lambda.value_or(std::numeric_limits<double>::infinity());
+    if (!report.lambda_above && (!imperfect || l < best)) {
       best = l;
-      imperfect = std::move(runs[i]);
-      res.imperfection_mode = mode;
-      res.imperfection_sign = sign;
+      imperfect = std::move(job.run);
+      res.imperfection_mode = job.mode;
+      res.imperfection_sign = job.sign;
     }
   }
   const auto largest = [](const std::vector<double>& u) {

@@ -57,6 +57,12 @@ struct FrameAnalysisOptions {
   bool imperfection_both_signs = true;
   double imperfection_mode_margin = 0.10;
   int imperfection_max_modes = 2;
+  /// false (default): the candidates are followed together, and one whose λ passes the lowest
+  /// critical λ of those that have ended is ended there (it cannot be the lowest); report.json
+  /// then gives for it the first λ of its path above the lowest candidate's, below which it has
+  /// no critical point (`FrameResult::ImperfectionTry::lambda_above`), whatever the timing.
+  /// true: every candidate is followed to its own critical point (each one's λ is reported).
+  bool imperfection_full_paths = false;
   /// Arc-length settings and the path's stop rule: initial_lambda ≤ 0 = automatic (λ_LBA / 10,
   /// or the factor giving a linear displacement of span / 2000); max_displacement ≤ 0 = the
   /// automatic stop of `path_reach`; max_lambda ≥ 1e9 = 20 λ_LBA (when there is one); max_steps
@@ -150,6 +156,10 @@ struct FrameResult {
     int mode = 0;
     double sign = 1;
     std::optional<double> lambda;
+    /// Set (and `lambda` empty) for a candidate that was ended above the lowest candidate's
+    /// critical λ: it has no critical point up to this λ, so it cannot be the lowest
+    /// (FrameAnalysisOptions::imperfection_full_paths).
+    std::optional<double> lambda_above;
   };
   std::vector<ImperfectionTry> imperfections_tried;
   /// Why λ_imperfect > λ_perfect, when it is (empty otherwise).

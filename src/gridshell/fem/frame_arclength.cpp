@@ -406,6 +406,8 @@ class PathWalker {
   bool attempt();
   /// The critical load factor, the stop reason (when none was set) and the states.
   void finish();
+  /// λ of the last converged point.
+  double lambda() const { return cur_.lambda; }
 
  private:
   bool cut_back();
@@ -561,15 +563,53 @@ void PathWalker::finish() {
 
 }  // namespace
 
+struct ArcLengthPath::State {
+  State(const FrameMesh& mesh, const FrameAssembler& asmb, const ArcLengthOptions& opt,
+        const FrameState& start)
+      : opt(opt), start(start), walker(mesh, asmb, opt, start, res) {}
+  const ArcLengthOptions& opt;
+  FrameState start;
+  ArcLengthResult res;
+  PathWalker walker;
+  bool begun = false, walked = false;  // begin() called; begin() succeeded
+};
+
+ArcLengthPath::ArcLengthPath(const FrameMesh& mesh, const FrameAssembler& asmb,
+                             const ArcLengthOptions& opt, const FrameState& start)
+    : state_(std::make_unique<State>(mesh, asmb, opt, start)) {}
+
+ArcLengthPath::~ArcLengthPath() = default;
+
+bool ArcLengthPath::advance() {
+  if (ended_) return false;
+  State& s = *state_;
+  if (!s.begun) {
+    s.begun = true;
+    s.walked = s.walker.begin(s.start);
+    s.start = FrameState();  // begin() has copied what it needs
+    if (!s.walked) ended_ = true;
+    return !ended_;
+  }
+  if (s.res.steps >= s.opt.max_steps || !s.walker.attempt()) ended_ = true;
+  return !ended_;
+}
+
+double ArcLengthPath::lambda() const { return state_->walker.lambda(); }
+
+ArcLengthResult ArcLengthPath::finish(const std::string& reason) {
+  State& s = *state_;
+  if (!ended_ && s.res.stop_reason.empty()) s.res.stop_reason = reason;
+  ended_ = true;
+  if (s.walked) s.walker.finish();
+  return std::move(s.res);
+}
+
 ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
                            const ArcLengthOptions& opt, const FrameState& start) {
-  ArcLengthResult res;
-  PathWalker path(mesh, asmb, opt, start, res);
-  if (!path.begin(start)) return res;
-  while (res.steps < opt.max_steps)
-    if (!path.attempt()) break;
-  path.finish();
-  return res;
+  ArcLengthPath path(mesh, asmb, opt, start);
+  while (path.advance()) {
+  }
+  return path.finish("");
 }
 
 NonlinearStaticResult nonlinear_static(const FrameMesh& mesh, const FrameAssembler& asmb,

@@ -28,6 +28,7 @@
 /// the refreshes (typically one per step on a strongly non-linear path).
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,35 @@ struct ArcLengthResult {
 /// state). Never throws for non-convergence: it reports what it found.
 ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& assembler,
                            const ArcLengthOptions& options, const FrameState& start);
+
+/// The same path traced one attempted step at a time: `arc_length` advances one to its end.
+/// A caller can follow several paths at once and end one early (analysis/frame_analysis.cpp
+/// ends an imperfection candidate once it has passed a lower candidate's critical point). The
+/// points of a path do not depend on when or on which thread it is advanced.
+class ArcLengthPath {
+ public:
+  /// `mesh`, `assembler` and `options` must outlive the path; `start` is copied. Nothing is
+  /// computed before the first advance().
+  ArcLengthPath(const FrameMesh& mesh, const FrameAssembler& assembler,
+                const ArcLengthOptions& options, const FrameState& start);
+  ~ArcLengthPath();
+  ArcLengthPath(const ArcLengthPath&) = delete;
+  ArcLengthPath& operator=(const ArcLengthPath&) = delete;
+  /// One attempted step (accepted, cut back, or refining the bracket on a critical point); the
+  /// first call factorises the start's tangent. False once the path has ended.
+  bool advance();
+  bool ended() const { return ended_; }
+  /// λ of the path's last converged point (0 before the first step).
+  double lambda() const;
+  /// The path's result: when it has not ended, it ends here (stop reason `reason`, λ the
+  /// largest reached, no critical point). Call once.
+  ArcLengthResult finish(const std::string& reason);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+  bool ended_ = false;
+};
 
 struct NonlinearStaticOptions {
   int initial_steps = 10;

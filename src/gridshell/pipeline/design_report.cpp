@@ -33,9 +33,11 @@ nlohmann::json imperfection_block(const analysis::FrameResult& r) {
   imp["sign"] = r.imperfection_sign;
   imp["amplitude_m"] = r.imperfection_amplitude_m;
   nlohmann::json tried = nlohmann::json::array();
-  for (const auto& t : r.imperfections_tried)
+  for (const auto& t : r.imperfections_tried) {
     tried.push_back(
         {{"mode", t.mode + 1}, {"sign", t.sign}, {"lambda", optional_number(t.lambda)}});
+    if (t.lambda_above) tried.back()["lambda_above"] = *t.lambda_above;
+  }
   imp["tried"] = tried;
   if (!r.imperfection_note.empty()) imp["note"] = r.imperfection_note;
   return imp;
