@@ -274,6 +274,26 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   analysis::GridshellFrameOptions frame = frame_options(a, gridshell_mesh ? &mesh : nullptr);
   analysis::FrameResult r;
   std::optional<sizing::SizingResult> sized;
+  figures::FigureInput fig{.title = fmt::format("gridshell analyze {}: {} nodes, {} members; "
+                                                "analysis {}",
+                                                a.input, f.model.num_nodes(),
+                                                f.model.members.size(), to_string(level))};
+  for (const fem::FrameMember& m : f.model.members) fig.beams.push_back({m.i, m.j});
+  fig.gridshell = &mesh, fig.supports = f.supports;
+  const figures::FigureOptions figure_options = figures::parse_figure_options(a.run.figures);
+  // The figures that need only the linear analysis are drawn on the second core while the LBA
+  // and the path run on this one (beside the memory-bound eigen-solve: docs/performance.md).
+  analysis::FrameResult linear_view;  // what they read: the linear axial forces
+  std::future<figures::EncodedFigures> early_figures;
+  if (!a.sizing.size && figure_options.enabled)
+    options.after_linear = [&](const analysis::FrameResult& linear) {
+      linear_view.axial_force = linear.axial_force;
+      figures::FigureInput early = fig;
+      early.structure = &linear_view;
+      early_figures = std::async(std::launch::async, [early, &figure_options] {
+        return figures::encode_linear_figures(early, figure_options);
+      });
+    };
   if (a.sizing.size) {  // a grid-shell mesh (checked): sized, then its sized frame is the model
     StructureOptions so;
     so.level = level;
@@ -337,15 +357,13 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
     add_structure(out, r);
     write_gridshell_vtp(a.run.out_dir, out);
   }
-  figures::FigureInput fig{.title = fmt::format("gridshell analyze {}: {} nodes, {} members; "
-                                                "analysis {}",
-                                                a.input, f.model.num_nodes(),
-                                                f.model.members.size(), to_string(level))};
-  for (const fem::FrameMember& m : f.model.members) fig.beams.push_back({m.i, m.j});
-  fig.gridshell = &mesh, fig.supports = f.supports, fig.structure = &r;
+  fig.structure = &r;
+  // timings_s.figures: the figures' time after the analysis (waiting for the first ones, when
+  // they were drawn beside it, and drawing the others).
   const auto t_fig = std::chrono::steady_clock::now();
-  report["figures"] =
-      figures::write_figures(a.run.out_dir, fig, figures::parse_figure_options(a.run.figures));
+  std::optional<figures::EncodedFigures> early;
+  if (early_figures.valid()) early = early_figures.get();
+  report["figures"] = figures::write_figures(a.run.out_dir, fig, figure_options, std::move(early));
   report["timings_s"] = r.timings;
   report["timings_s"]["figures"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
