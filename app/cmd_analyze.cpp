@@ -286,6 +286,7 @@ class AnalyzeFigures {
     if (!options_.enabled) return;
     describe(model, supports);
     o.after_linear = [this](const analysis::FrameResult& linear) {
+      if (linear_.valid()) return;  // the first analysis's: the model's own
       linear_view_.axial_force = linear.axial_force;
       figures::FigureInput in = in_;
       in.structure = &linear_view_;

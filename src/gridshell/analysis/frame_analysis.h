@@ -96,7 +96,7 @@ struct FrameAnalysisOptions {
   /// checks) is recorded, before the LBA and the path: a caller may start work that reads only
   /// that part on another thread (`analyze` draws its first figures beside the LBA), copying
   /// what it reads (the result is moved out at the end). Empty: nothing. Changes no result.
-  std::function<void(const FrameResult&)> after_linear;
+  std::function<void(const FrameResult&)> after_linear{};
 };
 
 struct FrameResult {
