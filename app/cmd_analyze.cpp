@@ -261,6 +261,78 @@ void write_analyze_frame_json(const AnalyzeArgs& a, const LoadedFrame& f,
   io::write_file_atomic(std::filesystem::path(a.run.out_dir) / "frame.json", j.dump() + "\n");
 }
 
+/// The figures of an `analyze` run, drawn beside the other work: top.png and perspective.png
+/// (they read only the linear axial forces) while the LBA and the path run, the others (the
+/// buckling mode, the path) while the frame's files are written. Not movable (the analysis's
+/// hook points to it); waits for its threads when destroyed.
+class AnalyzeFigures {
+ public:
+  AnalyzeFigures(const AnalyzeArgs& a, const PolyMesh& mesh, analysis::AnalysisLevel level)
+      : input_(a.input),
+        level_(level),
+        dir_(a.run.out_dir),
+        options_(figures::parse_figure_options(a.run.figures)) {
+    in_.gridshell = &mesh;
+  }
+  AnalyzeFigures(const AnalyzeFigures&) = delete;
+  AnalyzeFigures& operator=(const AnalyzeFigures&) = delete;
+  ~AnalyzeFigures() {
+    if (linear_.valid()) linear_.wait();
+    if (written_.valid()) written_.wait();
+  }
+  /// Sets `o.after_linear` to draw top.png and perspective.png on another thread.
+  void draw_linear_beside(analysis::FrameAnalysisOptions& o, const fem::FrameModel& model,
+                          const std::vector<int>& supports) {
+    if (!options_.enabled) return;
+    describe(model, supports);
+    o.after_linear = [this](const analysis::FrameResult& linear) {
+      if (linear_.valid()) return;  // the first analysis's: the model's own
+      linear_view_.axial_force = linear.axial_force;
+      figures::FigureInput in = in_;
+      in.structure = &linear_view_;
+      linear_ = std::async(std::launch::async,
+                           [this, in] { return figures::encode_linear_figures(in, options_); });
+    };
+  }
+  /// Draws and writes every figure of `r` not drawn yet, on another thread; `r` must stay as it
+  /// is until written().
+  void draw(const analysis::FrameResult& r, const fem::FrameModel& model,
+            const std::vector<int>& supports) {
+    describe(model, supports);
+    in_.structure = &r;
+    written_ = std::async(std::launch::async, [this] {
+      const auto start = std::chrono::steady_clock::now();
+      std::optional<figures::EncodedFigures> first;
+      if (linear_.valid()) first = linear_.get();
+      std::vector<std::string> paths = figures::write_figures(dir_, in_, options_, std::move(first));
+      seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return paths;
+    });
+  }
+  /// The figures' paths relative to the output folder (report.json's `figures`), once written.
+  std::vector<std::string> written() { return written_.get(); }
+  /// The time draw()'s thread took (with its wait for the first two figures); after written().
+  double seconds() const { return seconds_; }
+
+ private:
+  void describe(const fem::FrameModel& model, const std::vector<int>& supports) {
+    in_.supports = supports;
+    in_.title = fmt::format("gridshell analyze {}: {} nodes, {} members; analysis {}", input_,
+                            model.num_nodes(), model.members.size(), to_string(level_));
+    in_.beams.clear();
+    for (const fem::FrameMember& m : model.members) in_.beams.push_back({m.i, m.j});
+  }
+  std::string input_;
+  analysis::AnalysisLevel level_;
+  std::filesystem::path dir_;
+  figures::FigureOptions options_;
+  figures::FigureInput in_;
+  analysis::FrameResult linear_view_;  ///< what the first two read: the linear axial forces
+  double seconds_ = 0;
+  std::future<figures::EncodedFigures> linear_;
+  std::future<std::vector<std::string>> written_;
+};
+
 int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   const auto guard = apply_run_options(a.run);
   check_analyze_args(a);
@@ -274,6 +346,8 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   analysis::GridshellFrameOptions frame = frame_options(a, gridshell_mesh ? &mesh : nullptr);
   analysis::FrameResult r;
   std::optional<sizing::SizingResult> sized;
+  AnalyzeFigures figures(a, mesh, level);
+  if (!a.sizing.size) figures.draw_linear_beside(options, f.model, f.supports);
   if (a.sizing.size) {  // a grid-shell mesh (checked): sized, then its sized frame is the model
     StructureOptions so;
     so.level = level;
@@ -286,6 +360,7 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
   } else {
     r = analysis::analyze_frame(f.model, options);
   }
+  figures.draw(r, f.model, f.supports);  // the others, beside the files
   // A grid-shell's fabrication files (their beams.csv included) need only the mesh and the
   // results: written on the second core while this one writes the frame's files and the report.
   std::future<nlohmann::json> fabrication;
@@ -337,18 +412,9 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
     add_structure(out, r);
     write_gridshell_vtp(a.run.out_dir, out);
   }
-  figures::FigureInput fig{.title = fmt::format("gridshell analyze {}: {} nodes, {} members; "
-                                                "analysis {}",
-                                                a.input, f.model.num_nodes(),
-                                                f.model.members.size(), to_string(level))};
-  for (const fem::FrameMember& m : f.model.members) fig.beams.push_back({m.i, m.j});
-  fig.gridshell = &mesh, fig.supports = f.supports, fig.structure = &r;
-  const auto t_fig = std::chrono::steady_clock::now();
-  report["figures"] =
-      figures::write_figures(a.run.out_dir, fig, figures::parse_figure_options(a.run.figures));
+  report["figures"] = figures.written();
   report["timings_s"] = r.timings;
-  report["timings_s"]["figures"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
+  report["timings_s"]["figures"] = figures.seconds();
   if (gridshell_mesh) report["fabrication"] = fabrication.get();
   write_report(a.run.out_dir, report);
   write_report_page(a.run.out_dir,

@@ -315,6 +315,43 @@ TEST(Figures, AbsentDataSkipsItsFigures) {
   EXPECT_THROW(write_figures(dir, {}, {.width = 20, .height = 20}), Error);
 }
 
+TEST(Figures, LinearFiguresDrawnDuringTheAnalysisAreTheOnesDrawnAfterIt) {
+  // `analyze` draws top.png and perspective.png from the linear result while the LBA runs
+  // (FrameAnalysisOptions::after_linear, encode_linear_figures) and writes them with the others:
+  // the same files, bytes and order as drawing everything from the finished result.
+  PolyMesh mesh;
+  const Surface surface = small_shell(mesh);
+  analysis::FrameAnalysisOptions ao =
+      analysis::at_level({}, analysis::AnalysisLevel::buckling);
+  ao.buckling_modes = 2;
+  analysis::FrameResult linear_view;
+  int calls = 0;
+  ao.after_linear = [&](const analysis::FrameResult& linear) {
+    ++calls;
+    EXPECT_TRUE(linear.buckling_lambdas.empty());  // called before the LBA
+    linear_view.axial_force = linear.axial_force;
+  };
+  const analysis::FrameResult st =
+      analysis::analyze_frame(analysis::gridshell_frame(mesh, surface.supports), ao);
+  EXPECT_EQ(calls, 1);
+  ASSERT_FALSE(st.buckling_modes.empty());
+  EXPECT_EQ(linear_view.axial_force, st.axial_force);
+  const FigureOptions o = small_options();
+  const FigureInput after{
+      .title = "small shell", .gridshell = &mesh, .supports = surface.supports, .structure = &st};
+  FigureInput during = after;
+  during.structure = &linear_view;
+  const EncodedFigures early = encode_linear_figures(during, o);
+  ASSERT_EQ(early.size(), 2u);
+  const fs::path one = test::temp_dir("figures_after"), two = test::temp_dir("figures_during");
+  const std::vector<std::string> files = write_figures(one, after, o);
+  EXPECT_EQ(write_figures(two, after, o, early), files);
+  EXPECT_EQ(files, (std::vector<std::string>{"figures/top.png", "figures/perspective.png",
+                                             "figures/buckling_mode.png"}));
+  for (const std::string& f : files) EXPECT_EQ(slurp(one / f), slurp(two / f)) << f;
+  EXPECT_TRUE(encode_linear_figures(during, {.enabled = false}).empty());
+}
+
 TEST(Figures, HeatmapHasOneCellPerDensityAndAnisotropy) {
   // D ∈ {1, 2, 3}, A ∈ {1, 2}, two repeats; (D 3, A 2) missing as in a shard.
   std::vector<SweepRow> rows;

@@ -190,6 +190,37 @@ TEST_F(StudioServerTest, DesignAnswerMatchesTheCommandLine) {
                   1e-5);
 }
 
+TEST_F(StudioServerTest, DesignsOfOneSurfaceShareTheirStressAndFieldAndAreUnchangedByIt) {
+  // The server keeps the stress, field and M′ of a surface's designs (server.h "Memory"): a
+  // request at another seed, or back at an earlier (D, A), takes them from there. Its answer is
+  // the design computed from scratch (design_request without a cache), bit for bit.
+  using gridshell::studio::parse_request;
+  auto c = client();
+  const std::string base = "/api/design?surface=builtin:funicular&cells=90&";
+  for (const char* q : {"D=2&A=2&seed=5", "D=1.5&A=2&seed=5", "D=2&A=2&seed=6"}) {
+    const auto res = c.Get(base + q);
+    ASSERT_TRUE(res);
+    ASSERT_EQ(res->status, 200) << res->body;
+  }
+  const auto cached = c.Get(base + "D=1.5&A=2&seed=6");
+  ASSERT_TRUE(cached);
+  ASSERT_EQ(cached->status, 200) << cached->body;
+  const auto request = parse_request(
+      {{"surface", "builtin:funicular"}, {"cells", "90"}, {"D", "1.5"}, {"A", "2"}, {"seed", "6"}});
+  const gridshell::Surface surface = gridshell::load_surface("builtin:funicular");
+  const nlohmann::json fresh = gridshell::studio::design_answer(
+      gridshell::studio::design_request(surface, request), "builtin:funicular");
+  nlohmann::json answer = nlohmann::json::parse(cached->body);
+  ASSERT_EQ(answer["request"], fresh["request"]);
+  for (const char* key : {"mesh", "beams", "axial_force", "config"})
+    EXPECT_EQ(answer[key].dump(), fresh[key].dump()) << key;
+  nlohmann::json report = answer["report"], fresh_report = fresh["report"];
+  report.erase("timings_s"), fresh_report.erase("timings_s");
+  report["structure"].erase("timings_s"), fresh_report["structure"].erase("timings_s");
+  EXPECT_EQ(report.dump(), fresh_report.dump());
+  EXPECT_GT(report["structure"]["lambda_linear_buckling"].get<double>(), 0);
+}
+
 TEST_F(StudioServerTest, ConfigRepeatsTheDesignAndExportHasTheDesignFiles) {
   auto c = client();
   const std::string q = "surface=builtin:dome&D=1.5&A=1&cells=80&seed=2";

@@ -496,6 +496,7 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
   res.timings["linear"] = t.seconds();
   record_linear(mesh, assembler, lin, res);
   record_checks(model, mesh, assembler, lin, o, res);
+  if (o.after_linear) o.after_linear(res);
 
   BucklingResult lba;
   if (o.buckling || (o.nonlinear && (o.imperfection || o.stability))) {

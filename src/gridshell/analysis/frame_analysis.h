@@ -11,6 +11,7 @@
 /// one corotational tangent + factorisation per step and refresh (Lilium, 7 547 beams: 22 steps,
 /// 47 factorisations, 302 cheap corrector iterations).
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,6 +42,8 @@ inline fem::ArcLengthOptions automatic_arc() {
   a.initial_lambda = 0;
   return a;
 }
+
+struct FrameResult;
 
 struct FrameAnalysisOptions {
   bool linear = true;           ///< always done when anything else is asked
@@ -95,6 +98,11 @@ struct FrameAnalysisOptions {
   /// sets `lambda_nonlinear` is still the one `imperfection` asks for.
   bool stability = false;
   std::string subject = "model";  ///< named in error messages
+  /// Called once with the result when its linear part (displacements, forces, reactions, member
+  /// checks) is recorded, before the LBA and the path: a caller may start work that reads only
+  /// that part on another thread (`analyze` draws its first figures beside the LBA), copying
+  /// what it reads (the result is moved out at the end). Empty: nothing. Changes no result.
+  std::function<void(const FrameResult&)> after_linear{};
 };
 
 struct FrameResult {

@@ -188,18 +188,21 @@ std::string subscript(std::size_t n) {
 }
 
 /// Encodes the canvases in parallel (the PNG compression is most of a figure's cost) and writes
-/// them into DIR/figures/ in order; returns their paths relative to DIR.
-std::vector<std::string> write_pngs(const std::filesystem::path& dir,
+/// them, after the already encoded `first`, into DIR/figures/ in order; returns their paths
+/// relative to DIR.
+std::vector<std::string> write_pngs(const std::filesystem::path& dir, EncodedFigures first,
                                     const std::vector<std::pair<std::string, Canvas>>& drawn) {
   std::vector<std::string> bytes(drawn.size()), written;
   tbb::parallel_for(std::size_t{0}, drawn.size(),
                     [&](std::size_t k) { bytes[k] = drawn[k].second.png(); });
-  if (drawn.empty()) return written;
+  for (std::size_t k = 0; k < drawn.size(); ++k)
+    first.push_back({drawn[k].first, std::move(bytes[k])});
+  if (first.empty()) return written;
   const std::filesystem::path folder = dir / "figures";
   io::ensure_directory(folder);
-  for (std::size_t k = 0; k < drawn.size(); ++k) {
-    io::write_file_atomic(folder / drawn[k].first, bytes[k]);
-    written.push_back("figures/" + drawn[k].first);
+  for (const auto& [name, png] : first) {
+    io::write_file_atomic(folder / name, png);
+    written.push_back("figures/" + name);
   }
   return written;
 }
@@ -625,14 +628,25 @@ Canvas draw_heatmap(const SweepGrid& grid, const HeatmapLabels& labels,
   return canvas;
 }
 
+EncodedFigures encode_linear_figures(const FigureInput& in, const FigureOptions& options) {
+  if (!options.enabled) return {};
+  check_size(options);
+  EncodedFigures out;
+  if (!in.gridshell || in.gridshell->num_vertices() == 0) return out;
+  out.push_back({"top.png", draw_plan(in, options).png()});
+  out.push_back({"perspective.png", draw_perspective(in, options).png()});
+  return out;
+}
+
 std::vector<std::string> write_figures(const std::filesystem::path& dir, const FigureInput& in,
-                                       const FigureOptions& options) {
+                                       const FigureOptions& options,
+                                       std::optional<EncodedFigures> linear) {
   if (!options.enabled) return {};
   check_size(options);
   std::vector<std::pair<std::string, Canvas>> drawn;
   const bool mesh = in.gridshell && in.gridshell->num_vertices() > 0;
   const analysis::FrameResult* st = in.structure;
-  if (mesh) {
+  if (mesh && !linear) {
     drawn.emplace_back("top.png", draw_plan(in, options));
     drawn.emplace_back("perspective.png", draw_perspective(in, options));
   }
@@ -644,7 +658,7 @@ std::vector<std::string> write_figures(const std::filesystem::path& dir, const F
       st->buckling_modes.front().rows() == in.gridshell->V.rows())
     drawn.emplace_back("buckling_mode.png", draw_buckling_mode(in, options));
   if (st && st->path.size() >= 2) drawn.emplace_back("load_path.png", draw_load_path(in, options));
-  return write_pngs(dir, drawn);
+  return write_pngs(dir, linear ? std::move(*linear) : EncodedFigures{}, drawn);
 }
 
 std::vector<std::string> write_sweep_figures(const std::filesystem::path& dir,
@@ -672,7 +686,7 @@ std::vector<std::string> write_sweep_figures(const std::filesystem::path& dir,
   drawn.emplace_back(
       "delta_heatmap.png",
       draw_heatmap(sweep_grid(rows, [](const SweepRow& r) { return r.delta; }), delta, options));
-  return write_pngs(dir, drawn);
+  return write_pngs(dir, {}, drawn);
 }
 
 }  // namespace gridshell::figures

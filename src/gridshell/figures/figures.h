@@ -24,7 +24,9 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gridshell/analysis/frame_analysis.h"
@@ -83,11 +85,21 @@ struct HeatmapLabels {
 Canvas draw_heatmap(const SweepGrid& grid, const HeatmapLabels& labels,
                     const FigureOptions& options);
 
+/// Figures as PNG bytes, each with its file name ("top.png").
+using EncodedFigures = std::vector<std::pair<std::string, std::string>>;
+/// The figures that read only the linear analysis of `in.structure` (its axial forces): top.png
+/// and perspective.png, drawn and encoded on the calling thread — a caller makes them while the
+/// LBA or the path runs (`analyze`: FrameAnalysisOptions::after_linear) and hands them to
+/// write_figures. Empty when `options.enabled` is false or there is no grid-shell.
+EncodedFigures encode_linear_figures(const FigureInput& in, const FigureOptions& options);
 /// Draws every figure whose data `in` has into DIR/figures/ and returns their paths relative
 /// to DIR ("figures/top.png", …) in a fixed order; nothing when `options.enabled` is false.
+/// `linear`: top.png and perspective.png as encode_linear_figures made them (the same bytes as
+/// drawing them here from the same axial forces), written first instead of drawn again.
 /// Throws Error for a bad size or an unwritable folder.
 std::vector<std::string> write_figures(const std::filesystem::path& dir, const FigureInput& in,
-                                       const FigureOptions& options = {});
+                                       const FigureOptions& options = {},
+                                       std::optional<EncodedFigures> linear = std::nullopt);
 
 /// The sweep's figures: lambda_heatmap.png and delta_heatmap.png (δ in mm) of `rows` in
 /// DIR/figures/; returns their paths relative to DIR.

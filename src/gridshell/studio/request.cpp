@@ -132,8 +132,15 @@ DesignOptions design_options(const StudioRequest& r) {
   return build_design_options(s);
 }
 
+std::string design_cache_key(const StudioRequest& r) {
+  StudioRequest shared = r;
+  shared.D = shared.A = 1;
+  shared.seed = 0;
+  return request_query(shared);
+}
+
 StudioDesign design_request(const Surface& surface, const StudioRequest& request,
-                            const StopRequest& stop) {
+                            const StopRequest& stop, DesignCache* cache) {
   const auto start = std::chrono::steady_clock::now();
   StudioDesign d;
   d.request = request;
@@ -150,7 +157,7 @@ StudioDesign design_request(const Surface& surface, const StudioRequest& request
       options.frame_analysis.arc.progress = [&stop](std::string_view, double, std::string_view) {
         if (stop()) throw Stopped{};
       };
-    d.result = run_design(surface, options);
+    d.result = cache ? run_design(surface, options, *cache) : run_design(surface, options);
   }
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   d.report = design_report(d.result, design_options(request));

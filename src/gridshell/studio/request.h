@@ -73,12 +73,21 @@ struct StudioDesign {
   double seconds = 0;
 };
 
+/// What requests may share one DesignCache (pipeline/design.h) of their surface: the request's
+/// canonical text without D, A and the seed (the cache keys its fields and M′ by D and A
+/// itself). Requests with an objective share none (the search keeps its own cache).
+std::string design_cache_key(const StudioRequest& request);
+
 /// Designs a request on a loaded surface (run_design, or design_for_objective). When `stop`
 /// answers true the design stops and throws `Stopped` (the server asks it whether a newer
 /// request came in): a single design's non-linear path at its next step, an objective search
 /// before its next candidate (its candidates of one round run in parallel and each finishes).
+/// `cache` (a single design only; null: none): what earlier requests of the same surface and
+/// design_cache_key computed — the analysis surface, the shell stress, and per (D, A) the field
+/// and M′ —, which a design from it takes instead of computing them again; the design is the
+/// same either way.
 StudioDesign design_request(const Surface& surface, const StudioRequest& request,
-                            const StopRequest& stop = {});
+                            const StopRequest& stop = {}, DesignCache* cache = nullptr);
 
 /// config.json for `gridshell design --config` (`surface_arg`: the positional argument, e.g. the
 /// built-in's name or the uploaded file's name).

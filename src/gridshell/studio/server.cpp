@@ -11,6 +11,7 @@
 #include <chrono>
 #include <map>
 #include <mutex>
+#include <set>
 #include <optional>
 #include <thread>
 
@@ -133,10 +134,18 @@ struct Server::State {
   std::string initial;
   std::mutex load_mutex;  // one surface loads at a time
 
-  std::mutex design_mutex;  // one design at a time; guards `last`
+  std::mutex design_mutex;  // one design at a time; guards `last` and `shared`
   std::atomic<std::uint64_t> latest{0};
   std::optional<StudioDesign> last;
   std::string last_query;
+  /// What the designs of one surface and design_cache_key share (request.h): the analysis
+  /// surface and stress, per (D, A) the field and M′. One at a time, dropped when the surface or
+  /// the key changes or when it holds kMaxCachedFields fields (its memory stays bounded).
+  struct SharedDesignWork {
+    std::string surface, key;
+    std::set<std::pair<double, double>> fields;
+    std::unique_ptr<DesignCache> cache;
+  } shared;
 
   void hook(std::string_view point) const {
     if (options.pause_hook) options.pause_hook(point);
@@ -226,14 +235,32 @@ struct Server::State {
     last.reset();
     // A newer request stops the design at its next step or candidate (request.h).
     try {
-      last = design_request(surface.surface, request, [this, generation] {
-        hook("check");
-        return generation != latest;
-      });
+      last = design_request(
+          surface.surface, request,
+          [this, generation] {
+            hook("check");
+            return generation != latest;
+          },
+          shared_work(request));
     } catch (const Stopped&) {
       throw Superseded{};
     }
     last_query = query;
+  }
+
+  /// The DesignCache a request's design may use (null with an objective). Call with
+  /// design_mutex held.
+  DesignCache* shared_work(const StudioRequest& request) {
+    if (request.objective) return nullptr;
+    const std::string key = design_cache_key(request);
+    const std::pair<double, double> field{request.D, request.A};
+    if (!shared.cache || shared.surface != request.surface || shared.key != key ||
+        (!shared.fields.count(field) && shared.fields.size() >= kMaxCachedFields)) {
+      shared.cache.reset();  // before the new one: never two caches' memory at once
+      shared = SharedDesignWork{request.surface, key, {}, std::make_unique<DesignCache>()};
+    }
+    shared.fields.insert(field);
+    return shared.cache.get();
   }
 
   nlohmann::json design(const StudioRequest& request, const NamedSurface& surface,

@@ -40,6 +40,12 @@
 /// surface is always kept); built-in specs are cached under their canonical text
 /// (canonical_builtin: `span=20` and `span=20.0` are one entry). Surfaces load one at a time
 /// outside the lock that guards the cache; an upload while another loads is answered 503.
+/// Designs (without an objective) of the same surface, cells or length, symmetry, panels and
+/// analysis share one DesignCache (pipeline/design.h): the analysis surface and its shell
+/// stress once, the field and the deformed surface M′ once per (D, A), for at most
+/// kMaxCachedFields pairs; another surface or setting starts a new one. A new seed, or a
+/// slider moved back, then costs the tessellation and the analysis only; the design is the
+/// same as without the cache.
 
 #include <cstddef>
 #include <functional>
@@ -54,6 +60,8 @@ namespace gridshell::studio {
 inline constexpr std::size_t kMaxUploadBytes = 64u << 20;  ///< an uploaded file, after decoding
 inline constexpr int kMaxCachedSurfaces = 8;               ///< besides the page's first surface
 inline constexpr long kMaxCachedVertices = 4'000'000;
+/// Fields (D, A pairs) whose field and M′ the designs of one surface keep (server.h "Memory").
+inline constexpr std::size_t kMaxCachedFields = 8;
 
 struct ServerOptions {
   std::string surface = kDefaultSurface;  ///< what the page opens with (builtin:NAME or a file)
