@@ -77,22 +77,13 @@ void BM_StudioDesign(benchmark::State& state) {
 void BM_StudioDesignFirst(benchmark::State& state) {
   studio_design(state, false);
 }
-BENCHMARK(BM_StudioDesign)
-    ->Arg(300)
-    ->Arg(1000)
-    ->Iterations(1)
-    ->Repetitions(7)
-    ->ReportAggregatesOnly(true)
-    ->UseRealTime()
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_StudioDesignFirst)
-    ->Arg(300)
-    ->Arg(1000)
-    ->Iterations(1)
-    ->Repetitions(7)
-    ->ReportAggregatesOnly(true)
-    ->UseRealTime()
-    ->Unit(benchmark::kMillisecond);
+/// Both cases: 300 and 1000 cells, 7 single requests each, medians reported.
+void studio_cases(benchmark::internal::Benchmark* b) {
+  b->Arg(300)->Arg(1000)->Iterations(1)->Repetitions(7)->ReportAggregatesOnly(true);
+  b->UseRealTime()->Unit(benchmark::kMillisecond);
+}
+BENCHMARK(BM_StudioDesign)->Apply(studio_cases);
+BENCHMARK(BM_StudioDesignFirst)->Apply(studio_cases);
 
 }  // namespace
 

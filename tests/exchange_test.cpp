@@ -20,6 +20,7 @@
 #include "gridshell/exchange/dxf.h"
 #include "gridshell/fabrication/panel_sheets.h"
 #include "gridshell/io/mesh_io.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 #include "test_support.h"
 
@@ -242,18 +243,10 @@ TEST(Exchange, KerfOffsetMovesEveryEdgeOutwardByTheDistance) {
     EXPECT_NEAR(line_distance(o[k], l[k], l[n]), d, 1e-12);
     EXPECT_NEAR(line_distance(o[n], l[k], l[n]), d, 1e-12);
   }
-  // Outward: the offset outline encloses more area, by the perimeter × d (+ corners).
-  const auto area = [](const std::vector<Vec2>& q) {
-    double a = 0;
-    for (std::size_t k = 0; k < q.size(); ++k) {
-      const Vec2& p = q[k];
-      const Vec2& r = q[(k + 1) % q.size()];
-      a += p.x() * r.y() - p.y() * r.x();
-    }
-    return a / 2;
-  };
+  // Outward: the offset outline encloses more area, by the perimeter × d (+ corners):
   // 5 convex corners add d² each, the one reflex corner takes d² away.
-  EXPECT_NEAR(area(o), area(l) + 8 * d + 4 * d * d, 1e-12);
+  EXPECT_NEAR(gridshell::signed_area_2d(o),
+              gridshell::signed_area_2d(l) + 8 * d + 4 * d * d, 1e-12);
   // A needle-sharp corner is bevelled, not mitred far out.
   const std::vector<Vec2> needle = {{0, 0}, {10, 0.2}, {0, 0.4}};
   const auto b = gridshell::fabrication::offset_outline(needle, d);

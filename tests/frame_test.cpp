@@ -452,12 +452,11 @@ TEST(FrameBuckling, EulerColumnModeShapeIsTheHalfSine) {
   }
 }
 
-// Von Mises two-bar truss: the limit load of the closed form P(w) = −2 N (h − w) / l with
-// N = EA (l − l0) / l0, l = √(a² + (h − w)²), maximised over the apex deflection w.
 namespace {
 // The von Mises two-bar truss (half-span a = 10, rise h = 1, EA = 1e5, pin-jointed, the apex
-// loaded downwards) and its closed-form limit load max P(w) = max −2 EA (l − l0)/l0 (h − w)/l.
-FrameModel von_mises_truss(double& Pmax) {
+// loaded downwards) and its closed-form limit load max P(w) = max −2 N (h − w) / l with
+// N = EA (l − l0) / l0, l = √(a² + (h − w)²), over the apex deflection w (at `wmax`).
+FrameModel von_mises_truss(double& Pmax, double* wmax = nullptr) {
   const double a = 10, h = 1, EA = 1e5;
   FrameModel m;
   m.nodes.resize(3, 3);
@@ -483,7 +482,11 @@ FrameModel von_mises_truss(double& Pmax) {
   for (int i = 0; i <= 200000; ++i) {
     const double w = h * i / 100000.0;
     const double l = std::sqrt(a * a + (h - w) * (h - w));
-    Pmax = std::max(Pmax, -2 * EA * (l - l0) / l0 * (h - w) / l);
+    const double P = -2 * EA * (l - l0) / l0 * (h - w) / l;
+    if (P > Pmax) {
+      Pmax = P;
+      if (wmax) *wmax = w;
+    }
   }
   return m;
 }
@@ -527,38 +530,11 @@ TEST(FrameNonlinear, APathAdvancedStepByStepIsTheWholePathAndEndsWhereItIsStoppe
     EXPECT_EQ(early.path[k].lambda, whole.path[k].lambda);
 }
 
+// Von Mises two-bar truss: the path's limit point against the closed form.
 TEST(FrameClassic, VonMisesTrussLimitLoad) {
-  const double a = 10, h = 1, EA = 1e5;
-  FrameModel m;
-  m.nodes.resize(3, 3);
-  m.nodes << -a, 0, 0, 0, 0, h, a, 0, 0;
-  FrameSection s;
-  s.A = 1;
-  s.Iy = s.Iz = s.J = 1;
-  m.sections = {s};
-  m.materials = {{"m", EA, 0.3, 0}};
-  for (int k : {0, 2}) {
-    FrameMember mb;
-    mb.i = k;
-    mb.j = 1;
-    mb.type = MemberType::truss;
-    m.members.push_back(mb);
-  }
-  m.supports = {fix(0, {true, true, true, false, false, false}),
-                fix(2, {true, true, true, false, false, false}),
-                fix(1, {false, true, false, false, false, false})};
-  m.loads = {{1, Vec3(0, 0, -1), Vec3::Zero()}};
-  const double l0 = std::sqrt(a * a + h * h);
+  const double h = 1;  // von_mises_truss's rise
   double Pmax = 0, wmax = 0;
-  for (int i = 0; i <= 200000; ++i) {
-    const double w = h * i / 100000.0;
-    const double l = std::sqrt(a * a + (h - w) * (h - w));
-    const double P = -2 * EA * (l - l0) / l0 * (h - w) / l;
-    if (P > Pmax) {
-      Pmax = P;
-      wmax = w;
-    }
-  }
+  const FrameModel m = von_mises_truss(Pmax, &wmax);
   const FrameMesh mesh = discretize(m);
   const FrameAssembler asmb(mesh);
   ArcLengthOptions opt;

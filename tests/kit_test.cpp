@@ -26,6 +26,7 @@
 #include "gridshell/io/files.h"
 #include "gridshell/kit/assembly.h"
 #include "gridshell/kit/kit.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/mesh.h"
 #include "test_support.h"
 
@@ -244,17 +245,6 @@ TEST_F(KitTest, SupportedJointsStandOnAFlatFoot) {
   EXPECT_GT(feet, supported / 2);
 }
 
-/// Area of a closed polygon (counter-clockwise positive).
-double polygon_area_2d(const std::vector<Eigen::Vector2d>& q) {
-  double a = 0;
-  for (std::size_t k = 0; k < q.size(); ++k) {
-    const auto& p = q[k];
-    const auto& r = q[(k + 1) % q.size()];
-    a += p.x() * r.y() - p.y() * r.x();
-  }
-  return a / 2;
-}
-
 TEST_F(KitTest, PanelsAreCutAtScaleWithTheKerf) {
   const nlohmann::json dxf = test::read_dxf(*dir_ / "kit" / "panels.dxf");
   if (dxf.is_null()) SKIP_OR_FAIL_IN_CI("no python3-ezdxf: the independent DXF reader");
@@ -289,7 +279,7 @@ TEST_F(KitTest, PanelsAreCutAtScaleWithTheKerf) {
     ++convex;
     std::vector<Eigen::Vector2d> drawn;
     for (const auto& x : cut[k][1]) drawn.emplace_back(x[0].get<double>(), x[1].get<double>());
-    EXPECT_NEAR(polygon_area_2d(drawn), polygon_area_2d(q) + perimeter * d + d * d * corners,
+    EXPECT_NEAR(signed_area_2d(drawn), signed_area_2d(q) + perimeter * d + d * d * corners,
                 1e-6)
         << "panel " << id;
   }

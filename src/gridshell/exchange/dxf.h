@@ -3,7 +3,7 @@
 /// Flat drawings as DXF files, the format laser cutters', water-jet and glass shops' CAM and
 /// every CAD program open: closed outlines (LWPOLYLINE), lines and text labels on named,
 /// coloured layers, in stated units (the header's $INSUNITS), AutoCAD 2000 ASCII, written
-/// through dxflib (Debian libdxflib-dev). Coordinates are written with 16 significant digits;
+/// through dxflib (Debian libdxflib-dev). Coordinates are written with 16 decimals (dxflib);
 /// the file appears atomically (written under a temporary name, then renamed).
 ///
 /// Used for panels.dxf and beams.dxf in every design folder (fabrication/fabrication_files.h)

@@ -175,19 +175,17 @@ void add_mesh(tinygltf::Model& m, const std::string& kind, const Geometry& g, in
   tinygltf::Primitive p;
   p.mode = TINYGLTF_MODE_TRIANGLES;
   p.material = material;
-  {
-    p.attributes["POSITION"] = add_accessor(m, g.position, TINYGLTF_TYPE_VEC3, true);
-    p.attributes["NORMAL"] = add_accessor(m, g.normal, TINYGLTF_TYPE_VEC3, false);
-    p.attributes["_ID"] = add_accessor(m, g.id, TINYGLTF_TYPE_SCALAR, false);
-    tinygltf::Accessor idx;
-    idx.bufferView = add_view(m, g.index.data(), g.index.size() * sizeof(std::uint32_t),
-                              TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-    idx.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-    idx.type = TINYGLTF_TYPE_SCALAR;
-    idx.count = g.index.size();
-    m.accessors.push_back(idx);
-    p.indices = static_cast<int>(m.accessors.size()) - 1;
-  }
+  p.attributes["POSITION"] = add_accessor(m, g.position, TINYGLTF_TYPE_VEC3, true);
+  p.attributes["NORMAL"] = add_accessor(m, g.normal, TINYGLTF_TYPE_VEC3, false);
+  p.attributes["_ID"] = add_accessor(m, g.id, TINYGLTF_TYPE_SCALAR, false);
+  tinygltf::Accessor idx;
+  idx.bufferView = add_view(m, g.index.data(), g.index.size() * sizeof(std::uint32_t),
+                            TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  idx.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+  idx.type = TINYGLTF_TYPE_SCALAR;
+  idx.count = g.index.size();
+  m.accessors.push_back(idx);
+  p.indices = static_cast<int>(m.accessors.size()) - 1;
   tinygltf::Mesh mesh;
   mesh.name = kind;
   mesh.primitives.push_back(p);

@@ -37,7 +37,6 @@ DrawnOutline drawn(int id, int sheet, const std::vector<Vec2>& placed, double fo
   DrawnOutline d;
   d.id = id;
   d.sheet = sheet;
-  d.oversize = sheet < 0;
   const Box b = box_of(placed);
   const std::vector<Vec2> cut = o.kerf > 0 ? offset_outline(placed, 0.5 * o.kerf) : placed;
   for (const Vec2& x : cut) d.points.push_back(to_page(x));
@@ -118,7 +117,7 @@ std::string panels_svg(const PanelSheets& d) {
     }
     return fmt::format("<polygon{} points=\"{}\"/>\n<text x=\"{}\" y=\"{}\" font-size=\"{}\">{}"
                        "</text>\n",
-                       o.oversize ? " class=\"big\"" : "", points, mm(o.label.x()),
+                       o.oversize() ? " class=\"big\"" : "", points, mm(o.label.x()),
                        mm(o.label.y()), mm(o.font), o.id);
   };
   const double title = d.title_font;
@@ -136,7 +135,7 @@ std::string panels_svg(const PanelSheets& d) {
                      "style=\"text-anchor:start\">larger than a sheet</text>\n",
                      mm(d.oversize_top - space / 2), mm(title));
     for (const DrawnOutline& o : d.outlines)
-      if (o.oversize) s += outline(o);
+      if (o.oversize()) s += outline(o);
     s += "</g>\n";
   }
   s += "</svg>\n";
@@ -159,7 +158,7 @@ exchange::DxfDrawing panels_dxf(const PanelSheets& d) {
                        1000 * d.title_font, fmt::format("sheet {}", f.index)});
   }
   for (const DrawnOutline& o : d.outlines) {
-    exchange::DxfPolyline p{o.oversize ? "OVERSIZE" : "PANELS", {}, true};
+    exchange::DxfPolyline p{o.oversize() ? "OVERSIZE" : "PANELS", {}, true};
     for (const Vec2& q : o.points) p.points.push_back(at(q));
     x.polylines.push_back(std::move(p));
     x.texts.push_back({"LABELS", at(o.label), 1000 * o.font, std::to_string(o.id)});

@@ -27,8 +27,8 @@ struct SheetFrame {
 
 struct DrawnOutline {
   int id = 0;
-  int sheet = -1;  ///< −1: oversize
-  bool oversize = false;
+  int sheet = -1;  ///< −1: larger than a sheet, drawn in the oversize row
+  bool oversize() const { return sheet < 0; }
   std::vector<Eigen::Vector2d> points;  ///< page coordinates [m]
   Eigen::Vector2d label = Eigen::Vector2d::Zero();
   double font = 0;  ///< label height [m]
