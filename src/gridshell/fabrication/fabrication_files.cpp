@@ -6,6 +6,7 @@
 #include <map>
 
 #include <fmt/format.h>
+#include <tbb/parallel_invoke.h>
 
 #include "gridshell/core/error.h"
 #include "gridshell/exchange/glb.h"
@@ -205,14 +206,20 @@ nlohmann::json write_fabrication_files(const std::filesystem::path& dir, const P
                                        const std::vector<int>& supports, const BeamResults& beams,
                                        const FabricationFileOptions& options) {
   const FabricationData d = fabrication_data(mesh, supports, beams, options);
-  io::write_file_atomic(dir / "joints.csv", joints_csv(d));
-  io::write_file_atomic(dir / "beams.csv", beams_csv(d));
-  io::write_file_atomic(dir / "panels.csv", panels_csv(d));
-  const PanelSheets sheets = panel_sheets(flat_outlines(d), d.nesting, options.sheet);
-  io::write_file_atomic(dir / "panels.svg", panels_svg(sheets));
-  exchange::write_dxf(dir / "panels.dxf", panels_dxf(sheets));
-  exchange::write_dxf(dir / "beams.dxf", cut_list_dxf(d));
-  exchange::write_glb(dir / "gridshell.glb", glb_model(mesh, d));
+  // Independent files, written side by side (the drawings and the GLB are most of the time).
+  tbb::parallel_invoke(
+      [&] {
+        io::write_file_atomic(dir / "joints.csv", joints_csv(d));
+        io::write_file_atomic(dir / "beams.csv", beams_csv(d));
+        io::write_file_atomic(dir / "panels.csv", panels_csv(d));
+      },
+      [&] {
+        const PanelSheets sheets = panel_sheets(flat_outlines(d), d.nesting, options.sheet);
+        io::write_file_atomic(dir / "panels.svg", panels_svg(sheets));
+        exchange::write_dxf(dir / "panels.dxf", panels_dxf(sheets));
+      },
+      [&] { exchange::write_dxf(dir / "beams.dxf", cut_list_dxf(d)); },
+      [&] { exchange::write_glb(dir / "gridshell.glb", glb_model(mesh, d)); });
   return bill_of_materials(d, options);
 }
 
