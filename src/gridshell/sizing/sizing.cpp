@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "gridshell/analysis/frame_loads.h"
 #include "gridshell/checks/member_checks.h"
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
@@ -164,6 +165,11 @@ class Sizer {
 
  private:
   Analysed analyse(const std::vector<int>& design, analysis::AnalysisLevel level) const;
+  /// Every combination at `level` ≤ buckling by the rule of analysis/combination_runs.h, all on
+  /// one factorisation of K (analysis/frame_loads.h); `model` is the frame of `f`.
+  analysis::CombinationRunsResult analyze_cheap(const fem::FrameModel& model,
+                                                const analysis::GridshellFrameOptions& f,
+                                                analysis::AnalysisLevel level) const;
   bool passes(const Analysed& a, int m, int s) const;
   bool meets_floor(int m, int s) const {
     return cat_[s].A >= floor_A_[m] * (1 - 1e-12) && cat_[s].Imin >= floor_I_[m] * (1 - 1e-12);
@@ -235,12 +241,50 @@ analysis::GridshellFrameOptions Sizer::frame_of(const std::vector<int>& design) 
   return f;
 }
 
+analysis::CombinationRunsResult Sizer::analyze_cheap(const fem::FrameModel& model,
+                                                     const analysis::GridshellFrameOptions& f,
+                                                     analysis::AnalysisLevel level) const {
+  std::vector<analysis::FrameLoad> loads(combos_.size());
+  if (f.loads == analysis::LoadModel::eurocode) {
+    const std::vector<analysis::LoadCase> cases =
+        analysis::eurocode_cases(mesh_, analysis::bar_weights_per_m(model, f), f);
+    for (std::size_t k = 0; k < combos_.size(); ++k) {
+      const std::vector<Vec3> F = analysis::combine(cases, combos_[k]);
+      for (int v = 0; v < static_cast<int>(F.size()); ++v)
+        if (F[v].squaredNorm() > 0) loads[k].loads.push_back({v, F[v], Vec3::Zero()});
+    }
+  } else {
+    for (analysis::FrameLoad& l : loads) l.loads = model.loads;  // the paper's one load
+  }
+  const bool buckling = level == analysis::AnalysisLevel::buckling;
+  for (std::size_t k = 0; k < combos_.size(); ++k) loads[k].buckling = buckling && combos_[k].uls;
+  analysis::FrameAnalysisOptions o = analysis::at_level(analysis_, level);
+  if (o.subject == "model") o.subject = "sizing";
+  analysis::CombinationRunsResult runs;
+  runs.results = analysis::analyze_frame_loads(model, loads, o);
+  runs.nonlinear.assign(combos_.size(), 0);
+  // The rule of analysis/combination_runs.h: no LBA of the others when the primary found none.
+  const analysis::FrameResult& p = runs.results[primary_];
+  if (buckling && !p.lambda_linear_buckling && p.buckling_lambdas.empty())
+    for (std::size_t k = 0; k < combos_.size(); ++k) {
+      if (k == primary_) continue;
+      analysis::FrameResult& r = runs.results[k];
+      r.lambda_linear_buckling.reset();
+      r.buckling_lambdas.clear();
+      r.buckling_modes.clear();
+      r.mode_energy.clear();
+    }
+  return runs;
+}
+
 Analysed Sizer::analyse(const std::vector<int>& design, analysis::AnalysisLevel level) const {
   const analysis::GridshellFrameOptions f = frame_of(design);
   Analysed a;
   a.model = analysis::gridshell_frame(mesh_, supports_, f);
   a.mass = fem::total_mass(a.model);
-  a.runs = analyze_combinations(mesh_, supports_, f, analysis_, level, combos_, primary_);
+  a.runs = level == analysis::AnalysisLevel::nonlinear
+               ? analyze_combinations(mesh_, supports_, f, analysis_, level, combos_, primary_)
+               : analyze_cheap(a.model, f, level);
   for (std::size_t k = 0; k < combos_.size(); ++k) {
     const analysis::FrameResult& r = a.runs.results[k];
     if (combos_[k].uls) {
