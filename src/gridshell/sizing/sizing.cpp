@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <queue>
@@ -57,19 +58,36 @@ bool serviceability(const analysis::LoadCombination& c) {
 
 }  // namespace
 
+namespace {
+
+/// analyze_combinations with, when `known` is set, the result of combination `known_k` at the
+/// non-linear level already in hand (the same frame, options and combination: the same
+/// analysis), taken instead of analysing it again when the rule asks for it at that level.
+analysis::CombinationRunsResult analyze_combinations_known(
+    const PolyMesh& mesh, const std::vector<int>& supports,
+    const analysis::GridshellFrameOptions& frame, const analysis::FrameAnalysisOptions& options,
+    analysis::AnalysisLevel level, const std::vector<analysis::LoadCombination>& combinations,
+    std::size_t primary, std::size_t known_k, const analysis::FrameResult* known) {
+  const auto analyze = [&](std::size_t k, analysis::AnalysisLevel l) {
+    if (known && k == known_k && l == analysis::AnalysisLevel::nonlinear) return *known;
+    return analyze_one(mesh, supports, frame, options, combinations[k], l);
+  };
+  const analysis::FrameResult first = analyze(primary, level);
+  std::vector<analysis::CombinationRun> runs;
+  for (std::size_t k = 0; k < combinations.size(); ++k)
+    runs.push_back({combinations[k].uls, k == primary});
+  return analysis::run_combinations(runs, first, analyze);
+}
+
+}  // namespace
+
 analysis::CombinationRunsResult analyze_combinations(
     const PolyMesh& mesh, const std::vector<int>& supports,
     const analysis::GridshellFrameOptions& frame, const analysis::FrameAnalysisOptions& options,
     analysis::AnalysisLevel level, const std::vector<analysis::LoadCombination>& combinations,
     std::size_t primary) {
-  const analysis::FrameResult first =
-      analyze_one(mesh, supports, frame, options, combinations[primary], level);
-  std::vector<analysis::CombinationRun> runs;
-  for (std::size_t k = 0; k < combinations.size(); ++k)
-    runs.push_back({combinations[k].uls, k == primary});
-  return analysis::run_combinations(runs, first, [&](std::size_t k, analysis::AnalysisLevel l) {
-    return analyze_one(mesh, supports, frame, options, combinations[k], l);
-  });
+  return analyze_combinations_known(mesh, supports, frame, options, level, combinations, primary,
+                                    0, nullptr);
 }
 
 double steel_mass(const PolyMesh& mesh, const analysis::GridshellFrameOptions& frame) {
@@ -201,6 +219,11 @@ class Sizer {
   std::vector<analysis::LoadCombination> combos_;
   std::size_t primary_ = 0;
   std::string failure_;
+  /// The last probe's analysis (its combination, of `probed_design_`): the verification of the
+  /// same design takes it instead of following the same paths again.
+  std::unique_ptr<analysis::FrameResult> probed_;
+  std::size_t probed_combination_ = 0;
+  std::vector<int> probed_design_;
 };
 
 Sizer::Sizer(const PolyMesh& mesh, const std::vector<int>& supports,
@@ -283,7 +306,9 @@ Analysed Sizer::analyse(const std::vector<int>& design, analysis::AnalysisLevel 
   a.model = analysis::gridshell_frame(mesh_, supports_, f);
   a.mass = fem::total_mass(a.model);
   a.runs = level == analysis::AnalysisLevel::nonlinear
-               ? analyze_combinations(mesh_, supports_, f, analysis_, level, combos_, primary_)
+               ? analyze_combinations_known(mesh_, supports_, f, analysis_, level, combos_,
+                                            primary_, probed_combination_,
+                                            probed_design_ == design ? probed_.get() : nullptr)
                : analyze_cheap(a.model, f, level);
   for (std::size_t k = 0; k < combos_.size(); ++k) {
     const analysis::FrameResult& r = a.runs.results[k];
@@ -480,8 +505,11 @@ void Sizer::raise_target(double lambda, const Analysed& a) {
 bool Sizer::probe(const Analysed& a, const std::vector<int>& design, int& iteration,
                   SizingResult& out) {
   const auto t0 = std::chrono::steady_clock::now();
-  const analysis::FrameResult r = analyze_one(mesh_, supports_, frame_of(design), analysis_,
-                                              combos_[a.lambda_combination], level_);
+  probed_ = std::make_unique<analysis::FrameResult>(analyze_one(
+      mesh_, supports_, frame_of(design), analysis_, combos_[a.lambda_combination], level_));
+  probed_combination_ = a.lambda_combination;
+  probed_design_ = design;
+  const analysis::FrameResult& r = *probed_;
   const std::optional<double> lambda = analysis::combination_lambda(r).first;
   out.history.push_back({++iteration, "probe", a.mass, a.utilisation, a.delta_ratio,
                          lambda.value_or(0.0), 0, seconds_since(t0)});
