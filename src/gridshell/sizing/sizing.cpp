@@ -416,45 +416,59 @@ std::vector<int> Sizer::group(const Analysed& a, std::vector<int> need) const {
 }
 
 /// Step 2: raises the floors of the members whose upgrades buy the most of the missing δ and
-/// λ_LBA per kg (one greedy for both: an upgrade's benefit is the sum of its estimated gains,
-/// each over its shortfall), until the estimates cover both. A member may go up several sizes;
-/// its stiffness ratio ρ = √(ρ_A ρ_I) to the analysed section counts up to kMaxGain (the
-/// estimate's validity: the mode moves once a region is much stiffer). False when nothing can
-/// be upgraded.
+/// λ_LBA per kg, until the estimates cover every shortfall. Each combination short of its
+/// target is its own shortfall — δ of every SLS combination over its limit, λ_LBA of every ULS
+/// combination under the target, each with its own strain or mode energy — and an upgrade's
+/// benefit is the sum of its estimated gains, each over its shortfall (one greedy for all: the
+/// drifted arrangements buckle in different regions, and planning only the governing one lets
+/// the next take over). A member may go up several sizes; its stiffness ratio ρ = √(ρ_A ρ_I) to
+/// the analysed section counts up to kMaxGain (the estimate's validity: the mode moves once a
+/// region is much stiffer). False when nothing can be upgraded.
 bool Sizer::raise_for_stiffness(const Analysed& a, const std::vector<int>& design) {
   constexpr double kMaxGain = 2;
-  // Each round plans this share of the estimated shortfall: the estimates are conservative
-  // (measured: the full estimate overshot δ and λ_LBA by 30–100 %), and floors never come down,
-  // so the next analysis measures the rest.
+  // Each round plans this share of the estimated shortfall: the estimates are first-order, and
+  // floors never come down, so the next analysis measures the rest.
   constexpr double kStep = 0.5;
   const double margin = 1 + o_.target_margin;
-  // The shortfalls: δ as a fraction of the compliance of the governing SLS combination, λ_LBA as
-  // a relative increase of the Rayleigh quotient (mode_energy sums to 1).
-  std::vector<double> U, e;
-  double need_delta = 0, need_lambda = 0;
-  if (a.delta_ratio * margin > 1) {
-    U = a.runs.results[a.delta_combination].strain_energy;
-    const double total = std::accumulate(U.begin(), U.end(), 0.0);
-    need_delta = kStep * (1 - 1 / (a.delta_ratio * margin)) * total;
+  // The shortfalls: δ as a fraction of the compliance of an SLS combination, λ_LBA as a relative
+  // increase of the Rayleigh quotient (mode_energy sums to 1).
+  struct Shortfall {
+    const std::vector<double>* energy = nullptr;
+    bool delta = false;
+    double need = 0, got = 0;
+  };
+  std::vector<Shortfall> short_of;
+  for (std::size_t k = 0; k < combos_.size(); ++k) {
+    const analysis::FrameResult& r = a.runs.results[k];
+    const double ratio = r.delta_limit_m > 0 ? r.delta_max_m / r.delta_limit_m : 0;
+    if (serviceability(combos_[k]) && ratio * margin > 1) {
+      const double total = std::accumulate(r.strain_energy.begin(), r.strain_energy.end(), 0.0);
+      short_of.push_back({&r.strain_energy, true, kStep * (1 - 1 / (ratio * margin)) * total});
+    }
+    const double lambda = r.lambda_linear_buckling.value_or(0.0);
+    if (level_ != analysis::AnalysisLevel::linear && combos_[k].uls && lambda > 0 &&
+        lambda < lba_target_ * margin && !r.mode_energy.empty())
+      short_of.push_back({&r.mode_energy, false, kStep * (lba_target_ * margin / lambda - 1)});
   }
-  if (level_ != analysis::AnalysisLevel::linear && std::isfinite(a.lambda_lba) &&
-      a.lambda_lba < lba_target_ * margin) {
-    e = a.runs.results[a.lambda_combination].mode_energy;
-    if (!e.empty()) need_lambda = kStep * (lba_target_ * margin / a.lambda_lba - 1);
-  }
-  if (!(need_delta > 0) && !(need_lambda > 0)) return false;
+  if (short_of.empty()) return false;
   const auto rho = [&](int m, int s) {
     const Entry& base = cat_[design[m]];
     return std::min(std::sqrt(cat_[s].Imin / base.Imin * cat_[s].A / base.A), kMaxGain);
   };
+  const auto gain = [&](const Shortfall& f, int m, double r0, double r1) {
+    return (*f.energy)[m] * (f.delta ? 1 / r0 - 1 / r1 : r1 - r0);
+  };
+  const auto missing = [&] {
+    return std::any_of(short_of.begin(), short_of.end(),
+                       [](const Shortfall& f) { return f.got < f.need; });
+  };
   struct Item {
-    double ratio = 0, gain_delta = 0, gain_lambda = 0;
+    double ratio = 0;
     int member = 0, from = 0, to = 0;
     bool operator<(const Item& o) const {
       return ratio < o.ratio || (ratio == o.ratio && member > o.member);
     }
   };
-  double got_delta = 0, got_lambda = 0;
   // The next useful size above `from` for member m (larger A, ≥ 10 % larger I_min), valued by
   // what is still missing.
   const auto next = [&](int m, int from) -> std::optional<Item> {
@@ -462,14 +476,10 @@ bool Sizer::raise_for_stiffness(const Analysed& a, const std::vector<int>& desig
     for (int s = from + 1; s < static_cast<int>(cat_.size()); ++s) {
       if (cat_[s].A < cur.A || cat_[s].Imin < 1.1 * cur.Imin) continue;
       const double r0 = rho(m, from), r1 = rho(m, s);
-      Item it;
-      it.member = m, it.from = from, it.to = s;
-      if (need_delta > 0) it.gain_delta = U[m] * (1 / r0 - 1 / r1);
-      if (need_lambda > 0) it.gain_lambda = e[m] * (r1 - r0);
-      const double value = (got_delta < need_delta ? it.gain_delta / need_delta : 0) +
-                           (got_lambda < need_lambda ? it.gain_lambda / need_lambda : 0);
-      it.ratio = value / std::max((cat_[s].mass - cur.mass) * length_[m], 1e-9);
-      return it;
+      double value = 0;
+      for (const Shortfall& f : short_of)
+        if (f.got < f.need) value += gain(f, m, r0, r1) / f.need;
+      return Item{value / std::max((cat_[s].mass - cur.mass) * length_[m], 1e-9), m, from, s};
     }
     return std::nullopt;
   };
@@ -477,7 +487,7 @@ bool Sizer::raise_for_stiffness(const Analysed& a, const std::vector<int>& desig
   for (std::size_t m = 0; m < design.size(); ++m)
     if (const auto it = next(static_cast<int>(m), design[m]); it && it->ratio > 0) queue.push(*it);
   int raised = 0;
-  while ((got_delta < need_delta || got_lambda < need_lambda) && !queue.empty()) {
+  while (missing() && !queue.empty()) {
     Item u = queue.top();
     queue.pop();
     // Valued when pushed: once a shortfall is covered its gains no longer count (lazy update).
@@ -487,8 +497,8 @@ bool Sizer::raise_for_stiffness(const Analysed& a, const std::vector<int>& desig
     }
     floor_A_[u.member] = std::max(floor_A_[u.member], cat_[u.to].A);
     floor_I_[u.member] = std::max(floor_I_[u.member], cat_[u.to].Imin);
-    got_delta += u.gain_delta;
-    got_lambda += u.gain_lambda;
+    const double r0 = rho(u.member, u.from), r1 = rho(u.member, u.to);
+    for (Shortfall& f : short_of) f.got += gain(f, u.member, r0, r1);
     ++raised;
     if (const auto it = next(u.member, u.to); it && it->ratio > 0) queue.push(*it);
   }
