@@ -85,6 +85,10 @@ def goals(work):
          None, None, None, "cmd",
          [["design", str(SURF / "BritishQuadTang.ply"), "--scale", "16", "--length", "10000",
            "-o", str(work / "real_size_court"), "--quiet"]], False),
+        ("sized-default", "`gridshell design --size` on the built-in default surface "
+         "(objective search, sizing iteration, non-linear probes and verification)", 15, None,
+         None, None, "cmd",
+         [["design", "--size", "-o", str(work / "sized_default"), "--quiet"]], False),
         ("studio-300", "studio /api/design, 300 cells, linear + LBA (median of 7)", 1, None,
          None, None, "bench", ("studio_bench", "BM_StudioDesign/300"), False),
         ("studio-1000", "studio /api/design, 1000 cells, linear + LBA (median of 7)", 0.8, None,

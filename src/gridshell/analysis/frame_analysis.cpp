@@ -16,6 +16,7 @@
 
 #include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
+#include "gridshell/analysis/frame_records.h"
 
 namespace gridshell::analysis {
 
@@ -110,10 +111,14 @@ std::vector<double> per_member(const FrameMesh& mesh, const std::vector<double>&
   return out;
 }
 
+}  // namespace
+
+namespace detail {
+
 /// The linear solution's figures: δ, displacements, axial forces, reactions, strain energies,
 /// equilibrium check.
 void record_linear(const FrameMesh& mesh, const FrameAssembler& assembler,
-                   const LinearResult& lin, FrameResult& res) {
+                   const LinearResult& lin, const Eigen::VectorXd& load_full, FrameResult& res) {
   const int n0 = mesh.num_model_nodes;
   res.displacement = lin.displacement.topRows(n0);
   res.delta_max_m = lin.displacement.rowwise().norm().maxCoeff();
@@ -127,8 +132,8 @@ void record_linear(const FrameMesh& mesh, const FrameAssembler& assembler,
   double Fabs = 0;
   for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v) {
     R += lin.reactions.segment<3>(6 * v);
-    F += mesh.load_full.segment<3>(6 * v);
-    Fabs += mesh.load_full.segment<3>(6 * v).norm();
+    F += load_full.segment<3>(6 * v);
+    Fabs += load_full.segment<3>(6 * v).norm();
   }
   res.equilibrium_error = Fabs > 0 ? (R + F).norm() / Fabs : 0;
   spdlog::info("linear: delta = {:.6g} m ({} elements, {} dofs)", res.delta_max_m, res.num_elements,
@@ -186,6 +191,10 @@ void record_buckling(const FrameMesh& mesh, const FrameAssembler& assembler,
   spdlog::info("linear buckling: lambda = {}",
                lba.lambdas.empty() ? std::string("none") : std::to_string(lba.lambdas[0]));
 }
+
+}  // namespace detail
+
+namespace {
 
 /// λ where the utilisation along the path first reaches 1.
 std::optional<double> lambda_at_utilisation(const std::vector<double>& lambdas,
@@ -494,8 +503,8 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
   t = Stopwatch();
   LinearResult lin = linear_static(mesh, assembler, o.subject);
   res.timings["linear"] = t.seconds();
-  record_linear(mesh, assembler, lin, res);
-  record_checks(model, mesh, assembler, lin, o, res);
+  detail::record_linear(mesh, assembler, lin, mesh.load_full, res);
+  detail::record_checks(model, mesh, assembler, lin, o, res);
   if (o.after_linear) o.after_linear(res);
 
   BucklingResult lba;
@@ -505,7 +514,7 @@ FrameResult analyze_frame(const FrameModel& model, const FrameAnalysisOptions& o
     bo.modes = std::max(1, o.buckling_modes);
     lba = linear_buckling(mesh, assembler, lin, bo);
     res.timings["buckling"] = t.seconds();
-    record_buckling(mesh, assembler, lba, res);
+    detail::record_buckling(mesh, assembler, lba, res);
   }
   lin.stiffness.reset();  // K's factor (tens of MB on large frames) is not needed any more
   if (o.nonlinear) {

@@ -55,16 +55,15 @@ double plastic_interaction(const Section& s, const SectionProperties& p, double 
   const auto lhs = [&](double lambda) {
     const double n = lambda * N / Npl;
     if (n >= 1) return 2.0;
-    double MNy, MNz, a;
     if (circular) {
-      MNy = Mpl_y * (1 - std::pow(n, 1.7));
-      MNz = Mpl_z * (1 - std::pow(n, 1.7));
-      a = 2;
-    } else {
-      MNy = std::min(Mpl_y, Mpl_y * (1 - n) / (1 - 0.5 * aw));
-      MNz = std::min(Mpl_z, Mpl_z * (1 - n) / (1 - 0.5 * af));
-      a = std::min(6.0, 1.66 / (1 - 1.13 * n * n));
+      const double reduction = 1 - std::pow(n, 1.7);
+      const double MNy = Mpl_y * reduction, MNz = Mpl_z * reduction;
+      const double y = lambda * My / MNy, z = lambda * Mz / MNz;
+      return y * y + z * z;  // α = β = 2
     }
+    const double MNy = std::min(Mpl_y, Mpl_y * (1 - n) / (1 - 0.5 * aw));
+    const double MNz = std::min(Mpl_z, Mpl_z * (1 - n) / (1 - 0.5 * af));
+    const double a = std::min(6.0, 1.66 / (1 - 1.13 * n * n));
     return std::pow(lambda * My / MNy, a) + std::pow(lambda * Mz / MNz, a);
   };
   double hi = 1e300;
@@ -72,9 +71,13 @@ double plastic_interaction(const Section& s, const SectionProperties& p, double 
   if (My > 0) hi = std::min(hi, Mpl_y / My);
   if (Mz > 0) hi = std::min(hi, Mpl_z / Mz);
   double lo = 0;
+  // Bisection; once a step leaves the bracket unchanged (adjacent doubles) every later step
+  // would too, so stopping there gives the same root as running all 80.
   for (int it = 0; it < 80; ++it) {
     const double mid = 0.5 * (lo + hi);
-    (lhs(mid) < 1 ? lo : hi) = mid;
+    double& end = lhs(mid) < 1 ? lo : hi;
+    if (end == mid) break;
+    end = mid;
   }
   return 1 / hi;
 }

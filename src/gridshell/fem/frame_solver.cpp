@@ -14,6 +14,7 @@
 #include "gridshell/core/sparse_cholesky.h"
 #include "gridshell/core/error.h"
 #include "gridshell/fem/frame_pattern.h"
+#include "gridshell/fem/linear_cases.h"
 
 namespace gridshell::fem {
 
@@ -80,21 +81,7 @@ FrameMesh discretize(const FrameModel& model, const std::string& subject) {
     }
   mesh.num_dofs = eq;
   if (eq == 0) throw Error(subject, "every degree of freedom is restrained: nothing to analyse");
-  mesh.load_full = Eigen::VectorXd::Zero(6 * n);
-  for (const NodalLoad& l : model.loads) {
-    for (int c = 0; c < 3; ++c) {
-      const double F = l.force(c), M = l.moment(c);
-      if (F != 0 && !mesh.active[l.node][c])
-        throw Error(subject, fmt::format("a force acts on node {} which no member uses", l.node));
-      if (M != 0 && !mesh.active[l.node][c + 3])
-        throw Error(subject,
-                    fmt::format("a moment acts on node {} which has no rotational stiffness "
-                                "(no beam meets it)",
-                                l.node));
-      mesh.load_full(6 * l.node + c) += F;
-      mesh.load_full(6 * l.node + 3 + c) += M;
-    }
-  }
+  mesh.load_full = load_vector(mesh, model.loads, subject);
   mesh.load = Eigen::VectorXd::Zero(eq);
   for (int v = 0; v < n; ++v)
     for (int c = 0; c < 6; ++c)
@@ -451,19 +438,40 @@ void factorize_or_explain(TangentSolver& solver, const SpMat& K, const FrameMesh
 // ---------------------------------------------------------------------------------------------
 // Linear static analysis
 
-LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assembler,
-                           const std::string& subject) {
-  auto solver = std::make_shared<TangentSolver>();
-  // The ordering needs only the pattern: it runs beside the assembly (whose adding of element
-  // matrices into K is serial).
-  std::future<void> analysed =
-      std::async(std::launch::async, [&] { solver->analyze(assembler.pattern()); });
-  const SpMat K = assembler.linear_stiffness();
-  analysed.get();
-  factorize_or_explain(*solver, K, mesh, subject);
+// ---------------------------------------------------------------------------------------------
+// Linear static analysis of several loads (linear_cases.h)
+
+Eigen::VectorXd load_vector(const FrameMesh& mesh, const std::vector<NodalLoad>& loads,
+                            const std::string& subject) {
+  const int n = static_cast<int>(mesh.X.rows());
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(6 * n);
+  for (const NodalLoad& l : loads) {
+    if (l.node < 0 || l.node >= n)
+      throw Error(subject, fmt::format("a load acts on node {}, which does not exist", l.node));
+    for (int c = 0; c < 3; ++c) {
+      const double F = l.force(c), M = l.moment(c);
+      if (F != 0 && !mesh.active[l.node][c])
+        throw Error(subject, fmt::format("a force acts on node {} which no member uses", l.node));
+      if (M != 0 && !mesh.active[l.node][c + 3])
+        throw Error(subject,
+                    fmt::format("a moment acts on node {} which has no rotational stiffness "
+                                "(no beam meets it)",
+                                l.node));
+      full(6 * l.node + c) += F;
+      full(6 * l.node + 3 + c) += M;
+    }
+  }
+  return full;
+}
+
+namespace {
+
+/// The figures of one solution u of K u = reduce(load_full).
+LinearResult linear_solution(const FrameMesh& mesh, const FrameAssembler& assembler,
+                             Eigen::VectorXd u, const Eigen::VectorXd& load_full,
+                             const std::string& subject) {
   LinearResult r;
-  r.u = solver->solve(mesh.load);
-  r.stiffness = std::move(solver);
+  r.u = std::move(u);
   if (!r.u.allFinite()) throw Error(subject, "the linear solve produced non-finite values");
   const Eigen::VectorXd full = assembler.expand(r.u);
   const int n = static_cast<int>(mesh.X.rows());
@@ -483,11 +491,40 @@ LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assemble
     r.axial[k] =
         e.beam.s.EA / e.beam.l0 * e.beam.R0.col(0).dot(ue.segment<3>(6) - ue.segment<3>(0));
   }
-  r.reactions = fint - mesh.load_full;
+  r.reactions = fint - load_full;
   for (int v = 0; v < n; ++v)
     for (int c = 0; c < 6; ++c)
       if (mesh.dof[v][c] >= 0 || !mesh.active[v][c]) r.reactions(6 * v + c) = 0;
   return r;
+}
+
+}  // namespace
+
+std::vector<LinearResult> linear_static_cases(const FrameMesh& mesh,
+                                              const FrameAssembler& assembler,
+                                              const std::vector<Eigen::VectorXd>& loads_full,
+                                              const std::string& subject) {
+  auto solver = std::make_shared<TangentSolver>();
+  // The ordering needs only the pattern: it runs beside the assembly (whose adding of element
+  // matrices into K is serial).
+  std::future<void> analysed =
+      std::async(std::launch::async, [&] { solver->analyze(assembler.pattern()); });
+  const SpMat K = assembler.linear_stiffness();
+  analysed.get();
+  factorize_or_explain(*solver, K, mesh, subject);
+  std::vector<LinearResult> out;
+  out.reserve(loads_full.size());
+  for (const Eigen::VectorXd& load : loads_full) {
+    out.push_back(
+        linear_solution(mesh, assembler, solver->solve(assembler.reduce(load)), load, subject));
+    out.back().stiffness = solver;
+  }
+  return out;
+}
+
+LinearResult linear_static(const FrameMesh& mesh, const FrameAssembler& assembler,
+                           const std::string& subject) {
+  return std::move(linear_static_cases(mesh, assembler, {mesh.load_full}, subject).front());
 }
 
 std::vector<double> element_strain_energy(const FrameMesh& mesh, const FrameAssembler& assembler,

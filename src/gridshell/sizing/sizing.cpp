@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <queue>
@@ -12,6 +13,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "gridshell/analysis/frame_loads.h"
 #include "gridshell/checks/member_checks.h"
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/topology.h"
@@ -56,19 +58,36 @@ bool serviceability(const analysis::LoadCombination& c) {
 
 }  // namespace
 
+namespace {
+
+/// analyze_combinations with, when `known` is set, the result of combination `known_k` at the
+/// non-linear level already in hand (the same frame, options and combination: the same
+/// analysis), taken instead of analysing it again when the rule asks for it at that level.
+analysis::CombinationRunsResult analyze_combinations_known(
+    const PolyMesh& mesh, const std::vector<int>& supports,
+    const analysis::GridshellFrameOptions& frame, const analysis::FrameAnalysisOptions& options,
+    analysis::AnalysisLevel level, const std::vector<analysis::LoadCombination>& combinations,
+    std::size_t primary, std::size_t known_k, const analysis::FrameResult* known) {
+  const auto analyze = [&](std::size_t k, analysis::AnalysisLevel l) {
+    if (known && k == known_k && l == analysis::AnalysisLevel::nonlinear) return *known;
+    return analyze_one(mesh, supports, frame, options, combinations[k], l);
+  };
+  const analysis::FrameResult first = analyze(primary, level);
+  std::vector<analysis::CombinationRun> runs;
+  for (std::size_t k = 0; k < combinations.size(); ++k)
+    runs.push_back({combinations[k].uls, k == primary});
+  return analysis::run_combinations(runs, first, analyze);
+}
+
+}  // namespace
+
 analysis::CombinationRunsResult analyze_combinations(
     const PolyMesh& mesh, const std::vector<int>& supports,
     const analysis::GridshellFrameOptions& frame, const analysis::FrameAnalysisOptions& options,
     analysis::AnalysisLevel level, const std::vector<analysis::LoadCombination>& combinations,
     std::size_t primary) {
-  const analysis::FrameResult first =
-      analyze_one(mesh, supports, frame, options, combinations[primary], level);
-  std::vector<analysis::CombinationRun> runs;
-  for (std::size_t k = 0; k < combinations.size(); ++k)
-    runs.push_back({combinations[k].uls, k == primary});
-  return analysis::run_combinations(runs, first, [&](std::size_t k, analysis::AnalysisLevel l) {
-    return analyze_one(mesh, supports, frame, options, combinations[k], l);
-  });
+  return analyze_combinations_known(mesh, supports, frame, options, level, combinations, primary,
+                                    0, nullptr);
 }
 
 double steel_mass(const PolyMesh& mesh, const analysis::GridshellFrameOptions& frame) {
@@ -164,6 +183,11 @@ class Sizer {
 
  private:
   Analysed analyse(const std::vector<int>& design, analysis::AnalysisLevel level) const;
+  /// Every combination at `level` ≤ buckling by the rule of analysis/combination_runs.h, all on
+  /// one factorisation of K (analysis/frame_loads.h); `model` is the frame of `f`.
+  analysis::CombinationRunsResult analyze_cheap(const fem::FrameModel& model,
+                                                const analysis::GridshellFrameOptions& f,
+                                                analysis::AnalysisLevel level) const;
   bool passes(const Analysed& a, int m, int s) const;
   bool meets_floor(int m, int s) const {
     return cat_[s].A >= floor_A_[m] * (1 - 1e-12) && cat_[s].Imin >= floor_I_[m] * (1 - 1e-12);
@@ -195,6 +219,11 @@ class Sizer {
   std::vector<analysis::LoadCombination> combos_;
   std::size_t primary_ = 0;
   std::string failure_;
+  /// The last probe's analysis (its combination, of `probed_design_`): the verification of the
+  /// same design takes it instead of following the same paths again.
+  std::unique_ptr<analysis::FrameResult> probed_;
+  std::size_t probed_combination_ = 0;
+  std::vector<int> probed_design_;
 };
 
 Sizer::Sizer(const PolyMesh& mesh, const std::vector<int>& supports,
@@ -235,12 +264,52 @@ analysis::GridshellFrameOptions Sizer::frame_of(const std::vector<int>& design) 
   return f;
 }
 
+analysis::CombinationRunsResult Sizer::analyze_cheap(const fem::FrameModel& model,
+                                                     const analysis::GridshellFrameOptions& f,
+                                                     analysis::AnalysisLevel level) const {
+  std::vector<analysis::FrameLoad> loads(combos_.size());
+  if (f.loads == analysis::LoadModel::eurocode) {
+    const std::vector<analysis::LoadCase> cases =
+        analysis::eurocode_cases(mesh_, analysis::bar_weights_per_m(model, f), f);
+    for (std::size_t k = 0; k < combos_.size(); ++k) {
+      const std::vector<Vec3> F = analysis::combine(cases, combos_[k]);
+      for (int v = 0; v < static_cast<int>(F.size()); ++v)
+        if (F[v].squaredNorm() > 0) loads[k].loads.push_back({v, F[v], Vec3::Zero()});
+    }
+  } else {
+    for (analysis::FrameLoad& l : loads) l.loads = model.loads;  // the paper's one load
+  }
+  const bool buckling = level == analysis::AnalysisLevel::buckling;
+  for (std::size_t k = 0; k < combos_.size(); ++k) loads[k].buckling = buckling && combos_[k].uls;
+  analysis::FrameAnalysisOptions o = analysis::at_level(analysis_, level);
+  if (o.subject == "model") o.subject = "sizing";
+  analysis::CombinationRunsResult runs;
+  runs.results = analysis::analyze_frame_loads(model, loads, o);
+  runs.nonlinear.assign(combos_.size(), 0);
+  // The rule of analysis/combination_runs.h: no LBA of the others when the primary found none.
+  const analysis::FrameResult& p = runs.results[primary_];
+  if (buckling && !p.lambda_linear_buckling && p.buckling_lambdas.empty())
+    for (std::size_t k = 0; k < combos_.size(); ++k) {
+      if (k == primary_) continue;
+      analysis::FrameResult& r = runs.results[k];
+      r.lambda_linear_buckling.reset();
+      r.buckling_lambdas.clear();
+      r.buckling_modes.clear();
+      r.mode_energy.clear();
+    }
+  return runs;
+}
+
 Analysed Sizer::analyse(const std::vector<int>& design, analysis::AnalysisLevel level) const {
   const analysis::GridshellFrameOptions f = frame_of(design);
   Analysed a;
   a.model = analysis::gridshell_frame(mesh_, supports_, f);
   a.mass = fem::total_mass(a.model);
-  a.runs = analyze_combinations(mesh_, supports_, f, analysis_, level, combos_, primary_);
+  a.runs = level == analysis::AnalysisLevel::nonlinear
+               ? analyze_combinations_known(mesh_, supports_, f, analysis_, level, combos_,
+                                            primary_, probed_combination_,
+                                            probed_design_ == design ? probed_.get() : nullptr)
+               : analyze_cheap(a.model, f, level);
   for (std::size_t k = 0; k < combos_.size(); ++k) {
     const analysis::FrameResult& r = a.runs.results[k];
     if (combos_[k].uls) {
@@ -347,45 +416,59 @@ std::vector<int> Sizer::group(const Analysed& a, std::vector<int> need) const {
 }
 
 /// Step 2: raises the floors of the members whose upgrades buy the most of the missing δ and
-/// λ_LBA per kg (one greedy for both: an upgrade's benefit is the sum of its estimated gains,
-/// each over its shortfall), until the estimates cover both. A member may go up several sizes;
-/// its stiffness ratio ρ = √(ρ_A ρ_I) to the analysed section counts up to kMaxGain (the
-/// estimate's validity: the mode moves once a region is much stiffer). False when nothing can
-/// be upgraded.
+/// λ_LBA per kg, until the estimates cover every shortfall. Each combination short of its
+/// target is its own shortfall — δ of every SLS combination over its limit, λ_LBA of every ULS
+/// combination under the target, each with its own strain or mode energy — and an upgrade's
+/// benefit is the sum of its estimated gains, each over its shortfall (one greedy for all: the
+/// drifted arrangements buckle in different regions, and planning only the governing one lets
+/// the next take over). A member may go up several sizes; its stiffness ratio ρ = √(ρ_A ρ_I) to
+/// the analysed section counts up to kMaxGain (the estimate's validity: the mode moves once a
+/// region is much stiffer). False when nothing can be upgraded.
 bool Sizer::raise_for_stiffness(const Analysed& a, const std::vector<int>& design) {
   constexpr double kMaxGain = 2;
-  // Each round plans this share of the estimated shortfall: the estimates are conservative
-  // (measured: the full estimate overshot δ and λ_LBA by 30–100 %), and floors never come down,
-  // so the next analysis measures the rest.
+  // Each round plans this share of the estimated shortfall: the estimates are first-order, and
+  // floors never come down, so the next analysis measures the rest.
   constexpr double kStep = 0.5;
   const double margin = 1 + o_.target_margin;
-  // The shortfalls: δ as a fraction of the compliance of the governing SLS combination, λ_LBA as
-  // a relative increase of the Rayleigh quotient (mode_energy sums to 1).
-  std::vector<double> U, e;
-  double need_delta = 0, need_lambda = 0;
-  if (a.delta_ratio * margin > 1) {
-    U = a.runs.results[a.delta_combination].strain_energy;
-    const double total = std::accumulate(U.begin(), U.end(), 0.0);
-    need_delta = kStep * (1 - 1 / (a.delta_ratio * margin)) * total;
+  // The shortfalls: δ as a fraction of the compliance of an SLS combination, λ_LBA as a relative
+  // increase of the Rayleigh quotient (mode_energy sums to 1).
+  struct Shortfall {
+    const std::vector<double>* energy = nullptr;
+    bool delta = false;
+    double need = 0, got = 0;
+  };
+  std::vector<Shortfall> short_of;
+  for (std::size_t k = 0; k < combos_.size(); ++k) {
+    const analysis::FrameResult& r = a.runs.results[k];
+    const double ratio = r.delta_limit_m > 0 ? r.delta_max_m / r.delta_limit_m : 0;
+    if (serviceability(combos_[k]) && ratio * margin > 1) {
+      const double total = std::accumulate(r.strain_energy.begin(), r.strain_energy.end(), 0.0);
+      short_of.push_back({&r.strain_energy, true, kStep * (1 - 1 / (ratio * margin)) * total});
+    }
+    const double lambda = r.lambda_linear_buckling.value_or(0.0);
+    if (level_ != analysis::AnalysisLevel::linear && combos_[k].uls && lambda > 0 &&
+        lambda < lba_target_ * margin && !r.mode_energy.empty())
+      short_of.push_back({&r.mode_energy, false, kStep * (lba_target_ * margin / lambda - 1)});
   }
-  if (level_ != analysis::AnalysisLevel::linear && std::isfinite(a.lambda_lba) &&
-      a.lambda_lba < lba_target_ * margin) {
-    e = a.runs.results[a.lambda_combination].mode_energy;
-    if (!e.empty()) need_lambda = kStep * (lba_target_ * margin / a.lambda_lba - 1);
-  }
-  if (!(need_delta > 0) && !(need_lambda > 0)) return false;
+  if (short_of.empty()) return false;
   const auto rho = [&](int m, int s) {
     const Entry& base = cat_[design[m]];
     return std::min(std::sqrt(cat_[s].Imin / base.Imin * cat_[s].A / base.A), kMaxGain);
   };
+  const auto gain = [&](const Shortfall& f, int m, double r0, double r1) {
+    return (*f.energy)[m] * (f.delta ? 1 / r0 - 1 / r1 : r1 - r0);
+  };
+  const auto missing = [&] {
+    return std::any_of(short_of.begin(), short_of.end(),
+                       [](const Shortfall& f) { return f.got < f.need; });
+  };
   struct Item {
-    double ratio = 0, gain_delta = 0, gain_lambda = 0;
+    double ratio = 0;
     int member = 0, from = 0, to = 0;
     bool operator<(const Item& o) const {
       return ratio < o.ratio || (ratio == o.ratio && member > o.member);
     }
   };
-  double got_delta = 0, got_lambda = 0;
   // The next useful size above `from` for member m (larger A, ≥ 10 % larger I_min), valued by
   // what is still missing.
   const auto next = [&](int m, int from) -> std::optional<Item> {
@@ -393,14 +476,10 @@ bool Sizer::raise_for_stiffness(const Analysed& a, const std::vector<int>& desig
     for (int s = from + 1; s < static_cast<int>(cat_.size()); ++s) {
       if (cat_[s].A < cur.A || cat_[s].Imin < 1.1 * cur.Imin) continue;
       const double r0 = rho(m, from), r1 = rho(m, s);
-      Item it;
-      it.member = m, it.from = from, it.to = s;
-      if (need_delta > 0) it.gain_delta = U[m] * (1 / r0 - 1 / r1);
-      if (need_lambda > 0) it.gain_lambda = e[m] * (r1 - r0);
-      const double value = (got_delta < need_delta ? it.gain_delta / need_delta : 0) +
-                           (got_lambda < need_lambda ? it.gain_lambda / need_lambda : 0);
-      it.ratio = value / std::max((cat_[s].mass - cur.mass) * length_[m], 1e-9);
-      return it;
+      double value = 0;
+      for (const Shortfall& f : short_of)
+        if (f.got < f.need) value += gain(f, m, r0, r1) / f.need;
+      return Item{value / std::max((cat_[s].mass - cur.mass) * length_[m], 1e-9), m, from, s};
     }
     return std::nullopt;
   };
@@ -408,7 +487,7 @@ bool Sizer::raise_for_stiffness(const Analysed& a, const std::vector<int>& desig
   for (std::size_t m = 0; m < design.size(); ++m)
     if (const auto it = next(static_cast<int>(m), design[m]); it && it->ratio > 0) queue.push(*it);
   int raised = 0;
-  while ((got_delta < need_delta || got_lambda < need_lambda) && !queue.empty()) {
+  while (missing() && !queue.empty()) {
     Item u = queue.top();
     queue.pop();
     // Valued when pushed: once a shortfall is covered its gains no longer count (lazy update).
@@ -418,8 +497,8 @@ bool Sizer::raise_for_stiffness(const Analysed& a, const std::vector<int>& desig
     }
     floor_A_[u.member] = std::max(floor_A_[u.member], cat_[u.to].A);
     floor_I_[u.member] = std::max(floor_I_[u.member], cat_[u.to].Imin);
-    got_delta += u.gain_delta;
-    got_lambda += u.gain_lambda;
+    const double r0 = rho(u.member, u.from), r1 = rho(u.member, u.to);
+    for (Shortfall& f : short_of) f.got += gain(f, u.member, r0, r1);
     ++raised;
     if (const auto it = next(u.member, u.to); it && it->ratio > 0) queue.push(*it);
   }
@@ -436,8 +515,11 @@ void Sizer::raise_target(double lambda, const Analysed& a) {
 bool Sizer::probe(const Analysed& a, const std::vector<int>& design, int& iteration,
                   SizingResult& out) {
   const auto t0 = std::chrono::steady_clock::now();
-  const analysis::FrameResult r = analyze_one(mesh_, supports_, frame_of(design), analysis_,
-                                              combos_[a.lambda_combination], level_);
+  probed_ = std::make_unique<analysis::FrameResult>(analyze_one(
+      mesh_, supports_, frame_of(design), analysis_, combos_[a.lambda_combination], level_));
+  probed_combination_ = a.lambda_combination;
+  probed_design_ = design;
+  const analysis::FrameResult& r = *probed_;
   const std::optional<double> lambda = analysis::combination_lambda(r).first;
   out.history.push_back({++iteration, "probe", a.mass, a.utilisation, a.delta_ratio,
                          lambda.value_or(0.0), 0, seconds_since(t0)});
