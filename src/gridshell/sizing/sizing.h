@@ -18,11 +18,12 @@
 ///     move to a section at least as large in A and I_min (a ratchet, which makes the iteration
 ///     monotone and so finite).
 ///  2. Stiffness: when δ (SLS) or λ_LBA (ULS) misses its target, members are upgraded in order
-///     of benefit per kilogram — for δ the member's share of the strain energy of the governing
-///     SLS combination times its stiffness gain, for λ its share of the buckling mode's strain
-///     energy (FrameResult::mode_energy) times its gain: first-order estimates of dδ and dλ
-///     (Rayleigh quotient) — until the estimated gain covers the shortfall. Upgrades are floors:
-///     a member never goes below them again.
+///     of benefit per kilogram — for δ the member's share of the strain energy of each SLS
+///     combination over its limit times its stiffness gain, for λ its share of the buckling
+///     mode's strain energy (FrameResult::mode_energy) of each ULS combination under the target
+///     times its gain: first-order estimates of dδ and dλ (Rayleigh quotient) — until the
+///     estimated gains cover every shortfall. Upgrades are floors: a member never goes below
+///     them again.
 ///  3. Groups (`groups` = N > 0): members sorted by the mass of the section they need are cut
 ///     into at most N contiguous groups minimising Σ length × mass of the group's heaviest need
 ///     (dynamic programming over the distinct needs); each group takes the lightest section
@@ -33,8 +34,10 @@
 ///
 /// The result is `sized` only when the final analysis passes every check; otherwise `failure`
 /// names the check, the member and the combination (never a design reported as safe that is
-/// not). Deterministic. Cost: per iteration one linear analysis per combination (+ LBA for ULS
-/// ones) and O(members × list) cheap section checks.
+/// not). Deterministic. Cost: per iteration one factorisation of K shared by every combination
+/// (analysis/frame_loads.h: a solve per combination, an LBA per ULS one) and O(members × list)
+/// cheap section checks; per round a probe (one combination's non-linear paths), and at the end
+/// the full analysis, which takes the last probe's paths when they are of the same design.
 
 #include <string>
 #include <vector>
