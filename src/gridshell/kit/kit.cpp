@@ -230,29 +230,94 @@ KitFrame read_kit_frame(const std::filesystem::path& dir) {
 
 namespace {
 
+/// How far the hole of socket h (floor to mouth) reaches along the unit direction a.
+double hole_reach(const Socket& h, const Vec3& a) {
+  const double c = h.axis.dot(a), side = std::sqrt(std::max(0.0, 1 - c * c));
+  return std::max(h.seat * c, (h.seat + h.depth) * c) + h.radius * side;
+}
+
+/// Makes socket s of `beam` a printed bridge (both halves cut by the mid-plane of the joints'
+/// centres at scale).
+void make_bridge(Socket& s, const KitFrame& frame, const KitBeam& beam, const KitOptions& o) {
+  const Vec3 along = frame.joints[beam.joint_j].position - frame.joints[beam.joint_i].position;
+  s.bridge = true;
+  s.depth = 0;
+  s.mid = along.norm() * 1000 / o.scale / 2;
+  const Vec3 helper = std::abs(along.x()) < 0.9 * along.norm() ? Vec3::UnitX() : Vec3::UnitY();
+  s.disc_u = along.cross(helper).normalized();
+}
+
+/// The largest glue disc radius of bridge b at a hub that keeps clear of the hub's other
+/// bridges' cuts and of its holes (run-out included) by a tenth of a wall.
+double disc_room(const HubPlan& hub, const Socket& b, const KitOptions& o) {
+  const double relief = kReliefWalls * o.wall, margin = 0.1 * o.wall;
+  double room = hub.sleeve_radius - relief;
+  for (const Socket& k : hub.sockets) {
+    if (&k == &b) continue;
+    const double c = k.axis.dot(b.axis), side = std::sqrt(std::max(1e-12, 1 - c * c));
+    if (k.bridge) {  // the disc's points x: x·k.axis ≤ k.mid − relief − margin
+      room = std::min(room, (k.mid - relief - margin - b.mid * c) / side);
+      continue;
+    }
+    // The hole: a cylinder of k.radius about its axis, sampled every 0.1 mm or finer; its axis'
+    // points near the glue plane keep their radius and a margin off the disc.
+    const double t0 = k.seat, t1 = k.seat + k.depth + o.rod_diameter;
+    const int n = 16 + static_cast<int>((t1 - t0) / 0.1);
+    for (int i = 0; i <= n; ++i) {
+      const Vec3 x = (t0 + (t1 - t0) * i / n) * k.axis;
+      const double along = x.dot(b.axis);
+      if (along < b.mid - relief - k.radius - margin || along > b.mid + k.radius + margin) continue;
+      room = std::min(room, (x - along * b.axis).norm() - k.radius - margin - 0.1);
+    }
+  }
+  return room;
+}
+
 /// Marks the sockets of beams too short for a rod with two sockets of `min_socket` as bridges
-/// (Socket::bridge), the others' depths as full or shortened; Error when a bridge is too short
-/// to cut (its relief would reach the joint's centre).
+/// (Socket::bridge), then those whose hole would reach another bridge's cut, until none does;
+/// the others' depths full or shortened. Error when a bridge is too short to cut (its relief
+/// would reach the joint's centre).
 void plan_sockets(const KitFrame& frame, const std::vector<double>& seats,
                   std::vector<HubPlan>& hubs, const KitOptions& o) {
   const double min_socket = o.min_socket > 0 ? o.min_socket : o.rod_diameter;
   const double relief = kReliefWalls * o.wall;
-  int too_short = 0, worst = -1;
+  std::vector<char> bridged(frame.beams.size(), 0);
   for (HubPlan& hub : hubs) {
     for (Socket& s : hub.sockets) {
       const KitBeam& beam = frame.beams[s.beam];
       const double free = beam.length * 1000 / o.scale - seats[beam.joint_i] - seats[beam.joint_j];
       s.seat = seats[hub.joint];
       s.depth = std::min(o.depth_factor * o.rod_diameter, (free - o.gap) / 2);
-      if (s.depth >= min_socket) continue;
-      // A printed bridge: both halves cut by the mid-plane of the joints' centres at scale.
-      const Vec3 along = frame.joints[beam.joint_j].position - frame.joints[beam.joint_i].position;
-      s.bridge = true;
-      s.depth = 0;
-      s.mid = along.norm() * 1000 / o.scale / 2;
-      const Vec3 helper = std::abs(along.x()) < 0.9 * along.norm() ? Vec3::UnitX() : Vec3::UnitY();
-      s.disc_u = along.cross(helper).normalized();
-      if (s.mid < 2 * relief) {
+      bridged[s.beam] = bridged[s.beam] || s.depth < min_socket;
+    }
+  }
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (HubPlan& hub : hubs) {
+      for (Socket& s : hub.sockets)
+        if (bridged[s.beam] && !s.bridge) make_bridge(s, frame, frame.beams[s.beam], o);
+      for (const Socket& b : hub.sockets) {
+        if (!b.bridge) continue;
+        for (const Socket& h : hub.sockets) {
+          if (h.bridge || bridged[h.beam] || hole_reach(h, b.axis) <= b.mid - relief) continue;
+          bridged[h.beam] = 1;
+          grew = true;
+        }
+      }
+    }
+  }
+  // The glue discs: the same radius at both ends.
+  std::vector<double> disc(frame.beams.size(), 1e300);
+  for (const HubPlan& hub : hubs)
+    for (const Socket& s : hub.sockets)
+      if (s.bridge) disc[s.beam] = std::min(disc[s.beam], disc_room(hub, s, o));
+  int too_short = 0, worst = -1;
+  for (HubPlan& hub : hubs) {
+    for (Socket& s : hub.sockets) {
+      if (!s.bridge) continue;
+      s.disc = disc[s.beam];
+      if (s.mid < 2 * relief || s.disc < 0.25 * hub.sleeve_radius) {
+        const KitBeam& beam = frame.beams[s.beam];
         if (worst < 0 || beam.length < frame.beams[worst].length) worst = beam.id;
         ++too_short;
       }
@@ -264,8 +329,8 @@ void plan_sockets(const KitFrame& frame, const std::vector<double>& seats,
     throw Error("--scale", fmt::format("{} beams too short at 1:{:g} even for a printed bridge "
                                        "(beam {}: {:.2f} mm, least {:.2f} mm); 1:N with N <= {} "
                                        "fits",
-                                       too_short / 2, o.scale, b.id, b.length * 1000 / o.scale,
-                                       shortest,
+                                       (too_short + 1) / 2, o.scale, b.id,
+                                       b.length * 1000 / o.scale, shortest,
                                        static_cast<long>(std::floor(b.length * 1000 / shortest))));
   }
 }

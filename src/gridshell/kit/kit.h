@@ -32,7 +32,9 @@
 /// and the whole part is cut by the beam's mid-plane, so the two halves meet face to face in
 /// the same flat glue disc (radius sleeve − wall/4) and are glued. A relief slab wall/4 deep
 /// before the mid-plane clears everything else of the part outside that disc, so the two faces
-/// coincide exactly whatever else of either part reaches the plane. Bridged beams are no rods.
+/// coincide exactly whatever else of either part reaches the plane. A beam whose socket would
+/// reach another bridge's cut at its joint (its rod would run into the glued neighbour) is a
+/// bridge too. Bridged beams are no rods.
 ///
 /// Base and id: every joint has a flat base: a stem from the hub along `base_normal` (straight
 /// down for a supported joint, its foot; else the joint's inward surface normal) into a plate
@@ -100,10 +102,11 @@ struct Socket {
   double depth = 0;           ///< floor to mouth (0 on a bridge)
   double radius = 0;          ///< hole radius (rod/2 + clearance)
   /// A printed bridge (no hole, no rod): a solid stub along `axis`, the part cut flat by the
-  /// beam's mid-plane at `mid` from the centre; the glue disc's polygon starts at `disc_u`
-  /// (unit, ⟂ axis, the same vector at both ends of the beam, so both discs coincide).
+  /// beam's mid-plane at `mid` from the centre; the glue disc's polygon (radius `disc`, at most
+  /// sleeve − wall/4, less where another cut or a hole of either joint comes near) starts at
+  /// `disc_u` (unit, ⟂ axis): the same at both ends of the beam, so both discs coincide.
   bool bridge = false;
-  double mid = 0;
+  double mid = 0, disc = 0;
   Vec3 disc_u = Vec3::UnitY();
 };
 struct HubPlan {

@@ -166,17 +166,20 @@ Error joint_error(const HubPlan& hub, const char* what) {
   return Error(fmt::format("joint {}", hub.joint), what);
 }
 
-/// The base: a stem from inside the sphere (off-centre, like the sleeves, but not at their
-/// start) into a plate whose outer face is the flat base; the stem ends inside the plate, no
-/// shared cap.
+/// The base as one solid of revolution about base_normal: a stem of the sleeves' radius from
+/// inside the sphere (off-centre, like the sleeves, but not at their start) widening into a
+/// plate a wall thick whose outer face is the flat base (a 2·segments-gon of base_radius).
 void add_base(Mesh& solid, const HubPlan& hub, const KitOptions& o) {
   const Vec3& d = hub.base_normal;
-  Mesh stem = cylinder(d, 0.3 * hub.sleeve_radius, hub.base - 0.5 * o.wall, hub.sleeve_radius,
-                       o.segments, 0.5 * kSphereTurn);
-  Mesh plate = cylinder(d, hub.base - o.wall, hub.base, hub.base_radius, 2 * o.segments,
-                        0.25 * kSphereTurn);
-  if (!PMP::corefine_and_compute_union(solid, stem, solid) ||
-      !PMP::corefine_and_compute_union(solid, plate, solid)) {
+  const Vec3 helper = std::abs(d.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 p = d.cross(helper).normalized(), q = d.cross(p);
+  const double turn = 0.25 * kSphereTurn;
+  const double stem = 0.3 * hub.sleeve_radius, plate = hub.base - o.wall;
+  const std::vector<std::array<double, 2>> profile{
+      {0, stem},     {hub.sleeve_radius, stem}, {hub.sleeve_radius, plate}, {hub.base_radius, plate},
+      {hub.base_radius, hub.base}, {0, hub.base}};
+  Mesh base = lathe(d, std::cos(turn) * p + std::sin(turn) * q, profile, 2 * o.segments);
+  if (!PMP::corefine_and_compute_union(solid, base, solid)) {
     throw joint_error(hub, "the union of the hub and its base is not a closed manifold solid");
   }
 }
@@ -185,7 +188,7 @@ void add_base(Mesh& solid, const HubPlan& hub, const KitOptions& o) {
 /// relief slab before it everything outside the glue disc. Its radius reaches the whole part,
 /// or, when the base keeps its id uncut (HubPlan::plate_cut false), stops short of the plate.
 Mesh bridge_cutter(const HubPlan& hub, const Socket& s, const KitOptions& o) {
-  const double relief = kReliefWalls * o.wall, disc = hub.sleeve_radius - relief;
+  const double relief = kReliefWalls * o.wall, disc = s.disc;
   double far = hub.base + hub.base_radius + hub.hub_radius;
   for (const Socket& k : hub.sockets) {
     far = std::max(far, k.seat + k.depth + o.rod_diameter + k.mid + hub.sleeve_radius + o.wall);
@@ -202,6 +205,23 @@ Mesh bridge_cutter(const HubPlan& hub, const Socket& s, const KitOptions& o) {
       {0, s.mid},   {disc, s.mid}, {disc, s.mid - relief}, {radius, s.mid - relief},
       {radius, end}, {0, end}};
   return lathe(s.axis, s.disc_u, profile, o.segments);
+}
+
+/// Whether every bridge's cutter (within x·axis ≥ mid − relief) is clear of every socket hole
+/// (run-out included) and of the engraving, so that they can be cut at once.
+bool cutters_clear_of_holes(const HubPlan& hub, const KitOptions& o) {
+  if (!hub.plate_cut) return false;  // the id's strokes may meet a cutter kept off the plate
+  const double relief = kReliefWalls * o.wall;
+  for (const Socket& b : hub.sockets) {
+    if (!b.bridge) continue;
+    for (const Socket& h : hub.sockets) {
+      if (h.bridge) continue;
+      const double c = h.axis.dot(b.axis), side = std::sqrt(std::max(0.0, 1 - c * c));
+      const double reach = std::max(h.seat * c, (h.seat + h.depth + o.rod_diameter) * c);
+      if (reach + h.radius * side > b.mid - relief - 0.05 * o.wall) return false;
+    }
+  }
+  return true;
 }
 
 /// The hub as one closed mesh: sphere ∪ sleeves and stubs ∪ base, bridges cut, minus the holes
@@ -223,9 +243,14 @@ Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
     }
   }
   if (hub.base > 0) add_base(solid, hub, o);
-  for (const Socket& s : hub.sockets) {
-    if (!s.bridge) continue;
-    Mesh cutter = bridge_cutter(hub, s, o);
+  // The bridges' cutters: one joins the holes' cut when no hole reaches it (cutters overlap each
+  // other, so the others are cut one by one; uniting them first left pinched parts).
+  std::vector<const Socket*> bridges;
+  for (const Socket& s : hub.sockets)
+    if (s.bridge) bridges.push_back(&s);
+  const bool fold = !bridges.empty() && cutters_clear_of_holes(hub, o);
+  for (std::size_t k = 0; k + (fold ? 1 : 0) < bridges.size(); ++k) {
+    Mesh cutter = bridge_cutter(hub, *bridges[k], o);
     if (!PMP::corefine_and_compute_difference(solid, cutter, solid)) {
       throw joint_error(hub, "cutting a bridge's mid-plane left no closed manifold solid");
     }
@@ -236,6 +261,7 @@ Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
   // The engraved id's strokes (disjoint prisms below every hole) join the same cut.
   const double half_side = std::numbers::pi / o.segments;
   Mesh holes;
+  if (fold) CGAL::copy_face_graph(bridge_cutter(hub, *bridges.back(), o), holes);
   for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
     const Socket& s = hub.sockets[k];
     if (s.bridge) continue;
