@@ -88,6 +88,10 @@ int run_kit(const KitArgs& a) {
                "glued bridges in {}",
                r.joints, (out / "joints").string(), r.rods, r.rod_total_mm,
                (out / "rods.csv").string(), r.bridges, (out / "bridges.csv").string());
+  if (r.unglued > 0)
+    spdlog::info("kit: {} bridges meet at so sharp an angle that their parts join only through "
+                 "their neighbours (glue_radius_mm 0 in bridges.csv)",
+                 r.unglued);
   if (r.uncut_plates > 0)
     spdlog::warn("kit: {} joints keep their id plate whole across a bridge: trim it where it "
                  "meets the glued neighbour's",

@@ -315,8 +315,9 @@ void plan_sockets(const KitFrame& frame, const std::vector<double>& seats,
   for (HubPlan& hub : hubs) {
     for (Socket& s : hub.sockets) {
       if (!s.bridge) continue;
-      s.disc = disc[s.beam];
-      if (s.mid < 2 * relief || s.disc < 0.25 * hub.sleeve_radius) {
+      // Too little room: the parts do not meet on this beam (their cells touch elsewhere).
+      s.disc = disc[s.beam] >= 0.25 * hub.sleeve_radius ? disc[s.beam] : 0;
+      if (s.mid < 2 * relief) {
         const KitBeam& beam = frame.beams[s.beam];
         if (worst < 0 || beam.length < frame.beams[worst].length) worst = beam.id;
         ++too_short;
@@ -398,10 +399,15 @@ std::vector<char> bridged_beams(const KitFrame& frame, const std::vector<HubPlan
   return bridged;
 }
 
-std::string bridges_csv(const KitFrame& frame, const std::vector<char>& bridged) {
-  std::string s = "beam,joint_i,joint_j\n";
+std::string bridges_csv(const KitFrame& frame, const std::vector<HubPlan>& hubs) {
+  std::vector<double> disc(frame.beams.size(), -1);
+  for (const HubPlan& h : hubs)
+    for (const Socket& s : h.sockets)
+      if (s.bridge) disc[s.beam] = s.disc;
+  std::string s = "beam,joint_i,joint_j,glue_radius_mm\n";
   for (const KitBeam& b : frame.beams) {
-    if (bridged[b.id]) s += fmt::format("{},{},{}\n", b.id, b.joint_i, b.joint_j);
+    if (disc[b.id] < 0) continue;
+    s += fmt::format("{},{},{},{}\n", b.id, b.joint_i, b.joint_j, io::format_number(disc[b.id]));
   }
   return s;
 }
@@ -450,8 +456,10 @@ KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::pat
   for (const HubPlan& h : hubs) {
     for (const Socket& s : h.sockets) result.short_sockets += !s.bridge && s.depth < full - 1e-9;
     result.uncut_plates += h.sockets.empty() ? 0 : !h.plate_cut;
+    for (const Socket& s : h.sockets) result.unglued += s.bridge && s.disc == 0 ? 1 : 0;
   }
   result.bridges = static_cast<int>(std::count(bridged.begin(), bridged.end(), 1));
+  result.unglued /= 2;
   if (result.short_sockets > 0) {
     spdlog::warn("kit: {} sockets shallower than {:.3g} mm (beams short at 1:{:g})",
                  result.short_sockets, full, options.scale);
@@ -465,7 +473,7 @@ KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::pat
   });
   for (const HubPlan& h : hubs) result.joints += h.sockets.empty() ? 0 : 1;
   io::write_file_atomic(out / "rods.csv", rods_csv(rods));
-  io::write_file_atomic(out / "bridges.csv", bridges_csv(frame, bridged));
+  io::write_file_atomic(out / "bridges.csv", bridges_csv(frame, hubs));
   io::write_file_atomic(out / "assembly.html",
                         assembly_html(frame, assembly_order(frame, bridged), rods, options));
   result.rods = static_cast<int>(rods.size());

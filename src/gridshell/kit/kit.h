@@ -18,7 +18,7 @@
 ///   outline offset outward by half the `kerf` so that the part cut out has the panel's size
 ///   (fabrication/panel_sheets.h). The outline is the panel's centre-line polygon: the panel
 ///   rests on the rods.
-/// - bridges.csv  `beam,joint_i,joint_j`: the beams printed as glued bridges (see below).
+/// - bridges.csv  `beam,joint_i,joint_j,glue_radius_mm`: the beams printed as glued bridges.
 /// - assembly.html  the joints in the order to put them together (kit/assembly.h).
 ///
 /// Geometry per joint: socket hole radius r = rod/2 + clearance, sleeve radius r + wall. The
@@ -42,8 +42,10 @@
 /// prints standing on it; the joint's id is engraved in that face (kit/label.h), mirrored to
 /// read from outside.
 ///
-/// Cost: per joint valence unions and valence differences of meshes of a few hundred
-/// triangles, with exact constructions (about 0.07 s per joint of valence 3 on one core).
+/// Cost: per joint valence + 1 unions (sleeves, base) and one difference (holes, engraving and,
+/// when clear of the holes, one bridge's cutter), plus one difference per other bridge, on
+/// meshes of a few hundred to a few thousand triangles, with exact constructions (about 0.2 s
+/// per joint of the default design at 1:50 on one core).
 
 #include <filesystem>
 #include <string>
@@ -104,7 +106,9 @@ struct Socket {
   /// A printed bridge (no hole, no rod): a solid stub along `axis`, the part cut flat by the
   /// beam's mid-plane at `mid` from the centre; the glue disc's polygon (radius `disc`, at most
   /// sleeve − wall/4, less where another cut or a hole of either joint comes near) starts at
-  /// `disc_u` (unit, ⟂ axis): the same at both ends of the beam, so both discs coincide.
+  /// `disc_u` (unit, ⟂ axis): the same at both ends of the beam, so both discs coincide. disc 0:
+  /// under a quarter sleeve of room (another bridge at an acute angle cuts the beam's middle
+  /// away): the parts stop a relief short of the mid-plane and meet only through neighbours.
   bool bridge = false;
   double mid = 0, disc = 0;
   Vec3 disc_u = Vec3::UnitY();
@@ -147,8 +151,9 @@ std::string rods_csv(const std::vector<Rod>& rods);
 
 /// Per beam id: 1 when it is a printed bridge (Socket::bridge), else 0.
 std::vector<char> bridged_beams(const KitFrame& frame, const std::vector<HubPlan>& hubs);
-/// `beam,joint_i,joint_j` for every bridged beam (beam id order): the joints to glue together.
-std::string bridges_csv(const KitFrame& frame, const std::vector<char>& bridged);
+/// `beam,joint_i,joint_j,glue_radius_mm` for every bridged beam (beam id order): the joints to
+/// glue together and their glue disc's radius (0: the parts do not meet on this beam).
+std::string bridges_csv(const KitFrame& frame, const std::vector<HubPlan>& hubs);
 
 /// The printable hub as binary STL bytes (kit_mesh.cpp: CGAL corefinement). Throws Error when a
 /// boolean fails.
@@ -167,6 +172,7 @@ struct KitResult {
   int panels = 0, panel_sheets = 0;  ///< laser-cut panels and the beds they take
   int short_sockets = 0;  ///< sockets shortened on beams too short at scale
   int bridges = 0;        ///< beams printed as glued bridges (no rod)
+  int unglued = 0;        ///< bridges whose parts do not meet (Socket::disc 0)
   int uncut_plates = 0;   ///< bases left uncut by a bridge to keep the id (HubPlan::plate_cut)
   double rod_total_mm = 0;
 };

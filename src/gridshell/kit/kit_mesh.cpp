@@ -201,9 +201,10 @@ Mesh bridge_cutter(const HubPlan& hub, const Socket& s, const KitOptions& o) {
     const double room = hub.base - o.wall - 0.1 * o.wall - std::max(end * c, (s.mid - relief) * c);
     radius = std::max(disc + relief, room / side);
   }
-  const std::vector<std::array<double, 2>> profile{
+  std::vector<std::array<double, 2>> profile{
       {0, s.mid},   {disc, s.mid}, {disc, s.mid - relief}, {radius, s.mid - relief},
       {radius, end}, {0, end}};
+  if (disc == 0) profile = {{0, s.mid - relief}, {radius, s.mid - relief}, {radius, end}, {0, end}};
   return lathe(s.axis, s.disc_u, profile, o.segments);
 }
 
