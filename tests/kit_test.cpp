@@ -109,7 +109,8 @@ MeasuredSocket measure_socket(const Mesh& m, const Vec3& beam_direction) {
     const Vec3 q(p.x(), p.y(), p.z());
     const double t = q.dot(beam_direction);
     const double d = (q - t * beam_direction).norm();
-    if (t > 0.5 && std::abs(d - r) < 0.1) wall.emplace_back(t, q);
+    // The polygons' corners lie on r; points where other cuts cross a chord lie inside it.
+    if (t > 0.5 && std::abs(d - r) < 2e-4) wall.emplace_back(t, q);
   }
   MeasuredSocket s;
   if (wall.empty()) return s;
