@@ -1,7 +1,9 @@
-// gridshell kit DIR -o OUT [--scale 1:50] [--rod 3mm] [--clearance 0.1mm] [--bed 600x400mm]
-// [--kerf 0.15mm]: a desk model of a design folder's grid-shell: a printable hub per joint
-// (OUT/joints/J<id>.stl), the rods' cut list (OUT/rods.csv) and the panels for a laser cutter
-// (OUT/panels.svg, OUT/panels.dxf). docs/fabrication.md "Model kit".
+// gridshell kit DIR -o OUT [--scale 1:50] [--rod 3mm] [--clearance 0.1mm] [--min-socket MM]
+// [--label-stroke 0.6mm] [--bed 600x400mm] [--kerf 0.15mm]: a desk model of a design folder's
+// grid-shell: a printable hub per joint with its id engraved in its base
+// (OUT/joints/J<id>.stl), the rods' cut list (OUT/rods.csv), the beams printed as glued bridges
+// (OUT/bridges.csv) and the panels for a laser cutter (OUT/panels.svg, OUT/panels.dxf).
+// docs/fabrication.md "Model kit".
 
 #include <cmath>
 #include <iostream>
@@ -25,6 +27,8 @@ struct KitArgs {
   std::string scale = "1:50";
   std::string rod = "3mm";
   std::string clearance = "0.1mm";
+  std::string min_socket;  // empty: one rod diameter
+  std::string label_stroke = "0.6mm";
   std::string bed = "600x400mm";
   std::string kerf = "0.15mm";
   bool quiet = false;
@@ -68,6 +72,11 @@ int run_kit(const KitArgs& a) {
   options.scale = parse_scale(a.scale);
   options.rod_diameter = parse_length_mm("--rod", a.rod);
   options.clearance = parse_length_mm("--clearance", a.clearance);
+  if (!a.min_socket.empty()) {
+    options.min_socket = parse_length_mm("--min-socket", a.min_socket);
+    if (!(options.min_socket > 0)) throw Error("--min-socket", "must be more than 0");
+  }
+  options.label_stroke = parse_length_mm("--label-stroke", a.label_stroke);
   std::tie(options.bed_width, options.bed_height) = parse_bed_mm(a.bed);
   options.kerf = parse_length_mm("--kerf", a.kerf);
   kit::check_kit_options(options);
@@ -75,8 +84,18 @@ int run_kit(const KitArgs& a) {
   const std::filesystem::path out =
       a.out.empty() ? std::filesystem::path(a.dir) / "kit" : std::filesystem::path(a.out);
   const kit::KitResult r = kit::write_kit(a.dir, out, options);
-  spdlog::info("kit: {} joints in {}, {} rods ({:.0f} mm in all) in {}", r.joints,
-               (out / "joints").string(), r.rods, r.rod_total_mm, (out / "rods.csv").string());
+  spdlog::info("kit: {} joints in {}, {} rods ({:.0f} mm in all) in {}, {} beams printed as "
+               "glued bridges in {}",
+               r.joints, (out / "joints").string(), r.rods, r.rod_total_mm,
+               (out / "rods.csv").string(), r.bridges, (out / "bridges.csv").string());
+  if (r.unglued > 0)
+    spdlog::info("kit: {} bridges meet at so sharp an angle that their parts join only through "
+                 "their neighbours (glue_radius_mm 0 in bridges.csv)",
+                 r.unglued);
+  if (r.uncut_plates > 0)
+    spdlog::warn("kit: {} joints keep their id plate whole across a bridge: trim it where it "
+                 "meets the glued neighbour's",
+                 r.uncut_plates);
   if (r.panels > 0)
     spdlog::info("kit: {} panels on {} laser beds in {}", r.panels, r.panel_sheets,
                  (out / "panels.dxf").string());
@@ -96,6 +115,12 @@ void register_kit(CLI::App& app, Action& action) {
       ->default_str(a->rod);
   sub->add_option("--clearance", a->clearance, "radial play between rod and socket")
       ->default_str(a->clearance);
+  sub->add_option("--min-socket", a->min_socket,
+                  "least socket depth; a beam too short for two is a printed, glued bridge")
+      ->default_str("one rod diameter");
+  sub->add_option("--label-stroke", a->label_stroke,
+                  "stroke of the id engraved in each joint's base (>= 0.6mm)")
+      ->default_str(a->label_stroke);
   sub->add_option("--bed", a->bed, "the laser cutter's bed WxH for the panels")
       ->default_str(a->bed);
   sub->add_option("--kerf", a->kerf, "width the laser burns away (outlines offset by half)")

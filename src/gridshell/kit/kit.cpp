@@ -1,6 +1,7 @@
 #include "gridshell/kit/kit.h"
 
 #include "gridshell/kit/assembly.h"
+#include "gridshell/kit/label.h"
 
 #include <algorithm>
 #include <cmath>
@@ -194,6 +195,16 @@ void check_kit_options(const KitOptions& o) {
   if (!(o.depth_factor > 0 && o.depth_factor <= 20)) throw Error("depth", "must be in (0, 20]");
   if (!(o.wall > 0 && o.wall <= 20)) throw Error("wall", "must be in (0, 20] mm");
   if (!(o.gap >= 0)) throw Error("gap", "must be >= 0");
+  if (!(o.min_socket >= 0 && o.min_socket <= o.depth_factor * o.rod_diameter)) {
+    throw Error("--min-socket", "must be between 0 (one rod diameter) and the full socket depth");
+  }
+  if (!(o.label_stroke >= 0.6 && o.label_stroke <= 5)) {
+    throw Error("--label-stroke",
+                "must be between 0.6mm (the finest stroke that prints readably) and 5mm");
+  }
+  if (!(o.label_depth > 0 && o.label_depth < o.wall)) {
+    throw Error("label depth", "must be more than 0 and less than the wall");
+  }
   if (o.segments < 8 || o.segments > 256) throw Error("segments", "must be in [8, 256]");
   if (!(o.bed_width >= 50 && o.bed_width <= 5000 && o.bed_height >= 50 && o.bed_height <= 5000))
     throw Error("--bed", "must be WxH with sides between 50mm and 5000mm");
@@ -219,19 +230,110 @@ KitFrame read_kit_frame(const std::filesystem::path& dir) {
 
 namespace {
 
-/// The foot of a supported joint (HubPlan::foot): its base a wall below the lowest point of
-/// the sphere and the sleeves.
-void plan_foot(HubPlan& hub, const KitOptions& o) {
-  double lowest = hub.hub_radius;  // depth below the centre
-  for (const Socket& s : hub.sockets) {
-    if (s.axis.z() < -std::sqrt(0.5)) return;  // within 45° of straight down: no room
-    const double horizontal = std::sqrt(std::max(0.0, 1 - s.axis.z() * s.axis.z()));
-    // The hole runs a rod past the mouth (kit_mesh.cpp): it must stay above the base too.
-    const double reach = s.seat + s.depth + o.rod_diameter;
-    lowest = std::max(lowest, -reach * s.axis.z() + hub.sleeve_radius * horizontal);
+/// How far the hole of socket h (floor to mouth) reaches along the unit direction a.
+double hole_reach(const Socket& h, const Vec3& a) {
+  const double c = h.axis.dot(a), side = std::sqrt(std::max(0.0, 1 - c * c));
+  return std::max(h.seat * c, (h.seat + h.depth) * c) + h.radius * side;
+}
+
+/// Makes socket s of `beam` a printed bridge (both halves cut by the mid-plane of the joints'
+/// centres at scale).
+void make_bridge(Socket& s, const KitFrame& frame, const KitBeam& beam, const KitOptions& o) {
+  const Vec3 along = frame.joints[beam.joint_j].position - frame.joints[beam.joint_i].position;
+  s.bridge = true;
+  s.depth = 0;
+  s.mid = along.norm() * 1000 / o.scale / 2;
+  const Vec3 helper = std::abs(along.x()) < 0.9 * along.norm() ? Vec3::UnitX() : Vec3::UnitY();
+  s.disc_u = along.cross(helper).normalized();
+}
+
+/// The largest glue disc radius of bridge b at a hub that keeps clear of the hub's other
+/// bridges' cuts and of its holes (run-out included) by a tenth of a wall.
+double disc_room(const HubPlan& hub, const Socket& b, const KitOptions& o) {
+  const double relief = kReliefWalls * o.wall, margin = 0.1 * o.wall;
+  double room = hub.sleeve_radius - relief;
+  for (const Socket& k : hub.sockets) {
+    if (&k == &b) continue;
+    const double c = k.axis.dot(b.axis), side = std::sqrt(std::max(1e-12, 1 - c * c));
+    if (k.bridge) {  // the disc's points x: x·k.axis ≤ k.mid − relief − margin
+      room = std::min(room, (k.mid - relief - margin - b.mid * c) / side);
+      continue;
+    }
+    // The hole: a cylinder of k.radius about its axis, sampled every 0.1 mm or finer; its axis'
+    // points near the glue plane keep their radius and a margin off the disc.
+    const double t0 = k.seat, t1 = k.seat + k.depth + o.rod_diameter;
+    const int n = 16 + static_cast<int>((t1 - t0) / 0.1);
+    for (int i = 0; i <= n; ++i) {
+      const Vec3 x = (t0 + (t1 - t0) * i / n) * k.axis;
+      const double along = x.dot(b.axis);
+      if (along < b.mid - relief - k.radius - margin || along > b.mid + k.radius + margin) continue;
+      room = std::min(room, (x - along * b.axis).norm() - k.radius - margin - 0.1);
+    }
   }
-  hub.foot = lowest + o.wall;
-  hub.foot_radius = 2 * hub.sleeve_radius;
+  return room;
+}
+
+/// Marks the sockets of beams too short for a rod with two sockets of `min_socket` as bridges
+/// (Socket::bridge), then those whose hole would reach another bridge's cut, until none does;
+/// the others' depths full or shortened. Error when a bridge is too short to cut (its relief
+/// would reach the joint's centre).
+void plan_sockets(const KitFrame& frame, const std::vector<double>& seats,
+                  std::vector<HubPlan>& hubs, const KitOptions& o) {
+  const double min_socket = o.min_socket > 0 ? o.min_socket : o.rod_diameter;
+  const double relief = kReliefWalls * o.wall;
+  std::vector<char> bridged(frame.beams.size(), 0);
+  for (HubPlan& hub : hubs) {
+    for (Socket& s : hub.sockets) {
+      const KitBeam& beam = frame.beams[s.beam];
+      const double free = beam.length * 1000 / o.scale - seats[beam.joint_i] - seats[beam.joint_j];
+      s.seat = seats[hub.joint];
+      s.depth = std::min(o.depth_factor * o.rod_diameter, (free - o.gap) / 2);
+      bridged[s.beam] = bridged[s.beam] || s.depth < min_socket;
+    }
+  }
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (HubPlan& hub : hubs) {
+      for (Socket& s : hub.sockets)
+        if (bridged[s.beam] && !s.bridge) make_bridge(s, frame, frame.beams[s.beam], o);
+      for (const Socket& b : hub.sockets) {
+        if (!b.bridge) continue;
+        for (const Socket& h : hub.sockets) {
+          if (h.bridge || bridged[h.beam] || hole_reach(h, b.axis) <= b.mid - relief) continue;
+          bridged[h.beam] = 1;
+          grew = true;
+        }
+      }
+    }
+  }
+  // The glue discs: the same radius at both ends.
+  std::vector<double> disc(frame.beams.size(), 1e300);
+  for (const HubPlan& hub : hubs)
+    for (const Socket& s : hub.sockets)
+      if (s.bridge) disc[s.beam] = std::min(disc[s.beam], disc_room(hub, s, o));
+  int too_short = 0, worst = -1;
+  for (HubPlan& hub : hubs) {
+    for (Socket& s : hub.sockets) {
+      if (!s.bridge) continue;
+      // Too little room: the parts do not meet on this beam (their cells touch elsewhere).
+      s.disc = disc[s.beam] >= 0.25 * hub.sleeve_radius ? disc[s.beam] : 0;
+      if (s.mid < 2 * relief) {
+        const KitBeam& beam = frame.beams[s.beam];
+        if (worst < 0 || beam.length < frame.beams[worst].length) worst = beam.id;
+        ++too_short;
+      }
+    }
+  }
+  if (too_short > 0) {
+    const KitBeam& b = frame.beams[worst];
+    const double shortest = 4 * relief;  // [mm] at scale
+    throw Error("--scale", fmt::format("{} beams too short at 1:{:g} even for a printed bridge "
+                                       "(beam {}: {:.2f} mm, least {:.2f} mm); 1:N with N <= {} "
+                                       "fits",
+                                       (too_short + 1) / 2, o.scale, b.id,
+                                       b.length * 1000 / o.scale, shortest,
+                                       static_cast<long>(std::floor(b.length * 1000 / shortest))));
+  }
 }
 
 }  // namespace
@@ -252,7 +354,11 @@ std::vector<HubPlan> plan_hubs(const KitFrame& frame, const KitOptions& o) {
       const Vec3 d = frame.joints[other].position - j.position;
       if (!(d.norm() > 0)) throw Error(fmt::format("beam {}", b), "its joints coincide");
       axes.push_back(d.normalized());
-      hub.sockets.push_back(Socket{b, axes.back(), 0, 0, r});
+      Socket socket;
+      socket.beam = b;
+      socket.axis = axes.back();
+      socket.radius = r;
+      hub.sockets.push_back(socket);
     }
     try {
       seats[j.id] = joint_seat(axes, r, o.wall);
@@ -260,14 +366,9 @@ std::vector<HubPlan> plan_hubs(const KitFrame& frame, const KitOptions& o) {
       throw Error(fmt::format("joint {}", j.id), "two of its beams are parallel");
     }
   }
+  plan_sockets(frame, seats, hubs, o);
   for (HubPlan& hub : hubs) {
-    for (Socket& s : hub.sockets) {
-      const KitBeam& beam = frame.beams[s.beam];
-      const double free = beam.length * 1000 / o.scale - seats[beam.joint_i] - seats[beam.joint_j];
-      s.seat = seats[hub.joint];
-      s.depth = std::min(o.depth_factor * o.rod_diameter, (free - o.gap) / 2);
-    }
-    if (frame.joints[hub.joint].support) plan_foot(hub, o);
+    if (!hub.sockets.empty()) plan_base(hub, frame.joints[hub.joint].support, o);
   }
   return hubs;
 }
@@ -278,30 +379,37 @@ std::vector<Rod> cut_list(const KitFrame& frame, const std::vector<HubPlan>& hub
   for (const HubPlan& h : hubs) {
     if (!h.sockets.empty()) seat[h.joint] = h.sockets.front().seat;
   }
+  const std::vector<char> bridged = bridged_beams(frame, hubs);
   std::vector<Rod> rods;
-  int too_short = 0, worst = -1;
-  double largest_n = o.scale * 1e6;  // the smallest model (largest N) every rod fits
   for (const KitBeam& b : frame.beams) {
-    const double seats = seat[b.joint_i] + seat[b.joint_j];
-    const double length = b.length * 1000 / o.scale - seats;
-    largest_n = std::min(largest_n, b.length * 1000 / (seats + o.gap + o.rod_diameter));
-    if (!(length > o.gap + o.rod_diameter)) {  // sockets at least rod/2 deep
-      if (worst < 0 || b.length < frame.beams[worst].length) worst = b.id;
-      ++too_short;
-    }
-    rods.push_back(Rod{b.id, b.joint_i, b.joint_j, length});
-  }
-  if (too_short > 0) {
-    const KitBeam& b = frame.beams[worst];
-    throw Error("--scale", fmt::format("{} beams too short at 1:{:g} for their hubs (beam {}: "
-                                       "{:.2f} mm, seats {:.2f} mm); 1:N with N <= {} fits",
-                                       too_short, o.scale, b.id, b.length * 1000 / o.scale,
-                                       seat[b.joint_i] + seat[b.joint_j],
-                                       static_cast<long>(std::floor(largest_n))));
+    if (bridged[b.id]) continue;
+    rods.push_back(
+        Rod{b.id, b.joint_i, b.joint_j, b.length * 1000 / o.scale - seat[b.joint_i] - seat[b.joint_j]});
   }
   std::stable_sort(rods.begin(), rods.end(),
                    [](const Rod& a, const Rod& b) { return a.length_mm > b.length_mm; });
   return rods;
+}
+
+std::vector<char> bridged_beams(const KitFrame& frame, const std::vector<HubPlan>& hubs) {
+  std::vector<char> bridged(frame.beams.size(), 0);
+  for (const HubPlan& h : hubs) {
+    for (const Socket& s : h.sockets) bridged[s.beam] = bridged[s.beam] || s.bridge;
+  }
+  return bridged;
+}
+
+std::string bridges_csv(const KitFrame& frame, const std::vector<HubPlan>& hubs) {
+  std::vector<double> disc(frame.beams.size(), -1);
+  for (const HubPlan& h : hubs)
+    for (const Socket& s : h.sockets)
+      if (s.bridge) disc[s.beam] = s.disc;
+  std::string s = "beam,joint_i,joint_j,glue_radius_mm\n";
+  for (const KitBeam& b : frame.beams) {
+    if (disc[b.id] < 0) continue;
+    s += fmt::format("{},{},{},{}\n", b.id, b.joint_i, b.joint_j, io::format_number(disc[b.id]));
+  }
+  return s;
 }
 
 std::string rods_csv(const std::vector<Rod>& rods) {
@@ -342,11 +450,16 @@ KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::pat
   const KitFrame frame = read_kit_frame(dir);
   const std::vector<HubPlan> hubs = plan_hubs(frame, options);
   const std::vector<Rod> rods = cut_list(frame, hubs, options);
+  const std::vector<char> bridged = bridged_beams(frame, hubs);
   KitResult result;
   const double full = options.depth_factor * options.rod_diameter;
   for (const HubPlan& h : hubs) {
-    for (const Socket& s : h.sockets) result.short_sockets += s.depth < full - 1e-9 ? 1 : 0;
+    for (const Socket& s : h.sockets) result.short_sockets += !s.bridge && s.depth < full - 1e-9;
+    result.uncut_plates += h.sockets.empty() ? 0 : !h.plate_cut;
+    for (const Socket& s : h.sockets) result.unglued += s.bridge && s.disc == 0 ? 1 : 0;
   }
+  result.bridges = static_cast<int>(std::count(bridged.begin(), bridged.end(), 1));
+  result.unglued /= 2;
   if (result.short_sockets > 0) {
     spdlog::warn("kit: {} sockets shallower than {:.3g} mm (beams short at 1:{:g})",
                  result.short_sockets, full, options.scale);
@@ -360,8 +473,9 @@ KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::pat
   });
   for (const HubPlan& h : hubs) result.joints += h.sockets.empty() ? 0 : 1;
   io::write_file_atomic(out / "rods.csv", rods_csv(rods));
+  io::write_file_atomic(out / "bridges.csv", bridges_csv(frame, hubs));
   io::write_file_atomic(out / "assembly.html",
-                        assembly_html(frame, assembly_order(frame), rods, options));
+                        assembly_html(frame, assembly_order(frame, bridged), rods, options));
   result.rods = static_cast<int>(rods.size());
   if (std::filesystem::is_regular_file(dir / "panels.csv")) {
     const fabrication::PanelSheets sheets =

@@ -8,8 +8,8 @@
 ///
 /// - joints/J<id>.stl  binary STL, one closed solid per joint, in the joint's own frame (the
 ///   joint's centre at the origin, the grid-shell's axes): a sphere hub united with one sleeve
-///   per beam (CGAL corefinement) and, for a supported joint, a foot with a flat base, the
-///   socket holes subtracted.
+///   per beam (CGAL corefinement) and a flat base carrying the engraved id, bridges cut, the
+///   socket holes and the engraving subtracted.
 /// - rods.csv  `rod,joint_i,joint_j,length_mm` (rod = beam id of beams.csv), longest first:
 ///   rod length = beam length at scale − the two seats (the distance from each joint's centre to
 ///   its socket's floor).
@@ -18,6 +18,7 @@
 ///   outline offset outward by half the `kerf` so that the part cut out has the panel's size
 ///   (fabrication/panel_sheets.h). The outline is the panel's centre-line polygon: the panel
 ///   rests on the rods.
+/// - bridges.csv  `beam,joint_i,joint_j,glue_radius_mm`: the beams printed as glued bridges.
 /// - assembly.html  the joints in the order to put them together (kit/assembly.h).
 ///
 /// Geometry per joint: socket hole radius r = rod/2 + clearance, sleeve radius r + wall. The
@@ -26,8 +27,25 @@
 /// s ≥ r). The socket depth is `depth_factor` × rod, shortened on a beam too short at scale to
 /// hold two full sockets and a `gap` between the sleeves (counted in KitResult).
 ///
-/// Cost: per joint valence unions and valence differences of meshes of a few hundred
-/// triangles, with exact constructions (about 0.07 s per joint of valence 3 on one core).
+/// Bridges: a beam too short at scale for a rod with two sockets of at least `min_socket` is
+/// printed instead: each of its joints gets a solid stub of the sleeve's radius along the beam,
+/// and the whole part is cut by the beam's mid-plane, so the two halves meet face to face in
+/// the same flat glue disc (radius sleeve − wall/4) and are glued. A relief slab wall/4 deep
+/// before the mid-plane clears everything else of the part outside that disc, so the two faces
+/// coincide exactly whatever else of either part reaches the plane. A beam whose socket would
+/// reach another bridge's cut at its joint (its rod would run into the glued neighbour) is a
+/// bridge too. Bridged beams are no rods.
+///
+/// Base and id: every joint has a flat base: a stem from the hub along `base_normal` (straight
+/// down for a supported joint, its foot; else the joint's inward surface normal) into a plate
+/// whose outer face lies below every other part of the hub in that direction, so the joint
+/// prints standing on it; the joint's id is engraved in that face (kit/label.h), mirrored to
+/// read from outside.
+///
+/// Cost: per joint valence + 1 unions (sleeves, base) and one difference (holes, engraving and,
+/// when clear of the holes, one bridge's cutter), plus one difference per other bridge, on
+/// meshes of a few hundred to a few thousand triangles, with exact constructions (about 0.2 s
+/// per joint of the default design at 1:50 on one core).
 
 #include <filesystem>
 #include <string>
@@ -45,6 +63,11 @@ struct KitOptions {
   double depth_factor = 3;  ///< socket depth = depth_factor × rod_diameter
   double wall = 1.2;        ///< sleeve wall, and the least material between two holes [mm]
   double gap = 1;           ///< least free rod between the sleeves of two joints [mm]
+  /// Least socket depth [mm] (0: one rod diameter): a beam whose rod would have a shallower
+  /// socket is a printed bridge (see above).
+  double min_socket = 0;
+  double label_stroke = 0.6;  ///< width of the engraved digits' strokes [mm] (≥ 0.6)
+  double label_depth = 0.4;   ///< depth of the engraving [mm]
   int segments = 32;        ///< sides of the polygons approximating cylinders (vertices on r)
   double bed_width = 600, bed_height = 400;  ///< the laser cutter's bed [mm]
   double kerf = 0.15;  ///< width the laser burns away [mm] (0.1–0.2 mm in 3 mm acrylic)
@@ -78,19 +101,38 @@ struct Socket {
   int beam = 0;
   Vec3 axis = Vec3::UnitX();  ///< unit, from the joint towards the beam's other joint
   double seat = 0;            ///< socket floor's distance from the centre
-  double depth = 0;           ///< floor to mouth
+  double depth = 0;           ///< floor to mouth (0 on a bridge)
   double radius = 0;          ///< hole radius (rod/2 + clearance)
+  /// A printed bridge (no hole, no rod): a solid stub along `axis`, the part cut flat by the
+  /// beam's mid-plane at `mid` from the centre; the glue disc's polygon (radius `disc`, at most
+  /// sleeve − wall/4, less where another cut or a hole of either joint comes near) starts at
+  /// `disc_u` (unit, ⟂ axis): the same at both ends of the beam, so both discs coincide. disc 0:
+  /// under a quarter sleeve of room (another bridge at an acute angle cuts the beam's middle
+  /// away): the parts stop a relief short of the mid-plane and meet only through neighbours.
+  bool bridge = false;
+  double mid = 0, disc = 0;
+  Vec3 disc_u = Vec3::UnitY();
 };
 struct HubPlan {
   int joint = 0;
   double hub_radius = 0;     ///< the central sphere [mm]
   double sleeve_radius = 0;  ///< outer radius of the sleeves [mm]
   std::vector<Socket> sockets;
-  /// A supported joint's foot: a stem straight down (−z) ending in a flat disc of radius
-  /// `foot_radius` whose underside lies `foot` below the centre, below every other part of
-  /// the hub, so the joint stands on the base board as it stands in the roof [mm]; 0 = none
-  /// (not supported, or a beam points within 45° of straight down, where the stem would be).
-  double foot = 0, foot_radius = 0;
+  /// The flat base: unit outward normal of the base face (the part prints with base_normal
+  /// pointing to −z) and the base plane's distance from the centre [mm]: every point x of the
+  /// part has x·base_normal ≤ base. The base is a disc of `base_radius` about
+  /// base·base_normal (a wall thick, on a stem of the sleeves' radius), less any bridge cut.
+  Vec3 base_normal = -Vec3::UnitZ();
+  double base = 0, base_radius = 0;
+  /// True when base_normal is straight down (a supported joint's foot: it stands on the base
+  /// board as it stands in the roof).
+  bool foot = false;
+  /// The engraved id's frame in the base plane: reading direction and up (label_x × label_y =
+  /// base_normal, so it reads from outside); the text is centred on the disc's centre.
+  Vec3 label_x = Vec3::UnitX(), label_y = Vec3::UnitY();
+  /// False when the id could not be placed clear of a bridge cut; the plate is then left uncut
+  /// and overlaps its glued neighbour's (trim it after assembly; counted in KitResult).
+  bool plate_cut = true;
 };
 
 /// The hubs of every joint (joint id order) and their sockets' seats and depths.
@@ -100,11 +142,18 @@ struct Rod {
   int beam = 0, joint_i = 0, joint_j = 0;
   double length_mm = 0;
 };
-/// Every beam's rod: its length at scale minus the two seats, longest first (ties by beam id).
-/// Throws Error when a rod would have no length (the scale is too small for the hubs).
+/// Every beam's rod but the bridges: its length at scale minus the two seats, longest first
+/// (ties by beam id). Throws Error when a bridge would be too short to cut (the scale is far too
+/// small for the hubs).
 std::vector<Rod> cut_list(const KitFrame& frame, const std::vector<HubPlan>& hubs,
                           const KitOptions& options);
 std::string rods_csv(const std::vector<Rod>& rods);
+
+/// Per beam id: 1 when it is a printed bridge (Socket::bridge), else 0.
+std::vector<char> bridged_beams(const KitFrame& frame, const std::vector<HubPlan>& hubs);
+/// `beam,joint_i,joint_j,glue_radius_mm` for every bridged beam (beam id order): the joints to
+/// glue together and their glue disc's radius (0: the parts do not meet on this beam).
+std::string bridges_csv(const KitFrame& frame, const std::vector<HubPlan>& hubs);
 
 /// The printable hub as binary STL bytes (kit_mesh.cpp: CGAL corefinement). Throws Error when a
 /// boolean fails.
@@ -122,9 +171,12 @@ struct KitResult {
   int joints = 0, rods = 0;
   int panels = 0, panel_sheets = 0;  ///< laser-cut panels and the beds they take
   int short_sockets = 0;  ///< sockets shortened on beams too short at scale
+  int bridges = 0;        ///< beams printed as glued bridges (no rod)
+  int unglued = 0;        ///< bridges whose parts do not meet (Socket::disc 0)
+  int uncut_plates = 0;   ///< bases left uncut by a bridge to keep the id (HubPlan::plate_cut)
   double rod_total_mm = 0;
 };
-/// Writes OUT/joints/J<id>.stl, OUT/rods.csv and (with panels.csv) OUT/panels.svg and
+/// Writes OUT/joints/J<id>.stl, OUT/rods.csv, OUT/bridges.csv, OUT/assembly.html and (with panels.csv) OUT/panels.svg and
 /// OUT/panels.dxf, atomically, for the design folder `dir`.
 KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::path& out,
                     const KitOptions& options = {});

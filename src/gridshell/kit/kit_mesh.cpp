@@ -17,6 +17,7 @@
 
 #include "gridshell/core/error.h"
 #include "gridshell/kit/kit.h"
+#include "gridshell/kit/label.h"
 
 namespace gridshell::kit {
 
@@ -105,50 +106,180 @@ Mesh cylinder(const Vec3& axis, double t0, double t1, double radius, int segment
   return m;
 }
 
-/// The hub as one closed mesh: sphere ∪ sleeves, minus the holes.
+/// A solid of revolution about `axis` (unit): the profile's (radius, t) points, the first and
+/// last on the axis (radius 0), swept round with `segments` sides, the polygons' first vertex
+/// along `u` (unit, ⟂ axis); oriented outward.
+Mesh lathe(const Vec3& axis, const Vec3& u, const std::vector<std::array<double, 2>>& profile,
+           int segments) {
+  const Vec3 v = axis.cross(u);
+  Mesh m;
+  const VertexIndex first = m.add_vertex(point(profile.front()[1] * axis));
+  std::vector<std::vector<VertexIndex>> rings;
+  for (std::size_t i = 1; i + 1 < profile.size(); ++i) {
+    rings.emplace_back();
+    for (int k = 0; k < segments; ++k) {
+      const double phi = 2 * std::numbers::pi * k / segments;
+      rings.back().push_back(m.add_vertex(point(
+          profile[i][1] * axis + profile[i][0] * (std::cos(phi) * u + std::sin(phi) * v))));
+    }
+  }
+  const VertexIndex last = m.add_vertex(point(profile.back()[1] * axis));
+  for (int k = 0; k < segments; ++k) {
+    const int k1 = (k + 1) % segments;
+    m.add_face(first, rings.front()[k1], rings.front()[k]);
+    for (std::size_t i = 0; i + 1 < rings.size(); ++i) {
+      m.add_face(rings[i][k], rings[i][k1], rings[i + 1][k1]);
+      m.add_face(rings[i][k], rings[i + 1][k1], rings[i + 1][k]);
+    }
+    m.add_face(last, rings.back()[k], rings.back()[k1]);
+  }
+  PMP::orient_to_bound_a_volume(m);
+  return m;
+}
+
+/// A convex polygon (x, y in the frame ex, ey at `origin`) extruded along ez from z0 to z1;
+/// oriented outward.
+Mesh prism(const Vec3& origin, const Vec3& ex, const Vec3& ey, const Vec3& ez,
+           const Polygon2& polygon, double z0, double z1) {
+  Mesh m;
+  std::vector<VertexIndex> bottom, top;
+  for (const Eigen::Vector2d& p : polygon) {
+    const Vec3 x = origin + p.x() * ex + p.y() * ey;
+    bottom.push_back(m.add_vertex(point(x + z0 * ez)));
+    top.push_back(m.add_vertex(point(x + z1 * ez)));
+  }
+  const std::size_t n = polygon.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t k1 = (k + 1) % n;
+    m.add_face(bottom[k], bottom[k1], top[k1]);
+    m.add_face(bottom[k], top[k1], top[k]);
+  }
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    m.add_face(bottom[0], bottom[k + 1], bottom[k]);
+    m.add_face(top[0], top[k], top[k + 1]);
+  }
+  PMP::orient_to_bound_a_volume(m);
+  return m;
+}
+
+Error joint_error(const HubPlan& hub, const char* what) {
+  return Error(fmt::format("joint {}", hub.joint), what);
+}
+
+/// The base as one solid of revolution about base_normal: a stem of the sleeves' radius from
+/// inside the sphere (off-centre, like the sleeves, but not at their start) widening into a
+/// plate a wall thick whose outer face is the flat base (a 2·segments-gon of base_radius).
+void add_base(Mesh& solid, const HubPlan& hub, const KitOptions& o) {
+  const Vec3& d = hub.base_normal;
+  const Vec3 helper = std::abs(d.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 p = d.cross(helper).normalized(), q = d.cross(p);
+  const double turn = 0.25 * kSphereTurn;
+  const double stem = 0.3 * hub.sleeve_radius, plate = hub.base - o.wall;
+  const std::vector<std::array<double, 2>> profile{
+      {0, stem},     {hub.sleeve_radius, stem}, {hub.sleeve_radius, plate}, {hub.base_radius, plate},
+      {hub.base_radius, hub.base}, {0, hub.base}};
+  Mesh base = lathe(d, std::cos(turn) * p + std::sin(turn) * q, profile, 2 * o.segments);
+  if (!PMP::corefine_and_compute_union(solid, base, solid)) {
+    throw joint_error(hub, "the union of the hub and its base is not a closed manifold solid");
+  }
+}
+
+/// The cutter of a bridge (kit.h "Bridges"): everything at or beyond the mid-plane, and in the
+/// relief slab before it everything outside the glue disc. Its radius reaches the whole part,
+/// or, when the base keeps its id uncut (HubPlan::plate_cut false), stops short of the plate.
+Mesh bridge_cutter(const HubPlan& hub, const Socket& s, const KitOptions& o) {
+  const double relief = kReliefWalls * o.wall, disc = s.disc;
+  double far = hub.base + hub.base_radius + hub.hub_radius;
+  for (const Socket& k : hub.sockets) {
+    far = std::max(far, k.seat + k.depth + o.rod_diameter + k.mid + hub.sleeve_radius + o.wall);
+  }
+  double radius = 2 * far, end = s.mid + 2 * far;
+  if (!hub.plate_cut) {
+    // Up to the plate's inner face: t·c + R·√(1 − c²) < base − wall over t ≤ end.
+    const double c = s.axis.dot(hub.base_normal), side = std::sqrt(std::max(1e-12, 1 - c * c));
+    end = s.mid + far;
+    const double room = hub.base - o.wall - 0.1 * o.wall - std::max(end * c, (s.mid - relief) * c);
+    radius = std::max(disc + relief, room / side);
+  }
+  std::vector<std::array<double, 2>> profile{
+      {0, s.mid},   {disc, s.mid}, {disc, s.mid - relief}, {radius, s.mid - relief},
+      {radius, end}, {0, end}};
+  if (disc == 0) profile = {{0, s.mid - relief}, {radius, s.mid - relief}, {radius, end}, {0, end}};
+  return lathe(s.axis, s.disc_u, profile, o.segments);
+}
+
+/// Whether every bridge's cutter (within x·axis ≥ mid − relief) is clear of every socket hole
+/// (run-out included) and of the engraving, so that they can be cut at once.
+bool cutters_clear_of_holes(const HubPlan& hub, const KitOptions& o) {
+  if (!hub.plate_cut) return false;  // the id's strokes may meet a cutter kept off the plate
+  const double relief = kReliefWalls * o.wall;
+  for (const Socket& b : hub.sockets) {
+    if (!b.bridge) continue;
+    for (const Socket& h : hub.sockets) {
+      if (h.bridge) continue;
+      const double c = h.axis.dot(b.axis), side = std::sqrt(std::max(0.0, 1 - c * c));
+      const double reach = std::max(h.seat * c, (h.seat + h.depth + o.rod_diameter) * c);
+      if (reach + h.radius * side > b.mid - relief - 0.05 * o.wall) return false;
+    }
+  }
+  return true;
+}
+
+/// The hub as one closed mesh: sphere ∪ sleeves and stubs ∪ base, bridges cut, minus the holes
+/// and the engraved id.
 Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
   // The sphere only rounds the core: a coarser polygon than the sockets' is enough.
   Mesh solid = sphere(hub.hub_radius, std::max(4, o.segments / 4), std::max(8, o.segments / 2));
-  const auto fail = [&hub](const char* what) {
-    return Error(fmt::format("joint {}", hub.joint), what);
-  };
   for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
     const Socket& s = hub.sockets[k];
     // Starting off-centre (its start cap still inside the sphere), no two sleeves' caps share
-    // a point: nearly opposite beams would otherwise give nearly coplanar caps.
-    Mesh sleeve = cylinder(s.axis, kSleeveStart * hub.sleeve_radius, s.seat + s.depth,
-                           hub.sleeve_radius, o.segments, socket_turn(k, o.segments));
+    // a point: nearly opposite beams would otherwise give nearly coplanar caps. A bridge's stub
+    // runs a wall past the mid-plane that cuts it.
+    const double end = s.bridge ? std::max(s.mid, kSleeveStart * hub.sleeve_radius) + o.wall
+                                : s.seat + s.depth;
+    Mesh sleeve = cylinder(s.axis, kSleeveStart * hub.sleeve_radius, end, hub.sleeve_radius,
+                           o.segments, socket_turn(k, o.segments));
     if (!PMP::corefine_and_compute_union(solid, sleeve, solid)) {
-      throw fail("the union of the hub and a sleeve is not a closed manifold solid");
+      throw joint_error(hub, "the union of the hub and a sleeve is not a closed manifold solid");
     }
   }
-  if (hub.foot > 0) {
-    // A stem from inside the sphere (off-centre, like the sleeves, but not at their start) into
-    // a disc whose underside is the flat base; the stem ends inside the disc, no shared cap.
-    const Vec3 down = -Vec3::UnitZ();
-    Mesh stem = cylinder(down, 0.3 * hub.sleeve_radius, hub.foot - 0.5 * o.wall,
-                         hub.sleeve_radius, o.segments, 0.5 * kSphereTurn);
-    Mesh disc = cylinder(down, hub.foot - o.wall, hub.foot, hub.foot_radius, 2 * o.segments,
-                         0.25 * kSphereTurn);
-    if (!PMP::corefine_and_compute_union(solid, stem, solid) ||
-        !PMP::corefine_and_compute_union(solid, disc, solid)) {
-      throw fail("the union of the hub and its foot is not a closed manifold solid");
+  if (hub.base > 0) add_base(solid, hub, o);
+  // The bridges' cutters: one joins the holes' cut when no hole reaches it (cutters overlap each
+  // other, so the others are cut one by one; uniting them first left pinched parts).
+  std::vector<const Socket*> bridges;
+  for (const Socket& s : hub.sockets)
+    if (s.bridge) bridges.push_back(&s);
+  const bool fold = !bridges.empty() && cutters_clear_of_holes(hub, o);
+  for (std::size_t k = 0; k + (fold ? 1 : 0) < bridges.size(); ++k) {
+    Mesh cutter = bridge_cutter(hub, *bridges[k], o);
+    if (!PMP::corefine_and_compute_difference(solid, cutter, solid)) {
+      throw joint_error(hub, "cutting a bridge's mid-plane left no closed manifold solid");
     }
   }
   // The holes are a wall apart (plan_hubs' seat): one mesh of disjoint cylinders, one cut. A
   // hole's polygon is turned half a side against its sleeve's: a hole edge lying in the plane
   // of a sleeve cap's fan edge (a degenerate edge-edge crossing) left the mouth's ring doubled.
+  // The engraved id's strokes (disjoint prisms below every hole) join the same cut.
   const double half_side = std::numbers::pi / o.segments;
   Mesh holes;
+  if (fold) CGAL::copy_face_graph(bridge_cutter(hub, *bridges.back(), o), holes);
   for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
     const Socket& s = hub.sockets[k];
+    if (s.bridge) continue;
     // The hole runs a rod's diameter past the sleeve's mouth: no coplanar faces to cut.
     CGAL::copy_face_graph(cylinder(s.axis, s.seat, s.seat + s.depth + o.rod_diameter, s.radius,
                                    o.segments, socket_turn(k, o.segments) + half_side),
                           holes);
   }
+  if (hub.base > 0) {
+    for (const Polygon2& stroke : label_strokes(hub.joint, o.label_stroke)) {
+      CGAL::copy_face_graph(prism(hub.base * hub.base_normal, hub.label_x, hub.label_y,
+                                  hub.base_normal, stroke, -o.label_depth, o.label_depth),
+                            holes);
+    }
+  }
   if (!PMP::corefine_and_compute_difference(solid, holes, solid)) {
-    throw fail("cutting the sockets left no closed manifold solid");
+    throw joint_error(hub, "cutting the sockets left no closed manifold solid");
   }
   return solid;
 }
