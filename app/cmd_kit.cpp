@@ -1,7 +1,8 @@
 // gridshell kit DIR -o OUT [--scale 1:50] [--rod 3mm] [--clearance 0.1mm] [--min-socket MM]
-// [--label-stroke 0.6mm] [--bed 600x400mm] [--kerf 0.15mm]: a desk model of a design folder's
-// grid-shell: a printable hub per joint with its id engraved in its base
-// (OUT/joints/J<id>.stl), the rods' cut list (OUT/rods.csv), the beams printed as glued bridges
+// [--label-stroke 0.6mm] [--bed 600x400mm] [--kerf 0.15mm] [--print-bed 200x200mm]: a desk
+// model of a design folder's grid-shell: a printable hub per joint with its id engraved in its
+// base (OUT/joints/J<id>.stl) and all of them on print plates (OUT/plates/plate_<k>.stl,
+// OUT/plates.csv), the rods' cut list (OUT/rods.csv), the beams printed as glued bridges
 // (OUT/bridges.csv) and the panels for a laser cutter (OUT/panels.svg, OUT/panels.dxf).
 // docs/fabrication.md "Model kit".
 
@@ -31,6 +32,7 @@ struct KitArgs {
   std::string label_stroke = "0.6mm";
   std::string bed = "600x400mm";
   std::string kerf = "0.15mm";
+  std::string print_bed = "200x200mm";
   bool quiet = false;
 };
 
@@ -56,15 +58,16 @@ double parse_length_mm(const std::string& option, const std::string& s) {
   return unit == "cm" ? 10 * x : unit == "m" ? 1000 * x : x;
 }
 
-/// "600x400mm" (or "600x400", "0.6x0.4m") → {width, height} in millimetres.
-std::pair<double, double> parse_bed_mm(const std::string& s) {
+/// "600x400mm" (or "600x400", "0.6x0.4m") → {width, height} in millimetres; Error naming
+/// `option` otherwise.
+std::pair<double, double> parse_bed_mm(const std::string& option, const std::string& s) {
   static const std::regex form(R"(^\s*([0-9.]+)\s*x\s*([0-9.]+)\s*(mm|cm|m)?\s*$)");
   std::smatch m;
   if (!std::regex_match(s, m, form)) {
-    throw Error("--bed", fmt::format("'{}' is not a size like 600x400mm", s));
+    throw Error(option, fmt::format("'{}' is not a size like 600x400mm", s));
   }
   const std::string unit = m[3].str();
-  return {parse_length_mm("--bed", m[1].str() + unit), parse_length_mm("--bed", m[2].str() + unit)};
+  return {parse_length_mm(option, m[1].str() + unit), parse_length_mm(option, m[2].str() + unit)};
 }
 
 int run_kit(const KitArgs& a) {
@@ -77,7 +80,9 @@ int run_kit(const KitArgs& a) {
     if (!(options.min_socket > 0)) throw Error("--min-socket", "must be more than 0");
   }
   options.label_stroke = parse_length_mm("--label-stroke", a.label_stroke);
-  std::tie(options.bed_width, options.bed_height) = parse_bed_mm(a.bed);
+  std::tie(options.bed_width, options.bed_height) = parse_bed_mm("--bed", a.bed);
+  std::tie(options.print_bed.width, options.print_bed.height) =
+      parse_bed_mm("--print-bed", a.print_bed);
   options.kerf = parse_length_mm("--kerf", a.kerf);
   kit::check_kit_options(options);
   if (a.quiet) spdlog::set_level(spdlog::level::warn);
@@ -96,6 +101,8 @@ int run_kit(const KitArgs& a) {
     spdlog::warn("kit: {} joints keep their id plate whole across a bridge: trim it where it "
                  "meets the glued neighbour's",
                  r.uncut_plates);
+  spdlog::info("kit: the joints on {} print plates of {:g} x {:g} mm in {}", r.plates,
+               options.print_bed.width, options.print_bed.height, (out / "plates").string());
   if (r.panels > 0)
     spdlog::info("kit: {} panels on {} laser beds in {}", r.panels, r.panel_sheets,
                  (out / "panels.dxf").string());
@@ -125,6 +132,9 @@ void register_kit(CLI::App& app, Action& action) {
       ->default_str(a->bed);
   sub->add_option("--kerf", a->kerf, "width the laser burns away (outlines offset by half)")
       ->default_str(a->kerf);
+  sub->add_option("--print-bed", a->print_bed,
+                  "the 3-D printer's bed WxH for the plates of joints (OUT/plates)")
+      ->default_str(a->print_bed);
   sub->add_flag("--quiet", a->quiet, "only warnings and errors on stderr");
   sub->callback([a, &action] { action = [a] { return run_kit(*a); }; });
 }

@@ -104,6 +104,9 @@ def goals(work):
          None, None, "bench", ("frame_bench", "BM_LiliumNonlinear"), False),
         ("objective-botanic", "objective search on Botanic (16 designs, linear + LBA)", 60,
          None, None, None, "bench", ("objective_bench", "BM_ObjectiveBotanic"), False),
+        ("kit-botanic-1200", "gridshell kit of a 1200-cell Botanic design (D = A = 3; about "
+         "2400 printed joints, print plates, rods, panels) at 1:20, 3 mm rods", 30, None, None,
+         None, "bench", ("kit_bench", "BM_KitBotanic1200"), False),
         ("sweep-shell", "sweep Shell, D, A in 1..4, 3 repeats, --length 415, non-linear "
          "(48 designs)", 180, None, "paper: 1–10 min per design, over a day per non-linear "
          "analysis", None, "cmd",
@@ -172,7 +175,7 @@ def run_bench(build, program, name):
 def needs_data(spec):
     return any(str(DATA) in a or "results.py" in a for args in spec for a in args) \
         if isinstance(spec, list) else \
-        spec[0] in ("objective_bench", "voronoi_bench", "frame_bench")
+        spec[0] in ("objective_bench", "voronoi_bench", "frame_bench", "kit_bench")
 
 
 def main():

@@ -284,7 +284,9 @@ TEST_F(KitTest, BridgedHalvesMeetInTheSameGlueDisc) {
         (*dir_ / "kit" / "joints" / fmt::format("J{}.stl", joint)).string(), m));
     return m;
   };
-  // The glue disc: a 32-gon of at most sleeve − wall/4 (sleeve = rod/2 + clearance + wall).
+  // The glue disc: an n-gon (the cylinders' polygon) of at most sleeve − wall/4 (sleeve = rod/2 +
+  // clearance + wall).
+  const int n = kit::polygon_sides(options);
   const double largest = kRod / 2 + kClearance + kWall - kWall / 4;
   int checked = 0, conflicts = 0, unglued = 0;
   std::map<int, double> glue_radius;  // bridges.csv: beam → glue disc radius [mm]
@@ -329,7 +331,7 @@ TEST_F(KitTest, BridgedHalvesMeetInTheSameGlueDisc) {
     } else {
       EXPECT_GT(rho, 0.25 * largest);
     }
-    const double disc = 16 * rho * rho * std::sin(2 * std::numbers::pi / 32);
+    const double disc = n / 2.0 * rho * rho * std::sin(2 * std::numbers::pi / n);
     const Vec3 pi = frame.joints[b.joint_i].position * 1000 / kScale,
                pj = frame.joints[b.joint_j].position * 1000 / kScale;
     const Vec3 a = (pj - pi).normalized();
@@ -422,12 +424,13 @@ TEST_F(KitTest, EveryJointHasAFlatBaseWithItsIdEngraved) {
         }
       thinnest = std::min(thinnest, width);
     }
-    // The base face: the plate's 64-gon less the strokes, unless a bridge cut trims it.
+    // The base face: the plate's 2n-gon less the strokes, unless a bridge cut trims it.
     bool near_bridge = false;
     for (const kit::Socket& s : hub.sockets) near_bridge = near_bridge || bridged[s.beam];
     const PlaneFaces base = faces_on_plane(m, n, hub.base, Vec3::Zero());
     const double plate =
-        32 * hub.base_radius * hub.base_radius * std::sin(2 * std::numbers::pi / 64);
+        kit::polygon_sides(options) * hub.base_radius * hub.base_radius *
+        std::sin(std::numbers::pi / kit::polygon_sides(options));
     if (!near_bridge) {
       EXPECT_NEAR(base.area + glyphs, plate, 1e-3) << path;
       ++whole;
@@ -472,6 +475,41 @@ TEST(Kit, MirrorSymmetricCornerJointIsAManifoldSolid) {
   const double r = 1.6, expected = (0.6 + r * std::sqrt(0.5)) / std::sqrt(0.5);
   EXPECT_NEAR(hubs[0].sockets[0].seat, expected, 1e-12);
   EXPECT_NEAR(measure_socket(m, Vec3::UnitX()).seat, expected, 0.05);
+}
+
+// Two beams 10° apart: no sphere short of the sockets' mouths covers where their sleeves part, so
+// the sleeves start off-centre and are joined one by one (HubPlan::sleeve_start 0); a joint of
+// beams far apart gets one union of disjoint sleeves. Both are solids with sockets along the beams.
+TEST(Kit, BeamsCloseTogetherAreJoinedOneByOne) {
+  const double a = 10 * std::numbers::pi / 180;
+  kit::KitFrame frame;
+  frame.joints = {{0, Vec3(0, 0, 0), false, {0, 1}},
+                  {1, Vec3(1, 0, 0), false, {0}},
+                  {2, Vec3(std::cos(a), std::sin(a), 0), false, {1}}};
+  frame.beams = {{0, 0, 1, 1.0}, {1, 0, 2, 1.0}};
+  kit::KitOptions options;
+  options.scale = 10;
+  const auto hubs = kit::plan_hubs(frame, options);
+  EXPECT_EQ(hubs[0].sleeve_start, 0);
+  EXPECT_NEAR(hubs[0].hub_radius, 1.25 * hubs[0].sleeve_radius, 1e-12);
+  EXPECT_GT(hubs[1].sleeve_start, 0);
+  const auto dir = test::temp_dir("kit_close");
+  for (int j = 0; j < 2; ++j) {
+    const auto path = dir / fmt::format("J{}.stl", j);
+    io::write_file_atomic(path, kit::hub_stl(hubs[j], options));
+    Mesh m;
+    ASSERT_TRUE(CGAL::IO::read_polygon_mesh(path.string(), m));
+    EXPECT_TRUE(CGAL::is_closed(m)) << path;
+    EXPECT_FALSE(PMP::does_self_intersect(m)) << path;
+    EXPECT_TRUE(PMP::does_bound_a_volume(m)) << path;
+    for (const kit::Socket& s : hubs[j].sockets) {
+      const MeasuredSocket ms = measure_socket(m, s.axis);
+      EXPECT_LT(std::acos(std::clamp(ms.axis.dot(s.axis), -1.0, 1.0)) * 180 / std::numbers::pi,
+                0.5) << path;
+      EXPECT_NEAR(ms.depth, kDepth, 0.05) << path;
+      EXPECT_NEAR(ms.seat, s.seat, 0.05) << path;
+    }
+  }
 }
 
 TEST_F(KitTest, PanelsAreCutAtScaleWithTheKerf) {

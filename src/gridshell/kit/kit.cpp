@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -205,10 +206,20 @@ void check_kit_options(const KitOptions& o) {
   if (!(o.label_depth > 0 && o.label_depth < o.wall)) {
     throw Error("label depth", "must be more than 0 and less than the wall");
   }
-  if (o.segments < 8 || o.segments > 256) throw Error("segments", "must be in [8, 256]");
+  if (o.segments != 0 && (o.segments < 8 || o.segments > 256))
+    throw Error("segments", "must be 0 (from the tolerance) or in [8, 256]");
+  if (!(o.tolerance >= 1e-4 && o.tolerance <= 1)) throw Error("tolerance", "must be in [1e-4, 1] mm");
   if (!(o.bed_width >= 50 && o.bed_width <= 5000 && o.bed_height >= 50 && o.bed_height <= 5000))
     throw Error("--bed", "must be WxH with sides between 50mm and 5000mm");
   if (!(o.kerf >= 0 && o.kerf <= 2)) throw Error("--kerf", "must be between 0 and 2mm");
+  check_print_bed(o.print_bed);
+}
+
+int polygon_sides(const KitOptions& o) {
+  if (o.segments > 0) return o.segments;
+  const double r = o.rod_diameter / 2 + o.clearance;
+  const double x = 1 - std::min(o.tolerance / r, 1.0);
+  return std::clamp(static_cast<int>(std::ceil(std::numbers::pi / std::acos(x) - 1e-9)), 12, 256);
 }
 
 KitFrame read_kit_frame(const std::filesystem::path& dir) {
@@ -336,6 +347,26 @@ void plan_sockets(const KitFrame& frame, const std::vector<double>& seats,
   }
 }
 
+/// The sleeves' start and the sphere that covers it (HubPlan::sleeve_start); the sphere stays a
+/// wall short of every socket's mouth and every bridge's mid-plane.
+void plan_core(HubPlan& hub, const KitOptions& o) {
+  const double R = hub.sleeve_radius;
+  double start = 0.5 * R, mouth = 1e300;
+  for (std::size_t a = 0; a < hub.sockets.size(); ++a) {
+    const Socket& s = hub.sockets[a];
+    mouth = std::min(mouth, s.bridge ? s.mid : s.seat + s.depth);
+    for (std::size_t b = a + 1; b < hub.sockets.size(); ++b) {
+      const double theta = std::acos(std::clamp(s.axis.dot(hub.sockets[b].axis), -1.0, 1.0));
+      start = std::max(start, R * (1 / std::tan(theta / 2) + 0.1));
+    }
+  }
+  const double radius = std::max(1.25 * R, 1.02 * std::hypot(start, R) / kSphereInscribed);
+  if (radius < mouth - o.wall) {
+    hub.sleeve_start = start;
+    hub.hub_radius = radius;
+  }
+}
+
 }  // namespace
 
 std::vector<HubPlan> plan_hubs(const KitFrame& frame, const KitOptions& o) {
@@ -368,7 +399,9 @@ std::vector<HubPlan> plan_hubs(const KitFrame& frame, const KitOptions& o) {
   }
   plan_sockets(frame, seats, hubs, o);
   for (HubPlan& hub : hubs) {
-    if (!hub.sockets.empty()) plan_base(hub, frame.joints[hub.joint].support, o);
+    if (hub.sockets.empty()) continue;
+    plan_core(hub, o);
+    plan_base(hub, frame.joints[hub.joint].support, o);
   }
   return hubs;
 }
@@ -466,12 +499,21 @@ KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::pat
   }
   io::ensure_directory(out / "joints");
   // Each joint's solid is independent of the others (and the same whatever the thread).
+  std::vector<LaidPart> laid(hubs.size());
   tbb::parallel_for(std::size_t{0}, hubs.size(), [&](std::size_t k) {
     const HubPlan& h = hubs[k];
     if (h.sockets.empty()) return;
-    io::write_file_atomic(out / "joints" / fmt::format("J{}.stl", h.joint), hub_stl(h, options));
+    const std::vector<Triangle> triangles = hub_triangles(h, options);
+    io::write_file_atomic(out / "joints" / fmt::format("J{}.stl", h.joint),
+                          stl_bytes(triangles, fmt::format("gridshell kit joint J{} (mm)", h.joint)));
+    laid[k] = lay_part(h.joint, triangles, part_base(h));
   });
-  for (const HubPlan& h : hubs) result.joints += h.sockets.empty() ? 0 : 1;
+  std::erase_if(laid, [](const LaidPart& p) { return p.footprint.empty(); });
+  result.joints = static_cast<int>(laid.size());
+  const Plates plates = pack_plates(laid, options.print_bed);
+  write_plate_stls(plates, out / "joints", out / "plates");
+  io::write_file_atomic(out / "plates.csv", plates_csv(plates));
+  result.plates = plates.plates;
   io::write_file_atomic(out / "rods.csv", rods_csv(rods));
   io::write_file_atomic(out / "bridges.csv", bridges_csv(frame, hubs));
   io::write_file_atomic(out / "assembly.html",

@@ -42,16 +42,18 @@
 /// prints standing on it; the joint's id is engraved in that face (kit/label.h), mirrored to
 /// read from outside.
 ///
-/// Cost: per joint valence + 1 unions (sleeves, base) and one difference (holes, engraving and,
-/// when clear of the holes, one bridge's cutter), plus one difference per other bridge, on
-/// meshes of a few hundred to a few thousand triangles, with exact constructions (about 0.2 s
-/// per joint of the default design at 1:50 on one core).
+/// Cost: per joint three corefinements of meshes of a few hundred triangles (sphere ∪ sleeves,
+/// ∪ base, minus the holes and the id; one more per bridge but the last), with exact
+/// constructions on corners snapped to a 2^-20 mm grid (docs/performance.md, "The model kit of
+/// a 1200-cell roof").
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "gridshell/fabrication/panel_sheets.h"
+#include "gridshell/kit/plate.h"
+#include "gridshell/kit/stl.h"
 #include "gridshell/mesh/mesh.h"
 
 namespace gridshell::kit {
@@ -68,13 +70,22 @@ struct KitOptions {
   double min_socket = 0;
   double label_stroke = 0.6;  ///< width of the engraved digits' strokes [mm] (≥ 0.6)
   double label_depth = 0.4;   ///< depth of the engraving [mm]
-  int segments = 32;        ///< sides of the polygons approximating cylinders (vertices on r)
+  /// The socket holes' polygons have their corners on the hole's radius r; their flat sides lie
+  /// at most `tolerance` inside it (r − r·cos(π/n)) [mm].
+  double tolerance = 0.02;
+  int segments = 0;  ///< sides of the cylinders' polygons; 0 = the fewest within `tolerance`
   double bed_width = 600, bed_height = 400;  ///< the laser cutter's bed [mm]
   double kerf = 0.15;  ///< width the laser burns away [mm] (0.1–0.2 mm in 3 mm acrylic)
+  PrintBed print_bed;  ///< the 3-D printer's bed for the plates (kit/plate.h) [mm]
 };
 
 /// Throws Error naming the option (`--scale`, `--rod`, …) when an option is out of range.
 void check_kit_options(const KitOptions& options);
+
+/// The sides of every cylinder's polygon (sleeves, holes; a foot's disc has twice as many):
+/// `segments`, or the fewest n ≥ 12 with r·(1 − cos(π/n)) ≤ `tolerance` for the hole radius r
+/// (20 for a 3 mm rod with 0.1 mm clearance and the default 0.02 mm).
+int polygon_sides(const KitOptions& options);
 
 /// What the kit reads of a design folder (SI units, ids as in the files).
 struct KitJoint {
@@ -118,6 +129,11 @@ struct HubPlan {
   double hub_radius = 0;     ///< the central sphere [mm]
   double sleeve_radius = 0;  ///< outer radius of the sleeves [mm]
   std::vector<Socket> sockets;
+  /// Where the sleeves start along their axes [mm]: beyond it no two sleeves meet, and the
+  /// sphere (`hub_radius`) covers their start caps, so one union joins them all to the sphere.
+  /// 0 = the sleeves of this joint meet (beams too close for a sphere short of the sockets'
+  /// mouths): they start half a sleeve radius off-centre and are joined one by one.
+  double sleeve_start = 0;
   /// The flat base: unit outward normal of the base face (the part prints with base_normal
   /// pointing to −z) and the base plane's distance from the centre [mm]: every point x of the
   /// part has x·base_normal ≤ base. The base is a disc of `base_radius` about
@@ -135,7 +151,17 @@ struct HubPlan {
   bool plate_cut = true;
 };
 
-/// The hubs of every joint (joint id order) and their sockets' seats and depths.
+/// The hub's sphere is a UV polygon of kSphereBands latitude bands × kSphereSides longitudes,
+/// its corners on the sphere; its faces lie at least kSphereInscribed of its radius from the
+/// centre (the 8 × 16 polygon's: 0.96264).
+inline constexpr int kSphereBands = 8, kSphereSides = 16;
+inline constexpr double kSphereInscribed = 0.9626;
+
+/// The hubs of every joint (joint id order): their sockets' seats and depths, the sleeves'
+/// start and the sphere. The sphere has 1.25 sleeve radii, or more where the sleeves start
+/// farther out: for two beams at angle θ, sleeves of radius R are disjoint beyond
+/// R·cot(θ/2) along their axes; they start at R·(cot(θ/2) + 0.1) (at least R/2) and the sphere's
+/// polygon covers their start caps with 2% to spare.
 std::vector<HubPlan> plan_hubs(const KitFrame& frame, const KitOptions& options);
 
 struct Rod {
@@ -155,8 +181,10 @@ std::vector<char> bridged_beams(const KitFrame& frame, const std::vector<HubPlan
 /// glue together and their glue disc's radius (0: the parts do not meet on this beam).
 std::string bridges_csv(const KitFrame& frame, const std::vector<HubPlan>& hubs);
 
-/// The printable hub as binary STL bytes (kit_mesh.cpp: CGAL corefinement). Throws Error when a
-/// boolean fails.
+/// The printable hub's closed surface (kit_mesh.cpp: CGAL corefinement), corners rounded to
+/// float32 as its STL holds them. Throws Error when a boolean fails.
+std::vector<Triangle> hub_triangles(const HubPlan& hub, const KitOptions& options);
+/// The same as binary STL bytes (kit/stl.h).
 std::string hub_stl(const HubPlan& hub, const KitOptions& options);
 
 /// The `outline` column of DIR/panels.csv (each panel's flat outline [m], panel id order).
@@ -174,9 +202,11 @@ struct KitResult {
   int bridges = 0;        ///< beams printed as glued bridges (no rod)
   int unglued = 0;        ///< bridges whose parts do not meet (Socket::disc 0)
   int uncut_plates = 0;   ///< bases left uncut by a bridge to keep the id (HubPlan::plate_cut)
+  int plates = 0;         ///< print plates the joints take
   double rod_total_mm = 0;
 };
-/// Writes OUT/joints/J<id>.stl, OUT/rods.csv, OUT/bridges.csv, OUT/assembly.html and (with panels.csv) OUT/panels.svg and
+/// Writes OUT/joints/J<id>.stl, OUT/plates/plate_<k>.stl, OUT/plates.csv (kit/plate.h),
+/// OUT/rods.csv, OUT/bridges.csv, OUT/assembly.html and (with panels.csv) OUT/panels.svg and
 /// OUT/panels.dxf, atomically, for the design folder `dir`.
 KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::path& out,
                     const KitOptions& options = {});

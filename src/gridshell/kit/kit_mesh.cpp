@@ -4,9 +4,7 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
-#include <cstdint>
 #include <numbers>
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
@@ -23,16 +21,17 @@ namespace gridshell::kit {
 
 namespace {
 
-// Exact constructions: a chain of booleans on rounded points can meet faces that are coplanar
-// up to rounding (seen crashing on a support joint with nearly opposite beams).
+// Exact constructions: the intersection points of one boolean are the input of the next (a chain
+// of booleans on rounded points once met faces coplanar up to rounding).
 using Kernel = CGAL::Exact_predicates_exact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 using VertexIndex = Mesh::Vertex_index;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
-/// Where the sleeves start along their axis, in sleeve radii; the sphere's radius must exceed
-/// sqrt(1 + kSleeveStart²) sleeve radii (plan_hubs: 1.25).
+/// Where the sleeves start along their axis, in sleeve radii, when they are joined one by one
+/// (HubPlan::sleeve_start 0); the sphere's radius must exceed sqrt(1 + kSleeveStart²) sleeve
+/// radii (plan_hubs: 1.25).
 constexpr double kSleeveStart = 0.5;
 
 /// Symmetric designs have joints whose beams mirror each other; mirror-image sleeves meet the
@@ -46,27 +45,36 @@ double socket_turn(std::size_t k, int segments) {
   return (f - std::floor(f)) * 2 * std::numbers::pi / segments;
 }
 
+/// Every corner of the primitives lies on a grid of 2^-kGridBits mm (about 1e-6 mm, below
+/// float32's resolution in a part over 8 mm). The exact arithmetic of the booleans then works on
+/// short rationals: on Botanic's joints a fifth of the CPU time of arbitrary doubles (the
+/// degenerate predicates that corefinement evaluates exactly cost GMP's gcd of long numbers).
+constexpr int kGridBits = 20;
+
 Point point(const Vec3& p) {
-  return Point(p.x(), p.y(), p.z());
+  const auto snap = [](double x) {
+    return std::ldexp(std::round(std::ldexp(x, kGridBits)), -kGridBits);
+  };
+  return Point(snap(p.x()), snap(p.y()), snap(p.z()));
 }
 
 /// A UV sphere of `radius` about the origin, `rings` latitude bands, `segments` longitudes,
-/// oriented outward.
+/// oriented outward (each face's corners counter-clockwise seen from outside).
 Mesh sphere(double radius, int rings, int segments) {
   Mesh m;
   const double pi = std::numbers::pi;
-  const VertexIndex north = m.add_vertex(Point(0, 0, radius));
+  const VertexIndex north = m.add_vertex(point(Vec3(0, 0, radius)));
   std::vector<std::vector<VertexIndex>> ring(rings - 1);
   for (int i = 1; i < rings; ++i) {
     const double phi = pi * i / rings;
     for (int k = 0; k < segments; ++k) {
       const double lambda = kSphereTurn + 2 * pi * k / segments;
-      ring[i - 1].push_back(
-          m.add_vertex(Point(radius * std::sin(phi) * std::cos(lambda),
-                             radius * std::sin(phi) * std::sin(lambda), radius * std::cos(phi))));
+      ring[i - 1].push_back(m.add_vertex(point(
+          radius * Vec3(std::sin(phi) * std::cos(lambda), std::sin(phi) * std::sin(lambda),
+                        std::cos(phi)))));
     }
   }
-  const VertexIndex south = m.add_vertex(Point(0, 0, -radius));
+  const VertexIndex south = m.add_vertex(point(Vec3(0, 0, -radius)));
   for (int k = 0; k < segments; ++k) {
     const int k1 = (k + 1) % segments;
     m.add_face(north, ring.front()[k], ring.front()[k1]);
@@ -76,17 +84,16 @@ Mesh sphere(double radius, int rings, int segments) {
     }
     m.add_face(south, ring.back()[k1], ring.back()[k]);
   }
-  PMP::orient_to_bound_a_volume(m);
   return m;
 }
 
-/// A closed cylinder about `axis` (unit) from t0 to t1 along it, its polygon's vertices on
-/// `radius` (the first at angle `phase`), oriented outward.
-Mesh cylinder(const Vec3& axis, double t0, double t1, double radius, int segments,
-              double phase = 0) {
+/// A closed cylinder about `axis` (unit) from t0 to t1 > t0 along it, its polygon's vertices on
+/// `radius` (the first at angle `phase`), oriented outward, added to `m`.
+void add_cylinder(Mesh& m, const Vec3& axis, double t0, double t1, double radius, int segments,
+                  double phase = 0) {
   const Vec3 helper = std::abs(axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  // (u, v, axis) right-handed: the polygon runs counter-clockwise about the axis.
   const Vec3 u = axis.cross(helper).normalized(), v = axis.cross(u);
-  Mesh m;
   std::vector<VertexIndex> bottom, top;
   for (int k = 0; k < segments; ++k) {
     const double phi = phase + 2 * std::numbers::pi * k / segments;
@@ -102,7 +109,12 @@ Mesh cylinder(const Vec3& axis, double t0, double t1, double radius, int segment
     m.add_face(c1, top[k], top[k1]);
     m.add_face(c0, bottom[k1], bottom[k]);
   }
-  PMP::orient_to_bound_a_volume(m);
+}
+
+Mesh cylinder(const Vec3& axis, double t0, double t1, double radius, int segments,
+              double phase = 0) {
+  Mesh m;
+  add_cylinder(m, axis, t0, t1, radius, segments, phase);
   return m;
 }
 
@@ -178,7 +190,7 @@ void add_base(Mesh& solid, const HubPlan& hub, const KitOptions& o) {
   const std::vector<std::array<double, 2>> profile{
       {0, stem},     {hub.sleeve_radius, stem}, {hub.sleeve_radius, plate}, {hub.base_radius, plate},
       {hub.base_radius, hub.base}, {0, hub.base}};
-  Mesh base = lathe(d, std::cos(turn) * p + std::sin(turn) * q, profile, 2 * o.segments);
+  Mesh base = lathe(d, std::cos(turn) * p + std::sin(turn) * q, profile, 2 * polygon_sides(o));
   if (!PMP::corefine_and_compute_union(solid, base, solid)) {
     throw joint_error(hub, "the union of the hub and its base is not a closed manifold solid");
   }
@@ -205,7 +217,7 @@ Mesh bridge_cutter(const HubPlan& hub, const Socket& s, const KitOptions& o) {
       {0, s.mid},   {disc, s.mid}, {disc, s.mid - relief}, {radius, s.mid - relief},
       {radius, end}, {0, end}};
   if (disc == 0) profile = {{0, s.mid - relief}, {radius, s.mid - relief}, {radius, end}, {0, end}};
-  return lathe(s.axis, s.disc_u, profile, o.segments);
+  return lathe(s.axis, s.disc_u, profile, polygon_sides(o));
 }
 
 /// Whether every bridge's cutter (within x·axis ≥ mid − relief) is clear of every socket hole
@@ -228,17 +240,33 @@ bool cutters_clear_of_holes(const HubPlan& hub, const KitOptions& o) {
 /// The hub as one closed mesh: sphere ∪ sleeves and stubs ∪ base, bridges cut, minus the holes
 /// and the engraved id.
 Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
+  const int sides = polygon_sides(o);
   // The sphere only rounds the core: a coarser polygon than the sockets' is enough.
-  Mesh solid = sphere(hub.hub_radius, std::max(4, o.segments / 4), std::max(8, o.segments / 2));
-  for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
+  Mesh solid = sphere(hub.hub_radius, kSphereBands, kSphereSides);
+  // A bridge's stub runs a wall past the mid-plane that cuts it.
+  const auto end = [&](const Socket& s, double start) {
+    return s.bridge ? std::max(s.mid, start) + o.wall : s.seat + s.depth;
+  };
+  if (hub.sleeve_start > 0) {
+    // Disjoint sleeves whose start caps lie inside the sphere (plan_hubs): one mesh, one union.
+    Mesh sleeves;
+    for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
+      const Socket& s = hub.sockets[k];
+      add_cylinder(sleeves, s.axis, hub.sleeve_start, end(s, hub.sleeve_start),
+                   hub.sleeve_radius, sides, socket_turn(k, sides));
+    }
+    if (!PMP::corefine_and_compute_union(solid, sleeves, solid)) {
+      throw joint_error(hub, "the union of the hub and its sleeves is not a closed manifold solid");
+    }
+  }
+  for (std::size_t k = 0; k < hub.sockets.size() && hub.sleeve_start == 0; ++k) {
     const Socket& s = hub.sockets[k];
-    // Starting off-centre (its start cap still inside the sphere), no two sleeves' caps share
-    // a point: nearly opposite beams would otherwise give nearly coplanar caps. A bridge's stub
-    // runs a wall past the mid-plane that cuts it.
-    const double end = s.bridge ? std::max(s.mid, kSleeveStart * hub.sleeve_radius) + o.wall
-                                : s.seat + s.depth;
-    Mesh sleeve = cylinder(s.axis, kSleeveStart * hub.sleeve_radius, end, hub.sleeve_radius,
-                           o.segments, socket_turn(k, o.segments));
+    // Sleeves that meet, one by one. Starting off-centre (its start cap still inside the
+    // sphere), no two sleeves' caps share a point: nearly opposite beams would otherwise give
+    // nearly coplanar caps.
+    const double start = kSleeveStart * hub.sleeve_radius;
+    Mesh sleeve = cylinder(s.axis, start, end(s, start), hub.sleeve_radius, sides,
+                           socket_turn(k, sides));
     if (!PMP::corefine_and_compute_union(solid, sleeve, solid)) {
       throw joint_error(hub, "the union of the hub and a sleeve is not a closed manifold solid");
     }
@@ -260,16 +288,15 @@ Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
   // hole's polygon is turned half a side against its sleeve's: a hole edge lying in the plane
   // of a sleeve cap's fan edge (a degenerate edge-edge crossing) left the mouth's ring doubled.
   // The engraved id's strokes (disjoint prisms below every hole) join the same cut.
-  const double half_side = std::numbers::pi / o.segments;
+  const double half_side = std::numbers::pi / sides;
   Mesh holes;
   if (fold) CGAL::copy_face_graph(bridge_cutter(hub, *bridges.back(), o), holes);
   for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
     const Socket& s = hub.sockets[k];
     if (s.bridge) continue;
     // The hole runs a rod's diameter past the sleeve's mouth: no coplanar faces to cut.
-    CGAL::copy_face_graph(cylinder(s.axis, s.seat, s.seat + s.depth + o.rod_diameter, s.radius,
-                                   o.segments, socket_turn(k, o.segments) + half_side),
-                          holes);
+    add_cylinder(holes, s.axis, s.seat, s.seat + s.depth + o.rod_diameter, s.radius, sides,
+                 socket_turn(k, sides) + half_side);
   }
   if (hub.base > 0) {
     for (const Polygon2& stroke : label_strokes(hub.joint, o.label_stroke)) {
@@ -284,41 +311,29 @@ Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
   return solid;
 }
 
-/// Binary STL of a closed mesh: 80-byte header, triangle count, per triangle the unit normal and
-/// three corners as little-endian float32, and a zero attribute word.
-std::string stl_bytes(const Mesh& m, const std::string& name) {
-  std::string out(80, ' ');
-  out.replace(0, std::min<std::size_t>(80, name.size()), name.substr(0, 80));
-  const auto put_u32 = [&out](std::uint32_t x) {
-    for (int b = 0; b < 4; ++b) out.push_back(static_cast<char>((x >> (8 * b)) & 0xFF));
-  };
-  const auto put_float = [&put_u32](double x) {
-    put_u32(std::bit_cast<std::uint32_t>(static_cast<float>(x)));
-  };
-  put_u32(static_cast<std::uint32_t>(m.number_of_faces()));
+}  // namespace
+
+std::vector<Triangle> hub_triangles(const HubPlan& hub, const KitOptions& options) {
+  const Mesh m = hub_mesh(hub, options);
+  std::vector<Triangle> triangles;
+  triangles.reserve(m.number_of_faces());
   for (const auto f : m.faces()) {
-    std::array<Vec3, 3> p;
+    Triangle t;
     int k = 0;
     for (const auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
       const Point& q = m.point(v);
-      p[k++] = Vec3(CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z()));
+      t[k++] = Eigen::Vector3f(static_cast<float>(CGAL::to_double(q.x())),
+                               static_cast<float>(CGAL::to_double(q.y())),
+                               static_cast<float>(CGAL::to_double(q.z())));
     }
-    const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]).normalized();
-    for (int i = 0; i < 3; ++i) put_float(std::isfinite(n(i)) ? n(i) : 0.0);
-    for (const Vec3& c : p) {
-      for (int i = 0; i < 3; ++i) put_float(c(i));
-    }
-    out.push_back(0);
-    out.push_back(0);
+    triangles.push_back(t);
   }
-  return out;
+  return triangles;
 }
 
-}  // namespace
-
 std::string hub_stl(const HubPlan& hub, const KitOptions& options) {
-  const Mesh m = hub_mesh(hub, options);
-  return stl_bytes(m, fmt::format("gridshell kit joint J{} (mm)", hub.joint));
+  return stl_bytes(hub_triangles(hub, options),
+                   fmt::format("gridshell kit joint J{} (mm)", hub.joint));
 }
 
 }  // namespace gridshell::kit
