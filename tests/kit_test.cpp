@@ -512,6 +512,36 @@ TEST(Kit, BeamsCloseTogetherAreJoinedOneByOne) {
   }
 }
 
+// A thick rod and a one-digit id: the id's text is smaller than the sleeves' radius, and the
+// base's plate must still be wider than its stem (a plate of the stem's radius made a lathe with
+// two coincident rings, on which the corefinement never returned).
+TEST(Kit, ThickRodsUnderASmallIdStillGiveAPlateWiderThanItsStem) {
+  kit::KitFrame frame;
+  frame.joints = {{0, Vec3(0, 0, 0), false, {0, 1, 2}},
+                  {1, Vec3(0.5, 0, 0.05), false, {0}},
+                  {2, Vec3(-0.25, 0.43, 0.05), false, {1}},
+                  {3, Vec3(-0.25, -0.43, 0.05), false, {2}}};
+  frame.beams = {{0, 0, 1, frame.joints[1].position.norm()},
+                 {1, 0, 2, frame.joints[2].position.norm()},
+                 {2, 0, 3, frame.joints[3].position.norm()}};
+  kit::KitOptions options;
+  options.scale = 8;
+  options.rod_diameter = 4;
+  const auto hubs = kit::plan_hubs(frame, options);
+  // The id "0" is 1.2 × 2.1 mm about its centre: half-diagonal + a stroke = 3.02 mm, under the
+  // sleeves' 3.3 mm.
+  ASSERT_LT(kit::label_half_size(0, options.label_stroke).norm() + options.label_stroke,
+            hubs[0].sleeve_radius);
+  ASSERT_NEAR(hubs[0].base_radius, 1.25 * hubs[0].sleeve_radius, 1e-12);  // before the hub is cut
+  const auto path = test::temp_dir("kit_thick") / "J0.stl";
+  io::write_file_atomic(path, kit::hub_stl(hubs[0], options));
+  Mesh m;
+  ASSERT_TRUE(CGAL::IO::read_polygon_mesh(path.string(), m));
+  EXPECT_TRUE(CGAL::is_closed(m));
+  EXPECT_FALSE(PMP::does_self_intersect(m));
+  EXPECT_TRUE(PMP::does_bound_a_volume(m));
+}
+
 TEST_F(KitTest, PanelsAreCutAtScaleWithTheKerf) {
   const nlohmann::json dxf = test::read_dxf(*dir_ / "kit" / "panels.dxf");
   if (dxf.is_null()) SKIP_OR_FAIL_IN_CI("no python3-ezdxf: the independent DXF reader");

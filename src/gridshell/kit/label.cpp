@@ -130,7 +130,10 @@ void plan_base(HubPlan& hub, bool supported, const KitOptions& o) {
   hub.base = reach_along(hub, d, o) + o.wall;
   const double s = o.label_stroke;
   const Eigen::Vector2d half = label_half_size(hub.joint, s);
-  hub.base_radius = std::max((hub.foot ? 2 : 1) * hub.sleeve_radius, half.norm() + s);
+  // Wider than the stem (the sleeves' radius) in any case: a plate of the stem's own radius
+  // would be a lathe with two coincident rings, degenerate faces that CGAL's corefinement does
+  // not come back from (a 1-digit id with rods of 3.5 mm or more).
+  hub.base_radius = std::max((hub.foot ? 2 : 1.25) * hub.sleeve_radius, half.norm() + s);
   // The text's turn in the base plane: the one keeping it farthest inside every bridge's cut
   // (the relief plane less a stroke of margin), among 36 steps of 5°.
   const Vec3 p = in_plane(d), q = d.cross(p);
