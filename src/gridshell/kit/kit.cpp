@@ -500,18 +500,28 @@ KitResult write_kit(const std::filesystem::path& dir, const std::filesystem::pat
   io::ensure_directory(out / "joints");
   // Each joint's solid is independent of the others (and the same whatever the thread).
   std::vector<LaidPart> laid(hubs.size());
+  std::vector<PartMesh> meshes(hubs.size());
   tbb::parallel_for(std::size_t{0}, hubs.size(), [&](std::size_t k) {
     const HubPlan& h = hubs[k];
     if (h.sockets.empty()) return;
-    const std::vector<Triangle> triangles = hub_triangles(h, options);
-    io::write_file_atomic(out / "joints" / fmt::format("J{}.stl", h.joint),
-                          stl_bytes(triangles, fmt::format("gridshell kit joint J{} (mm)", h.joint)));
-    laid[k] = lay_part(h.joint, triangles, part_base(h));
+    meshes[k] = hub_part(h, options);
+    io::write_file_atomic(out / "joints" / fmt::format("J{}.stl", h.joint), stl_bytes(meshes[k]));
+    laid[k] = lay_part(h.joint, meshes[k], part_base(h));
   });
-  std::erase_if(laid, [](const LaidPart& p) { return p.footprint.empty(); });
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < hubs.size(); ++k) {
+    if (laid[k].footprint.empty()) continue;
+    if (kept != k) {
+      laid[kept] = std::move(laid[k]);
+      meshes[kept] = std::move(meshes[k]);
+    }
+    ++kept;
+  }
+  laid.resize(kept);
+  meshes.resize(kept);
   result.joints = static_cast<int>(laid.size());
   const Plates plates = pack_plates(laid, options.print_bed);
-  write_plate_stls(plates, out / "joints", out / "plates");
+  write_plate_stls(plates, meshes, out / "plates");
   io::write_file_atomic(out / "plates.csv", plates_csv(plates));
   result.plates = plates.plates;
   io::write_file_atomic(out / "rods.csv", rods_csv(rods));

@@ -183,7 +183,7 @@ std::string bridges_csv(const KitFrame& frame, const std::vector<HubPlan>& hubs)
 
 /// The printable hub's closed surface (kit_mesh.cpp: CGAL corefinement), corners rounded to
 /// float32 as its STL holds them. Throws Error when a boolean fails.
-std::vector<Triangle> hub_triangles(const HubPlan& hub, const KitOptions& options);
+PartMesh hub_part(const HubPlan& hub, const KitOptions& options);
 /// The same as binary STL bytes (kit/stl.h).
 std::string hub_stl(const HubPlan& hub, const KitOptions& options);
 

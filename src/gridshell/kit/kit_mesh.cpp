@@ -87,10 +87,72 @@ Mesh sphere(double radius, int rings, int segments) {
   return m;
 }
 
+/// Closes a lathe's last ring (`ring`, counter-clockwise seen from +axis, its k-th vertex at
+/// angle 2πk/n in the frame u, v = axis × u) by the convex polygon `cap` inside it (counter-
+/// clockwise, in the same plane; a fan from its first corner) and the band between them: both
+/// loops are star-shaped about the axis, so a merge of their corners by angle tiles the band.
+void close_with_cap(Mesh& m, const std::vector<VertexIndex>& ring, const std::vector<Vec3>& cap,
+                    const Vec3& axis, const Vec3& u) {
+  const Vec3 v = axis.cross(u);
+  const auto angle = [&](const Vec3& x) {
+    const double a = std::atan2(x.dot(v), x.dot(u));
+    return a < 0 ? a + 2 * std::numbers::pi : a;
+  };
+  const std::size_t n = ring.size(), c = cap.size();
+  std::size_t j0 = 0;
+  for (std::size_t j = 1; j < c; ++j) j0 = angle(cap[j]) < angle(cap[j0]) ? j : j0;
+  std::vector<VertexIndex> inner;
+  std::vector<double> inner_angle;
+  for (std::size_t j = 0; j <= c; ++j) {
+    const Vec3& x = cap[(j0 + j) % c];
+    if (j < c) inner.push_back(m.add_vertex(point(x)));
+    inner_angle.push_back(angle(x) + (j == c || (j > 0 && angle(x) < inner_angle[0])
+                                          ? 2 * std::numbers::pi : 0));
+  }
+  inner.push_back(inner.front());
+  for (std::size_t j = 1; j + 1 < c; ++j) m.add_face(inner[0], inner[j], inner[j + 1]);
+  std::size_t i = 0, j = 0;
+  while (i < n || j < c) {
+    const double ring_next = 2 * std::numbers::pi * static_cast<double>(i + 1) / static_cast<double>(n);
+    if (j == c || (i < n && ring_next < inner_angle[j + 1])) {
+      m.add_face(ring[i], ring[(i + 1) % n], inner[j]);
+      ++i;
+    } else {
+      m.add_face(ring[i % n], inner[j + 1], inner[j]);
+      ++j;
+    }
+  }
+}
+
+/// The corners of a cap polygon about `axis` at `t` that holds a hole of radius `bore` well
+/// inside and lies well inside a ring of `radius` with `segments` sides: the regular m-gon with
+/// the fewest corners (4, 6 or 8) that fits between them; empty when none fits.
+std::vector<Vec3> bore_cap(const Vec3& axis, const Vec3& u, double t, double radius, int segments,
+                           double bore) {
+  const Vec3 v = axis.cross(u);
+  const double room = 0.98 * radius * std::cos(std::numbers::pi / segments);
+  for (const int m : {4, 6, 8}) {
+    const double need = 1.05 * bore / std::cos(std::numbers::pi / m);
+    if (need >= room) continue;
+    const double rho = 0.5 * (need + room);
+    std::vector<Vec3> cap;
+    for (int k = 0; k < m; ++k) {
+      // Corners half a ring side off the ring's: no corner of the cap on a ring corner's ray.
+      const double phi = std::numbers::pi * (2.0 * k + 0.5) / m + std::numbers::pi / segments;
+      cap.push_back(t * axis + rho * (std::cos(phi) * u + std::sin(phi) * v));
+    }
+    return cap;
+  }
+  return {};
+}
+
 /// A closed cylinder about `axis` (unit) from t0 to t1 > t0 along it, its polygon's vertices on
-/// `radius` (the first at angle `phase`), oriented outward, added to `m`.
+/// `radius` (the first at angle `phase`), oriented outward, added to `m`. Its end caps are fans
+/// from the axis; with `bore` > 0 (a hole of that radius will be cut through the far end) the
+/// far cap is a polygon round the bore and a band (close_with_cap): the hole's wall then
+/// crosses one or two of the cap's edges, not every edge of a fan.
 void add_cylinder(Mesh& m, const Vec3& axis, double t0, double t1, double radius, int segments,
-                  double phase = 0) {
+                  double phase = 0, double bore = 0) {
   const Vec3 helper = std::abs(axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
   // (u, v, axis) right-handed: the polygon runs counter-clockwise about the axis.
   const Vec3 u = axis.cross(helper).normalized(), v = axis.cross(u);
@@ -101,28 +163,35 @@ void add_cylinder(Mesh& m, const Vec3& axis, double t0, double t1, double radius
     bottom.push_back(m.add_vertex(point(t0 * axis + radial)));
     top.push_back(m.add_vertex(point(t1 * axis + radial)));
   }
-  const VertexIndex c0 = m.add_vertex(point(t0 * axis)), c1 = m.add_vertex(point(t1 * axis));
+  const Vec3 u_phase = std::cos(phase) * u + std::sin(phase) * v;
+  const std::vector<Vec3> cap =
+      bore > 0 ? bore_cap(axis, u_phase, t1, radius, segments, bore) : std::vector<Vec3>{};
+  const VertexIndex c0 = m.add_vertex(point(t0 * axis));
+  const VertexIndex c1 = cap.empty() ? m.add_vertex(point(t1 * axis)) : c0;
   for (int k = 0; k < segments; ++k) {
     const int k1 = (k + 1) % segments;
     m.add_face(bottom[k], bottom[k1], top[k1]);
     m.add_face(bottom[k], top[k1], top[k]);
-    m.add_face(c1, top[k], top[k1]);
+    if (cap.empty()) m.add_face(c1, top[k], top[k1]);
     m.add_face(c0, bottom[k1], bottom[k]);
   }
+  if (!cap.empty()) close_with_cap(m, top, cap, axis, u_phase);
 }
 
 Mesh cylinder(const Vec3& axis, double t0, double t1, double radius, int segments,
-              double phase = 0) {
+              double phase = 0, double bore = 0) {
   Mesh m;
-  add_cylinder(m, axis, t0, t1, radius, segments, phase);
+  add_cylinder(m, axis, t0, t1, radius, segments, phase, bore);
   return m;
 }
 
 /// A solid of revolution about `axis` (unit): the profile's (radius, t) points, the first and
 /// last on the axis (radius 0), swept round with `segments` sides, the polygons' first vertex
-/// along `u` (unit, ⟂ axis); oriented outward.
+/// along `u` (unit, ⟂ axis); oriented outward. With a `cap` (a convex polygon in the last
+/// point's plane about the axis, counter-clockwise seen from +axis), the end face is that
+/// polygon and the band round it instead of a fan from the axis.
 Mesh lathe(const Vec3& axis, const Vec3& u, const std::vector<std::array<double, 2>>& profile,
-           int segments) {
+           int segments, const std::vector<Vec3>& cap = {}) {
   const Vec3 v = axis.cross(u);
   Mesh m;
   const VertexIndex first = m.add_vertex(point(profile.front()[1] * axis));
@@ -135,7 +204,7 @@ Mesh lathe(const Vec3& axis, const Vec3& u, const std::vector<std::array<double,
           profile[i][1] * axis + profile[i][0] * (std::cos(phi) * u + std::sin(phi) * v))));
     }
   }
-  const VertexIndex last = m.add_vertex(point(profile.back()[1] * axis));
+  const VertexIndex last = cap.empty() ? m.add_vertex(point(profile.back()[1] * axis)) : first;
   for (int k = 0; k < segments; ++k) {
     const int k1 = (k + 1) % segments;
     m.add_face(first, rings.front()[k1], rings.front()[k]);
@@ -143,8 +212,9 @@ Mesh lathe(const Vec3& axis, const Vec3& u, const std::vector<std::array<double,
       m.add_face(rings[i][k], rings[i][k1], rings[i + 1][k1]);
       m.add_face(rings[i][k], rings[i + 1][k1], rings[i + 1][k]);
     }
-    m.add_face(last, rings.back()[k], rings.back()[k1]);
+    if (cap.empty()) m.add_face(last, rings.back()[k], rings.back()[k1]);
   }
+  if (!cap.empty()) close_with_cap(m, rings.back(), cap, axis, u);
   PMP::orient_to_bound_a_volume(m);
   return m;
 }
@@ -190,7 +260,22 @@ void add_base(Mesh& solid, const HubPlan& hub, const KitOptions& o) {
   const std::vector<std::array<double, 2>> profile{
       {0, stem},     {hub.sleeve_radius, stem}, {hub.sleeve_radius, plate}, {hub.base_radius, plate},
       {hub.base_radius, hub.base}, {0, hub.base}};
-  Mesh base = lathe(d, std::cos(turn) * p + std::sin(turn) * q, profile, 2 * polygon_sides(o));
+  // The face's middle is the id's box (about a stroke wider) in two triangles: a fan from the
+  // axis would cross every stroke with many of its edges, each crossing an exact construction.
+  // The strokes' corners lie on a lattice of tenths of a stroke about the box's centre; the
+  // box's height margin is off that lattice (0.309 strokes) so that its diagonal passes no
+  // corner: a corner on it, moved by the 2^-20 mm grid, would leave an intersection point
+  // closer to the corner than float32 resolves (a degenerate triangle in the STL).
+  const Eigen::Vector2d half = label_half_size(hub.joint, o.label_stroke) +
+                               o.label_stroke * Eigen::Vector2d(0.5, 0.309017);
+  const Vec3 centre = hub.base * d, ex = half.x() * hub.label_x, ey = half.y() * hub.label_y;
+  std::vector<Vec3> cap{centre - ex - ey, centre + ex - ey, centre + ex + ey, centre - ex + ey};
+  if (ex.cross(ey).dot(d) < 0) std::reverse(cap.begin(), cap.end());
+  // The box must lie inside the face's polygon (it does with base_radius ≥ the text's half
+  // diagonal + a stroke unless the polygon is very coarse); else the plain fan.
+  const int base_sides = 2 * polygon_sides(o);
+  if (half.norm() >= 0.999 * hub.base_radius * std::cos(std::numbers::pi / base_sides)) cap.clear();
+  Mesh base = lathe(d, std::cos(turn) * p + std::sin(turn) * q, profile, base_sides, cap);
   if (!PMP::corefine_and_compute_union(solid, base, solid)) {
     throw joint_error(hub, "the union of the hub and its base is not a closed manifold solid");
   }
@@ -253,7 +338,7 @@ Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
     for (std::size_t k = 0; k < hub.sockets.size(); ++k) {
       const Socket& s = hub.sockets[k];
       add_cylinder(sleeves, s.axis, hub.sleeve_start, end(s, hub.sleeve_start),
-                   hub.sleeve_radius, sides, socket_turn(k, sides));
+                   hub.sleeve_radius, sides, socket_turn(k, sides), s.bridge ? 0 : s.radius);
     }
     if (!PMP::corefine_and_compute_union(solid, sleeves, solid)) {
       throw joint_error(hub, "the union of the hub and its sleeves is not a closed manifold solid");
@@ -266,7 +351,7 @@ Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
     // nearly coplanar caps.
     const double start = kSleeveStart * hub.sleeve_radius;
     Mesh sleeve = cylinder(s.axis, start, end(s, start), hub.sleeve_radius, sides,
-                           socket_turn(k, sides));
+                           socket_turn(k, sides), s.bridge ? 0 : s.radius);
     if (!PMP::corefine_and_compute_union(solid, sleeve, solid)) {
       throw joint_error(hub, "the union of the hub and a sleeve is not a closed manifold solid");
     }
@@ -313,27 +398,31 @@ Mesh hub_mesh(const HubPlan& hub, const KitOptions& o) {
 
 }  // namespace
 
-std::vector<Triangle> hub_triangles(const HubPlan& hub, const KitOptions& options) {
+PartMesh hub_part(const HubPlan& hub, const KitOptions& options) {
   const Mesh m = hub_mesh(hub, options);
-  std::vector<Triangle> triangles;
-  triangles.reserve(m.number_of_faces());
-  for (const auto f : m.faces()) {
-    Triangle t;
-    int k = 0;
-    for (const auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
-      const Point& q = m.point(v);
-      t[k++] = Eigen::Vector3f(static_cast<float>(CGAL::to_double(q.x())),
-                               static_cast<float>(CGAL::to_double(q.y())),
-                               static_cast<float>(CGAL::to_double(q.z())));
-    }
-    triangles.push_back(t);
+  PartMesh part;
+  part.points.reserve(m.number_of_vertices());
+  part.triangles.reserve(m.number_of_faces());
+  // Each corner rounded once; the mesh's indices may have gaps where corefinement removed one.
+  std::vector<std::uint32_t> index(m.num_vertices());
+  for (const auto v : m.vertices()) {
+    const Point& q = m.point(v);
+    index[v.idx()] = static_cast<std::uint32_t>(part.points.size());
+    part.points.emplace_back(static_cast<float>(CGAL::to_double(q.x())),
+                             static_cast<float>(CGAL::to_double(q.y())),
+                             static_cast<float>(CGAL::to_double(q.z())));
   }
-  return triangles;
+  for (const auto f : m.faces()) {
+    std::array<std::uint32_t, 3> t{};
+    int k = 0;
+    for (const auto v : CGAL::vertices_around_face(m.halfedge(f), m)) t[k++] = index[v.idx()];
+    part.triangles.push_back(t);
+  }
+  return part;
 }
 
 std::string hub_stl(const HubPlan& hub, const KitOptions& options) {
-  return stl_bytes(hub_triangles(hub, options),
-                   fmt::format("gridshell kit joint J{} (mm)", hub.joint));
+  return stl_bytes(hub_part(hub, options));
 }
 
 }  // namespace gridshell::kit

@@ -8,12 +8,19 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/convex_hull_2.h>
+
 #include "gridshell/core/error.h"
 #include "gridshell/fabrication/nesting.h"
 #include "gridshell/io/files.h"
 #include "gridshell/kit/kit.h"
 
 namespace gridshell::kit {
+
+namespace {
+using Point2 = CGAL::Exact_predicates_inexact_constructions_kernel::Point_2;
+}  // namespace
 
 void check_print_bed(const PrintBed& bed) {
   if (!(bed.width >= 20 && bed.width <= 2000 && bed.height >= 20 && bed.height <= 2000)) {
@@ -35,47 +42,23 @@ PartBase part_base(const HubPlan& hub) {
   return base;
 }
 
-LaidPart lay_part(int joint, const std::vector<Triangle>& triangles, const PartBase& base) {
+LaidPart lay_part(int joint, const PartMesh& mesh, const PartBase& base) {
   LaidPart part;
   part.joint = joint;
   part.tilt = Eigen::Quaterniond::FromTwoVectors(base.normal.normalized(), -Vec3::UnitZ())
                   .toRotationMatrix();
   double low = 1e300;
-  std::vector<Eigen::Vector2d> plan;
-  plan.reserve(3 * triangles.size());
-  for (const Triangle& t : triangles) {
-    for (const Eigen::Vector3f& c : t) {
-      const Vec3 q = part.tilt * c.cast<double>();
-      low = std::min(low, q.z());
-      plan.emplace_back(q.x(), q.y());
-    }
+  std::vector<Point2> plan;
+  plan.reserve(mesh.points.size());
+  for (const Eigen::Vector3f& c : mesh.points) {
+    const Vec3 q = part.tilt * c.cast<double>();
+    low = std::min(low, q.z());
+    plan.emplace_back(q.x(), q.y());
   }
-  part.lift = triangles.empty() ? 0 : -low;
-  // Andrew's monotone chain: the footprint's convex hull, counter-clockwise.
-  std::sort(plan.begin(), plan.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  plan.erase(std::unique(plan.begin(), plan.end()), plan.end());
-  if (plan.size() < 3) {
-    part.footprint = plan;
-    return part;
-  }
-  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b) {
-    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
-  };
-  std::vector<Eigen::Vector2d> hull(2 * plan.size());
-  std::size_t k = 0;
-  for (const auto& p : plan) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p) <= 0) --k;
-    hull[k++] = p;
-  }
-  for (std::size_t i = plan.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], plan[i]) <= 0) --k;
-    hull[k++] = plan[i];
-  }
-  hull.resize(k - 1);
-  part.footprint = std::move(hull);
+  part.lift = mesh.points.empty() ? 0 : -low;
+  std::vector<Point2> hull;
+  CGAL::convex_hull_2(plan.begin(), plan.end(), std::back_inserter(hull));  // counter-clockwise
+  for (const Point2& p : hull) part.footprint.emplace_back(p.x(), p.y());
   return part;
 }
 
@@ -148,24 +131,21 @@ std::string plates_csv(const Plates& plates) {
   return s;
 }
 
-void write_plate_stls(const Plates& plates, const std::filesystem::path& joints_dir,
+void write_plate_stls(const Plates& plates, const std::vector<PartMesh>& meshes,
                       const std::filesystem::path& plates_dir) {
   io::ensure_directory(plates_dir);
   const auto on = by_plate(plates);
   tbb::parallel_for(std::size_t{0}, on.size(), [&](std::size_t k) {
-    std::vector<Triangle> all;
+    PartMesh all;
     for (const PlacedPart* p : on[k]) {
-      const auto path = joints_dir / fmt::format("J{}.stl", p->joint);
-      for (const Triangle& t : read_stl(io::read_file(path), path.string())) {
-        Triangle moved;
-        for (int c = 0; c < 3; ++c) {
-          moved[c] = (p->rotation * t[c].cast<double>() + p->offset).cast<float>();
-        }
-        all.push_back(moved);
+      const PartMesh& mesh = meshes[static_cast<std::size_t>(p - plates.parts.data())];
+      const auto first = static_cast<std::uint32_t>(all.points.size());
+      for (const Eigen::Vector3f& c : mesh.points) {
+        all.points.push_back((p->rotation * c.cast<double>() + p->offset).cast<float>());
       }
+      for (const auto& t : mesh.triangles) all.triangles.push_back({first + t[0], first + t[1], first + t[2]});
     }
-    io::write_file_atomic(plates_dir / fmt::format("plate_{}.stl", k),
-                          stl_bytes(all, fmt::format("gridshell kit plate {} (mm)", k)));
+    io::write_file_atomic(plates_dir / fmt::format("plate_{}.stl", k), stl_bytes(all));
   });
 }
 

@@ -17,7 +17,7 @@
 /// separate closed shells, joint id order, each a rigid motion of its joints/J<id>.stl) and
 /// OUT/plates.csv `joint,plate,x_mm,y_mm,rotation_deg`: where the joint's centre lands on its
 /// plate (from the bed's front-left corner) and its turn about the vertical after being laid
-/// base down. Cost: O(vertices) per part plus the packing's O(parts · shelves).
+/// base down. Cost: O(v log v) per part of v corners plus the packing's O(parts · shelves).
 
 #include <filesystem>
 #include <string>
@@ -65,8 +65,9 @@ struct LaidPart {
   std::vector<Eigen::Vector2d> footprint;  ///< convex hull of the tilted vertices' (x, y)
 };
 
-/// Lays `triangles` (a joint's solid in its own frame [mm]) base down on z = 0.
-LaidPart lay_part(int joint, const std::vector<Triangle>& triangles, const PartBase& base);
+/// Lays `mesh` (a joint's solid in its own frame [mm]) base down on z = 0; its footprint is
+/// CGAL's convex hull of the tilted corners seen from above.
+LaidPart lay_part(int joint, const PartMesh& mesh, const PartBase& base);
 
 /// Where a part lands: plate coordinates = rotation · p + offset, for p in the joint's frame.
 struct PlacedPart {
@@ -88,9 +89,9 @@ Plates pack_plates(const std::vector<LaidPart>& parts, const PrintBed& bed);
 /// plates.csv: `joint,plate,x_mm,y_mm,rotation_deg`, plate by plate, joint ids rising.
 std::string plates_csv(const Plates& plates);
 
-/// Writes OUT/plates/plate_<k>.stl (atomically) for every plate, reading each part back from
-/// `joints_dir`/J<id>.stl so that every copy is its file's exact rigid motion.
-void write_plate_stls(const Plates& plates, const std::filesystem::path& joints_dir,
+/// Writes OUT/plates/plate_<k>.stl (atomically) for every plate: each part is `meshes[i]`
+/// (the mesh of plates.parts[i], the corners its J<id>.stl holds) moved rigidly.
+void write_plate_stls(const Plates& plates, const std::vector<PartMesh>& meshes,
                       const std::filesystem::path& plates_dir);
 
 }  // namespace gridshell::kit
