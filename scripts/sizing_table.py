@@ -16,10 +16,15 @@ Each run writes its folder WORK/SURFACE/PATTERN (report.json and the rest, plus 
 command, wall and CPU seconds — user+sys of the child, the figure comparable under load). A run
 whose report.json and run.json exist is not repeated, so the script can be resumed. A surface
 whose runs together take longer than --budget seconds of wall time is stopped there and listed
-as not measured. The tables go to stdout (markdown): masses, then buildability; then the
-consistency check of every `sized: true` report (utilisation ≤ 1, λ ≥ λ_min, δ ≤ limit).
+as not measured. Then it writes docs/results.md's section 8 (to stdout, or spliced into a file
+with --splice): how it was made, the masses, the buildability, what was not measured, the
+consistency check of every `sized: true` report (utilisation ≤ 1, λ ≥ λ_min, δ ≤ limit; a
+report that breaks one is also named on stderr) and, per surface and overall, which pattern is
+lightest and by how much.
 
-    nice -n 19 python3 scripts/sizing_table.py [--surfaces S ...] [--work DIR] [--no-run]
+    nice -n 19 python3 scripts/sizing_table.py                 # run what is missing, print
+    python3 scripts/sizing_table.py --no-run --splice docs/results.md
+    python3 scripts/sizing_table.py --surfaces builtin:dome "FILE.ply --scale 16" --work DIR
 """
 import argparse
 import json
@@ -127,7 +132,7 @@ def mass_row(name, pattern, r, iso):
     g = st["governing"]
     both = s.get("sized") and iso is not None and iso["sizing"].get("sized")
     vs = f"{100 * (s['mass_kg'] / iso['sizing']['mass_kg'] - 1):+.1f} %" if both else "–"
-    lam, util = g.get("lambda_value"), g.get("utilisation_value")
+    util, lam, _ = worst(r)
     return (f"| {name} | {label(pattern, r)} | {verdict(s)} | {m['total_length_m']:.0f} "
             f"| {kg(s['mass_kg'])} | {s['mass_kg_per_m2']:.1f} | {vs} "
             f"| {s['distinct_sections']} | {util if util is not None else nan:.2f} "
@@ -200,27 +205,67 @@ def overall_statement(all_results):
     lighter = sum(1 for v in ratios["stress"] if v < 0)
     lines.append(f"- **The stress-driven Voronoi** is lighter than the isotropic one on "
                  f"{lighter} of {complete} surfaces.")
+    lines.append(f"- **Buildability**, on the {len([r for r in all_results.values() if len(r) == len(PATTERNS)])} "
+                 "surfaces with all five measured (ties count for each): " + "; ".join(
+        f"{what} {leaders(all_results, key)}" for what, key in (
+            ("fewest joint clusters", "joint_clusters"),
+            ("most even beam lengths", "beam_length_similarity"),
+            ("flattest panels", "face_planarity"), ("fewest sections", "distinct_sections"),
+            ("fewest joints", "joints"))) + ".")
     return lines
+
+
+def leaders(all_results, key):
+    """Which pattern has the lowest buildability figure `key`, on how many surfaces."""
+    count = {}
+    for results in all_results.values():
+        if len(results) < len(PATTERNS):
+            continue
+        low = min(round(r["buildability"][key], 3) for r in results.values())
+        for k, r in results.items():
+            if round(r["buildability"][key], 3) <= low:
+                count[k] = count.get(k, 0) + 1
+    return ", ".join(f"{LABEL[k]} on {n}" for k, n in sorted(count.items(), key=lambda x: -x[1]))
+
+
+def combination_lambda(c):
+    """A ULS combination's λ as the sizing checks it (analysis/combination_runs.h): the smaller
+    of λ_imperfect and λ_perfect, else λ_nonlinear, else λ_LBA."""
+    paths = [c[k] for k in ("lambda_imperfect", "lambda_perfect") if c.get(k) is not None]
+    if paths:
+        return min(paths)
+    return c.get("lambda_nonlinear") if c.get("lambda_nonlinear") is not None else c.get(
+        "lambda_lba")
+
+
+def worst(r):
+    """Over the combinations: the largest member utilisation (§6.2 and §6.3 checks), the
+    smallest ULS λ, the largest SLS δ / limit."""
+    combos = r["structure"]["combinations"].values()
+    uls = [c for c in combos if c["uls"]]
+    util = max(max(c["utilisation_max"], c.get("buckling_utilisation_max") or 0) for c in uls)
+    lams = [x for x in map(combination_lambda, uls) if x is not None]
+    delta = max(c["delta_max_m"] / c["delta_limit_m"] for c in combos if not c["uls"])
+    return util, (min(lams) if lams else None), delta
 
 
 def consistency(name, pattern, r):
     """Problems of a report that says sized: true but breaks a check (empty when none)."""
-    s, st = r["sizing"], r["structure"]
-    g = st["governing"]
+    s, g = r["sizing"], r["structure"]["governing"]
     if not s.get("sized"):
         return []
+    util, lam, delta = worst(r)
     bad = []
-    util, lam, lam_min = g.get("utilisation_value"), g.get("lambda_value"), s.get("lambda_min")
-    if util is None or util > 1 + 1e-9:
-        bad.append(f"utilisation {util} > 1")
-    if lam is None or lam < lam_min - 1e-9:
-        bad.append(f"λ {lam} < {lam_min}")
-    if g["delta_m"] > st["delta_limit_m"] * (1 + 1e-9):
-        bad.append(f"δ {1e3 * g['delta_m']:.1f} mm > {1e3 * st['delta_limit_m']:.1f} mm")
-    if not (g.get("pass") and g.get("utilisation_pass") and g.get("lambda_pass")
-            and g.get("delta_pass")):
+    if util > 1 + 1e-9:
+        bad.append(f"utilisation {util:.4f} > 1")
+    if r["structure"].get("lambda_lba") is not None and (lam is None
+                                                         or lam < s["lambda_min"] - 1e-9):
+        bad.append(f"λ {lam} < {s['lambda_min']}")
+    if delta > 1 + 1e-9:
+        bad.append(f"δ {delta:.3f} × its limit")
+    if not all(g.get(k) for k in ("pass", "utilisation_pass", "lambda_pass", "delta_pass")):
         bad.append("a governing verdict says it fails")
-    return [f"{name} / {LABEL[pattern]}: " + "; ".join(bad)] if bad else []
+    return [f"- {name} / {label(pattern, r)}: " + "; ".join(bad)] if bad else []
 
 
 def load(work):
@@ -253,7 +298,11 @@ def how_made(a, commit):
         "(EN 1991-1-3); ULS 1.35 G + 1.5 Q, SLS G + Q (EN 1990) —; S355; each member the "
         "lightest of the 75 hot-finished CHS of EN 10210-2 that passes; non-linear level: "
         "every member check of EN 1993-1-1 ≤ 1, the non-linear λ of every ULS combination with "
-        "the unfavourable imperfection ≥ 1, the SLS δ ≤ span / 300. Mass is the steel of the "
+        "the unfavourable imperfection ≥ 1 (the comparison grids' too), the SLS δ ≤ span / "
+        "300. In the table, utilisation is the largest member check (§6.2 cross-section, §6.3 "
+        "member buckling) over the ULS combinations, λ the smallest ULS combination's (the "
+        "smaller of the perfect and the imperfect path's), δ the largest SLS one's against "
+        "its limit. Mass is the steel of the "
         "members (joints not included); kg/m² per m² of plan. Seconds: wall time under other "
         "work on the shared 2-core machine (this script runs at nice 19), and CPU time "
         "(user + sys of the run), the comparable figure.", ""]
@@ -284,6 +333,14 @@ def section(a, all_results, notes, problems, commit):
     out += ["What it says, per surface (sized rows compared):", ""]
     out += [surface_statement(n, r) for n, r in all_results.items() if r] + [""]
     out += ["Overall:", ""] + overall_statement(all_results) + [""]
+    out += ["How to read it: every pattern here has the stress-driven design's beam length, not "
+            "its own best cell size (with sizing, a pattern is better compared at that; "
+            "`design --objective mass` searches it for the Voronoi); the mass is the members' "
+            "only, and a triangulated grid's joints of valence 5–7 cost more to make than the "
+            "Voronoi's of valence 3 (the joint clusters above count the kinds, not their cost). "
+            "A triangulated grid carries the load by membrane action in its members; the "
+            "Voronoi's valence-3 joints make the cells carry it by bending, which the sizing "
+            "pays for in steel.", ""]
     return out
 
 
