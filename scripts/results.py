@@ -710,7 +710,7 @@ def main():
            "against the free ones, with where the flat stage falls back, are docs/panels.md; how the sizing "
            "(`--size`) works is docs/sizing.md, and the patterns sized to the code (steel mass "
            "and buildability at equal safety) are section 8 (`python3 scripts/sizing_table.py`, "
-           "kept as it is when this script regenerates the rest).", "",
+           "which `scripts/results.py` keeps when it regenerates the rest).", "",
            f"This regeneration: {time.time() - started:.0f} s wall-clock with --jobs {a.jobs}; "
            f"{runner.ran} runs made, {runner.reused} reused from "
            f"`{os.path.relpath(work, ROOT)}/`; sweeps made: {runner.sweeps_ran}, reused: "

@@ -46,7 +46,7 @@ SURFACES = (["builtin:funicular"]
             + ["builtin:dome", "builtin:barrel", "builtin:paraboloid", "builtin:court"])
 nan = float("nan")
 PATTERNS = ["stress", "iso", "quad", "quad-aniso", "tri"]
-LABEL = {"stress": "Voronoi, stress-driven", "iso": "Voronoi, isotropic", "quad": "quad",
+LABEL = {"stress": "stress-driven Voronoi", "iso": "isotropic Voronoi", "quad": "quad",
          "quad-aniso": "quad-aniso", "tri": "triangle"}
 
 
@@ -156,14 +156,14 @@ def kg(x):
 def surface_statement(name, results):
     """One plain line: which pattern is lightest and by how much; the buildability leaders."""
     sized = {k: r for k, r in results.items() if r["sizing"].get("sized")}
-    failed = [f"{LABEL[k]} not sized ({verdict(r['sizing'])[8:]})"
+    failed = [f"the {LABEL[k]} not sized ({verdict(r['sizing'])[8:]})"
               for k, r in results.items() if k not in sized]
     if not sized:
         return f"- **{name}**: no pattern sized; " + "; ".join(failed) + "."
     mass = {k: r["sizing"]["mass_kg"] for k, r in sized.items()}
     order = sorted(mass, key=mass.get)
     best, ref = order[0], mass.get("iso")
-    line = f"- **{name}**: lightest the {LABEL[best]}, {kg(mass[best])} kg"
+    line = f"- **{name}**: lightest: {LABEL[best]}, {kg(mass[best])} kg"
     if len(order) > 1:
         line += f", {100 * (1 - mass[best] / mass[order[1]]):.1f} % below the next " \
                 f"({LABEL[order[1]]}, {kg(mass[order[1]])} kg)"
@@ -178,40 +178,48 @@ def surface_statement(name, results):
     line += (f". Fewest joint types: {LABEL[clusters]} ({b[clusters]['joint_clusters']}); "
              f"most even beam lengths: {LABEL[similar]} "
              f"({b[similar]['beam_length_similarity']:.3f})")
-    return line + ("; " + "; ".join(failed) if failed else "") + "."
+    slack = [f"the {LABEL[k]} is bound by no check (utilisation {u:.2f}, λ {lam:.2f}, δ "
+             f"{d:.2f} of its limit): the sizing's ratchet kept steel it no longer needed, so "
+             "its mass is an upper bound"
+             for k, r in sized.items() for u, lam, d in [worst(r)]
+             if u < 0.8 and lam is not None and lam > 1.5 * r["sizing"]["lambda_min"] and d < 0.8]
+    return line + "".join("; " + x for x in failed + slack) + "."
 
 
 def overall_statement(all_results):
-    """Counts of wins and the median mass of each pattern against the isotropic Voronoi."""
+    """Counts of wins, and each pattern's mass against the isotropic Voronoi on the surfaces
+    where both sized; the buildability leaders."""
     wins, ratios, complete = {}, {k: [] for k in PATTERNS}, 0
     for results in all_results.values():
         sized = {k: r["sizing"]["mass_kg"] for k, r in results.items()
                  if r["sizing"].get("sized")}
-        if len(sized) < len(PATTERNS):
-            continue
-        complete += 1
-        best = min(sized, key=sized.get)
-        wins[best] = wins.get(best, 0) + 1
-        for k in PATTERNS:
-            ratios[k].append(100 * (sized[k] / sized["iso"] - 1))
-    if not complete:
-        return []
+        for k in sized:
+            if "iso" in sized:
+                ratios[k].append(100 * (sized[k] / sized["iso"] - 1))
+        if len(sized) == len(PATTERNS):
+            complete += 1
+            best = min(sized, key=sized.get)
+            wins[best] = wins.get(best, 0) + 1
     lines = [f"- **Lightest** on the {complete} surfaces where all five patterns sized: "
              + ", ".join(f"{LABEL[k]} on {n}" for k, n in sorted(wins.items(),
                                                                   key=lambda x: -x[1])) + "."]
-    lines.append("- **Against the isotropic Voronoi** (median, range): " + "; ".join(
-        f"{LABEL[k]} {statistics.median(v):+.1f} % ({min(v):+.1f} … {max(v):+.1f} %)"
-        for k, v in ratios.items() if k != "iso") + ".")
-    lighter = sum(1 for v in ratios["stress"] if v < 0)
+    lines.append("- **Against the isotropic Voronoi** (median and range over the surfaces where "
+                 "both sized): " + "; ".join(
+                     f"{LABEL[k]} {statistics.median(v):+.1f} % ({min(v):+.1f} … "
+                     f"{max(v):+.1f} %, {len(v)} surfaces)"
+                     for k, v in ratios.items() if k != "iso" and v) + ".")
+    stress = ratios["stress"]
     lines.append(f"- **The stress-driven Voronoi** is lighter than the isotropic one on "
-                 f"{lighter} of {complete} surfaces.")
-    lines.append(f"- **Buildability**, on the {len([r for r in all_results.values() if len(r) == len(PATTERNS)])} "
-                 "surfaces with all five measured (ties count for each): " + "; ".join(
-        f"{what} {leaders(all_results, key)}" for what, key in (
-            ("fewest joint clusters", "joint_clusters"),
-            ("most even beam lengths", "beam_length_similarity"),
-            ("flattest panels", "face_planarity"), ("fewest sections", "distinct_sections"),
-            ("fewest joints", "joints"))) + ".")
+                 f"{sum(1 for v in stress if v < 0)} of {len(stress)} surfaces.")
+    full = len([r for r in all_results.values() if len(r) == len(PATTERNS)])
+    lines.append(f"- **Buildability**, on the {full} surfaces with all five measured (ties "
+                 "count for each): " + "; ".join(
+                     f"{what}: {leaders(all_results, key)}" for what, key in (
+                         ("fewest joint clusters", "joint_clusters"),
+                         ("most even beam lengths", "beam_length_similarity"),
+                         ("flattest panels", "face_planarity"),
+                         ("fewest sections", "distinct_sections"), ("fewest joints", "joints")))
+                 + ".")
     return lines
 
 
@@ -293,9 +301,9 @@ def how_made(a, commit):
         "--size`) and the comparison grids (`baseline --kind quad | quad-aniso | tri --length L "
         "--size`; quad-aniso with its own default field, D 3, A 3). British Quad is scaled ×16 "
         "to its real size (section 1); each surface rests on its own supports (section 5).", "",
-        "Sizing (docs/sizing.md): eurocode loads — self-weight, glass and cladding 0.4 kN/m², "
-        "snow s_k 1.0 kN/m² of plan times the roof's shape factor, undrifted and drifted "
-        "(EN 1991-1-3); ULS 1.35 G + 1.5 Q, SLS G + Q (EN 1990) —; S355; each member the "
+        "Sizing (docs/sizing.md): eurocode loads (self-weight; glass and cladding 0.4 kN/m²; "
+        "snow s_k 1.0 kN/m² of plan times the roof's shape factor, undrifted and drifted, "
+        "EN 1991-1-3; ULS 1.35 G + 1.5 Q and SLS G + Q, EN 1990); S355; each member the "
         "lightest of the 75 hot-finished CHS of EN 10210-2 that passes; non-linear level: "
         "every member check of EN 1993-1-1 ≤ 1, the non-linear λ of every ULS combination with "
         "the unfavourable imperfection ≥ 1 (the comparison grids' too), the SLS δ ≤ span / "
@@ -320,14 +328,19 @@ def section(a, all_results, notes, problems, commit):
             if pattern in results:
                 mass.append(mass_row(name, pattern, results[pattern], results.get("iso")))
                 build.append(build_row(name, pattern, results[pattern]))
+    runs = [r["_run"] for results in all_results.values() for r in results.values()]
     out = how_made(a, commit) + mass + [""]
+    out += [f"The {len(runs)} runs took {sum(x['cpu_s'] for x in runs) / 60:.0f} min of CPU "
+            f"({sum(x['wall_s'] for x in runs) / 60:.0f} min wall at nice 19 beside other "
+            "work).", ""]
     out += ["Buildability (FreeGrid figures, docs/buildability.md; lower is easier to build: "
             "1 = flat panels or beams of one length) of the same sized designs:", ""]
     out += build + [""]
-    if notes:
-        out += ["Not measured:", ""] + notes + [""]
-    out += ["Every `sized: true` row passes its checks in its report.json (governing "
-            "utilisation ≤ 1, λ ≥ λ_min, δ ≤ limit)." if not problems else
+    out += ["Not measured:", ""] + notes + [""] if notes else [
+        f"Every surface measured (none over the {a.budget:.0f} s budget per surface).", ""]
+    out += ["Every `sized: true` row passes its checks in its report.json, read back over every "
+            "combination: member checks ≤ 1, ULS λ ≥ λ_min, SLS δ ≤ its limit, the governing "
+            "verdicts pass." if not problems else
             "**Rows reported sized that break a check:**", ""] + problems + ([""] if problems
                                                                              else [])
     out += ["What it says, per surface (sized rows compared):", ""]
