@@ -80,7 +80,10 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   if (parse_frame_source(a.design.field))
     throw Error("--field", "a baseline takes stress | uniform | FILE");
   DesignSettings settings = a.design;
-  settings.single_path = true;  // a baseline follows the perfect path only
+  // A baseline follows the perfect path only, except when sized: --size checks every ULS
+  // combination's λ with the unfavourable imperfection (docs/sizing.md), as design does, so that
+  // the patterns are sized to the same safety.
+  settings.single_path = !settings.sizing.size;
   bo.field = build_design_options(settings);
   analysis::GridshellFrameOptions frame = bo.field.frame;
   const analysis::FrameAnalysisOptions& options = bo.field.frame_analysis;

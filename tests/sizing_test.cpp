@@ -349,3 +349,30 @@ TEST(Sizing, ConfigRepeatsASizedDesign) {
   EXPECT_EQ(b["structure"]["loads"], "eurocode");
   EXPECT_EQ(a["sizing"]["mass_kg"].get<double>(), b["sizing"]["mass_kg"].get<double>());
 }
+
+TEST(Sizing, ASizedBaselineChecksTheImperfectPathAsDesignDoes) {
+  // At the non-linear level, --size holds λ ≥ λ_min with the unfavourable imperfection
+  // (docs/sizing.md) for a baseline as for a design; unsized, a baseline follows the perfect
+  // path only.
+  const fs::path d = test::temp_dir("sized_baseline");
+  const std::string quad = "baseline builtin:dome --kind quad --length 150 --quiet --figures none ";
+  const auto r = test::run_gridshell(quad + "--size -o " + d.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto report = read_json(d / "report.json");
+  ASSERT_TRUE(report["sizing"]["sized"].get<bool>());
+  const auto& governing = report["structure"]["governing"];
+  const auto& weakest = report["structure"]["combinations"][governing["lambda"].get<std::string>()];
+  ASSERT_TRUE(weakest["lambda_imperfect"].is_number()) << weakest.dump();
+  const double imperfect = weakest["lambda_imperfect"].get<double>();
+  const double perfect = weakest["lambda_perfect"].get<double>();
+  EXPECT_DOUBLE_EQ(governing["lambda_value"].get<double>(), std::min(imperfect, perfect));
+  EXPECT_GE(governing["lambda_value"].get<double>(), 1.0);
+  EXPECT_TRUE(report["structure"]["imperfection"]["tried"].is_array());  // the signs and modes
+
+  const fs::path u = test::temp_dir("unsized_baseline");
+  const auto plain = test::run_gridshell(quad + "-o " + u.string());
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  const auto unsized = read_json(u / "report.json")["structure"];
+  EXPECT_TRUE(unsized["lambda_imperfect"].is_null());
+  EXPECT_TRUE(unsized["lambda_perfect"].is_number());
+}
