@@ -452,6 +452,19 @@ TEST_F(KitTest, EveryJointHasAFlatBaseWithItsIdEngraved) {
                            worst_floor, thinnest);
 }
 
+/// One hub written as its STL at `path` and read back: it must be a closed solid without
+/// self-intersections (CGAL).
+Mesh hub_read_back(const kit::HubPlan& hub, const kit::KitOptions& options,
+                   const std::filesystem::path& path) {
+  io::write_file_atomic(path, kit::hub_stl(hub, options));
+  Mesh m;
+  EXPECT_TRUE(CGAL::IO::read_polygon_mesh(path.string(), m)) << path;
+  EXPECT_TRUE(CGAL::is_closed(m)) << path;
+  EXPECT_FALSE(PMP::does_self_intersect(m)) << path;
+  EXPECT_TRUE(PMP::does_bound_a_volume(m)) << path;
+  return m;
+}
+
 // A corner support of the default design: two beams along +x and +y, mirror images about the
 // plane x = y. Mirror-image polygons used to meet along edges shared by four faces (a pinched,
 // non-manifold STL); the hub must be a closed manifold solid.
@@ -464,13 +477,7 @@ TEST(Kit, MirrorSymmetricCornerJointIsAManifoldSolid) {
   kit::KitOptions options;
   options.scale = 10;
   const auto hubs = kit::plan_hubs(frame, options);
-  const auto path = test::temp_dir("kit_corner") / "J0.stl";
-  io::write_file_atomic(path, kit::hub_stl(hubs[0], options));
-  Mesh m;
-  ASSERT_TRUE(CGAL::IO::read_polygon_mesh(path.string(), m));
-  EXPECT_TRUE(CGAL::is_closed(m));
-  EXPECT_FALSE(PMP::does_self_intersect(m));
-  EXPECT_TRUE(PMP::does_bound_a_volume(m));
+  const Mesh m = hub_read_back(hubs[0], options, test::temp_dir("kit_corner") / "J0.stl");
   // Seat: two holes of r = 1.6 mm at 90° a 1.2 mm wall apart: s = (0.6 + r cos 45°) / sin 45°.
   const double r = 1.6, expected = (0.6 + r * std::sqrt(0.5)) / std::sqrt(0.5);
   EXPECT_NEAR(hubs[0].sockets[0].seat, expected, 1e-12);
@@ -496,12 +503,7 @@ TEST(Kit, BeamsCloseTogetherAreJoinedOneByOne) {
   const auto dir = test::temp_dir("kit_close");
   for (int j = 0; j < 2; ++j) {
     const auto path = dir / fmt::format("J{}.stl", j);
-    io::write_file_atomic(path, kit::hub_stl(hubs[j], options));
-    Mesh m;
-    ASSERT_TRUE(CGAL::IO::read_polygon_mesh(path.string(), m));
-    EXPECT_TRUE(CGAL::is_closed(m)) << path;
-    EXPECT_FALSE(PMP::does_self_intersect(m)) << path;
-    EXPECT_TRUE(PMP::does_bound_a_volume(m)) << path;
+    const Mesh m = hub_read_back(hubs[j], options, path);
     for (const kit::Socket& s : hubs[j].sockets) {
       const MeasuredSocket ms = measure_socket(m, s.axis);
       EXPECT_LT(std::acos(std::clamp(ms.axis.dot(s.axis), -1.0, 1.0)) * 180 / std::numbers::pi,
@@ -533,13 +535,7 @@ TEST(Kit, ThickRodsUnderASmallIdStillGiveAPlateWiderThanItsStem) {
   ASSERT_LT(kit::label_half_size(0, options.label_stroke).norm() + options.label_stroke,
             hubs[0].sleeve_radius);
   ASSERT_NEAR(hubs[0].base_radius, 1.25 * hubs[0].sleeve_radius, 1e-12);  // before the hub is cut
-  const auto path = test::temp_dir("kit_thick") / "J0.stl";
-  io::write_file_atomic(path, kit::hub_stl(hubs[0], options));
-  Mesh m;
-  ASSERT_TRUE(CGAL::IO::read_polygon_mesh(path.string(), m));
-  EXPECT_TRUE(CGAL::is_closed(m));
-  EXPECT_FALSE(PMP::does_self_intersect(m));
-  EXPECT_TRUE(PMP::does_bound_a_volume(m));
+  hub_read_back(hubs[0], options, test::temp_dir("kit_thick") / "J0.stl");
 }
 
 TEST_F(KitTest, PanelsAreCutAtScaleWithTheKerf) {
