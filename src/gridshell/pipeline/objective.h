@@ -124,6 +124,9 @@ struct Candidate {
   double mass_kg = 0;      ///< steel of the sized (or, when not sized, last tried) members
   std::string governing;   ///< the check closest to its limit ("member", "deflection", "stability")
   double governing_ratio = 0;  ///< that check's utilisation (≤ 1 when sized)
+  /// `mass`: why its sizing again at the user's level failed, when it was tried there and
+  /// failed (the search then tries the next lightest); empty otherwise.
+  std::string final_failure;
 };
 
 struct ObjectiveResult {

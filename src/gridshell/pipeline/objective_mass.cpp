@@ -179,49 +179,104 @@ Pending second_round(const std::vector<Evaluated>& all, int max_designs) {
   return round;
 }
 
-/// The lightest sized candidate, why, and its design sized again at the user's level.
+/// The sized candidates, lightest first (ties: the first); the reference alone when none is.
+std::vector<int> by_mass(const std::vector<Evaluated>& all) {
+  std::vector<int> order;
+  for (int i = 0; i < static_cast<int>(all.size()); ++i)
+    if (all[i].candidate.ok) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(), [&all](int a, int b) {
+    return all[a].candidate.mass_kg < all[b].candidate.mass_kg;
+  });
+  if (order.empty()) order.push_back(0);
+  return order;
+}
+
+/// How many candidates, lightest first, are sized at the user's level before the lightest is
+/// kept even though it fails there: each is a full sizing with non-linear paths.
+constexpr std::size_t kFinalTries = 3;
+
+/// Why the chosen candidate was kept, and which lighter ones failed at the user's level.
+std::string mass_reason(const ObjectiveResult& res, const MassSearch& m, bool any_sized) {
+  if (!any_sized) {
+    return fmt::format(
+        "no candidate could be sized at analysis level {}: the isotropic design at the "
+        "requested size is kept, and its sizing at the full level says what fails",
+        to_string(m.level));
+  }
+  const Candidate& c = res.candidates[res.chosen];
+  std::string failed;
+  int tried = 0;
+  for (const Candidate& e : res.candidates) {
+    if (e.final_failure.empty()) continue;
+    ++tried;
+    failed += fmt::format("{}{}: {}", failed.empty() ? "" : "; ", e.setting.label(),
+                          e.final_failure);
+  }
+  const auto sized = std::count_if(res.candidates.begin(), res.candidates.end(),
+                                   [](const Candidate& e) { return e.ok; });
+  const std::string which =
+      failed.empty() ? fmt::format("the lightest of the {} sized candidates", sized)
+      : c.final_failure.empty()
+          ? fmt::format("the lightest of the {} sized candidates that also passes at level {} "
+                        "(lighter, failing there: {})",
+                        sized, to_string(m.base.analyze), failed)
+          : fmt::format("the lightest of the {} sized candidates, kept although none of the {} "
+                        "lightest passes at level {} ({})",
+                        sized, tried, to_string(m.base.analyze), failed);
+  if (res.isotropic_best < 0) {
+    return fmt::format("{} is {} ({:.0f} kg at level {}); no isotropic design could be sized",
+                       c.setting.label(), which, c.mass_kg, to_string(m.level));
+  }
+  const Candidate& iso = res.candidates[res.isotropic_best];
+  return fmt::format("{} is {} ({:.0f} kg at level {}), {:.1f} % lighter than the lightest "
+                     "isotropic design ({}, {:.0f} kg)",
+                     c.setting.label(), which, c.mass_kg, to_string(m.level),
+                     100 * res.mass_saving_vs_isotropic, iso.setting.label(), iso.mass_kg);
+}
+
+/// The lightest sized candidate that also passes when sized again at the user's level (the
+/// lightest, then the next ones, kFinalTries at most; the lightest when none passes), and why.
 ObjectiveResult choose_lightest(std::vector<Evaluated>& all, MassSearch& m,
                                 const ObjectiveOptions& options) {
   ObjectiveResult res;
   res.objective = Objective::mass;
   res.search_level = m.level;
   for (const Evaluated& e : all) res.candidates.push_back(e.candidate);
-  const int best = lightest(all, [](const FieldSetting&) { return true; });
-  res.chosen = std::max(0, best);
   res.isotropic_best =
       lightest(all, [](const FieldSetting& s) { return s.source == FieldSource::uniform; });
+  const std::vector<int> order = by_mass(all);
+  DesignResult lightest_design;
+  for (std::size_t k = 0; k < order.size() && k < kFinalTries; ++k) {
+    if (stop_requested(options.stop)) throw Stopped{};
+    const int i = order[k];
+    DesignResult d = std::move(*all[i].design);
+    carry_field_to_input(m.surface, d, m.cache);
+    if (m.base.analyze != m.level) {
+      GridshellStructure s =
+          analyze_structure(d.mesh, d.supports, m.base.frame, m.base.frame_analysis,
+                            {m.base.analyze, sizing::MemberSizing::sized, m.sizing});
+      d.structure = std::move(s.result);
+      d.sizing = std::move(s.sizing);
+    }
+    const bool passes = m.base.analyze == m.level || !d.sizing || d.sizing->sized;
+    if (passes || !all[i].candidate.ok) {
+      res.chosen = i;
+      res.design = std::move(d);
+      break;
+    }
+    res.candidates[static_cast<std::size_t>(i)].final_failure = d.sizing->failure;
+    spdlog::info("[objective] {} fails at level {} ({}); trying the next lightest",
+                 all[i].candidate.setting.label(), to_string(m.base.analyze), d.sizing->failure);
+    if (k == 0) lightest_design = std::move(d);
+    if (k + 1 == order.size() || k + 1 == kFinalTries) {
+      res.chosen = order[0];
+      res.design = std::move(lightest_design);
+    }
+  }
   const Candidate& c = res.candidates[res.chosen];
-  if (best < 0) {
-    res.reason = fmt::format(
-        "no candidate could be sized at analysis level {}: the isotropic design at the "
-        "requested size is kept, and its sizing at the full level says what fails",
-        to_string(m.level));
-  } else if (res.isotropic_best >= 0) {
-    const Candidate& iso = res.candidates[res.isotropic_best];
-    res.mass_saving_vs_isotropic = 1 - c.mass_kg / iso.mass_kg;
-    res.reason = fmt::format(
-        "{} is the lightest of the {} sized candidates ({:.0f} kg at level {}), {:.1f} % "
-        "lighter than the lightest isotropic design ({}, {:.0f} kg)",
-        c.setting.label(),
-        std::count_if(all.begin(), all.end(), [](const Evaluated& e) { return e.candidate.ok; }),
-        c.mass_kg, to_string(m.level), 100 * res.mass_saving_vs_isotropic, iso.setting.label(),
-        iso.mass_kg);
-  } else {
-    res.reason = fmt::format(
-        "{} is the lightest sized candidate ({:.0f} kg at level {}); no "
-        "isotropic design could be sized",
-        c.setting.label(), c.mass_kg, to_string(m.level));
-  }
-  if (stop_requested(options.stop)) throw Stopped{};
-  res.design = std::move(*all[res.chosen].design);
-  carry_field_to_input(m.surface, res.design, m.cache);
-  if (m.base.analyze != m.level) {
-    GridshellStructure s =
-        analyze_structure(res.design.mesh, res.design.supports, m.base.frame, m.base.frame_analysis,
-                          {m.base.analyze, sizing::MemberSizing::sized, m.sizing});
-    res.design.structure = std::move(s.result);
-    res.design.sizing = std::move(s.sizing);
-  }
+  if (res.isotropic_best >= 0 && c.ok)
+    res.mass_saving_vs_isotropic = 1 - c.mass_kg / res.candidates[res.isotropic_best].mass_kg;
+  res.reason = mass_reason(res, m, all[order[0]].candidate.ok);
   res.mass_kg = sizing::steel_mass(res.design.mesh, analysed_frame(m.base, res.design));
   spdlog::info("[objective] chose {} ({}); sized at level {}: {:.0f} kg, {}", c.setting.label(),
                res.reason, to_string(m.base.analyze), res.mass_kg,
@@ -300,6 +355,7 @@ nlohmann::json mass_report(const ObjectiveResult& r) {
     if (c.lambda > 0) e["lambda_linear_buckling"] = c.lambda;
     if (c.delta > 0) e["delta_max_m"] = c.delta;
     if (!c.error.empty()) e["failure"] = c.error;
+    if (!c.final_failure.empty()) e["final_failure"] = c.final_failure;
     list.push_back(e);
   }
   j["candidates"] = list;
