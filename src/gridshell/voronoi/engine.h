@@ -76,6 +76,14 @@ struct Engine {
   double energy = 0;                       ///< CVT energy Σ_i ∫_{V_i} |x − s_i|² dA
   std::vector<int> cell_start, cell_tris;  ///< per seed: the triangles its region meets
   std::vector<std::vector<Piece>> chunk_pieces;  ///< per block of triangles, reused
+  /// Per support triangle on M′: its area and first moment (area · centroid) as integrate() adds
+  /// a whole triangle to a cell, and a ball around it (centroid, largest corner distance) that
+  /// lets place_on_region() skip triangles that cannot hold the closest point. Refinement only
+  /// adds triangles, so a cache whose size is not the triangle count is stale and is filled again.
+  std::vector<double> tri_area;
+  std::vector<Vec3> tri_moment;
+  std::vector<Vec3> tri_center;
+  std::vector<double> tri_radius;
 
   /// The point (support triangle t, barycentrics b) on M′ and on M.
   Vec3 point(int t, const Vec3& b) const {

@@ -152,6 +152,31 @@ void clip(Poly& P, const Vec3& si, const Vec3& sj) {
   std::copy(q, q + m, P.p);
 }
 
+/// Fills the engine's per-triangle cache for the current support mesh when it is stale (the
+/// same arithmetic as a whole triangle's piece had, so the integrals do not change by a bit).
+void cache_triangles(Engine& E) {
+  const int nt = E.S.deformed.num_faces();
+  if (static_cast<int>(E.tri_area.size()) == nt) return;
+  E.tri_area.resize(nt);
+  E.tri_moment.resize(nt);
+  E.tri_center.resize(nt);
+  E.tri_radius.resize(nt);
+  const auto& F = E.S.deformed.F;
+  tbb::parallel_for(tbb::blocked_range<int>(0, nt, 4096), [&](const tbb::blocked_range<int>& r) {
+    for (int t = r.begin(); t < r.end(); ++t) {
+      const Vec3 pa = E.S.deformed.vertex(F(t, 0)), pb = E.S.deformed.vertex(F(t, 1)),
+                 pc = E.S.deformed.vertex(F(t, 2));
+      const double ar = triangle_area(pa, pb, pc);
+      E.tri_area[t] = ar;
+      E.tri_moment[t] = ar * (pa + pb + pc) / 3.0;
+      const Vec3 g = (pa + pb + pc) / 3.0;
+      E.tri_center[t] = g;
+      E.tri_radius[t] =
+          std::sqrt(std::max({(pa - g).squaredNorm(), (pb - g).squaredNorm(), (pc - g).squaredNorm()}));
+    }
+  });
+}
+
 }  // namespace
 
 void compute_labels(Engine& E, int first, int labelled) {
@@ -161,13 +186,21 @@ void compute_labels(Engine& E, int first, int labelled) {
   const int ns = static_cast<int>(E.seeds.size());
   labelled = std::min(labelled, static_cast<int>(E.label.size()));
   E.label.resize(nv, 0);
+  // A vertex without a label of its own takes the label of the vertex whose edge split made it
+  // (followed back to a labelled one) as its hint: any seed is an exact hint, a near one is cheap.
+  const int known = std::max(labelled, std::min(first, static_cast<int>(E.label.size())));
+  const auto hint = [&](int v) {
+    int u = v;
+    while (u >= known && u < static_cast<int>(E.S.split_end.size())) u = E.S.split_end[u];
+    const int l = u >= 0 && u < known ? E.label[u] : -1;
+    return l >= 0 && l < ns ? l : -1;
+  };
   tbb::parallel_for(
       tbb::blocked_range<int>(first, nv, 4096), [&](const tbb::blocked_range<int>& r) {
         for (int v = r.begin(); v < r.end(); ++v) {
           const Vec3 p = E.S.deformed.vertex(v);
-          E.label[v] = v < labelled && E.label[v] >= 0 && E.label[v] < ns
-                           ? grid.nearest(p, E.label[v])
-                           : grid.nearest(p);
+          const int h = hint(v);
+          E.label[v] = h >= 0 ? grid.nearest(p, h) : grid.nearest(p);
         }
       });
 }
@@ -183,6 +216,7 @@ void integrate(Engine& E) {
   const int nb = (nt + kBlock - 1) / kBlock;
   E.chunk_pieces.resize(nb);
   const auto& F = E.S.deformed.F;
+  cache_triangles(E);
   auto tri_energy = [](const Vec3& a, const Vec3& b, const Vec3& c, double ar) {
     return ar / 6.0 *
            (a.squaredNorm() + b.squaredNorm() + c.squaredNorm() + a.dot(b) + b.dot(c) + c.dot(a));
@@ -199,10 +233,9 @@ void integrate(Engine& E) {
         const Vec3 pa = E.S.deformed.vertex(a), pb = E.S.deformed.vertex(b),
                    pc = E.S.deformed.vertex(c);
         if (la == lb && lb == lc) {
-          const double ar = triangle_area(pa, pb, pc);
+          const double ar = E.tri_area[t];
           const Vec3& s = E.seeds[la].pos;
-          out.push_back(
-              {la, t, ar, tri_energy(pa - s, pb - s, pc - s, ar), ar * (pa + pb + pc) / 3.0});
+          out.push_back({la, t, ar, tri_energy(pa - s, pb - s, pc - s, ar), E.tri_moment[t]});
           continue;
         }
         int nc = 0;
@@ -262,18 +295,44 @@ void integrate(Engine& E) {
     for (const Piece& p : blk) E.cell_tris[fill[p.cell]++] = p.tri;
 }
 
+/// The closest point is the first, in the region's order, of the triangles at the least
+/// distance. A triangle whose ball (tri_center, tri_radius) is farther from c than an upper
+/// bound of that distance cannot be it and is skipped: the bound is the distance to the triangle
+/// whose centre is nearest to c, the skip test keeps a relative margin of 1e-9 far above
+/// round-off, so the answer is the one of the full search, bit for bit.
 double place_on_region(Engine& E, int i, const Vec3& c) {
+  cache_triangles(E);
   const auto& F = E.S.deformed.F;
+  const auto distance2 = [&](int t, Vec3& w) {
+    w = closest_point_on_triangle(c, E.S.deformed.vertex(F(t, 0)), E.S.deformed.vertex(F(t, 1)),
+                                  E.S.deformed.vertex(F(t, 2)))
+            .bary;
+    return (E.point(t, w) - c).squaredNorm();
+  };
+  double bound = std::numeric_limits<double>::infinity();
+  {
+    int near = -1;
+    double g2 = std::numeric_limits<double>::infinity();
+    for (int s = E.cell_start[i]; s < E.cell_start[i + 1]; ++s) {
+      const int t = E.cell_tris[s];
+      const double d = (E.tri_center[t] - c).squaredNorm();
+      if (d < g2) {
+        g2 = d;
+        near = t;
+      }
+    }
+    Vec3 w;
+    if (near >= 0) bound = distance2(near, w) * (1 + 1e-9);
+  }
   double best = std::numeric_limits<double>::infinity();
   int bt = E.seeds[i].tri;
   Vec3 bb = E.seeds[i].bary;
   for (int s = E.cell_start[i]; s < E.cell_start[i + 1]; ++s) {
     const int t = E.cell_tris[s];
-    const Vec3 w = closest_point_on_triangle(c, E.S.deformed.vertex(F(t, 0)),
-                                             E.S.deformed.vertex(F(t, 1)),
-                                             E.S.deformed.vertex(F(t, 2)))
-                       .bary;
-    const double d = (E.point(t, w) - c).squaredNorm();
+    const double gap = (E.tri_center[t] - c).norm() - E.tri_radius[t] * (1 + 1e-9) - 1e-12;
+    if (gap > 0 && gap * gap > std::min(best, bound) * (1 + 1e-9)) continue;
+    Vec3 w;
+    const double d = distance2(t, w);
     if (d < best) {
       best = d;
       bt = t;

@@ -22,11 +22,14 @@ SupportMesh make_support_mesh(const TriMesh& rest, const TriMesh& deformed) {
   SupportMesh m;
   m.rest = rest;
   m.deformed = deformed;
+  m.original = rest.F;
   m.parent.resize(rest.num_faces());
-  m.parent_bary.assign(rest.num_faces(), Eigen::Matrix3d::Identity());
   for (int f = 0; f < rest.num_faces(); ++f) m.parent[f] = f;
   m.origin.resize(n);
   for (int v = 0; v < n; ++v) m.origin[v] = {v, v};
+  m.origin_weights.assign(n, Vec3(1, 0, 0));
+  m.origin_face.assign(n, -1);
+  m.split_end.assign(n, -1);
   return m;
 }
 
@@ -47,6 +50,90 @@ std::array<int, 2> midpoint_origin(const std::array<int, 2>& a, const std::array
 }
 }  // namespace
 
+namespace {
+
+/// Barycentric coordinates of refined vertex v in original triangle f (which must hold it).
+/// Exact: the entries are the vertex's dyadic weights placed at their corners.
+Vec3 weights_in(const SupportMesh& m, int v, int f) {
+  const auto [a, b] = m.origin[v];
+  if (a < 0) return m.origin_weights[v];  // inside a triangle: f itself
+  Vec3 w = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const int c = m.original(f, k);
+    if (c == a) w(k) = a == b ? 1.0 : m.origin_weights[v](0);
+    if (c == b && a != b) w(k) = m.origin_weights[v](1);
+  }
+  return w;
+}
+
+/// The new vertex's place on the original mesh: the midpoint of a and b, which lie in original
+/// triangle f.
+void add_midpoint_origin(SupportMesh& m, int a, int b, int f) {
+  const std::array<int, 2> o = midpoint_origin(m.origin[a], m.origin[b]);
+  const Vec3 w = 0.5 * (weights_in(m, a, f) + weights_in(m, b, f));
+  Vec3 ow(1, 0, 0);
+  if (o[0] < 0) {
+    ow = w;
+  } else {
+    for (int k = 0; k < 3; ++k) {
+      if (m.original(f, k) == o[0]) ow(0) = w(k);
+      if (m.original(f, k) == o[1]) ow(1) = w(k);
+    }
+  }
+  m.origin.push_back(o);
+  m.origin_weights.push_back(ow);
+  m.origin_face.push_back(o[0] < 0 ? f : -1);
+}
+
+/// Sub-triangles (corner slots 0–2, midpoints 3 + k of side k) of a triangle by its split sides.
+int split_pattern(const int id[6], const SupportMesh& m, int out[4][3]) {
+  int marked = 0;
+  for (int k = 0; k < 3; ++k)
+    if (id[3 + k] >= 0) ++marked;
+  const auto put = [&](int i, int p, int q, int r) {
+    out[i][0] = p;
+    out[i][1] = q;
+    out[i][2] = r;
+  };
+  if (marked == 0) {
+    put(0, 0, 1, 2);
+    return 1;
+  }
+  if (marked == 3) {
+    put(0, 0, 3, 5);
+    put(1, 3, 1, 4);
+    put(2, 5, 4, 2);
+    put(3, 3, 4, 5);
+    return 4;
+  }
+  if (marked == 1) {
+    int k = 0;
+    while (id[3 + k] < 0) ++k;
+    const int c0 = k, c1 = (k + 1) % 3, c2 = (k + 2) % 3, mk = 3 + k;
+    put(0, c0, mk, c2);
+    put(1, mk, c1, c2);
+    return 2;
+  }
+  // Two marked edges: rotate so that the unmarked one is (c1, c2); marked (c0,c1), (c2,c0).
+  int u = 0;
+  while (id[3 + u] >= 0) ++u;
+  const int c1 = u, c2 = (u + 1) % 3, c0 = (u + 2) % 3;
+  const int m01 = 3 + c0, m20 = 3 + c2;
+  put(0, c0, m01, m20);
+  const double d1 = (m.deformed.vertex(id[m01]) - m.deformed.vertex(id[c2])).squaredNorm();
+  const double d2 = (m.deformed.vertex(id[c1]) - m.deformed.vertex(id[m20])).squaredNorm();
+  if (d1 <= d2) {
+    put(1, m01, c1, c2);
+    put(2, m01, c2, m20);
+  } else {
+    put(1, m01, c1, m20);
+    put(2, m20, c1, c2);
+  }
+  return 3;
+}
+
+}  // namespace
+
 int refine_support_mesh(SupportMesh& m, const std::function<bool(int, int)>& split,
                         std::vector<int>* source) {
   const int nf = m.rest.num_faces();
@@ -61,101 +148,69 @@ int refine_support_mesh(SupportMesh& m, const std::function<bool(int, int)>& spl
       if (a > b) std::swap(a, b);
       if (split(a, b)) sides.emplace_back(edge_key(a, b), 3 * f + k);
     }
-  std::sort(sides.begin(), sides.end());
-  std::vector<int> side_mid(sides.empty() ? 0 : 3 * static_cast<std::size_t>(nf), -1);
-  std::vector<Vec3> new_rest, new_def;
-  int nv = m.rest.num_vertices();
-  const int nv0 = nv;
-  for (std::size_t i = 0; i < sides.size(); ++i) {
-    const std::uint64_t key = sides[i].first;
-    if (i == 0 || key != sides[i - 1].first) {
-      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xFFFFFFFFu);
-      ++nv;
-      new_rest.push_back(0.5 * (m.rest.vertex(a) + m.rest.vertex(b)));
-      new_def.push_back(0.5 * (m.deformed.vertex(a) + m.deformed.vertex(b)));
-      m.origin.push_back(midpoint_origin(m.origin[a], m.origin[b]));
-    }
-    side_mid[sides[i].second] = nv - 1;
-  }
-  const int added = nv - nv0;
-  if (added == 0) {
+  if (sides.empty()) {
     if (source) {
       source->resize(nf);
       for (int f = 0; f < nf; ++f) (*source)[f] = f;
     }
     return 0;
   }
-  if (source) source->clear();
-  m.rest.V.conservativeResize(nv, 3);
-  m.deformed.V.conservativeResize(nv, 3);
-  for (int i = 0; i < added; ++i) {
-    m.rest.V.row(nv0 + i) = new_rest[i].transpose();
-    m.deformed.V.row(nv0 + i) = new_def[i].transpose();
+  std::sort(sides.begin(), sides.end());
+  std::vector<int> side_mid(3 * static_cast<std::size_t>(nf), -1);
+  const int nv0 = m.rest.num_vertices();
+  int added = 0;
+  for (std::size_t i = 0; i < sides.size(); ++i)
+    if (i == 0 || sides[i].first != sides[i - 1].first) ++added;
+  m.rest.V.conservativeResize(nv0 + added, 3);
+  m.deformed.V.conservativeResize(nv0 + added, 3);
+  m.origin.reserve(nv0 + added);
+  m.origin_weights.reserve(nv0 + added);
+  m.origin_face.reserve(nv0 + added);
+  m.split_end.reserve(nv0 + added);
+  int nv = nv0;
+  for (std::size_t i = 0; i < sides.size(); ++i) {
+    const std::uint64_t key = sides[i].first;
+    if (i == 0 || key != sides[i - 1].first) {
+      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xFFFFFFFFu);
+      m.rest.V.row(nv) = 0.5 * (m.rest.V.row(a) + m.rest.V.row(b));
+      m.deformed.V.row(nv) = 0.5 * (m.deformed.V.row(a) + m.deformed.V.row(b));
+      add_midpoint_origin(m, a, b, m.parent[sides[i].second / 3]);
+      m.split_end.push_back(a);
+      ++nv;
+    }
+    side_mid[sides[i].second] = nv - 1;
   }
-  std::vector<std::array<int, 3>> tris;
-  std::vector<int> parent;
-  std::vector<Eigen::Matrix3d> pbary;
-  tris.reserve(static_cast<std::size_t>(nf) * 2);
+  // Sub-triangles, counted first so that the new arrays are allocated once.
+  std::vector<int> first(nf + 1, 0);
+  int pattern[4][3];
   for (int f = 0; f < nf; ++f) {
     int id[6];
-    Vec3 bary[6];
     for (int k = 0; k < 3; ++k) {
       id[k] = m.rest.F(f, k);
-      bary[k] = m.parent_bary[f].row(k).transpose();
-    }
-    int marked = 0;
-    for (int k = 0; k < 3; ++k) {
       id[3 + k] = side_mid[3 * static_cast<std::size_t>(f) + k];
-      bary[3 + k] = 0.5 * (bary[k] + bary[(k + 1) % 3]);
-      if (id[3 + k] >= 0) ++marked;
     }
-    auto emit = [&](int p, int q, int r) {
-      tris.push_back({id[p], id[q], id[r]});
-      parent.push_back(m.parent[f]);
-      if (source) source->push_back(f);
-      Eigen::Matrix3d B;
-      B.row(0) = bary[p].transpose();
-      B.row(1) = bary[q].transpose();
-      B.row(2) = bary[r].transpose();
-      pbary.push_back(B);
-    };
-    if (marked == 0) {
-      emit(0, 1, 2);
-    } else if (marked == 3) {
-      emit(0, 3, 5);
-      emit(3, 1, 4);
-      emit(5, 4, 2);
-      emit(3, 4, 5);
-    } else if (marked == 1) {
-      int k = 0;
-      while (id[3 + k] < 0) ++k;
-      const int c0 = k, c1 = (k + 1) % 3, c2 = (k + 2) % 3, mk = 3 + k;
-      emit(c0, mk, c2);
-      emit(mk, c1, c2);
-    } else {
-      // Two marked edges: rotate so that the unmarked one is (c1, c2); marked (c0,c1), (c2,c0).
-      int u = 0;
-      while (id[3 + u] >= 0) ++u;
-      const int c1 = u, c2 = (u + 1) % 3, c0 = (u + 2) % 3;
-      const int m01 = 3 + c0, m20 = 3 + c2;
-      emit(c0, m01, m20);
-      const double d1 = (m.deformed.vertex(id[m01]) - m.deformed.vertex(id[c2])).squaredNorm();
-      const double d2 = (m.deformed.vertex(id[c1]) - m.deformed.vertex(id[m20])).squaredNorm();
-      if (d1 <= d2) {
-        emit(m01, c1, c2);
-        emit(m01, c2, m20);
-      } else {
-        emit(m01, c1, m20);
-        emit(m20, c1, c2);
-      }
+    first[f + 1] = first[f] + split_pattern(id, m, pattern);
+  }
+  Triangles F(first[nf], 3);
+  std::vector<int> parent(first[nf]);
+  if (source) source->resize(first[nf]);
+  for (int f = 0; f < nf; ++f) {
+    int id[6];
+    for (int k = 0; k < 3; ++k) {
+      id[k] = m.rest.F(f, k);
+      id[3 + k] = side_mid[3 * static_cast<std::size_t>(f) + k];
+    }
+    const int n = split_pattern(id, m, pattern);
+    for (int i = 0; i < n; ++i) {
+      const int t = first[f] + i;
+      for (int k = 0; k < 3; ++k) F(t, k) = id[pattern[i][k]];
+      parent[t] = m.parent[f];
+      if (source) (*source)[t] = f;
     }
   }
-  m.rest.F.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    for (int k = 0; k < 3; ++k) m.rest.F(static_cast<int>(t), k) = tris[t][k];
+  m.rest.F = std::move(F);
   m.deformed.F = m.rest.F;
   m.parent = std::move(parent);
-  m.parent_bary = std::move(pbary);
   return added;
 }
 
@@ -187,7 +242,10 @@ int refine_to_length(SupportMesh& m, double max_edge, std::vector<int>* source) 
 }
 
 std::pair<int, Vec3> to_original(const SupportMesh& m, int t, const Vec3& b) {
-  Vec3 w = m.parent_bary[t].transpose() * b;
+  const int f = m.parent[t];
+  Eigen::Matrix3d B;
+  for (int k = 0; k < 3; ++k) B.row(k) = weights_in(m, m.rest.F(t, k), f).transpose();
+  Vec3 w = B.transpose() * b;
   w = w.cwiseMax(0.0);
   const double s = w.sum();
   if (s > 0) w /= s;

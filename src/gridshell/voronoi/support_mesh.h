@@ -6,7 +6,7 @@
 /// (triangle + barycentrics) are mapped back to the original M exactly: refined triangles lie in
 /// the planes of their parents.
 ///
-/// Cost: one pass is O(F) time and memory (hash map of split edges); `refine_to_length` does
+/// Cost: one pass is O(F) time and memory (the split edges sorted); `refine_to_length` does
 /// O(log(max edge / target)) passes.
 
 #include <array>
@@ -20,13 +20,21 @@ namespace gridshell {
 struct SupportMesh {
   TriMesh rest;      ///< refined M (where the output lives), metres
   TriMesh deformed;  ///< refined M' (where distances are measured)
+  /// The original mesh's triangles (its vertices keep their ids in the refined mesh).
+  Triangles original;
   /// Per refined triangle: the triangle of the original mesh that contains it.
   std::vector<int> parent;
-  /// Per refined triangle: row k = barycentric coordinates of its corner k in `parent`.
-  std::vector<Eigen::Matrix3d> parent_bary;
   /// Per refined vertex: (a, a) if it is original vertex a; (a, b), a < b, if it lies inside
   /// the original edge a–b; (-1, -1) if inside an original triangle.
   std::vector<std::array<int, 2>> origin;
+  /// Per refined vertex, where it lies on the original mesh as barycentric weights — exact
+  /// dyadic numbers, as midpoint splits make them: inside edge (a, b) the weights of a and b
+  /// (entries 0 and 1); inside a triangle (`origin_face`) the weights of its three corners.
+  std::vector<Vec3> origin_weights;
+  std::vector<int> origin_face;  ///< per refined vertex: the original triangle it is inside, or -1
+  /// Per refined vertex: the lower-numbered end of the edge whose midpoint it is (-1 for an
+  /// original vertex), a vertex next to it with a smaller number.
+  std::vector<int> split_end;
 };
 
 /// The unrefined support mesh of (rest, deformed). Throws Error when the two meshes do not have
