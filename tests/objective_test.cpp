@@ -93,6 +93,11 @@ TEST(Objective, ReferenceIsTheIsotropicBaselineAndTheChoiceFollowsTheRule) {
     EXPECT_EQ(r.design.mesh.num_faces(), chosen.cells);
     ASSERT_TRUE(r.design.structure);
     EXPECT_DOUBLE_EQ(r.design.structure->delta_max_m, chosen.delta);
+    // Candidates look for the first buckling mode only; the chosen design has the options' five,
+    // and the first of them is the candidate's λ₁ to the eigensolver's round-off.
+    ASSERT_EQ(r.design.structure->buckling_lambdas.size(),
+              static_cast<std::size_t>(base.frame_analysis.buckling_modes));
+    EXPECT_NEAR(r.design.structure->buckling_lambdas.front() / chosen.lambda, 1.0, 1e-10);
     const auto j = r.report();
     EXPECT_EQ(j.at("candidates").size(), r.candidates.size());
     EXPECT_EQ(j.at("chosen").get<int>(), r.chosen);

@@ -26,8 +26,15 @@ double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
+/// A field candidate is judged by λ₁ and δ alone, so its buckling analysis looks for the first
+/// mode only (the Lanczos iteration converges in fewer steps than for five); the chosen design is
+/// analysed again as the options ask. The isotropic design keeps the options' modes: its mode
+/// energy (the modes within 10 % of λ₁) is the frame-mode candidates' field.
+constexpr int kCandidateModes = 1;
+
 DesignOptions candidate_options(const DesignOptions& base, const FieldSetting& s, double length) {
   DesignOptions o = base;
+  if (s.source != FieldSource::uniform) o.frame_analysis.buckling_modes = kCandidateModes;
   o.field_options.D = s.D;
   o.field_options.A = s.A;
   o.field = s.source == FieldSource::uniform ? FieldInput::uniform : FieldInput::stress;
@@ -442,7 +449,9 @@ ObjectiveResult choose(const Surface& surface, std::vector<Evaluated>& all,
   if (base.analyze == analysis::AnalysisLevel::none) {
     res.design.structure.reset();
   } else if (base.analyze != analysis::AnalysisLevel::buckling ||
-             base.sizing == sizing::MemberSizing::sized) {
+             base.sizing == sizing::MemberSizing::sized ||
+             (c.setting.source != FieldSource::uniform &&
+              base.frame_analysis.buckling_modes != kCandidateModes)) {
     GridshellStructure s =
         analyze_structure(res.design.mesh, res.design.supports, base.frame, base.frame_analysis,
                           {base.analyze, base.sizing, base.sizing_options});

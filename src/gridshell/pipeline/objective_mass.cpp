@@ -50,6 +50,7 @@ struct MassSearch {
 
 DesignOptions mass_options(const MassSearch& m, const FieldSetting& s) {
   DesignOptions o = candidate_options(m.base, s, 0);
+  o.frame_analysis.buckling_modes = m.base.frame_analysis.buckling_modes;  // the sizing's LBA
   o.analyze = m.level;
   o.sizing = sizing::MemberSizing::sized;
   o.sizing_options = m.sizing;
