@@ -18,6 +18,8 @@
 #include "gridshell/fem/frame_element.h"
 #include "gridshell/fem/frame_solver.h"
 #include "gridshell/mesh/topology.h"
+#include "gridshell/pipeline/design.h"
+#include "gridshell/surfaces/load.h"
 
 using namespace gridshell;
 using namespace gridshell::fem;
@@ -282,6 +284,34 @@ TEST(FrameNonlinear, PathStopsWhenOnlyLambdaAtTheDisplacementLimitIsAsked) {
   EXPECT_TRUE(full.lambda_nonlinear.has_value());
   EXPECT_FALSE(cut.lambda_nonlinear.has_value());
   EXPECT_EQ(cut.nonlinear_stop_reason, "maximum displacement reached");
+}
+
+// A path that creeps towards a limit it cannot pass — the funicular at four times its size with
+// 40 cells, where the step is cut back before every point near the end and λ rises by less than
+// 2e-5 a step — ends once it has stalled: the λ of the same path followed until its radius
+// reaches the floor (the rule off), to 1e-6, for fewer factorisations.
+TEST(FrameNonlinear, AStalledPathEndsWithTheLambdaOfTheWholeCreep) {
+  SurfaceOptions scaled;
+  scaled.scale = 4;
+  const Surface s = load_surface("builtin:funicular:res=16", scaled);
+  DesignOptions o;
+  o.tessellation.cells = 40;
+  o.field_options.D = o.field_options.A = 2;
+  o.analyze = analysis::AnalysisLevel::nonlinear;
+  o.frame_analysis.stability = false;
+  const DesignResult stalled = run_design(s, o);
+  o.frame_analysis.arc.stall_steps = 0;
+  const DesignResult crept = run_design(s, o);
+  ASSERT_TRUE(stalled.structure && crept.structure);
+  const analysis::FrameResult &a = *stalled.structure, &b = *crept.structure;
+  ASSERT_TRUE(a.lambda_nonlinear && b.lambda_nonlinear);
+  std::printf("stalled: lambda %.9f, %d factorisations (%s); whole creep: %.9f, %d (%s)\n",
+              *a.lambda_nonlinear, a.nonlinear_factorizations, a.nonlinear_stop_reason.c_str(),
+              *b.lambda_nonlinear, b.nonlinear_factorizations, b.nonlinear_stop_reason.c_str());
+  EXPECT_EQ(a.nonlinear_stop_reason, "the path stalled below a limit it could not pass");
+  EXPECT_EQ(b.nonlinear_stop_reason, "the arc-length step could not converge");
+  EXPECT_NEAR(*a.lambda_nonlinear / *b.lambda_nonlinear, 1.0, 1e-6);
+  EXPECT_LT(a.nonlinear_factorizations, b.nonlinear_factorizations);
 }
 
 // A cantilever under an end moment M = 2π EI / L rolls up into a full circle.

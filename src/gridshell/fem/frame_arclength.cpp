@@ -436,6 +436,8 @@ class PathWalker {
   FrameState stable_state_;
   bool bracketing_ = false;
   double ceiling_ = 0;  // lowered after a step that crossed into the unstable region
+  bool cut_since_accept_ = false;  // a cut-back since the last accepted step
+  int stalled_ = 0;                // accepted steps in a row that barely raised λ after a cut-back
 };
 
 bool PathWalker::begin(const FrameState& start) {
@@ -454,6 +456,7 @@ bool PathWalker::begin(const FrameState& start) {
 // A failed step halves the arc length; false (with the reason set) once it is below ds_min.
 bool PathWalker::cut_back() {
   ++res_.cutbacks;
+  cut_since_accept_ = true;
   ds_ *= 0.5;
   if (ds_ >= ds_min_) return true;
   res_.stop_reason = "the arc-length step could not converge";
@@ -467,6 +470,7 @@ bool PathWalker::retry_shorter(StepOutcome outcome) {
   // bend, not the critical point itself): retry a little shorter and keep the radius below
   // this one for a while, instead of halving and growing back into the same failure.
   ++res_.cutbacks;
+  cut_since_accept_ = true;
   ceiling_ = ds_ = 0.7 * ds_;
   if (ds_ >= ds_min_) return true;
   res_.stop_reason = "the arc-length step could not converge";
@@ -493,6 +497,10 @@ bool PathWalker::accept(Converged& next, int its) {
   ut_cur_ = solver_cur_->solve(mesh_.load);
   ++res_.steps;
   first_ = false;
+  const bool crept = cut_since_accept_ && next.lambda - cur_.lambda <
+                                              opt_.stall_tolerance * std::abs(cur_.lambda);
+  stalled_ = crept ? stalled_ + 1 : 0;
+  cut_since_accept_ = false;
   cur_ = std::move(next);
   lam_max_ = std::max(lam_max_, cur_.lambda);
   const double umax = max_displacement(mesh_, cur_.state);
@@ -507,6 +515,11 @@ bool PathWalker::accept(Converged& next, int its) {
     return false;
   }
   stable_state_ = cur_.state;
+  if (opt_.stall_steps > 0 && stalled_ >= opt_.stall_steps) {
+    res_.stop_reason = "the path stalled below a limit it could not pass";
+    spdlog::debug("arc-length step {}: lambda {:.8g}, stalled", res_.steps, cur_.lambda);
+    return false;
+  }
   if (!bracketing_) {
     ds_ = std::min(next_radius(ds_, its, opt_.desired_iterations, ds_max_), ceiling_);
     ceiling_ *= 1.05;

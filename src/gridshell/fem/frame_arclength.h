@@ -47,6 +47,13 @@ struct ArcLengthOptions {
   int max_iterations = 40;
   double tolerance = 1e-8;           ///< residual norm relative to |λ f|
   double critical_tolerance = 2e-4;  ///< relative width of the bracket on the critical λ
+  /// A path has stalled, and ends, when `stall_steps` steps in a row were each accepted only after
+  /// a cut-back and each raised λ by less than stall_tolerance·λ: it creeps towards a limit it
+  /// cannot pass (the radius shrinking step by step towards its floor). λ_critical is then the
+  /// largest λ reached, as for a step that cannot converge; the λ the remaining creep could add
+  /// is far below critical_tolerance. 0 steps: never.
+  int stall_steps = 3;
+  double stall_tolerance = 2e-5;
   bool stop_at_critical = true;
   Progress progress = {};  ///< told after every step (empty: nobody listens)
   /// Called at every point added to the path (λ = 0 first, in path order) with its converged
