@@ -58,10 +58,16 @@ Vec3 weights_in(const SupportMesh& m, int v, int f) {
   const auto [a, b] = m.origin[v];
   if (a < 0) return m.origin_weights[v];  // inside a triangle: f itself
   Vec3 w = Vec3::Zero();
+  bool put_a = false, put_b = a == b;  // each weight at one corner (a corner id repeated: the first)
   for (int k = 0; k < 3; ++k) {
     const int c = m.original(f, k);
-    if (c == a) w(k) = a == b ? 1.0 : m.origin_weights[v](0);
-    if (c == b && a != b) w(k) = m.origin_weights[v](1);
+    if (c == a && !put_a) {
+      w(k) = a == b ? 1.0 : m.origin_weights[v](0);
+      put_a = true;
+    } else if (c == b && !put_b) {
+      w(k) = m.origin_weights[v](1);
+      put_b = true;
+    }
   }
   return w;
 }
