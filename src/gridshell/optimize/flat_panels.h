@@ -85,6 +85,14 @@ struct FlatPanelOptions {
   /// of these surface weights in turn and the first result that passes is kept (the check is the
   /// same). Measured: 20 adds Neumünster (docs/panels.md); each retry costs one more stage.
   std::vector<double> retry_surface_weights = {20};
+  /// Restarts per surface weight of an attempt that fails the post-check: the joints of the
+  /// failing panels (self-intersecting, with a beam shorter than allowed or a joint too far from
+  /// the surface) and of their neighbouring panels get `restart_stiffness` times their design
+  /// weight (cumulative), and the optimisation runs again from the start. Measured
+  /// (docs/panels.md): passes 10 of the 11 surfaces instead of 7; factor 5 or only the failing
+  /// panels' own joints pass fewer unseen designs.
+  int restarts = 5;
+  double restart_stiffness = 10;
   /// w_0: joint to the design's joint. Measured (docs/panels.md): 0.1 lets boundary cells slide
   /// their inner joints past the boundary (self-intersecting panels on all six shared surfaces);
   /// 1 keeps the cells' shape.
@@ -99,6 +107,10 @@ struct FlatPanelOptions {
   /// its design length; keeps beams from collapsing or turning over (a T1 flip).
   double beam_weight = 10;
   double beam_keep = 0.5;
+  /// A boundary joint of k ≥ 3 panels is split into k − 1 joints along the boundary; their
+  /// targets start this many × the design's shortest beam apart, in order along the boundary
+  /// (from one point they would leave a beam the post-check counts as collapsed, or cross).
+  double split_spacing = 1.0;
   /// w_in: hinge keeping each joint of three panels inside the triangle of its panels' centres
   /// (never stricter than the design joint's own place).
   double inside_weight = 10;
@@ -142,7 +154,7 @@ struct FlatPanelStats {
   double out_of_plane_max = 0;  ///< m, corner to its panel's own plane (the post-check)
   double surface_distance_max = 0;  ///< m, the farthest joint from the input surface
   double shortest_beam = 0;      ///< m
-  int attempts = 1;              ///< optimisations run (1 + the retries needed)
+  int attempts = 1;              ///< optimisations run (1 + the retries and restarts needed)
   double surface_weight = 0;     ///< w_s of the attempt that passed
   double seconds = 0;
 };
