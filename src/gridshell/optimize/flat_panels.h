@@ -14,7 +14,8 @@
 ///   (normal n_s × t; it cuts the panels' common edge at right angles); with one panel (a
 ///   corner): the panel's plane, the boundary plane and the plane through the joint normal to t,
 ///   so the joint stays on the surface normal through its design position; with k ≥ 3 panels:
-///   split into k − 1 joints u_i = boundary plane ∩ f_i ∩ f(i+1), joined along the boundary.
+///   split into k − 1 joints u_i = boundary plane ∩ f_i ∩ f(i+1), joined along the boundary, their
+///   targets in order along it (`split_spacing`).
 /// - supports: on the boundary, as boundary joints (on their boundary plane, near their design
 ///   position like any joint); interior supports (columns) held at their design position by a
 ///   strong spring (`support_weight`); a split support stays a support at its first part.
@@ -35,8 +36,11 @@
 /// post-check's shortest.
 /// Beam flips: a beam the planes still shrink below the post-check's shortest is turned over (T1:
 /// a = A∩B∩C, b = A∩B∩D become A∩C∩D, B∩C∩D) and the steps run again (`flip_rounds`).
-/// Retry: a result that fails the post-check is optimised again from the start with each of
-/// `retry_surface_weights`; the first that passes the same post-check is kept.
+/// Restarts: a result that fails the post-check is optimised again from the start with the joints
+/// of the failing panels (self-intersecting, a beam too short, a joint too far off) and of their
+/// neighbours held closer to their design positions, which pass every check (`restarts`,
+/// `restart_stiffness`). Retry: then the same with each of `retry_surface_weights`; the first
+/// result that passes the same post-check is kept.
 /// Start: nearly planar panels by a ShapeUp-like alternation with a rising planarity weight
 /// (best-fit plane per panel, then each joint nearest to its three planes, the surface and its
 /// design position); their planes start the Levenberg–Marquardt steps. When two of a joint's
@@ -49,8 +53,8 @@
 /// span, no beam collapsed (`min_beam_ratio`); otherwise FlatPanelsFailed (never a silent pass).
 ///
 /// Cost: O(joints) per iteration plus one sparse Cholesky of 3 × panels unknowns (analysed once
-/// per round); up to 1 + flip_rounds rounds of max_iterations steps per attempt, 1 + retries
-/// attempts (bench/flat_panels_bench.cpp: Botanic at about 1200 panels).
+/// per round); up to 1 + flip_rounds rounds of max_iterations steps per attempt, (1 + restarts) ×
+/// (1 + retries) attempts (bench/flat_panels_bench.cpp: Botanic at about 1200 panels).
 
 #include <string>
 #include <vector>
