@@ -223,6 +223,28 @@ void expect_true_outlines(const PolyMesh& m) {
   }
 }
 
+TEST(FlatBoundary, BoundaryFlipsLetThePanelBehindReachTheBoundary) {
+  // The funicular at 500 cells (D = A = 2): without flips at the boundary, beams from boundary
+  // joints to interior ones shrink below the limit and boundary panels self-intersect in every
+  // attempt; with them the panel behind such a beam reaches the boundary and every check holds.
+  const Surface s = make_builtin("funicular");
+  const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
+  DesignOptions o;
+  o.analyze = analysis::AnalysisLevel::none;
+  o.tessellation.cells = 500;
+  o.tessellation.seed = 1;
+  o.field_options.D = o.field_options.A = 2;
+  o.panels = PanelMode::flat;
+  const DesignResult r = run_design(s, o);
+  ASSERT_EQ(r.details["flat_panels"]["panels"], "flat") << r.details["flat_panels"].dump();
+  expect_flat(r.mesh, s.mesh, std::max(extent.x(), extent.y()));
+  expect_true_outlines(r.mesh);
+  const Topology t = build_topology(r.mesh);
+  for (int e = 0; e < t.num_edges(); ++e) EXPECT_LE(t.edge_faces[e].size(), 2u);
+  o.flat.boundary_flips = false;
+  EXPECT_EQ(run_design(s, o).details["flat_panels"]["panels"], "free");
+}
+
 TEST(FlatPanels, OutlinesAreTheTrueShapes) {
   const Pair p = designs("dome", 80);
   ASSERT_EQ(p.flat.details["flat_panels"]["panels"], "flat");

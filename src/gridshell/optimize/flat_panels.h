@@ -122,6 +122,9 @@ struct FlatPanelOptions {
   /// Rounds of beam flips (T1) where the planes shrank a beam below the post-check's shortest,
   /// each followed by the Levenberg–Marquardt steps again (0: none).
   int flip_rounds = 3;
+  /// Also flip short beams from a boundary joint of two panels to an interior joint: the panel
+  /// behind reaches the boundary (docs/panels.md).
+  bool boundary_flips = true;
   double tolerance = 1e-7;        ///< stop when the energy falls by less than this fraction
   double max_out_of_plane = 5e-4; ///< m: the post-check (0.5 mm)
   /// The post-check: no joint farther from the surface than this × its span (larger plan side).
