@@ -107,8 +107,8 @@ bool flip_boundary(Layout& L, Problem& P, const Planes& pl, int b, int i) {
   if (shared.size() != 2) return false;
   const int D = third_plane(Ji, shared[0], shared[1]);
   if (D < 0 || slot_of(L.faces[D], b) >= 0 || slot_of(L.faces[D], i) < 0) return false;
-  // A: the panel whose boundary neighbour of b comes before it (b's side), C the other.
-  int A = shared[0], C = shared[1];
+  // A and C: b's two panels, either way round (b's new target goes to A's side, i's to C's).
+  const int A = shared[0], C = shared[1];
   for (int f : {A, C})
     if (L.faces[f].size() < 4 || slot_of(L.faces[f], b) < 0 || slot_of(L.faces[f], i) < 0)
       return false;

@@ -35,7 +35,8 @@
 /// parallel (|det| < min_det), a panel that was simple self-intersects or a beam falls below the
 /// post-check's shortest.
 /// Beam flips: a beam the planes still shrink below the post-check's shortest is turned over (T1:
-/// a = A∩B∩C, b = A∩B∩D become A∩C∩D, B∩C∩D) and the steps run again (`flip_rounds`).
+/// a = A∩B∩C, b = A∩B∩D become A∩C∩D, B∩C∩D; at the boundary b = Bnd∩A∩C, i = A∩C∩D become
+/// Bnd∩A∩D, Bnd∩C∩D, `boundary_flips`) and the steps run again (`flip_rounds`).
 /// Restarts: a result that fails the post-check is optimised again from the start with the joints
 /// of the failing panels (self-intersecting, a beam too short, a joint too far off) and of their
 /// neighbours held closer to their design positions, which pass every check (`restarts`,
@@ -93,8 +94,8 @@ struct FlatPanelOptions {
   /// failing panels (self-intersecting, with a beam shorter than allowed or a joint too far from
   /// the surface) and of their neighbouring panels get `restart_stiffness` times their design
   /// weight (cumulative), and the optimisation runs again from the start. Measured
-  /// (docs/panels.md): passes 10 of the 11 surfaces instead of 7; factor 5 or only the failing
-  /// panels' own joints pass fewer unseen designs.
+  /// (docs/panels.md): 10 of the 11 surfaces pass instead of 7; holding only the failing panels'
+  /// own joints, 9; factor 5 passes as many as 10.
   int restarts = 5;
   double restart_stiffness = 10;
   /// w_0: joint to the design's joint. Measured (docs/panels.md): 0.1 lets boundary cells slide

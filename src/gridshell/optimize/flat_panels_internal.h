@@ -88,7 +88,7 @@ struct Problem {
   double h = 1;                 ///< mean beam length
   double shortest_allowed = 0;  ///< the post-check's shortest beam (m)
   /// Per joint: a factor on its design weight (empty: 1 everywhere). A region whose panels
-  /// self-intersected in an earlier attempt is held closer to the design (flat_panels.cpp).
+  /// failed the post-check in an earlier attempt is held closer to the design (flat_panels.cpp).
   std::vector<double> stiffness;
   FlatPanelOptions o;
 };
