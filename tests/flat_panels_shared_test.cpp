@@ -1,7 +1,7 @@
 // Flat panels on the six shared real surfaces (heavy; skips without ../shared/data). Where the
 // flat stage succeeds: every panel flat to ≤ 0.5 mm, simple, without overlaps, joints within 1 %
-// of the span of the surface. Where it fails its post-check (most of these surfaces today,
-// docs/panels.md): the design says why and keeps exactly its free panels.
+// of the span of the surface. Where it fails its post-check (Shell and Aquadom at these
+// settings, docs/panels.md): the design says why and keeps exactly its free panels.
 
 #include <gtest/gtest.h>
 

@@ -171,6 +171,42 @@ TEST(FlatBuiltin, KeepsTheFreePanelsAndSaysWhyWhereItFails) {
   }
 }
 
+TEST(FlatBoundary, TheDefaultFunicularPassesWithRestartsAndSpreadSplitJoints) {
+  // The default surface at the settings (300 cells, D = A = 2): without restarts its
+  // boundary panels self-intersect (seed 1: 9 panels; seed 2 also leaves split boundary joints
+  // at one point, a collapsed beam). A restart holds the failing panels' region closer to the
+  // design; split boundary joints start apart along the boundary. Both seeds must now pass every
+  // check, and with the restarts and the spread switched off they fail (the same post-check).
+  const Surface s = make_builtin("funicular");
+  const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
+  const double span = std::max(extent.x(), extent.y());
+  for (unsigned seed : {1u, 2u}) {
+    DesignOptions o;
+    o.analyze = analysis::AnalysisLevel::none;
+    o.tessellation.cells = 300;
+    o.tessellation.seed = seed;
+    o.field_options.D = o.field_options.A = 2;
+    o.panels = PanelMode::flat;
+    const DesignResult r = run_design(s, o);
+    const nlohmann::json& info = r.details["flat_panels"];
+    ASSERT_EQ(info["panels"], "flat") << "seed " << seed << ": " << info.dump();
+    EXPECT_GT(info["attempts"].get<int>(), 1) << "seed " << seed;
+    if (seed == 2) {
+      EXPECT_GT(info["split_joints"].get<int>(), 0);
+    }
+    expect_flat(r.mesh, s.mesh, span);
+    EXPECT_LE(r.panels.out_of_plane_max, 5e-4);
+    EXPECT_EQ(r.panels.self_intersecting, 0);
+
+    o.flat.restarts = 0;
+    o.flat.split_spacing = 0;
+    const DesignResult before = run_design(s, o);
+    EXPECT_EQ(before.details["flat_panels"]["panels"], "free") << "seed " << seed;
+    EXPECT_NE(before.details["flat_panels"].value("failure", std::string()).find("self-intersect"),
+              std::string::npos);
+  }
+}
+
 /// panels.svg draws FlatPanel::outline: for a flat panel its edges are the 3-D edges to 1e-9.
 void expect_true_outlines(const PolyMesh& m) {
   const Topology t = build_topology(m);
@@ -185,6 +221,28 @@ void expect_true_outlines(const PolyMesh& m) {
       EXPECT_NEAR(flat, space, 1e-9);
     }
   }
+}
+
+TEST(FlatBoundary, BoundaryFlipsLetThePanelBehindReachTheBoundary) {
+  // The funicular at 500 cells (D = A = 2): without flips at the boundary, beams from boundary
+  // joints to interior ones shrink below the limit and boundary panels self-intersect in every
+  // attempt; with them the panel behind such a beam reaches the boundary and every check holds.
+  const Surface s = make_builtin("funicular");
+  const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
+  DesignOptions o;
+  o.analyze = analysis::AnalysisLevel::none;
+  o.tessellation.cells = 500;
+  o.tessellation.seed = 1;
+  o.field_options.D = o.field_options.A = 2;
+  o.panels = PanelMode::flat;
+  const DesignResult r = run_design(s, o);
+  ASSERT_EQ(r.details["flat_panels"]["panels"], "flat") << r.details["flat_panels"].dump();
+  expect_flat(r.mesh, s.mesh, std::max(extent.x(), extent.y()));
+  expect_true_outlines(r.mesh);
+  const Topology t = build_topology(r.mesh);
+  for (int e = 0; e < t.num_edges(); ++e) EXPECT_LE(t.edge_faces[e].size(), 2u);
+  o.flat.boundary_flips = false;
+  EXPECT_EQ(run_design(s, o).details["flat_panels"]["panels"], "free");
 }
 
 TEST(FlatPanels, OutlinesAreTheTrueShapes) {

@@ -88,6 +88,59 @@ bool flip(Layout& L, Problem& P, const Planes& pl, int a, int b) {
   return true;
 }
 
+/// Flips boundary beam (b, i) between faces A and C: b = Bnd ∩ A ∩ C a boundary joint of two
+/// panels, i = A ∩ C ∩ D an interior joint. The third panel D reaches the boundary: b becomes
+/// Bnd ∩ A ∩ D, i becomes Bnd ∩ C ∩ D, joined by a new boundary side of D along Bnd (A and C
+/// lose a corner each, D gains two). Returns true when done.
+bool flip_boundary(Layout& L, Problem& P, const Planes& pl, int b, int i) {
+  Joint &Jb = L.joints[b], &Ji = L.joints[i];
+  if (Jb.support || Ji.support || Jb.along != 0) return false;
+  int fixed = 0, bnd = 0;
+  for (int s : Jb.plane)
+    if (s < 0) ++fixed, bnd = s;
+  for (int s : Ji.plane)
+    if (s < 0) return false;
+  if (fixed != 1) return false;
+  std::vector<int> shared;
+  for (int s : Jb.plane)
+    if (s >= 0 && contains({Ji.plane[0], Ji.plane[1], Ji.plane[2]}, s)) shared.push_back(s);
+  if (shared.size() != 2) return false;
+  const int D = third_plane(Ji, shared[0], shared[1]);
+  if (D < 0 || slot_of(L.faces[D], b) >= 0 || slot_of(L.faces[D], i) < 0) return false;
+  // A and C: b's two panels, either way round (b's new target goes to A's side, i's to C's).
+  const int A = shared[0], C = shared[1];
+  for (int f : {A, C})
+    if (L.faces[f].size() < 4 || slot_of(L.faces[f], b) < 0 || slot_of(L.faces[f], i) < 0)
+      return false;
+  const Vec3 m = L.fixed_normal[-1 - bnd];
+  Vec3 w = m.cross(pl.n[D]);
+  if (!(w.norm() > 1e-9)) return false;
+  w.normalize();
+  // b's neighbour in A other than i (pA): the new b sits on A's side of the old b.
+  auto other_neighbour = [&](int f) {
+    const auto& face = L.faces[f];
+    const int n = static_cast<int>(face.size()), k = slot_of(face, b);
+    const int prev = face[(k + n - 1) % n], next = face[(k + 1) % n];
+    return prev == i ? next : prev;
+  };
+  const int pA = other_neighbour(A);
+  if (w.dot(P.x0[pA] - P.x0[b]) < 0) w = -w;
+  const std::vector<int> face_a = L.faces[A];
+  L.faces[A].erase(L.faces[A].begin() + slot_of(L.faces[A], i));
+  L.faces[C].erase(L.faces[C].begin() + slot_of(L.faces[C], b));
+  insert_beside(L.faces[D], i, b, face_a);  // b next to i's neighbour in A
+  Jb.plane[0] = bnd, Jb.plane[1] = A, Jb.plane[2] = D;
+  Ji.plane[0] = bnd, Ji.plane[1] = C, Ji.plane[2] = D;
+  const double half = 0.5 * (P.x0[b] - P.x0[i]).norm();
+  const Vec3 at = P.x0[b];
+  P.x0[b] = at + half * w;
+  P.x0[i] = at - half * w;
+  P.anchor[i] = P.anchor[b];
+  remove_neighbour(P.face_neighbours[A], C);
+  remove_neighbour(P.face_neighbours[C], A);
+  return true;
+}
+
 }  // namespace
 
 int flip_collapsed_beams(Layout& L, Problem& P, const Planes& pl, const std::vector<Vec3>& x,
@@ -105,7 +158,8 @@ int flip_collapsed_beams(Layout& L, Problem& P, const Planes& pl, const std::vec
     if (flips >= max_flips) break;
     const Beam B = P.beams[c.second];
     if (touched[B.a] || touched[B.b]) continue;  // one flip per joint per round
-    if (flip(L, P, pl, B.a, B.b)) {
+    if (flip(L, P, pl, B.a, B.b) || (P.o.boundary_flips && (flip_boundary(L, P, pl, B.a, B.b) ||
+                                                            flip_boundary(L, P, pl, B.b, B.a)))) {
       touched[B.a] = touched[B.b] = 1;
       ++flips;
     }

@@ -118,11 +118,20 @@ Layout build_layout(const PolyMesh& design, const std::vector<Vec3>& vertex_norm
         part_of[k - 1] = {k - 2};
       }
     }
+    std::vector<double> along(parts.size(), 0.0);
+    Vec3 tangent = Vec3::Zero();
+    if (boundary && k >= 3) {  // the parts in order along the boundary, centred on the joint
+      tangent = boundary_frame(design, v, c.front().prev, c.back().next, vertex_normal[v]).second;
+      for (std::size_t i = 0; i < parts.size(); ++i)
+        along[i] = static_cast<double>(i) - 0.5 * static_cast<double>(parts.size() - 1);
+    }
     std::vector<int> ids(parts.size());
     for (std::size_t i = 0; i < parts.size(); ++i) {
       ids[i] = i == 0 ? v : static_cast<int>(L.joints.size());
       if (i > 0) L.joints.push_back({v, {0, 0, 0}, false, false});
       for (int s = 0; s < 3; ++s) L.joints[ids[i]].plane[s] = parts[i][s];
+      L.joints[ids[i]].along = along[i];
+      L.joints[ids[i]].tangent = tangent;
     }
     if (parts.size() > 1) ++L.split;
     for (int j = 0; j < k; ++j) {

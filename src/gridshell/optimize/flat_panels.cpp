@@ -292,11 +292,39 @@ std::string post_check_failure(const PostCheck& c, const FlatPanelOptions& o,
 
 namespace {
 
+/// For a restart after a failed post-check: multiplies by `factor` the stiffness of the joints of
+/// every failing panel (not simple, a side shorter than the post-check allows, a corner farther
+/// from the surface than `limit`) and of its neighbouring panels. Their design positions pass
+/// every check (on the surface, simple cells, design-length beams), so the next attempt keeps
+/// that region closer to them and lets the planes elsewhere take up the curvature.
+void hold_failing_regions(const Layout& L, const Problem& P, const Planes& pl,
+                          const std::vector<Vec3>& x, const SurfaceProjector& projector,
+                          double limit, double factor, std::vector<double>& stiffness) {
+  std::vector<char> mark(L.joints.size(), 0);
+  for (std::size_t f = 0; f < L.faces.size(); ++f) {
+    const auto& face = L.faces[f];
+    std::vector<Vec3> p;
+    bool bad = false;
+    for (std::size_t k = 0; k < face.size(); ++k) {
+      p.push_back(x[face[k]]);
+      bad |= !((x[face[(k + 1) % face.size()]] - x[face[k]]).norm() >= P.shortest_allowed);
+      bad |= !(projector.distance(x[face[k]]) <= limit);
+    }
+    if (!bad && simple_2d(in_plane(p, pl.n[f]))) continue;
+    for (int j : face) mark[j] = 1;
+    for (int g : P.face_neighbours[f])
+      for (int j : L.faces[g]) mark[j] = 1;
+  }
+  for (std::size_t j = 0; j < mark.size(); ++j)
+    if (mark[j]) stiffness[j] *= factor;
+}
+
 /// One run of the optimisation with `options` (its surface weight), checked; throws
-/// FlatPanelsFailed when the result fails the post-check.
+/// FlatPanelsFailed when the result fails the post-check, after raising `stiffness` (per joint,
+/// in and out) where it failed (hold_failing_regions).
 FlatPanelResult flat_attempt(const PolyMesh& design, const std::vector<int>& supports,
                              const TriMesh& surface, const SurfaceProjector& projector,
-                             const FlatPanelOptions& options) {
+                             const FlatPanelOptions& options, std::vector<double>& stiffness) {
   FlatPanelResult out;
   const int nv = design.num_vertices(), nf = design.num_faces();
   std::vector<char> is_support(nv, 0);
@@ -326,11 +354,14 @@ FlatPanelResult flat_attempt(const PolyMesh& design, const std::vector<int>& sup
   }
   P.h = topo.num_edges() ? length / topo.num_edges() : 1;
   if (!(P.h > 0)) throw FlatPanelsFailed("the grid-shell has no length");
+  const double shortest_design = shortest_beam(design, topo);
   for (const Joint& J : L.joints) {
-    P.x0.push_back(x0[J.source]);
+    P.x0.push_back(x0[J.source] + J.along * options.split_spacing * shortest_design * J.tangent);
     P.anchor.push_back(design_anchor[J.source]);
   }
-  P.shortest_allowed = options.min_beam_ratio * shortest_beam(design, topo);
+  P.shortest_allowed = options.min_beam_ratio * shortest_design;
+  stiffness.resize(L.joints.size(), 1.0);
+  P.stiffness = stiffness;
   P.beams = beams_of(L, P.x0, options.beam_keep);
   P.inside = inside_sides(L, P.x0);
   const std::vector<Anchor> anchors = P.anchor;
@@ -394,7 +425,11 @@ FlatPanelResult flat_attempt(const PolyMesh& design, const std::vector<int>& sup
                 1e3 * std::max(c.own_plane, c.best_fit), c.self_intersecting, c.shortest,
                 P.shortest_allowed, c.farthest, options.max_surface_distance * c.span);
   const std::string failure = post_check_failure(c, options, P.shortest_allowed);
-  if (!failure.empty()) throw FlatPanelsFailed(failure);
+  if (!failure.empty()) {
+    hold_failing_regions(L, P, pl, x, projector, options.max_surface_distance * c.span,
+                         options.restart_stiffness, stiffness);
+    throw FlatPanelsFailed(failure);
+  }
   return out;
 }
 
@@ -411,22 +446,34 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
   weights.insert(weights.end(), options.retry_surface_weights.begin(),
                  options.retry_surface_weights.end());
   std::string first_failure;
+  int attempts = 0;
   for (std::size_t k = 0; k < weights.size(); ++k) {
     FlatPanelOptions o = options;
     o.surface_weight = weights[k];
-    try {
-      out = flat_attempt(design, supports, surface, projector, o);
-      out.stats.attempts = static_cast<int>(k) + 1;
-      out.stats.surface_weight = weights[k];
-      out.stats.seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      return out;
-    } catch (const FlatPanelsFailed& e) {
-      spdlog::debug("[flat panels] surface weight {}: {}", weights[k], e.what());
-      if (k == 0) first_failure = e.what();
+    std::vector<double> stiffness;  // per joint, filled by the first attempt
+    for (int restart = 0; restart <= options.restarts; ++restart) {
+      const std::vector<double> before = stiffness;
+      try {
+        ++attempts;
+        out = flat_attempt(design, supports, surface, projector, o, stiffness);
+        out.stats.attempts = attempts;
+        out.stats.surface_weight = weights[k];
+        out.stats.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        return out;
+      } catch (const FlatPanelsFailed& e) {
+        spdlog::debug("[flat panels] surface weight {}, restart {}: {}", weights[k], restart,
+                      e.what());
+        if (k == 0 && restart == 0) first_failure = e.what();
+        const bool held = before.empty()
+                              ? std::any_of(stiffness.begin(), stiffness.end(),
+                                            [](double w) { return w != 1.0; })
+                              : stiffness != before;
+        if (!held) break;  // nothing failed where a restart could hold it: the same result again
+      }
     }
   }
-  // What the first (default) attempt failed on; the retries are listed in docs/panels.md.
+  // What the first (default) attempt failed on; the retries and restarts are in docs/panels.md.
   throw FlatPanelsFailed(first_failure);
 }
 

@@ -14,7 +14,8 @@
 ///   (normal n_s × t; it cuts the panels' common edge at right angles); with one panel (a
 ///   corner): the panel's plane, the boundary plane and the plane through the joint normal to t,
 ///   so the joint stays on the surface normal through its design position; with k ≥ 3 panels:
-///   split into k − 1 joints u_i = boundary plane ∩ f_i ∩ f(i+1), joined along the boundary.
+///   split into k − 1 joints u_i = boundary plane ∩ f_i ∩ f(i+1), joined along the boundary, their
+///   targets in order along it (`split_spacing`).
 /// - supports: on the boundary, as boundary joints (on their boundary plane, near their design
 ///   position like any joint); interior supports (columns) held at their design position by a
 ///   strong spring (`support_weight`); a split support stays a support at its first part.
@@ -34,9 +35,13 @@
 /// parallel (|det| < min_det), a panel that was simple self-intersects or a beam falls below the
 /// post-check's shortest.
 /// Beam flips: a beam the planes still shrink below the post-check's shortest is turned over (T1:
-/// a = A∩B∩C, b = A∩B∩D become A∩C∩D, B∩C∩D) and the steps run again (`flip_rounds`).
-/// Retry: a result that fails the post-check is optimised again from the start with each of
-/// `retry_surface_weights`; the first that passes the same post-check is kept.
+/// a = A∩B∩C, b = A∩B∩D become A∩C∩D, B∩C∩D; at the boundary b = Bnd∩A∩C, i = A∩C∩D become
+/// Bnd∩A∩D, Bnd∩C∩D, `boundary_flips`) and the steps run again (`flip_rounds`).
+/// Restarts: a result that fails the post-check is optimised again from the start with the joints
+/// of the failing panels (self-intersecting, a beam too short, a joint too far off) and of their
+/// neighbours held closer to their design positions, which pass every check (`restarts`,
+/// `restart_stiffness`). Retry: then the same with each of `retry_surface_weights`; the first
+/// result that passes the same post-check is kept.
 /// Start: nearly planar panels by a ShapeUp-like alternation with a rising planarity weight
 /// (best-fit plane per panel, then each joint nearest to its three planes, the surface and its
 /// design position); their planes start the Levenberg–Marquardt steps. When two of a joint's
@@ -49,8 +54,8 @@
 /// span, no beam collapsed (`min_beam_ratio`); otherwise FlatPanelsFailed (never a silent pass).
 ///
 /// Cost: O(joints) per iteration plus one sparse Cholesky of 3 × panels unknowns (analysed once
-/// per round); up to 1 + flip_rounds rounds of max_iterations steps per attempt, 1 + retries
-/// attempts (bench/flat_panels_bench.cpp: Botanic at about 1200 panels).
+/// per round); up to 1 + flip_rounds rounds of max_iterations steps per attempt, (1 + restarts) ×
+/// (1 + retries) attempts (bench/flat_panels_bench.cpp: Botanic at about 1200 panels).
 
 #include <string>
 #include <vector>
@@ -85,6 +90,14 @@ struct FlatPanelOptions {
   /// of these surface weights in turn and the first result that passes is kept (the check is the
   /// same). Measured: 20 adds Neumünster (docs/panels.md); each retry costs one more stage.
   std::vector<double> retry_surface_weights = {20};
+  /// Restarts per surface weight of an attempt that fails the post-check: the joints of the
+  /// failing panels (self-intersecting, with a beam shorter than allowed or a joint too far from
+  /// the surface) and of their neighbouring panels get `restart_stiffness` times their design
+  /// weight (cumulative), and the optimisation runs again from the start. Measured
+  /// (docs/panels.md): 10 of the 11 surfaces pass instead of 7; holding only the failing panels'
+  /// own joints, 9; factor 5 passes as many as 10.
+  int restarts = 5;
+  double restart_stiffness = 10;
   /// w_0: joint to the design's joint. Measured (docs/panels.md): 0.1 lets boundary cells slide
   /// their inner joints past the boundary (self-intersecting panels on all six shared surfaces);
   /// 1 keeps the cells' shape.
@@ -99,6 +112,10 @@ struct FlatPanelOptions {
   /// its design length; keeps beams from collapsing or turning over (a T1 flip).
   double beam_weight = 10;
   double beam_keep = 0.5;
+  /// A boundary joint of k ≥ 3 panels is split into k − 1 joints along the boundary; their
+  /// targets start this many × the design's shortest beam apart, in order along the boundary
+  /// (from one point they would leave a beam the post-check counts as collapsed, or cross).
+  double split_spacing = 1.0;
   /// w_in: hinge keeping each joint of three panels inside the triangle of its panels' centres
   /// (never stricter than the design joint's own place).
   double inside_weight = 10;
@@ -106,6 +123,9 @@ struct FlatPanelOptions {
   /// Rounds of beam flips (T1) where the planes shrank a beam below the post-check's shortest,
   /// each followed by the Levenberg–Marquardt steps again (0: none).
   int flip_rounds = 3;
+  /// Also flip short beams from a boundary joint of two panels to an interior joint: the panel
+  /// behind reaches the boundary (docs/panels.md).
+  bool boundary_flips = true;
   double tolerance = 1e-7;        ///< stop when the energy falls by less than this fraction
   double max_out_of_plane = 5e-4; ///< m: the post-check (0.5 mm)
   /// The post-check: no joint farther from the surface than this × its span (larger plan side).
@@ -142,7 +162,7 @@ struct FlatPanelStats {
   double out_of_plane_max = 0;  ///< m, corner to its panel's own plane (the post-check)
   double surface_distance_max = 0;  ///< m, the farthest joint from the input surface
   double shortest_beam = 0;      ///< m
-  int attempts = 1;              ///< optimisations run (1 + the retries needed)
+  int attempts = 1;              ///< optimisations run (1 + the retries and restarts needed)
   double surface_weight = 0;     ///< w_s of the attempt that passed
   double seconds = 0;
 };

@@ -27,6 +27,10 @@ struct Joint {
   int plane[3] = {0, 0, 0};
   bool support = false;
   bool pinned = false;  ///< an interior support: held at its design position
+  /// A part of a split boundary joint: its target is the design joint moved by `along` spacings
+  /// along the boundary tangent `tangent` (flat_panels.cpp), so the parts start apart, in order.
+  double along = 0;
+  Vec3 tangent = Vec3::Zero();
 };
 
 /// The flat grid-shell's topology: joints, their planes, the faces over the new joints.
@@ -83,8 +87,18 @@ struct Problem {
   std::vector<std::array<Side, 3>> inside;
   double h = 1;                 ///< mean beam length
   double shortest_allowed = 0;  ///< the post-check's shortest beam (m)
+  /// Per joint: a factor on its design weight (empty: 1 everywhere). A region whose panels
+  /// failed the post-check in an earlier attempt is held closer to the design (flat_panels.cpp).
+  std::vector<double> stiffness;
   FlatPanelOptions o;
 };
+
+/// Joint j's weight towards its design position: support_weight for an interior support, else
+/// design_weight times its stiffness.
+inline double design_weight_of(const Problem& P, int j) {
+  if (P.L->joints[j].pinned) return P.o.support_weight;
+  return P.o.design_weight * (P.stiffness.empty() ? 1.0 : P.stiffness[j]);
+}
 
 
 /// The plane `ref` refers to (a panel's or a fixed one).

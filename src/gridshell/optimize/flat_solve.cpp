@@ -52,9 +52,8 @@ namespace {
 /// three sides of its cells' triangle (inside).
 int joint_residuals(const Problem& P, int j, const Vec3& x, double det,
                     double r[kJointResiduals]) {
-  const Joint& J = P.L->joints[j];
   const double ws = std::sqrt(P.o.surface_weight) / P.h;
-  const double w0 = std::sqrt(J.pinned ? P.o.support_weight : P.o.design_weight) / P.h;
+  const double w0 = std::sqrt(design_weight_of(P, j)) / P.h;
   r[0] = ws * P.anchor[j].normal.dot(x - P.anchor[j].point);
   for (int k = 0; k < 3; ++k) r[1 + k] = w0 * (x[k] - P.x0[j][k]);
   const double a = std::abs(det);
@@ -200,11 +199,10 @@ void joint_blocks(const Problem& P, const Planes& pl, const std::vector<Vec3>& x
   std::vector<JointDerivative> D(nj);
   tbb::parallel_for(0, nj, [&](int j) { D[j] = joint_derivative(P, pl, j); });
   for (int j = 0; j < nj; ++j) {
-    const Joint& J = P.L->joints[j];
     double res[kJointResiduals];
     joint_residuals(P, j, x[j], det[j], res);
     const double ws = std::sqrt(P.o.surface_weight) / P.h;
-    const double w0 = std::sqrt(J.pinned ? P.o.support_weight : P.o.design_weight) / P.h;
+    const double w0 = std::sqrt(design_weight_of(P, j)) / P.h;
     Eigen::MatrixXd G = Eigen::MatrixXd::Zero(kJointResiduals, 9);
     G.row(0) = ws * P.anchor[j].normal.transpose() * D[j].Dx;
     G.middleRows(1, 3) = w0 * D[j].Dx;
@@ -337,7 +335,7 @@ Planes start_planes(Problem& P, const TriMesh& surface, const SurfaceProjector& 
       const std::vector<Vec3> previous = x;
       tbb::parallel_for(0, nj, [&](int j) {
         const Joint& J = L.joints[j];
-        const double w0 = J.pinned ? P.o.support_weight : P.o.design_weight;  // phase 1
+        const double w0 = design_weight_of(P, j);
         const Anchor& a = P.anchor[j];
         Eigen::Matrix3d A = w0 * Eigen::Matrix3d::Identity() +
                             P.o.surface_weight * a.normal * a.normal.transpose();
