@@ -120,8 +120,8 @@ def markdown(name, r):
                                g(r["oop_flat"], 2, mm))
         surf = "%s / %s, %s" % (g(r["surf_max"], 3, mm), g(r["surf_mean"], 3, mm),
                                 g(r["span"], 3, 10))
-        shape = "%s → %s, %s → %s°" % (r["nonconvex_free"], r["nonconvex"], g(r["angle_free"]),
-                                      g(r["angle"], 2))
+        shape = "%s → %s, %s → %s°" % (g(r["nonconvex_free"]), g(r["nonconvex"]),
+                                      g(r["angle_free"]), g(r["angle"], 2))
     else:
         panels = "free: %s" % (r["failure"] or "flat stage failed")
         oop = "%s / %s → –" % (g(r["oop_free_max"], 3, mm), g(r["oop_free_median"], 3, mm))
