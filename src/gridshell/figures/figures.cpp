@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -187,16 +188,18 @@ std::string subscript(std::size_t n) {
   return s + kDigits[n % 10];
 }
 
-/// Encodes the canvases in parallel (the PNG compression is most of a figure's cost) and writes
-/// them, after the already encoded `first`, into DIR/figures/ in order; returns their paths
-/// relative to DIR.
+/// A figure to make: its file name and how to draw it.
+using FigureJob = std::pair<std::string, std::function<Canvas()>>;
+
+/// Draws and encodes the figures in parallel (each reads only its own input; the PNG compression
+/// is most of a figure's cost) and writes them, after the already encoded `first`, into
+/// DIR/figures/ in order; returns their paths relative to DIR.
 std::vector<std::string> write_pngs(const std::filesystem::path& dir, EncodedFigures first,
-                                    const std::vector<std::pair<std::string, Canvas>>& drawn) {
-  std::vector<std::string> bytes(drawn.size()), written;
-  tbb::parallel_for(std::size_t{0}, drawn.size(),
-                    [&](std::size_t k) { bytes[k] = drawn[k].second.png(); });
-  for (std::size_t k = 0; k < drawn.size(); ++k)
-    first.push_back({drawn[k].first, std::move(bytes[k])});
+                                    const std::vector<FigureJob>& jobs) {
+  std::vector<std::string> bytes(jobs.size()), written;
+  tbb::parallel_for(std::size_t{0}, jobs.size(),
+                    [&](std::size_t k) { bytes[k] = jobs[k].second().png(); });
+  for (std::size_t k = 0; k < jobs.size(); ++k) first.push_back({jobs[k].first, std::move(bytes[k])});
   if (first.empty()) return written;
   const std::filesystem::path folder = dir / "figures";
   io::ensure_directory(folder);
@@ -643,22 +646,25 @@ std::vector<std::string> write_figures(const std::filesystem::path& dir, const F
                                        std::optional<EncodedFigures> linear) {
   if (!options.enabled) return {};
   check_size(options);
-  std::vector<std::pair<std::string, Canvas>> drawn;
+  std::vector<FigureJob> jobs;
+  const auto add = [&](const char* name, Canvas (*draw)(const FigureInput&, const FigureOptions&)) {
+    jobs.emplace_back(name, [&in, &options, draw] { return draw(in, options); });
+  };
   const bool mesh = in.gridshell && in.gridshell->num_vertices() > 0;
   const analysis::FrameResult* st = in.structure;
   if (mesh && !linear) {
-    drawn.emplace_back("top.png", draw_plan(in, options));
-    drawn.emplace_back("perspective.png", draw_perspective(in, options));
+    add("top.png", draw_plan);
+    add("perspective.png", draw_perspective);
   }
   if (in.surface && in.field && in.field->size() == in.surface->num_faces() &&
       in.field->size() > 0 && static_cast<int>(in.field->d.size()) == in.field->size() &&
       static_cast<int>(in.field->a.size()) == in.field->size())
-    drawn.emplace_back("field.png", draw_field(in, options));
+    add("field.png", draw_field);
   if (mesh && st && !st->buckling_modes.empty() && !st->buckling_lambdas.empty() &&
       st->buckling_modes.front().rows() == in.gridshell->V.rows())
-    drawn.emplace_back("buckling_mode.png", draw_buckling_mode(in, options));
-  if (st && st->path.size() >= 2) drawn.emplace_back("load_path.png", draw_load_path(in, options));
-  return write_pngs(dir, linear ? std::move(*linear) : EncodedFigures{}, drawn);
+    add("buckling_mode.png", draw_buckling_mode);
+  if (st && st->path.size() >= 2) add("load_path.png", draw_load_path);
+  return write_pngs(dir, linear ? std::move(*linear) : EncodedFigures{}, jobs);
 }
 
 std::vector<std::string> write_sweep_figures(const std::filesystem::path& dir,
@@ -679,14 +685,16 @@ std::vector<std::string> write_sweep_figures(const std::filesystem::path& dir,
       fmt::format("Largest deflection δ over density ratio D and anisotropy ratio A ({})",
                   per_cell),
       title, "δ [mm]  (linear, λ = 1)", 1000};
-  std::vector<std::pair<std::string, Canvas>> drawn;
-  drawn.emplace_back(
-      "lambda_heatmap.png",
-      draw_heatmap(sweep_grid(rows, [](const SweepRow& r) { return r.lambda; }), lambda, options));
-  drawn.emplace_back(
-      "delta_heatmap.png",
-      draw_heatmap(sweep_grid(rows, [](const SweepRow& r) { return r.delta; }), delta, options));
-  return write_pngs(dir, {}, drawn);
+  std::vector<FigureJob> jobs;
+  jobs.emplace_back("lambda_heatmap.png", [&] {
+    return draw_heatmap(sweep_grid(rows, [](const SweepRow& r) { return r.lambda; }), lambda,
+                        options);
+  });
+  jobs.emplace_back("delta_heatmap.png", [&] {
+    return draw_heatmap(sweep_grid(rows, [](const SweepRow& r) { return r.delta; }), delta,
+                        options);
+  });
+  return write_pngs(dir, {}, jobs);
 }
 
 }  // namespace gridshell::figures
