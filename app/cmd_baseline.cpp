@@ -127,6 +127,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
                      ? PanelMode::flat
                      : PanelMode::free);
   if (!flat_info.is_null()) report["flat_panels"] = flat_info;
+  warn_if_panels_kept_free(flat_info);
   const std::optional<fabrication::BeamResults> envelope =
       sized ? std::optional(member_envelope(*sized)) : std::nullopt;
   report["fabrication"] =

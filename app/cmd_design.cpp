@@ -77,6 +77,7 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
   const DesignResult r = searched   ? std::move(searched->design)
                          : response ? design_from_frame_response(surface, options, *response)
                                     : run_design(surface, options);
+  warn_if_panels_kept_free(r.details.value("flat_panels", nlohmann::json()));
 
   report::DesignFolderInput folder;
   folder.surface = &surface;

@@ -184,6 +184,12 @@ void write_config(const std::string& dir, const CLI::App* sub) {
                         resolved_config(sub).dump(2) + "\n");
 }
 
+void warn_if_panels_kept_free(const nlohmann::json& flat_info) {
+  if (flat_info.is_object() && flat_info.value("panels", "") == std::string("free"))
+    spdlog::warn("{}: keeping the free panels",
+                 flat_info.value("failure", std::string("--panels flat")));
+}
+
 void write_report(const std::string& dir, const nlohmann::json& report) {
   io::write_file_atomic(std::filesystem::path(dir) / "report.json", report.dump(2) + "\n");
 }

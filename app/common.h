@@ -76,6 +76,11 @@ void write_report(const std::string& dir, const nlohmann::json& report);
 void write_report_page(const std::string& dir, report::ReportInput page,
                        const nlohmann::json& report, const CLI::App* sub);
 
+/// One warning when the written grid-shell asked for flat panels and kept its free ones:
+/// `flat_info` is report.json's `flat_panels` (design.flat_panels for `design`). The flat stage
+/// itself logs at info level, so the objective search's other candidates stay quiet.
+void warn_if_panels_kept_free(const nlohmann::json& flat_info);
+
 /// Expands `--config FILE` in argv: options stored in FILE and not given on the command line are
 /// appended. Throws Error for a bad file.
 std::vector<std::string> expand_config(const std::vector<std::string>& args, const CLI::App& cli);

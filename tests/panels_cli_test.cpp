@@ -44,15 +44,25 @@ double panels_csv_out_of_plane_max_mm(const fs::path& csv) {
 /// Runs a baseline of the built-in dome with and without `--panels flat`.
 struct BaselinePair {
   fs::path free_dir, flat_dir;
+  std::string flat_err;  ///< what the flat run printed on stderr
 };
+
+/// How often `text` says `what`.
+int count_of(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
 BaselinePair dome_baseline(const std::string& kind) {
-  BaselinePair p{test::temp_dir("panels_cli_free_" + kind), test::temp_dir("panels_cli_flat_" + kind)};
+  BaselinePair p{test::temp_dir("panels_cli_free_" + kind), test::temp_dir("panels_cli_flat_" + kind),
+                 {}};
   const std::string base =
       "baseline builtin:dome --kind " + kind + " --length 440 --analyze none --quiet -o ";
   const auto free = test::run_gridshell(base + p.free_dir.string());
   EXPECT_EQ(free.status, 0) << free.err;
   const auto flat = test::run_gridshell(base + p.flat_dir.string() + " --panels flat");
   EXPECT_EQ(flat.status, 0) << flat.err;
+  p.flat_err = flat.err;
   return p;
 }
 
@@ -95,6 +105,11 @@ TEST(PanelsCli, AFailedFlatStageKeepsTheFreeGridAndSaysWhy) {
   EXPECT_EQ(report.at("mesh").at("panels"), "free");
   EXPECT_FALSE(report.at("flat_panels").at("failure").get<std::string>().empty());
   EXPECT_EQ(test::slurp(p.flat_dir / "gridshell.obj"), test::slurp(p.free_dir / "gridshell.obj"));
+  // One warning (with --quiet too), naming the failure report.json records.
+  EXPECT_EQ(count_of(p.flat_err, "keeping the free panels"), 1) << p.flat_err;
+  EXPECT_NE(p.flat_err.find(report.at("flat_panels").at("failure").get<std::string>()),
+            std::string::npos)
+      << p.flat_err;
 }
 
 TEST(PanelsCli, FlatDoublyCurvedDesignsKeepTheirBucklingLoad) {
