@@ -27,7 +27,8 @@ import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SHARED = "/work/shared/data/surfaces"
+# The shared data beside the project (../shared/data, as scripts/results.py reads it).
+SHARED = os.path.join(HERE, "..", "..", "shared", "data", "surfaces")
 BUILTINS = ["builtin:dome", "builtin:paraboloid", "builtin:barrel", "builtin:funicular",
             "builtin:court"]
 # Per surface file: extra arguments (real size).
