@@ -38,7 +38,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 EXE = ROOT / "build" / "gridshell"
-SHARED = "/work/shared/data/surfaces/{}.ply"
+SHARED = str(ROOT.parent / "shared" / "data" / "surfaces") + "/{}.ply"  # ../shared beside the project
 SURFACES = (["builtin:funicular"]
             + [SHARED.format(n) for n in ("Shell", "Neumunster", "Botanic", "aquadom_Vouga",
                                           "liliumVouga")]
