@@ -199,7 +199,8 @@ std::vector<std::string> write_pngs(const std::filesystem::path& dir, EncodedFig
   std::vector<std::string> bytes(jobs.size()), written;
   tbb::parallel_for(std::size_t{0}, jobs.size(),
                     [&](std::size_t k) { bytes[k] = jobs[k].second().png(); });
-  for (std::size_t k = 0; k < jobs.size(); ++k) first.push_back({jobs[k].first, std::move(bytes[k])});
+  for (std::size_t k = 0; k < jobs.size(); ++k)
+    first.push_back({jobs[k].first, std::move(bytes[k])});
   if (first.empty()) return written;
   const std::filesystem::path folder = dir / "figures";
   io::ensure_directory(folder);
