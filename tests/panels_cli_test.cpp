@@ -54,8 +54,8 @@ int count_of(const std::string& text, const std::string& what) {
   return n;
 }
 BaselinePair dome_baseline(const std::string& kind) {
-  BaselinePair p{test::temp_dir("panels_cli_free_" + kind), test::temp_dir("panels_cli_flat_" + kind),
-                 {}};
+  BaselinePair p{test::temp_dir("panels_cli_free_" + kind),
+                 test::temp_dir("panels_cli_flat_" + kind), {}};
   const std::string base =
       "baseline builtin:dome --kind " + kind + " --length 440 --analyze none --quiet -o ";
   const auto free = test::run_gridshell(base + p.free_dir.string());
