@@ -262,6 +262,60 @@ TEST(FrameNonlinear, LambdaAtADisplacementLimitOnTheElastica) {
   EXPECT_NEAR(*d.lambda_displacement_limit * d.delta_max_m / (L / 100), 1.0, 0.01);
 }
 
+// A located crossing is a point of the path: full Newton at its λ (nonlinear_static) puts the
+// largest displacement on the level to 1e-6, and paths whose points fall elsewhere (first steps
+// 7× apart) locate the same λ to 1e-7, where reading it off between their points does not.
+TEST(FrameNonlinear, ACrossingIsLocatedOnThePathWhereverItsPointsFall) {
+  const double L = 1, EI = 1, level = 0.45 * L;
+  FrameModel m = cantilever(L, 16, EI);
+  m.loads = {{1, Vec3(0, EI / (L * L), 0), Vec3::Zero()}};
+  const FrameMesh mesh = discretize(m);
+  const FrameAssembler asmb(mesh);
+  const auto largest = [&mesh](const FrameState& st) {
+    return (st.x - mesh.X).rowwise().norm().maxCoeff();
+  };
+  std::vector<double> located, read_off;
+  for (const double first : {0.05, 0.35}) {
+    ArcLengthOptions opt;
+    opt.initial_lambda = first;
+    opt.max_displacement = 0.6 * L;
+    opt.crossings = {{[&](const FrameState& st, double) { return largest(st); }, level}};
+    const ArcLengthResult r = arc_length(mesh, asmb, opt, reference_state(mesh));
+    ASSERT_EQ(r.crossing_steps.size(), 1u);
+    ASSERT_TRUE(r.crossing_steps[0].has_value());
+    const CrossingStep& step = *r.crossing_steps[0];
+    EXPECT_LT(step.value_from, level);
+    EXPECT_GE(step.value_to, level);
+    int factorizations = 0;
+    const std::optional<double> at =
+        locate_crossing(mesh, asmb, opt, opt.crossings[0], step, factorizations);
+    ASSERT_TRUE(at.has_value());
+    EXPECT_GT(*at, step.lambda_from);
+    EXPECT_LT(*at, step.lambda_to);
+    const NonlinearStaticResult newton = nonlinear_static(mesh, asmb, *at);
+    std::printf("elastica: |u| = %.2f L at lambda %.9f (%zu points, %d factorisations), Newton "
+                "there: |u| = %.9f\n",
+                level, *at, r.path.size(), factorizations, largest(newton.state));
+    EXPECT_NEAR(largest(newton.state) / level, 1.0, 1e-6);
+    located.push_back(*at);
+    const PathPoint* a = nullptr;  // the linear reading between the points around the crossing
+    for (const PathPoint& b : r.path) {
+      if (a && b.displacement >= level) {
+        read_off.push_back(a->lambda + (level - a->displacement) /
+                                           (b.displacement - a->displacement) *
+                                           (b.lambda - a->lambda));
+        break;
+      }
+      a = &b;
+    }
+  }
+  ASSERT_EQ(read_off.size(), 2u);
+  std::printf("elastica: located %.9f / %.9f, read off linearly %.6f / %.6f\n", located[0],
+              located[1], read_off[0], read_off[1]);
+  EXPECT_NEAR(located[0] / located[1], 1.0, 1e-7);
+  EXPECT_GT(std::abs(read_off[0] / read_off[1] - 1), 1e-5);
+}
+
 // Asking only for λ_δ stops the path at the displacement limit: the same λ_δ (the same points
 // up to there), a shorter path, and no λ (the path never reached a critical point).
 TEST(FrameNonlinear, PathStopsWhenOnlyLambdaAtTheDisplacementLimitIsAsked) {

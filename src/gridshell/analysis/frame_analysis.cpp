@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
@@ -251,13 +252,46 @@ std::unique_ptr<PathJob> path_job(const FrameModel& model, const FrameMesh& mesh
   if (res.lambda_linear_buckling && ao.max_lambda >= 1e9)
     ao.max_lambda = 20 * *res.lambda_linear_buckling;
   PathJob* j = job.get();
-  ao.on_point = [j, &model, &o](const FrameState& state, double lambda) {
-    j->run.lambdas.push_back(lambda);
-    j->run.utilisation.push_back(checks::max_section_utilisation(
-        model, member_forces(j->mesh, element_section_forces(j->mesh, state)), o.checks));
+  const auto utilisation = [j, &model, &o](const FrameState& state) {
+    return checks::max_section_utilisation(
+        model, member_forces(j->mesh, element_section_forces(j->mesh, state)), o.checks);
   };
+  ao.on_point = [j, utilisation](const FrameState& state, double lambda) {
+    j->run.lambdas.push_back(lambda);
+    j->run.utilisation.push_back(utilisation(state));
+  };
+  // The steps on which λ_δ and λ_y lie (kDisplacementCrossing, kYieldCrossing), for run_path to
+  // locate on the paths whose λ_δ and λ_y it reports.
+  ao.crossings = {{[j](const FrameState& state, double) {
+                     return (state.x - j->mesh.X).rowwise().norm().maxCoeff();
+                   },
+                   res.displacement_limit_m},
+                  {[utilisation](const FrameState& state, double) { return utilisation(state); },
+                   1.0}};
   job->path.emplace(job->mesh, *job->assembler, ao, reference_state(job->mesh));
   return job;
+}
+
+/// The crossings every path records (ArcLengthOptions::crossings, in this order): the largest
+/// displacement reaching the displacement limit (λ_δ), the largest utilisation reaching 1 (λ_y).
+constexpr std::size_t kDisplacementCrossing = 0, kYieldCrossing = 1;
+
+/// λ where the path of `job` (whose result is `al`) meets crossing `k`: located on the step the
+/// path recorded (fem::locate_crossing, to 1e-7 of the level), so that it does not depend on
+/// where the path's points fall; else `read_off` from the points (the crossing lies on the
+/// bracketed step past a critical point, or the shorter steps did not converge).
+std::optional<double> crossing_lambda(const PathJob* job, const ArcLengthResult& al,
+                                      std::size_t k, const std::optional<double>& read_off) {
+  if (!job || k >= al.crossing_steps.size() || !al.crossing_steps[k]) return read_off;
+  const FrameAssembler assembler(job->mesh);
+  int factorizations = 0;
+  const std::optional<double> at =
+      locate_crossing(job->mesh, assembler, job->options, job->options.crossings[k],
+                      *al.crossing_steps[k], factorizations);
+  spdlog::debug("non-linear: crossing {} located at lambda {} ({} factorisations; read off: {})",
+                k, at ? fmt::format("{:.10g}", *at) : "-", factorizations,
+                read_off ? fmt::format("{:.10g}", *read_off) : "-");
+  return at ? at : read_off;
 }
 
 /// Ends a job's path (when `reason` is not empty, early, for that reason) and frees its solvers.
@@ -410,12 +444,14 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   const bool cap = o.path_goal == PathGoal::critical && !o.imperfection_full_paths;
   follow_paths(jobs, cap, critical_lambda);
   std::optional<PathRun> perfect, imperfect;
+  const PathJob *perfect_job = nullptr, *imperfect_job = nullptr;
   const std::vector<CandidateReport> reports = report_candidates(jobs, cap, critical_lambda);
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < jobs.size(); ++i) {
     PathJob& job = *jobs[i];
     if (job.mode < 0) {
       perfect = std::move(job.run);
+      perfect_job = &job;
       continue;
     }
     const ArcLengthResult& al = job.run.al;
@@ -435,6 +471,7 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
     if (!report.lambda_above && (!imperfect || l < best)) {
       best = l;
       imperfect = std::move(job.run);
+      imperfect_job = &job;
       res.imperfection_mode = job.mode;
       res.imperfection_sign = job.sign;
     }
@@ -442,13 +479,33 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   const auto largest = [](const std::vector<double>& u) {
     return u.empty() ? 0.0 : *std::max_element(u.begin(), u.end());
   };
-  if (perfect) {
-    res.lambda_perfect = critical_lambda(perfect->al);
-    res.lambda_yield_perfect = lambda_at_utilisation(perfect->lambdas, perfect->utilisation);
-  }
   const PathRun& main = main_imperfect ? *imperfect : *perfect;
+  const PathJob* main_job = main_imperfect ? imperfect_job : perfect_job;
   const PathRun* yield_run = imperfect ? &*imperfect : &main;
-  res.lambda_yield = lambda_at_utilisation(yield_run->lambdas, yield_run->utilisation);
+  const PathJob* yield_job = imperfect ? imperfect_job : main_job;
+  // λ_y of the perfect path and of the reported one (the same without an imperfect path) and λ_δ
+  // of the main path, each located on its own path's frame: side by side.
+  std::optional<double> lambda_delta;
+  tbb::task_group locate;
+  if (perfect)
+    locate.run([&] {
+      res.lambda_yield_perfect =
+          crossing_lambda(perfect_job, perfect->al, kYieldCrossing,
+                          lambda_at_utilisation(perfect->lambdas, perfect->utilisation));
+    });
+  if (imperfect)
+    locate.run([&] {
+      res.lambda_yield =
+          crossing_lambda(yield_job, yield_run->al, kYieldCrossing,
+                          lambda_at_utilisation(yield_run->lambdas, yield_run->utilisation));
+    });
+  locate.run([&] {
+    lambda_delta = crossing_lambda(main_job, main.al, kDisplacementCrossing,
+                                   lambda_at_displacement(main.al.path, res.displacement_limit_m));
+  });
+  locate.wait();
+  if (perfect) res.lambda_perfect = critical_lambda(perfect->al);
+  if (!imperfect && perfect) res.lambda_yield = res.lambda_yield_perfect;
   res.lambda_yield_path = imperfect ? "imperfect" : "perfect";
   res.path_utilisation_max = largest(yield_run->utilisation);
   if (imperfect) {
@@ -464,7 +521,7 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   res.nonlinear_steps = al.steps;
   res.nonlinear_iterations = al.iterations;
   res.nonlinear_factorizations = al.factorizations;
-  res.lambda_displacement_limit = lambda_at_displacement(al.path, res.displacement_limit_m);
+  res.lambda_displacement_limit = lambda_delta;
   if (!res.lambda_displacement_limit && al.limit_type != fem::LimitType::none)
     res.lambda_displacement_limit = al.lambda_critical;
   spdlog::info("non-linear: lambda = {:.6g} ({}; {} steps, {} iterations)", al.lambda_critical,

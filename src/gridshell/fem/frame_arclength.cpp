@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <tuple>
 
+#include <boost/math/tools/toms748_solve.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <Eigen/SparseLU>
@@ -414,6 +417,8 @@ class PathWalker {
   bool retry_shorter(StepOutcome outcome);
   void bracketed(Converged& next);
   bool accept(Converged& next, int its);
+  std::vector<double> crossing_values(const FrameState& state, double lambda) const;
+  void record_crossings(const Converged& next);
 
   const FrameMesh& mesh_;
   const FrameAssembler& asmb_;
@@ -426,6 +431,7 @@ class PathWalker {
                                  solver_work_ = std::make_unique<TangentSolver>();
   Converged cur_;
   Eigen::VectorXd ut_cur_;
+  std::vector<double> crossing_cur_;  // the crossings' quantities at cur_
   std::optional<ArcStepper> stepper_;
   double ds_ = 0, ds_min_ = 0, ds_max_ = 0;
   double lam_max_ = 0;
@@ -443,6 +449,8 @@ class PathWalker {
 bool PathWalker::begin(const FrameState& start) {
   if (!start_path(mesh_, asmb_, start, *solver_cur_, cur_, ut_cur_, res_)) return false;
   if (opt_.on_point) opt_.on_point(start, 0.0);
+  crossing_cur_ = crossing_values(start, 0.0);
+  res_.crossing_steps.assign(opt_.crossings.size(), std::nullopt);
   const double ds0 = opt_.initial_lambda * std::sqrt(ut_cur_.dot(W_.cwiseProduct(ut_cur_)));
   ds_ = ds0;
   ds_min_ = 1e-7 * ds0;
@@ -493,6 +501,7 @@ void PathWalker::bracketed(Converged& next) {
 // Accepts the step: the new point's factorised tangent becomes the current one, and the radius
 // follows the iterations it took. False when a stop rule is met.
 bool PathWalker::accept(Converged& next, int its) {
+  record_crossings(next);
   std::swap(solver_cur_, solver_work_);
   ut_cur_ = solver_cur_->solve(mesh_.load);
   ++res_.steps;
@@ -560,6 +569,28 @@ bool PathWalker::attempt() {
   return true;
 }
 
+std::vector<double> PathWalker::crossing_values(const FrameState& state, double lambda) const {
+  std::vector<double> out;
+  for (const PathCrossing& c : opt_.crossings) out.push_back(c.value(state, lambda));
+  return out;
+}
+
+// Before `next` (converged from cur_ with radius ds_) is accepted: the step is recorded for each
+// crossing whose quantity rises from below its level at cur_ to it or above at `next`, the first
+// time any step reaches the level.
+void PathWalker::record_crossings(const Converged& next) {
+  if (opt_.crossings.empty()) return;
+  const std::vector<double> values = crossing_values(next.state, next.lambda);
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const double level = opt_.crossings[k].level;
+    if (res_.crossing_steps[k] || !(values[k] >= level) || !(crossing_cur_[k] < level)) continue;
+    res_.crossing_steps[k] = CrossingStep{cur_.state, cur_.lambda,     next.lambda,
+                                          cur_.du,    ds_,             crossing_cur_[k],
+                                          values[k],  base_negative_ != 0};
+  }
+  crossing_cur_ = values;
+}
+
 void PathWalker::finish() {
   report_progress(opt_.progress, "non-linear path", 1.0,
                   fmt::format("{} steps, λ = {:.4g}", res_.steps, cur_.lambda));
@@ -623,6 +654,72 @@ ArcLengthResult arc_length(const FrameMesh& mesh, const FrameAssembler& asmb,
   while (path.advance()) {
   }
   return path.finish("");
+}
+
+namespace {
+/// A point found on a crossing's step: its quantity minus the level, and its λ.
+struct CrossingSample {
+  double g = 0, lambda = 0;
+};
+
+/// λ at the level from the samples nearest to it on either side (linear in the quantity).
+double interpolate_level(const std::map<double, CrossingSample>& seen) {
+  const CrossingSample *below = nullptr, *above = nullptr;
+  for (const auto& [s, sample] : seen) {  // in the order of the radius
+    if (sample.g < 0) below = &sample;
+    if (sample.g >= 0 && !above) above = &sample;
+  }
+  if (!below || !above || above->g == below->g) return above ? above->lambda : below->lambda;
+  const double t = -below->g / (above->g - below->g);
+  return below->lambda + t * (above->lambda - below->lambda);
+}
+}  // namespace
+
+std::optional<double> locate_crossing(const FrameMesh& mesh, const FrameAssembler& asmb,
+                                      const ArcLengthOptions& opt, const PathCrossing& crossing,
+                                      const CrossingStep& step, int& factorizations,
+                                      double tolerance) {
+  TangentSolver start, work;
+  if (!factorize_tangent(asmb, step.from, start, factorizations)) return std::nullopt;
+  const Eigen::VectorXd ut = start.solve(mesh.load);
+  if (!ut.allFinite()) return std::nullopt;
+  const Eigen::VectorXd W = arc_weights(mesh);
+  const ArcStepper stepper(mesh, asmb, W, opt, step.indefinite_start, factorizations);
+  Converged from;
+  from.state = step.from;
+  from.lambda = step.lambda_from;
+  from.du = step.du_from;
+  const bool first = step.du_from.size() == 0;
+  const double level = crossing.level;
+  std::map<double, CrossingSample> seen{{0.0, {step.value_from - level, step.lambda_from}},
+                                        {step.radius, {step.value_to - level, step.lambda_to}}};
+  struct NotFollowed {};
+  struct OnLevel {};
+  const auto g = [&](double s) {
+    const StepResult r = stepper.step(start, ut, work, from, s, first);
+    if (r.outcome != StepOutcome::converged) throw NotFollowed{};
+    const double v = crossing.value(r.point.state, r.point.lambda) - level;
+    if (!std::isfinite(v)) throw NotFollowed{};
+    spdlog::debug("crossing: radius {:.6g} of {:.6g}: lambda {:.10g}, quantity - level {:.3g}", s,
+                  step.radius, r.point.lambda, v);
+    seen[s] = {v, r.point.lambda};
+    // Within `tolerance` of the level, the linear reading between this point and the nearest on
+    // the other side is off by far less than the quantity's distance to the level.
+    if (std::abs(v) <= tolerance * std::abs(level)) throw OnLevel{};
+    return v;
+  };
+  const double width = 1e-7 * step.radius;
+  const auto close = [width](double a, double b) { return std::abs(b - a) <= width; };
+  std::uintmax_t runs = 40;
+  try {
+    boost::math::tools::toms748_solve(g, 0.0, step.radius, seen[0.0].g, seen[step.radius].g, close,
+                                      runs);
+  } catch (const OnLevel&) {
+  } catch (const NotFollowed&) {
+    spdlog::debug("crossing not located: a shorter step did not converge");
+    return std::nullopt;
+  }
+  return interpolate_level(seen);
 }
 
 NonlinearStaticResult nonlinear_static(const FrameMesh& mesh, const FrameAssembler& asmb,

@@ -21,6 +21,12 @@
 ///   the critical mode φ (inverse iteration on the last stable tangent) classifies it: if the
 ///   load tangent K⁻¹f is dominated by φ (φᵀf ≠ 0) it is a "limit point" (load maximum),
 ///   otherwise a "bifurcation" (φ ⟂ f, the path could continue with rising λ).
+///   Crossings: quantities of the state (the largest displacement, the largest utilisation) can
+///   be watched for their first rise over a level. The path records the step that carries each
+///   over (its start and radius); `locate_crossing` follows that step again with shorter radii
+///   until the point on the level is found, so the λ there does not depend on where the path's
+///   points fall. Locating is left to the caller because it costs factorisations and usually only
+///   one path's crossing is wanted.
 /// * `nonlinear_static`: Newton–Raphson with adaptive load steps up to a given factor.
 ///
 /// Cost: per corrector iteration one internal-force evaluation (~1 µs per element) and one
@@ -29,6 +35,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +44,12 @@
 #include "gridshell/fem/limit_type.h"
 
 namespace gridshell::fem {
+
+/// A quantity of the path's state whose first rise to `level` is wanted (ArcLengthOptions).
+struct PathCrossing {
+  std::function<double(const FrameState& state, double lambda)> value;
+  double level = 1;
+};
 
 struct ArcLengthOptions {
   double initial_lambda = 0.05;  ///< load factor of the first predictor step (> 0)
@@ -59,6 +72,20 @@ struct ArcLengthOptions {
   /// Called at every point added to the path (λ = 0 first, in path order) with its converged
   /// state: e.g. to evaluate section forces along the path without keeping the states.
   std::function<void(const FrameState& state, double lambda)> on_point;
+  /// Quantities whose first crossing the path records (ArcLengthResult::crossing_steps).
+  std::vector<PathCrossing> crossings;
+};
+
+/// The accepted step on which a crossing's quantity first reached its level: its start (a
+/// converged point of the path and its last increment), its radius, and the quantity at both
+/// ends. What locate_crossing needs to follow the step again.
+struct CrossingStep {
+  FrameState from;
+  double lambda_from = 0, lambda_to = 0;
+  Eigen::VectorXd du_from;  ///< the increment that led to `from` (empty at the path's start)
+  double radius = 0;
+  double value_from = 0, value_to = 0;
+  bool indefinite_start = false;  ///< the path's start tangent was indefinite
 };
 
 struct PathPoint {
@@ -77,6 +104,9 @@ struct ArcLengthResult {
   int factorizations = 0;  ///< tangent assemblies + factorisations (the dominant cost)
   std::string stop_reason;
   double critical_mode_alignment = 0;  ///< |φ·K⁻¹f| / |K⁻¹f| at the last stable point
+  /// Per options.crossings: the step that first carried the quantity from below its level to
+  /// it or above (empty when no accepted step did).
+  std::vector<std::optional<CrossingStep>> crossing_steps;
 };
 
 /// Follows the path from `start` (λ = 0, must be the unloaded reference or a stress-free
@@ -112,6 +142,19 @@ class ArcLengthPath {
   std::unique_ptr<State> state_;
   bool ended_ = false;
 };
+
+/// λ where `crossing` (a PathCrossing and its level) is met on its recorded step: the step is
+/// followed again from its start (the tangent there factorised afresh, the same arc-length norm
+/// and corrector) with radii chosen by TOMS 748 (Alefeld, Potra, Shi 1995) until a point's
+/// quantity is within `tolerance` × level of the level (or the bracket on the radius is 1e-7 of
+/// the step's); λ is then interpolated linearly in the quantity between the points nearest the
+/// level on either side. `factorizations` counts what it cost (on the 8 327-beam Aquadom design
+/// 10–13: 3–4 runs of the step and their refreshed tangents). Empty when
+/// a shorter step does not converge (the caller then reads λ off the path's points).
+std::optional<double> locate_crossing(const FrameMesh& mesh, const FrameAssembler& assembler,
+                                      const ArcLengthOptions& options, const PathCrossing& crossing,
+                                      const CrossingStep& step, int& factorizations,
+                                      double tolerance = 1e-6);
 
 struct NonlinearStaticOptions {
   int initial_steps = 10;
