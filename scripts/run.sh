@@ -28,6 +28,10 @@ PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libsuitespa
 # docs/performance.md). Optional: without it CMake falls back to glibc's malloc.
 PACKAGES+=(libjemalloc-dev)
 
+# Boost's headers (also pulled in by CGAL): Boost.Math's TOMS 748 root finder locates λ_y and λ_δ
+# on the non-linear path (fem/frame_arclength.cpp).
+PACKAGES+=(libboost-dev)
+
 # DXF and glTF: panels.dxf, beams.dxf and gridshell.glb in every design folder
 # (src/gridshell/exchange/); ezdxf is the tests' independent DXF reader.
 PACKAGES+=(libdxflib-dev libtinygltf-dev python3-ezdxf)

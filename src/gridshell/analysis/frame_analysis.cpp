@@ -277,7 +277,7 @@ std::unique_ptr<PathJob> path_job(const FrameModel& model, const FrameMesh& mesh
 constexpr std::size_t kDisplacementCrossing = 0, kYieldCrossing = 1;
 
 /// λ where the path of `job` (whose result is `al`) meets crossing `k`: located on the step the
-/// path recorded (fem::locate_crossing, to 1e-7 of the level), so that it does not depend on
+/// path recorded (fem::locate_crossing, to 1e-6 of the level), so that it does not depend on
 /// where the path's points fall; else `read_off` from the points (the crossing lies on the
 /// bracketed step past a critical point, or the shorter steps did not converge).
 std::optional<double> crossing_lambda(const PathJob* job, const ArcLengthResult& al,
