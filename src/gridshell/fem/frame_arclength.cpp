@@ -11,9 +11,7 @@
 #include <boost/math/tools/toms748_solve.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
-#include <Eigen/SparseLU>
 
-#include "gridshell/core/error.h"
 #include "gridshell/core/rng.h"
 
 namespace gridshell::fem {
@@ -108,19 +106,23 @@ class ArcStepper {
         W_(W),
         opt_(opt),
         indefinite_start_(indefinite_start),
-        factorizations_(factorizations) {}
+        factorizations_(factorizations),
+        node_elements_(opt.relaxation ? node_elements(mesh) : std::vector<std::vector<int>>{}) {}
 
   /// One arc-length step from `from` with radius ds. `start` holds the factorised tangent at the
   /// start point and ut0 = K⁻¹f; neither is modified, so a failed or refined step needs no
   /// refactorisation. Refreshed tangents go into `work`.
   StepResult step(const TangentSolver& start, const Eigen::VectorXd& ut0, TangentSolver& work,
                   const Converged& from, double ds, bool first) const;
+  /// Local relaxations done so far.
+  int relaxations() const { return relaxations_; }
 
  private:
   bool predict(const Converged& from, double ds, bool first, Corrector& c) const;
   std::optional<StepOutcome> watch(Corrector& c, int it, double rho, double tol, double scale,
                                    Eigen::VectorXd& r, double& rn, TangentSolver& work) const;
   bool correct(Corrector& c, const Eigen::VectorXd& r, double ds) const;
+  bool relax(Corrector& c, Eigen::VectorXd& r, double rn, Eigen::VectorXd& fint) const;
 
   const FrameMesh& mesh_;
   const FrameAssembler& asmb_;
@@ -128,6 +130,8 @@ class ArcStepper {
   const ArcLengthOptions& opt_;
   bool indefinite_start_;
   int& factorizations_;
+  std::vector<std::vector<int>> node_elements_;  ///< for the local relaxation
+  mutable int relaxations_ = 0;
 };
 
 /// The predictor: along the load tangent c.ut, with the sign that keeps the path's direction
@@ -225,6 +229,31 @@ bool ArcStepper::correct(Corrector& c, const Eigen::VectorXd& r, double ds) cons
   return true;
 }
 
+/// The local relaxation of the iterate where its residual r is concentrated (the increment
+/// c.du takes the region's displacement, so the next correction keeps the arc-length
+/// constraint); kept only when the whole residual falls (a region balanced against held
+/// neighbours can push more onto them than it took off), and then r and fint are those of the
+/// relaxed iterate. False when nothing changed.
+bool ArcStepper::relax(Corrector& c, Eigen::VectorXd& r, double rn, Eigen::VectorXd& fint) const {
+  FrameState st = c.st;
+  Eigen::VectorXd du = c.du;
+  const LocalRelaxResult lr = relax_locally(mesh_, node_elements_, c.lam, r, st, du, *opt_.relaxation);
+  if (!lr.relaxed) return false;
+  Eigen::VectorXd f = asmb_.internal_force(st);
+  Eigen::VectorXd rr = c.lam * mesh_.load - asmb_.reduce(f);
+  const double after = rr.norm();
+  spdlog::debug("  relaxed {} nodes ({} iterations): residual {:.3g} -> {:.3g}{}", lr.nodes,
+                lr.iterations, rn / mesh_.load.norm(), after / mesh_.load.norm(),
+                after < rn ? "" : ", not kept");
+  if (!(after < rn)) return false;
+  ++relaxations_;
+  c.st = std::move(st);
+  c.du = std::move(du);
+  fint = std::move(f);
+  r = std::move(rr);
+  return true;
+}
+
 // Modified Newton: the start tangent is kept while the residual contracts fast enough
 // (linear convergence, each iteration one residual and one solve); it is refreshed at the
 // current iterate when the contraction rate predicts more than kRefreshIterations iterations,
@@ -249,6 +278,12 @@ StepResult ArcStepper::step(const TangentSolver& start, const Eigen::VectorXd& u
     if (!r.allFinite()) return {};
     const double scale = fnorm * std::max(std::abs(c.lam), 1e-3 * std::abs(c.dlam));
     double rn = r.norm();
+    // A residual concentrated on a few nodes is relaxed there first (fem/frame_relax.h), except
+    // at iteration 2, where the corrector may go back to the predicted point and refresh its
+    // tangent there (watch): a relaxed iterate would hide the overshoot that refresh is for
+    // (relaxed at iteration 2 too, locate_crossing's shorter steps on the perfect Aquadom path
+    // crossed the critical point and did not converge).
+    if (opt_.relaxation && it != 2 && relax(c, r, rn, fint)) rn = r.norm();
     // A stale tangent converges linearly and stops just below the tolerance, where Newton's
     // quadratic convergence would overshoot it by far: the modified corrector iterates on to
     // kPolish × tolerance (each iteration is cheap) and accepts the plain tolerance only when
@@ -603,6 +638,7 @@ void PathWalker::finish() {
   }
   res_.critical_state = stable_state_;
   res_.final_state = cur_.state;
+  if (stepper_) res_.relaxations = stepper_->relaxations();
 }
 
 }  // namespace
@@ -720,73 +756,6 @@ std::optional<double> locate_crossing(const FrameMesh& mesh, const FrameAssemble
     return std::nullopt;
   }
   return interpolate_level(seen);
-}
-
-NonlinearStaticResult nonlinear_static(const FrameMesh& mesh, const FrameAssembler& asmb,
-                                       double lambda, const NonlinearStaticOptions& opt,
-                                       const std::string& subject) {
-  NonlinearStaticResult res;
-  FrameState cur = reference_state(mesh);
-  double lam = 0;
-  double step = lambda / std::max(opt.initial_steps, 1);
-  int cutbacks = 0;
-  const Eigen::VectorXd& f = mesh.load;
-  const double fnorm = f.norm();
-  // Full Newton with the exact (non-symmetric) spin tangent: quadratic convergence also under
-  // applied moments.
-  Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
-  bool analyzed = false;
-  Eigen::VectorXd fint;
-  while (std::abs(lam - lambda) > 1e-14 * std::abs(lambda)) {
-    if (std::abs(step) > std::abs(lambda - lam)) step = lambda - lam;
-    const double target = lam + step;
-    FrameState st = cur;
-    bool converged = false;
-    int its = 0;
-    double rprev = 1e300;
-    for (its = 1; its <= opt.max_iterations; ++its) {
-      const SpMat K = asmb.tangent(st, &fint, nullptr, false);
-      const Eigen::VectorXd r = target * f - asmb.reduce(fint);
-      const double rn = r.norm();
-      if (!std::isfinite(rn)) break;
-      const double scale = fnorm * std::abs(target);
-      if (rn <= opt.tolerance * scale || (its >= 4 && rn <= 1e-5 * scale && rn >= 0.5 * rprev)) {
-        converged = true;
-        break;
-      }
-      if (its > 6 && rn > rprev) break;  // diverging
-      rprev = rn;
-      if (!analyzed) {
-        lu.analyzePattern(K);
-        analyzed = true;
-      }
-      lu.factorize(K);
-      if (lu.info() != Eigen::Success) break;
-      const Eigen::VectorXd du = lu.solve(r);
-      if (!du.allFinite()) break;
-      apply_increment(mesh, du, st);
-    }
-    res.iterations += its;
-    if (converged) {
-      cur = std::move(st);
-      lam = target;
-      ++res.steps;
-      if (its <= 4) step *= 1.5;
-    } else {
-      step *= 0.5;
-      if (++cutbacks > opt.max_cutbacks)
-        throw Error(subject, fmt::format("no equilibrium found beyond load factor {:.6g} (the "
-                                         "requested {:.6g} may exceed the limit load)",
-                                         lam, lambda));
-    }
-  }
-  fint = asmb.internal_force(cur, &res.axial);
-  res.reactions = fint - lambda * mesh.load_full;
-  for (int v = 0; v < static_cast<int>(mesh.X.rows()); ++v)
-    for (int c = 0; c < 6; ++c)
-      if (mesh.dof[v][c] >= 0 || !mesh.active[v][c]) res.reactions(6 * v + c) = 0;
-  res.state = std::move(cur);
-  return res;
 }
 
 }  // namespace gridshell::fem

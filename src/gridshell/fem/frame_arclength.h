@@ -10,7 +10,11 @@
 ///   factorisation costs (when that is seen after the first correction, the tangent is taken at
 ///   the predicted point rather than at the iterate the stale tangent threw off the path); an
 ///   indefinite refreshed tangent on a still-stable path is not used;
-///   iterations go to 1e-2 × tolerance (a stale tangent stops just below it). Adaptive steps
+///   iterations go to 1e-2 × tolerance (a stale tangent stops just below it). Where an
+///   iterate's residual sits on a few nodes (a local snap of a flat or weak region near the
+///   critical load), those nodes and their neighbours are first brought into equilibrium by a
+///   Newton iteration of their own (`relax_locally`), so the global iteration sees a residual
+///   its stale tangent can reduce. Adaptive steps
 ///   (Δs ∝ √(desired / used iterations), cut-backs on failure; an attempt whose iterate went
 ///   into the unstable region and stopped contracting fails at once, is retried at 0.7× and
 ///   caps the following radii, the cap rising 5 % a step). After every converged step the
@@ -27,7 +31,8 @@
 ///   until the point on the level is found, so the λ there does not depend on where the path's
 ///   points fall. Locating is left to the caller because it costs factorisations and usually only
 ///   one path's crossing is wanted.
-/// * `nonlinear_static`: Newton–Raphson with adaptive load steps up to a given factor.
+/// * `nonlinear_static` (fem/frame_static.h): Newton–Raphson with adaptive load steps up to a
+///   given factor.
 ///
 /// Cost: per corrector iteration one internal-force evaluation (~1 µs per element) and one
 /// solve; per converged step one tangent assembly (~2 µs per element) and factorisation, plus
@@ -40,7 +45,9 @@
 #include <vector>
 
 #include "gridshell/core/progress.h"
+#include "gridshell/fem/frame_relax.h"
 #include "gridshell/fem/frame_solver.h"
+#include "gridshell/fem/frame_static.h"
 #include "gridshell/fem/limit_type.h"
 
 namespace gridshell::fem {
@@ -74,6 +81,9 @@ struct ArcLengthOptions {
   std::function<void(const FrameState& state, double lambda)> on_point;
   /// Quantities whose first crossing the path records (ArcLengthResult::crossing_steps).
   std::vector<PathCrossing> crossings;
+  /// The corrector relaxes a residual concentrated on a few nodes locally before its global
+  /// iteration (fem/frame_relax.h); empty: never. Changes the iterates, not the path.
+  std::optional<LocalRelaxOptions> relaxation = LocalRelaxOptions{};
 };
 
 /// The accepted step on which a crossing's quantity first reached its level: its start (a
@@ -102,6 +112,7 @@ struct ArcLengthResult {
   FrameState final_state;
   int steps = 0, iterations = 0, cutbacks = 0;
   int factorizations = 0;  ///< tangent assemblies + factorisations (the dominant cost)
+  int relaxations = 0;     ///< local relaxations of the corrector's iterates (frame_relax.h)
   std::string stop_reason;
   double critical_mode_alignment = 0;  ///< |φ·K⁻¹f| / |K⁻¹f| at the last stable point
   /// Per options.crossings: the step that first carried the quantity from below its level to
@@ -155,25 +166,5 @@ std::optional<double> locate_crossing(const FrameMesh& mesh, const FrameAssemble
                                       const ArcLengthOptions& options, const PathCrossing& crossing,
                                       const CrossingStep& step, int& factorizations,
                                       double tolerance = 1e-6);
-
-struct NonlinearStaticOptions {
-  int initial_steps = 10;
-  int max_iterations = 25;
-  double tolerance = 1e-8;
-  int max_cutbacks = 20;
-};
-
-struct NonlinearStaticResult {
-  FrameState state;
-  std::vector<double> axial;  ///< per element
-  Eigen::VectorXd reactions;  ///< full (6 per node)
-  int steps = 0, iterations = 0;
-};
-
-/// Equilibrium at load factor `lambda`. Throws Error(subject) when no equilibrium is found
-/// (e.g. the factor is beyond the structure's limit load).
-NonlinearStaticResult nonlinear_static(const FrameMesh& mesh, const FrameAssembler& assembler,
-                                       double lambda, const NonlinearStaticOptions& options = {},
-                                       const std::string& subject = "nonlinear_static");
 
 }  // namespace gridshell::fem

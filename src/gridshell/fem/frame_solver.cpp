@@ -237,22 +237,35 @@ void add_force(const FrameMesh::Element& e, const Vec12& f, Eigen::VectorXd& ful
 }
 }  // namespace
 
+Mat12 element_tangent(const FrameMesh::Element& e, const FrameState& state, Vec12& force,
+                      double& axial, bool symmetric) {
+  const CorotState s = element_state(e, state);
+  if (e.truss) {
+    force = truss_f12(truss_force(e.beam.s.EA, e.beam.l0, s.xi, s.xj, &axial));
+    return truss_to12(truss_tangent(e.beam.s.EA, e.beam.l0, s.xi, s.xj));
+  }
+  Vec7 f;
+  const Mat12 Ke = corot_tangent(e.beam, s, &force, symmetric, &f);
+  axial = f(0);
+  return Ke;
+}
+
+Vec12 element_force(const FrameMesh::Element& e, const FrameState& state, double& axial) {
+  const CorotState s = element_state(e, state);
+  if (e.truss) return truss_f12(truss_force(e.beam.s.EA, e.beam.l0, s.xi, s.xj, &axial));
+  Vec7 f;
+  const Vec12 force = corot_force(e.beam, s, &f);
+  axial = f(0);
+  return force;
+}
+
 SpMat FrameAssembler::tangent(const FrameState& state, Eigen::VectorXd* f_int_full,
                               std::vector<double>* axial, bool symmetric) const {
   const int ne = static_cast<int>(mesh_.elements.size());
   std::vector<Vec12> forces(ne);
   std::vector<double> N(ne);
   SpMat K = assemble([&](int k) -> Mat12 {
-    const auto& e = mesh_.elements[k];
-    const CorotState s = element_state(e, state);
-    if (e.truss) {
-      forces[k] = truss_f12(truss_force(e.beam.s.EA, e.beam.l0, s.xi, s.xj, &N[k]));
-      return truss_to12(truss_tangent(e.beam.s.EA, e.beam.l0, s.xi, s.xj));
-    }
-    Vec7 f;
-    const Mat12 Ke = corot_tangent(e.beam, s, &forces[k], symmetric, &f);
-    N[k] = f(0);
-    return Ke;
+    return element_tangent(mesh_.elements[k], state, forces[k], N[k], symmetric);
   });
   if (f_int_full) {
     f_int_full->setZero(6 * mesh_.X.rows());
@@ -267,17 +280,7 @@ Eigen::VectorXd FrameAssembler::internal_force(const FrameState& state,
   const int ne = static_cast<int>(mesh_.elements.size());
   std::vector<Vec12> forces(ne);
   std::vector<double> N(ne);
-  tbb::parallel_for(0, ne, [&](int k) {
-    const auto& e = mesh_.elements[k];
-    const CorotState s = element_state(e, state);
-    if (e.truss) {
-      forces[k] = truss_f12(truss_force(e.beam.s.EA, e.beam.l0, s.xi, s.xj, &N[k]));
-    } else {
-      Vec7 f;
-      forces[k] = corot_force(e.beam, s, &f);
-      N[k] = f(0);
-    }
-  });
+  tbb::parallel_for(0, ne, [&](int k) { forces[k] = element_force(mesh_.elements[k], state, N[k]); });
   Eigen::VectorXd full = Eigen::VectorXd::Zero(6 * mesh_.X.rows());
   for (int k = 0; k < ne; ++k) add_force(mesh_.elements[k], forces[k], full);
   if (axial) *axial = std::move(N);

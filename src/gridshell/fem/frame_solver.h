@@ -62,6 +62,14 @@ Points displacements(const FrameMesh& mesh, const FrameState& state);
 /// Rotation vectors per node, n×3.
 Points rotations(const FrameState& state);
 
+/// One element's tangent stiffness (12×12, global components, [ui θi uj θj]) at `state`, with
+/// its internal force and axial force (tension positive): the corotational beam, or the truss
+/// (its rotation rows zero). `symmetric` as for corot_tangent.
+Mat12 element_tangent(const FrameMesh::Element& e, const FrameState& state, Vec12& force,
+                      double& axial, bool symmetric = true);
+/// One element's internal force (and axial force) at `state`.
+Vec12 element_force(const FrameMesh::Element& e, const FrameState& state, double& axial);
+
 /// Sparse assembly on a fixed pattern (free dofs only, full symmetric storage).
 class FrameAssembler {
  public:
