@@ -123,25 +123,12 @@ Eigen::VectorXd region_residual(const FrameMesh& mesh, const Region& g, const Fr
   return res;
 }
 
+// Adds the region's increment x (local dofs) to the state and to du (free dofs).
 void apply_local(const FrameMesh& mesh, const Region& g, const Eigen::VectorXd& x,
                  FrameState& st, Eigen::VectorXd& du) {
   Eigen::VectorXd full = Eigen::VectorXd::Zero(mesh.num_dofs);
   for (size_t a = 0; a < g.dofs.size(); ++a) full(g.dofs[a]) = x(a);
-  for (int v : g.nodes) {
-    Vec3 w = Vec3::Zero();
-    bool rot = false;
-    for (int c = 0; c < 6; ++c) {
-      const int d = mesh.dof[v][c];
-      if (d < 0) continue;
-      if (c < 3) {
-        st.x(v, c) += full(d);
-      } else {
-        w(c - 3) = full(d);
-        rot = true;
-      }
-    }
-    if (rot) st.R[v] = rotation_exp(w) * st.R[v];
-  }
+  apply_increment(mesh, full, st);  // exp(0) = I exactly: nodes outside the region stay as they are
   du += full;
 }
 
