@@ -93,7 +93,8 @@ TEST(LocalRelaxation, BalancesTheNodesWhereTheResidualSitsAndHoldsTheRest) {
 TEST(LocalRelaxation, LeavesAResidualSpreadOverTheFrameToTheGlobalIteration) {
   FrameModel model = shallow_cap(13, 0.6, 4, 5);
   model.loads.clear();
-  for (int v = 0; v < model.num_nodes(); ++v) model.loads.push_back({v, Vec3(0, 0, -100), Vec3::Zero()});
+  for (int v = 0; v < model.num_nodes(); ++v)
+    model.loads.push_back({v, Vec3(0, 0, -100), Vec3::Zero()});
   const FrameMesh mesh = discretize(model);
   const FrameAssembler asmb(mesh);
   FrameState st = reference_state(mesh);
@@ -119,11 +120,12 @@ TEST(LocalRelaxation, ThePathWithItIsThePathWithoutIt) {
   plain.relaxation.reset();
   const ArcLengthResult with = arc_length(mesh, asmb, opt, reference_state(mesh));
   const ArcLengthResult without = arc_length(mesh, asmb, plain, reference_state(mesh));
-  std::printf("cap: lambda %.9f (%s, %d steps, %d factorisations, %d relaxations) against "
-              "%.9f (%s, %d steps, %d factorisations)\n",
-              with.lambda_critical, to_string(with.limit_type), with.steps, with.factorizations,
-              with.relaxations, without.lambda_critical, to_string(without.limit_type),
-              without.steps, without.factorizations);
+  std::printf(
+      "cap: lambda %.9f (%s, %d steps, %d factorisations, %d relaxations) against "
+      "%.9f (%s, %d steps, %d factorisations)\n",
+      with.lambda_critical, to_string(with.limit_type), with.steps, with.factorizations,
+      with.relaxations, without.lambda_critical, to_string(without.limit_type), without.steps,
+      without.factorizations);
   EXPECT_GT(with.relaxations, 0);
   EXPECT_EQ(without.relaxations, 0);
   EXPECT_NE(with.limit_type, LimitType::none);

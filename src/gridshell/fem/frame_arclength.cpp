@@ -237,7 +237,8 @@ bool ArcStepper::correct(Corrector& c, const Eigen::VectorXd& r, double ds) cons
 bool ArcStepper::relax(Corrector& c, Eigen::VectorXd& r, double rn, Eigen::VectorXd& fint) const {
   FrameState st = c.st;
   Eigen::VectorXd du = c.du;
-  const LocalRelaxResult lr = relax_locally(mesh_, node_elements_, c.lam, r, st, du, *opt_.relaxation);
+  const LocalRelaxResult lr =
+      relax_locally(mesh_, node_elements_, c.lam, r, st, du, *opt_.relaxation);
   if (!lr.relaxed) return false;
   Eigen::VectorXd f = asmb_.internal_force(st);
   Eigen::VectorXd rr = c.lam * mesh_.load - asmb_.reduce(f);

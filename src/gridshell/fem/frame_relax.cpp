@@ -124,8 +124,8 @@ Eigen::VectorXd region_residual(const FrameMesh& mesh, const Region& g, const Fr
 }
 
 // Adds the region's increment x (local dofs) to the state and to du (free dofs).
-void apply_local(const FrameMesh& mesh, const Region& g, const Eigen::VectorXd& x,
-                 FrameState& st, Eigen::VectorXd& du) {
+void apply_local(const FrameMesh& mesh, const Region& g, const Eigen::VectorXd& x, FrameState& st,
+                 Eigen::VectorXd& du) {
   Eigen::VectorXd full = Eigen::VectorXd::Zero(mesh.num_dofs);
   for (size_t a = 0; a < g.dofs.size(); ++a) full(g.dofs[a]) = x(a);
   apply_increment(mesh, full, st);  // exp(0) = I exactly: nodes outside the region stay as they are
@@ -144,7 +144,8 @@ LocalRelaxResult relax_locally(const FrameMesh& mesh,
   std::vector<int> core = residual_core(mesh, r, opt.share, max_core);
   if (core.empty()) return out;
   out.core = static_cast<int>(core.size());
-  const Region g = make_region(mesh, node_elements, grow_region(mesh, node_elements, core, opt.rings));
+  const Region g =
+      make_region(mesh, node_elements, grow_region(mesh, node_elements, core, opt.rings));
   out.nodes = static_cast<int>(g.nodes.size());
   if (g.dofs.empty()) return out;
   Eigen::SparseMatrix<double> K;

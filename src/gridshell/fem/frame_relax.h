@@ -25,8 +25,8 @@
 namespace gridshell::fem {
 
 /// Defaults measured on the Aquadom design's stability block (docs/performance.md, "Local
-/// relaxation"): with share 0.9 and 2 rings a relaxation cut the global residual only 4–5×
-/// (the 10 % of |r|² outside the core stays), with 0.99 and 4 rings 10–50×.
+/// relaxation"): with share 0.9 and 2 rings a relaxation cut the global residual only 3–5×
+/// (the 10 % of |r|² outside the core stays), with 0.99 and 4 rings 12–26×.
 struct LocalRelaxOptions {
   double share = 0.99;  ///< the core: the fewest nodes carrying this share of |r|²
   /// Relax only when the core is at most this fraction of the nodes (else the residual is not

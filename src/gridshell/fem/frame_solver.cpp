@@ -280,7 +280,8 @@ Eigen::VectorXd FrameAssembler::internal_force(const FrameState& state,
   const int ne = static_cast<int>(mesh_.elements.size());
   std::vector<Vec12> forces(ne);
   std::vector<double> N(ne);
-  tbb::parallel_for(0, ne, [&](int k) { forces[k] = element_force(mesh_.elements[k], state, N[k]); });
+  tbb::parallel_for(0, ne,
+                    [&](int k) { forces[k] = element_force(mesh_.elements[k], state, N[k]); });
   Eigen::VectorXd full = Eigen::VectorXd::Zero(6 * mesh_.X.rows());
   for (int k = 0; k < ne; ++k) add_force(mesh_.elements[k], forces[k], full);
   if (axial) *axial = std::move(N);
