@@ -122,7 +122,8 @@ class ArcStepper {
   std::optional<StepOutcome> watch(Corrector& c, int it, double rho, double tol, double scale,
                                    Eigen::VectorXd& r, double& rn, TangentSolver& work) const;
   bool correct(Corrector& c, const Eigen::VectorXd& r, double ds) const;
-  bool relax(Corrector& c, Eigen::VectorXd& r, double rn, Eigen::VectorXd& fint) const;
+  bool relax(Corrector& c, Eigen::VectorXd& r, double rn, Eigen::VectorXd& fint,
+             std::vector<Vec12>& forces) const;
 
   const FrameMesh& mesh_;
   const FrameAssembler& asmb_;
@@ -234,13 +235,16 @@ bool ArcStepper::correct(Corrector& c, const Eigen::VectorXd& r, double ds) cons
 /// constraint); kept only when the whole residual falls (a region balanced against held
 /// neighbours can push more onto them than it took off), and then r and fint are those of the
 /// relaxed iterate. False when nothing changed.
-bool ArcStepper::relax(Corrector& c, Eigen::VectorXd& r, double rn, Eigen::VectorXd& fint) const {
+bool ArcStepper::relax(Corrector& c, Eigen::VectorXd& r, double rn, Eigen::VectorXd& fint,
+                       std::vector<Vec12>& forces) const {
   FrameState st = c.st;
   Eigen::VectorXd du = c.du;
+  std::vector<Vec12> relaxed_forces = forces;
   const LocalRelaxResult lr =
-      relax_locally(mesh_, node_elements_, c.lam, r, st, du, *opt_.relaxation);
+      relax_locally(mesh_, node_elements_, c.lam, r, st, du, *opt_.relaxation, &relaxed_forces);
   if (!lr.relaxed) return false;
-  Eigen::VectorXd f = asmb_.internal_force(st);
+  // Only the region's elements changed: the sum of the forces is internal_force(st), bit for bit.
+  Eigen::VectorXd f = sum_element_forces(mesh_, relaxed_forces);
   Eigen::VectorXd rr = c.lam * mesh_.load - asmb_.reduce(f);
   const double after = rr.norm();
   spdlog::debug("  relaxed {} nodes ({} iterations): residual {:.3g} -> {:.3g}{}", lr.nodes,
@@ -251,6 +255,7 @@ bool ArcStepper::relax(Corrector& c, Eigen::VectorXd& r, double rn, Eigen::Vecto
   c.st = std::move(st);
   c.du = std::move(du);
   fint = std::move(f);
+  forces = std::move(relaxed_forces);
   r = std::move(rr);
   return true;
 }
@@ -273,8 +278,9 @@ StepResult ArcStepper::step(const TangentSolver& start, const Eigen::VectorXd& u
   if (!predict(from, ds, first, c)) return {};
   const double fnorm = f.norm();
   Eigen::VectorXd fint;
+  std::vector<Vec12> forces;  // per element, for the local relaxation
   for (int it = 1; it <= opt_.max_iterations; ++it) {
-    fint = asmb_.internal_force(c.st);
+    fint = asmb_.internal_force(c.st, nullptr, opt_.relaxation ? &forces : nullptr);
     Eigen::VectorXd r = c.lam * f - asmb_.reduce(fint);
     if (!r.allFinite()) return {};
     const double scale = fnorm * std::max(std::abs(c.lam), 1e-3 * std::abs(c.dlam));
@@ -284,7 +290,7 @@ StepResult ArcStepper::step(const TangentSolver& start, const Eigen::VectorXd& u
     // tangent there (watch): a relaxed iterate would hide the overshoot that refresh is for
     // (relaxed at iteration 2 too, locate_crossing's shorter steps on the perfect Aquadom path
     // crossed the critical point and did not converge).
-    if (opt_.relaxation && it != 2 && relax(c, r, rn, fint)) rn = r.norm();
+    if (opt_.relaxation && it != 2 && relax(c, r, rn, fint, forces)) rn = r.norm();
     // A stale tangent converges linearly and stops just below the tolerance, where Newton's
     // quadratic convergence would overshoot it by far: the modified corrector iterates on to
     // kPolish × tolerance (each iteration is cheap) and accepts the plain tolerance only when

@@ -9,12 +9,13 @@
 /// global Newton step taken with a tangent from elsewhere on the path overshoots there and
 /// nowhere else. `relax_locally` finds those nodes, adds a ring of neighbours, and runs Newton on
 /// that region alone — every other node held where it is, λ fixed — with the region's own
-/// tangent (a sparse LDLᵀ of a few thousand dofs: milliseconds). The global corrector then
-/// continues from a state whose residual is spread thin, where its stale tangent contracts well.
-/// It only changes the iterates, not the equilibrium the corrector converges to.
+/// tangent (a sparse LLᵀ of a few thousand dofs by the library's SparseCholesky: milliseconds). The
+/// global corrector then continues from a state whose residual is spread thin, where its stale
+/// tangent contracts well. It only changes the iterates, not the equilibrium the corrector
+/// converges to.
 ///
-/// Cost: per call one internal-force evaluation of the region's elements and, per local
-/// iteration, their tangents and a factorisation of the region's stiffness.
+/// Cost: per local iteration the region's elements' forces and, where another iteration follows,
+/// their tangents and a factorisation of the region's stiffness (its ordering once per call).
 
 #include <vector>
 
@@ -50,10 +51,14 @@ std::vector<std::vector<int>> node_elements(const FrameMesh& mesh);
 /// at load factor `lambda`; adds the region's displacement increment (free dofs; rotations as
 /// left spins, as apply_increment takes them) to `du`. Leaves `state` and `du` unchanged when the
 /// residual is not concentrated, the region's tangent is not positive definite (it could carry
-/// the region onto another branch) or the first local step does not reduce the residual.
+/// the region onto another branch) or no local step reduces the residual. `element_forces`
+/// (optional, in and out): every element's force at `state` (FrameAssembler::internal_force's);
+/// when relaxed, the forces of the elements the region touches become those of the relaxed
+/// state, bit for bit as internal_force would give them — the others have not changed.
 LocalRelaxResult relax_locally(const FrameMesh& mesh,
                                const std::vector<std::vector<int>>& node_elements, double lambda,
                                const Eigen::VectorXd& r, FrameState& state, Eigen::VectorXd& du,
-                               const LocalRelaxOptions& options = {});
+                               const LocalRelaxOptions& options = {},
+                               std::vector<Vec12>* element_forces = nullptr);
 
 }  // namespace gridshell::fem

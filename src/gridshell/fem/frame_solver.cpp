@@ -275,16 +275,22 @@ SpMat FrameAssembler::tangent(const FrameState& state, Eigen::VectorXd* f_int_fu
   return K;
 }
 
-Eigen::VectorXd FrameAssembler::internal_force(const FrameState& state,
-                                               std::vector<double>* axial) const {
+Eigen::VectorXd FrameAssembler::internal_force(const FrameState& state, std::vector<double>* axial,
+                                               std::vector<Vec12>* element_forces) const {
   const int ne = static_cast<int>(mesh_.elements.size());
-  std::vector<Vec12> forces(ne);
+  std::vector<Vec12> own;
+  std::vector<Vec12>& forces = element_forces ? *element_forces : own;
+  forces.resize(ne);
   std::vector<double> N(ne);
   tbb::parallel_for(0, ne,
                     [&](int k) { forces[k] = element_force(mesh_.elements[k], state, N[k]); });
-  Eigen::VectorXd full = Eigen::VectorXd::Zero(6 * mesh_.X.rows());
-  for (int k = 0; k < ne; ++k) add_force(mesh_.elements[k], forces[k], full);
   if (axial) *axial = std::move(N);
+  return sum_element_forces(mesh_, forces);
+}
+
+Eigen::VectorXd sum_element_forces(const FrameMesh& mesh, const std::vector<Vec12>& forces) {
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(6 * mesh.X.rows());
+  for (size_t k = 0; k < mesh.elements.size(); ++k) add_force(mesh.elements[k], forces[k], full);
   return full;
 }
 

@@ -70,6 +70,10 @@ Mat12 element_tangent(const FrameMesh::Element& e, const FrameState& state, Vec1
 /// One element's internal force (and axial force) at `state`.
 Vec12 element_force(const FrameMesh::Element& e, const FrameState& state, double& axial);
 
+/// The full (6 per node) internal force from every element's force, added in element order (as
+/// FrameAssembler::internal_force adds them, so the same forces give the same bits).
+Eigen::VectorXd sum_element_forces(const FrameMesh& mesh, const std::vector<Vec12>& forces);
+
 /// Sparse assembly on a fixed pattern (free dofs only, full symmetric storage).
 class FrameAssembler {
  public:
@@ -83,9 +87,10 @@ class FrameAssembler {
   /// dofs, so reactions can be read off). `axial` optional out (per element N).
   SpMat tangent(const FrameState& state, Eigen::VectorXd* f_int_full,
                 std::vector<double>* axial = nullptr, bool symmetric = true) const;
-  /// Internal force only (cheaper).
-  Eigen::VectorXd internal_force(const FrameState& state,
-                                 std::vector<double>* axial = nullptr) const;
+  /// Internal force only (cheaper). `element_forces` optional out: each element's force, whose
+  /// sum_element_forces is the result.
+  Eigen::VectorXd internal_force(const FrameState& state, std::vector<double>* axial = nullptr,
+                                 std::vector<Vec12>* element_forces = nullptr) const;
   /// Reduces a full (6 per node) vector to the free dofs.
   Eigen::VectorXd reduce(const Eigen::VectorXd& full) const;
   /// Expands free dofs to a full (6 per node) vector (zeros at restrained dofs).
