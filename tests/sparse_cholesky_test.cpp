@@ -93,6 +93,40 @@ TEST(SparseCholesky, AGivenPermutationIsTheFactorsOrder) {
   EXPECT_LT((A * solver.solve(b) - b).norm(), 1e-12 * b.norm());
 }
 
+// The factor-order copy (refilled at every factorisation instead of CHOLMOD's permuted
+// transpose) gives the same factor bit for bit, for either stored triangle, over refactorisations
+// with new values on the pattern; a matrix that is not positive definite fails at the same
+// column.
+TEST(SparseCholesky, TheFactorOrderCopyGivesTheSameFactor) {
+  for (const StoredTriangle triangle : {StoredTriangle::upper, StoredTriangle::lower}) {
+    SparseCholeskyOptions plain;
+    plain.ordering = CholeskyOrdering::best_of_amd_metis;
+    plain.triangle = triangle;
+    plain.stop_at_failure = true;
+    SparseCholeskyOptions copy = plain;
+    copy.factor_order_copy = true;
+    SparseCholesky a(plain), b(copy);
+    for (const double shift : {0.01, 0.5, -0.3, 2.0}) {  // −0.3: below −λ_min ≈ −0.077
+      const SpMat A = grid_laplacian(15, shift);
+      const CholeskyStatus sa = a.factorize(A), sb = b.factorize(A);
+      ASSERT_EQ(sa.ok, sb.ok) << shift;
+      EXPECT_EQ(sa.ok, shift > 0);
+      if (!sa.ok) {
+        EXPECT_GE(sa.failed_column, 0);
+        EXPECT_EQ(sa.failed_column, sb.failed_column);
+        continue;
+      }
+      const Eigen::VectorXd da = a.diagonal(), db = b.diagonal();
+      const Eigen::VectorXd xa = a.solve(rhs(225)), xb = b.solve(rhs(225));
+      for (int i = 0; i < 225; ++i) {
+        ASSERT_EQ(da(i), db(i)) << shift << " " << i;
+        ASSERT_EQ(xa(i), xb(i)) << shift << " " << i;
+      }
+      EXPECT_LT((A.selfadjointView<Eigen::Upper>() * xb - rhs(225)).norm(), 1e-10);
+    }
+  }
+}
+
 TEST(SparseCholesky, ReportsTheColumnWhereASingularMatrixFails) {
   // A chain of springs with node 7 cut loose from its neighbours: zero row and column but for a
   // zero diagonal, so the factorisation stops at column 7 whatever the ordering.

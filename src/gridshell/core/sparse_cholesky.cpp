@@ -2,13 +2,18 @@
 
 #include <cholmod.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <string>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "gridshell/core/cholmod_support.h"
 #include "gridshell/core/error.h"
@@ -114,6 +119,14 @@ struct SparseCholesky::Impl {
   cholmod_factor* L = nullptr;
   // solve_in_place's workspaces (cholmod_solve2): kept from one call to the next.
   mutable cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
+  // options.factor_order_copy: tril(P A Pᵀ) in compressed columns, rows sorted, and per entry
+  // the index of its value in the analysed matrix's value array (of `copied_nnz` entries); the
+  // values themselves are gathered into a buffer of the factorisation's own.
+  std::vector<int> fp, fi, from;
+  int copied_nnz = -1;
+
+  void build_factor_order_copy(const cholmod_sparse& A);
+  bool factorize_factor_order_copy(const cholmod_sparse& A);
 
   explicit Impl(const SparseCholeskyOptions& o) : options(o) {
     cholmod_start(&c);
@@ -129,6 +142,71 @@ struct SparseCholesky::Impl {
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 };
+
+// The analysed triangle of A in the factor's order (SparseCholeskyOptions::factor_order_copy);
+// left empty when A is not packed or not symmetric.
+void SparseCholesky::Impl::build_factor_order_copy(const cholmod_sparse& A) {
+  fp.clear();
+  fi.clear();
+  from.clear();
+  copied_nnz = -1;
+  if (!A.packed || A.stype == 0) return;
+  const int n = static_cast<int>(A.ncol);
+  const int* Ap = static_cast<const int*>(A.p);
+  const int* Ai = static_cast<const int*>(A.i);
+  const int* perm = static_cast<const int*>(L->Perm);
+  std::vector<int> inv(n);
+  for (int k = 0; k < n; ++k) inv[perm ? perm[k] : k] = k;
+  const auto in_triangle = [&](int i, int j) { return A.stype > 0 ? i <= j : i >= j; };
+  fp.assign(n + 1, 0);
+  for (int j = 0; j < n; ++j)
+    for (int q = Ap[j]; q < Ap[j + 1]; ++q)
+      if (in_triangle(Ai[q], j)) ++fp[std::min(inv[Ai[q]], inv[j]) + 1];
+  for (int k = 0; k < n; ++k) fp[k + 1] += fp[k];
+  std::vector<std::pair<int, int>> entry(fp[n]);  // (row, source) per factor-order entry
+  std::vector<int> next(fp.begin(), fp.end() - 1);
+  for (int j = 0; j < n; ++j)
+    for (int q = Ap[j]; q < Ap[j + 1]; ++q)
+      if (in_triangle(Ai[q], j)) {
+        const int a = inv[Ai[q]], b = inv[j];
+        entry[next[std::min(a, b)]++] = {std::max(a, b), q};
+      }
+  for (int k = 0; k < n; ++k) std::sort(entry.begin() + fp[k], entry.begin() + fp[k + 1]);
+  fi.resize(entry.size());
+  from.resize(entry.size());
+  for (std::size_t t = 0; t < entry.size(); ++t) std::tie(fi[t], from[t]) = entry[t];
+  copied_nnz = Ap[n];
+}
+
+// Refills the factor-order copy from A and has CHOLMOD factorise it as a matrix already in the
+// factor's order (lower triangle, "natural" ordering: no transpose); the factor keeps its
+// permutation for the solves. False (nothing done) when A is not the analysed pattern's size.
+bool SparseCholesky::Impl::factorize_factor_order_copy(const cholmod_sparse& A) {
+  if (fp.empty() || !A.packed || A.ncol + 1 != fp.size() ||
+      static_cast<const int*>(A.p)[A.ncol] != copied_nnz)
+    return false;
+  const double* ax = static_cast<const double*>(A.x);
+  const std::size_t nnz = from.size();
+  const std::unique_ptr<double[]> fx(new double[nnz]);
+  for (std::size_t t = 0; t < nnz; ++t) fx[t] = ax[from[t]];
+  cholmod_sparse S{};
+  S.nrow = S.ncol = A.ncol;
+  S.nzmax = nnz;
+  S.p = fp.data();
+  S.i = fi.data();
+  S.x = fx.get();
+  S.packed = 1;
+  S.sorted = 1;
+  S.stype = -1;
+  S.itype = CHOLMOD_INT;
+  S.xtype = CHOLMOD_REAL;
+  S.dtype = CHOLMOD_DOUBLE;
+  const int ordering = L->ordering;
+  L->ordering = CHOLMOD_NATURAL;
+  cholmod_factorize(&S, L, &c);
+  L->ordering = ordering;
+  return true;
+}
 
 SparseCholesky::SparseCholesky(const SparseCholeskyOptions& options)
     : impl_(std::make_unique<Impl>(options)) {}
@@ -158,6 +236,8 @@ bool SparseCholesky::analyze(const cholmod_sparse& A, const int* permutation) {
       lock.emplace(lock_symbolic_analysis());
     m.L = cholmod_analyze(&a, &m.c);
   }
+  if (m.L && m.options.factor_order_copy && m.L->is_super && m.options.kind == CholeskyKind::llt)
+    m.build_factor_order_copy(A);
   return m.L != nullptr;
 }
 
@@ -178,7 +258,8 @@ CholeskyStatus SparseCholesky::factorize(const cholmod_sparse& A) {
   {
     std::optional<SerialOpenMpScope> serial;
     if (m.options.threads == CholeskyThreads::calling_thread) serial.emplace();
-    cholmod_factorize(const_cast<cholmod_sparse*>(&A), m.L, &m.c);
+    if (!m.factorize_factor_order_copy(A))
+      cholmod_factorize(const_cast<cholmod_sparse*>(&A), m.L, &m.c);
   }
   status.ok = m.L->minor == m.L->n;
   if (!status.ok) {

@@ -1,9 +1,11 @@
 #pragma once
 /// \file sparse_cholesky.h
 /// The one sparse Cholesky of the library: every factorisation of a symmetric sparse matrix
-/// (frame stiffness and tangents, shell stiffness, the metric's global step, force density,
-/// regularization, flat panels) goes through `SparseCholesky`, which owns its CHOLMOD workspace
-/// (`cholmod_common`) and factor and configures them from small `SparseCholeskyOptions`:
+/// (frame stiffness and tangents, the arc-length corrector's local relaxation, shell stiffness,
+/// the metric's global step, force density, regularization, flat panels; not the quad-aniso
+/// baseline's small Laplacian, docs/performance.md) goes through `SparseCholesky`, which owns
+/// its CHOLMOD workspace (`cholmod_common`) and factor and configures them from small
+/// `SparseCholeskyOptions`:
 ///
 /// - ordering: none (natural), AMD, METIS nested dissection, the better of AMD and METIS
 ///   (fewer flops; frames), CHOLMOD's default (AMD, METIS as well when AMD fills badly), or a
@@ -78,6 +80,12 @@ struct SparseCholeskyOptions {
   /// After a supernodal factorisation, convert the factor to a simplicial one for the solves
   /// (faster substitutions when the supernodes are small; the metric's global step).
   bool simplicial_solves = false;
+  /// Keep the analysed triangle in the factor's order (tril(P A Pᵀ): its pattern and, per entry,
+  /// where its value sits in A; 16 bytes per entry) and refill it at every factorisation, instead
+  /// of CHOLMOD forming it by a permuted transpose each time — a third of the factorisation of a
+  /// frame's tangent, whose supernodes are small. Supernodal LLᵀ only; the same factor, bit for
+  /// bit. For matrices factorised many times on one pattern.
+  bool factor_order_copy = false;
 };
 
 /// Outcome of a numeric factorisation.

@@ -469,8 +469,10 @@ class PathWalker {
   const Eigen::VectorXd W_;
   // solver_cur_: the factorised tangent at the current point, with its load tangent
   // ut_cur_ = K⁻¹f; solver_work_: refreshed and candidate tangents.
-  std::unique_ptr<TangentSolver> solver_cur_ = std::make_unique<TangentSolver>(),
-                                 solver_work_ = std::make_unique<TangentSolver>();
+  std::unique_ptr<TangentSolver> solver_cur_ =
+      std::make_unique<TangentSolver>(Refactorisation::repeated);
+  std::unique_ptr<TangentSolver> solver_work_ =
+      std::make_unique<TangentSolver>(Refactorisation::repeated);
   Converged cur_;
   Eigen::VectorXd ut_cur_;
   std::vector<double> crossing_cur_;  // the crossings' quantities at cur_
@@ -722,7 +724,7 @@ std::optional<double> locate_crossing(const FrameMesh& mesh, const FrameAssemble
                                       const ArcLengthOptions& opt, const PathCrossing& crossing,
                                       const CrossingStep& step, int& factorizations,
                                       double tolerance) {
-  TangentSolver start, work;
+  TangentSolver start(Refactorisation::repeated), work(Refactorisation::repeated);
   if (!factorize_tangent(asmb, step.from, start, factorizations)) return std::nullopt;
   const Eigen::VectorXd ut = start.solve(mesh.load);
   if (!ut.allFinite()) return std::nullopt;

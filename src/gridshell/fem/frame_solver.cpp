@@ -323,15 +323,17 @@ namespace {
 // still faster than the simplicial one, which has no BLAS calls (docs/performance.md, "The
 // sparse solver": simplicial ×1.2–1.3 on the Aquadom and Lilium frames).
 //
-// K is stored whole (frame_pattern.h); the LLᵀ reads its upper triangle, from which CHOLMOD forms
-// the permuted matrix it factorises with one transpose (from the lower triangle it takes two;
-// CHOLMOD's transposes were 5 % of the Aquadom LBA's process). Only the failing column of an
+// K is stored whole (frame_pattern.h); the LLᵀ reads its upper triangle. For a path's tangents
+// the permuted lower triangle CHOLMOD factorises is kept (`factor_order_copy`) and refilled from
+// K at every factorisation: CHOLMOD's own permuted transpose was a third of a tangent's
+// factorisation in the stability block (docs/performance.md). Only the failing column of an
 // indefinite K is wanted: the factorisation stops there.
-SparseCholeskyOptions llt_options() {
+SparseCholeskyOptions llt_options(Refactorisation refactorisation) {
   SparseCholeskyOptions o;
   o.ordering = CholeskyOrdering::best_of_amd_metis;
   o.triangle = StoredTriangle::upper;
   o.stop_at_failure = true;
+  o.factor_order_copy = refactorisation == Refactorisation::repeated;
   return with_environment(o);
 }
 
@@ -349,11 +351,13 @@ SparseCholeskyOptions ldlt_options() {
 }  // namespace
 
 struct TangentSolver::Impl {
-  SparseCholesky llt{llt_options()};
+  SparseCholesky llt;
   SparseCholesky ldlt{ldlt_options()};
+  explicit Impl(Refactorisation r) : llt(llt_options(r)) {}
 };
 
-TangentSolver::TangentSolver() : impl_(std::make_unique<Impl>()) {}
+TangentSolver::TangentSolver(Refactorisation refactorisation)
+    : impl_(std::make_unique<Impl>(refactorisation)) {}
 TangentSolver::~TangentSolver() = default;
 
 void TangentSolver::analyze(const SpMat& pattern) {

@@ -107,10 +107,16 @@ class FrameAssembler {
   std::vector<int> slot_;  // per element entry (144 per element): value index or −1
 };
 
+/// How often a TangentSolver is factorised on its pattern: `repeated` (a path's tangents) keeps
+/// the analysed triangle in the factor's order and refills it (SparseCholeskyOptions::
+/// factor_order_copy: faster refactorisations, 8 bytes per stored entry of the triangle);
+/// `once` (a linear or buckling analysis) does not.
+enum class Refactorisation { once, repeated };
+
 /// Factorisation of a symmetric (possibly indefinite) tangent.
 class TangentSolver {
  public:
-  TangentSolver();
+  explicit TangentSolver(Refactorisation refactorisation = Refactorisation::once);
   ~TangentSolver();
   TangentSolver(const TangentSolver&) = delete;
   TangentSolver& operator=(const TangentSolver&) = delete;
