@@ -387,6 +387,27 @@ double path_alignment(const FrameMesh& mesh, const FrameState& state, const Eige
   return nd > 0 && np > 0 ? std::abs(p.dot(d)) / (nd * np) : 0.0;
 }
 
+// A path's last three points at a bracketed event, in arc length from the last stable one:
+// (−r_prev, λ_prev), (0, λ_cur) and the event (r, λ_next).
+struct LimitBracket {
+  double r_prev = 0, lam_prev = 0, lam_cur = 0, r = 0, lam_next = 0;
+};
+
+// The top of the parabola λ(s) through a limit point's bracket. Near a limit point λ(s) is
+// smooth with its maximum among the points: their own largest λ is O(r²) below it wherever the
+// bracket falls (a step straddling the top stops on both sides of it, equally low), the vertex
+// O(r³). −∞ where the parabola opens upwards or its vertex lies outside the points (no earlier
+// point: the first step).
+double limit_lambda(const LimitBracket& b) {
+  const double a = b.r_prev, r = b.r;
+  if (!(a > 0 && r > 0)) return -HUGE_VAL;
+  const double up = (b.lam_next - b.lam_cur) / r, down = (b.lam_prev - b.lam_cur) / a;
+  const double q = (up + down) / (a + r), p = up - q * r;  // λ = λ_cur + p s + q s²
+  if (!(q < 0)) return -HUGE_VAL;
+  const double s = -p / (2 * q);
+  return s >= -a && s <= r ? b.lam_cur - p * p / (4 * q) : -HUGE_VAL;
+}
+
 // A bracketed event, classified with the tangent at the last stable point `cur` and its softest
 // mode φ. At a new negative pivot: near a limit point the load tangent v = K⁻¹f is dominated by φ
 // (φᵀf ≠ 0); at a bifurcation φ ⟂ f and v has no large component along φ. At a fall of λ
@@ -395,10 +416,12 @@ double path_alignment(const FrameMesh& mesh, const FrameState& state, const Eige
 // ⟂ f there): it is a limit point only if the path's displacement so far lies mostly along φ
 // (a limit point's softening mode grows with the load: Lee's frame 0.76, the deep arch 0.75,
 // the star dome 1.0; the portal frame 0.31). Sets res's alignment and limit type; returns the
-// critical load factor (the bracket's middle at a pivot bifurcation, else the largest λ).
+// critical load factor: the bracket's middle at a pivot bifurcation, the top of λ(s) at a limit
+// point (limit_lambda), else the largest λ.
 double classify_critical(const FrameMesh& mesh, const TangentSolver& solver,
                          const Eigen::VectorXd& ut, const Converged& cur, const Converged& next,
-                         double lam_max, int base_negative, ArcLengthResult& res) {
+                         double lam_max, int base_negative, const LimitBracket& bracket,
+                         ArcLengthResult& res) {
   Eigen::VectorXd phi;
   const double along = critical_mode_alignment(solver, ut, mesh.num_dofs, phi);
   res.critical_mode_alignment = along;
@@ -406,8 +429,9 @@ double classify_critical(const FrameMesh& mesh, const TangentSolver& solver,
   const bool bifurcation =
       pivot ? along < 0.5 : along < 0.5 || path_alignment(mesh, cur.state, phi) < 0.5;
   res.limit_type = bifurcation ? LimitType::bifurcation : LimitType::limit_point;
-  return bifurcation && pivot ? 0.5 * (cur.lambda + next.lambda)
-                              : std::max({cur.lambda, next.lambda, lam_max});
+  if (bifurcation && pivot) return 0.5 * (cur.lambda + next.lambda);
+  const double top = std::max({cur.lambda, next.lambda, lam_max});
+  return bifurcation ? top : std::max(top, limit_lambda(bracket));
 }
 
 // The next arc-length radius: scaled so that the corrector would take about the desired number
@@ -479,6 +503,7 @@ class PathWalker {
   std::optional<ArcStepper> stepper_;
   double ds_ = 0, ds_min_ = 0, ds_max_ = 0;
   double lam_max_ = 0;
+  double prev_lambda_ = 0, prev_radius_ = 0;  // the point before cur_ and the radius from it
   bool first_ = true;
   bool critical_ = false;  // an event has been bracketed
   double lam_crit_ = 0;
@@ -534,8 +559,9 @@ bool PathWalker::retry_shorter(StepOutcome outcome) {
 void PathWalker::bracketed(Converged& next) {
   critical_ = true;
   stable_state_ = cur_.state;
-  lam_crit_ =
-      classify_critical(mesh_, *solver_cur_, ut_cur_, cur_, next, lam_max_, base_negative_, res_);
+  const LimitBracket bracket{prev_radius_, prev_lambda_, cur_.lambda, ds_, next.lambda};
+  lam_crit_ = classify_critical(mesh_, *solver_cur_, ut_cur_, cur_, next, lam_max_, base_negative_,
+                                bracket, res_);
   ++res_.steps;
   res_.path.push_back({next.lambda, max_displacement(mesh_, next.state), next.negative});
   if (opt_.on_point) opt_.on_point(next.state, next.lambda);
@@ -554,6 +580,8 @@ bool PathWalker::accept(Converged& next, int its) {
                                               opt_.stall_tolerance * std::abs(cur_.lambda);
   stalled_ = crept ? stalled_ + 1 : 0;
   cut_since_accept_ = false;
+  prev_lambda_ = cur_.lambda;
+  prev_radius_ = ds_;
   cur_ = std::move(next);
   lam_max_ = std::max(lam_max_, cur_.lambda);
   const double umax = max_displacement(mesh_, cur_.state);

@@ -24,7 +24,10 @@
 ///   bisected from the last stable state until the bracket on λ is within `critical_tolerance`;
 ///   the critical mode φ (inverse iteration on the last stable tangent) classifies it: if the
 ///   load tangent K⁻¹f is dominated by φ (φᵀf ≠ 0) it is a "limit point" (load maximum),
-///   otherwise a "bifurcation" (φ ⟂ f, the path could continue with rising λ).
+///   otherwise a "bifurcation" (φ ⟂ f, the path could continue with rising λ). The critical λ
+///   of a limit point is the top of the parabola λ(s) through the path's last three points
+///   (O(r³) off where the points' own largest λ is O(r²) below: a step can straddle the top);
+///   of a bifurcation the bracket's middle (a new pivot) or its largest λ.
 ///   Crossings: quantities of the state (the largest displacement, the largest utilisation) can
 ///   be watched for their first rise over a level. The path records the step that carries each
 ///   over (its start and radius); `locate_crossing` follows that step again with shorter radii
