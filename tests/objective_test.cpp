@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <mutex>
 #include <string>
@@ -17,6 +18,7 @@
 #include "gridshell/core/error.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/objective.h"
+#include "gridshell/pipeline/objective_search.h"
 #include "gridshell/surfaces/load.h"
 
 using namespace gridshell;
@@ -128,4 +130,38 @@ TEST(Objective, AStopRequestEndsTheSearchBeforeItsNextCandidate) {
   EXPECT_GE(designed, 2);
   // (On two cores at most 4 of the search's ≥ 7 candidates: the test above.)
   EXPECT_LE(designed, 2 + running_at_most) << "the search went on after the stop request";
+}
+
+// The paraboloid is in compression everywhere, so a tension-driven field is the same for every
+// D and A: the search's variations of such a setting are the same design, taken over from the
+// first instead of made again. Made anew from scratch, each is that design bit for bit.
+TEST(Objective, ACandidateWithAnEarlierCandidatesFieldTakesItsDesign) {
+  const Surface surface = load_surface("builtin:paraboloid", {});
+  DesignOptions base = small_design();
+  base.tessellation.cells = 200;  // (at 90 cells no tension-driven candidate is varied)
+  const ObjectiveResult r = design_for_objective(surface, base, ObjectiveOptions{});
+  const double length = r.candidates.front().length;
+  int twins = 0;
+  for (const Candidate& c : r.candidates) {
+    if (c.same_as.empty()) continue;
+    ++twins;
+    EXPECT_EQ(c.setting.measure, StressMeasure::tension) << c.setting.label();
+    const auto original =
+        std::find_if(r.candidates.begin(), r.candidates.end(),
+                     [&](const Candidate& o) { return o.setting.label() == c.same_as; });
+    ASSERT_NE(original, r.candidates.end()) << c.same_as;
+    EXPECT_TRUE(original->same_as.empty());
+    EXPECT_EQ(c.lambda, original->lambda);
+    EXPECT_EQ(c.delta, original->delta);
+    const DesignResult made =
+        run_design(surface, objective_detail::candidate_options(base, c.setting, length));
+    ASSERT_TRUE(made.structure && made.structure->lambda_linear_buckling);
+    EXPECT_EQ(*made.structure->lambda_linear_buckling, c.lambda) << c.setting.label();
+    EXPECT_EQ(made.structure->delta_max_m, c.delta) << c.setting.label();
+    EXPECT_EQ(made.metrics.total_length, c.length) << c.setting.label();
+    EXPECT_EQ(made.mesh.num_faces(), c.cells) << c.setting.label();
+  }
+  EXPECT_GE(twins, 1);
+  EXPECT_EQ(r.report().at("candidates").at(r.candidates.size() - 1).contains("same_design_as"),
+            !r.candidates.back().same_as.empty());
 }

@@ -397,4 +397,9 @@ io::Attributes field_attributes(const Field& field) {
   return at;
 }
 
+bool identical(const Field& a, const Field& b) {
+  return a.u == b.u && a.d == b.d && a.a == b.a && a.u_raw == b.u_raw && a.d_raw == b.d_raw &&
+         a.a_raw == b.a_raw && a.coherence == b.coherence;
+}
+
 }  // namespace gridshell

@@ -104,6 +104,10 @@ struct Field {
   int size() const { return static_cast<int>(u.size()); }
 };
 
+/// Whether two fields are the same bit for bit (every array, the raw values included): designs
+/// made on them with the same seed and size are the same.
+bool identical(const Field& a, const Field& b);
+
 /// Per-face orthonormal tangent frame (t1, t2, n): t1 along the first edge, n the unit normal.
 /// Throws Error("mesh", ...) for a degenerate triangle.
 struct FaceFrames {

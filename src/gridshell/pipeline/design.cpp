@@ -650,18 +650,27 @@ void prepare(const Surface& surface, const DesignOptions& o, const StressField* 
   lap(r.timings, "stress", t);
 }
 
+/// The analysis surface, the stress and the field at full contrast of a design with `o`, into
+/// `cache`; the field, or null for an isotropic design.
+const Field* warm_field(const Surface& surface, const DesignOptions& o, DesignCache::Impl* cache,
+                        InputSurface& M, Prepared& prepared) {
+  DesignResult scratch;
+  prepare(surface, o, nullptr, cache, M, prepared, scratch);
+  if (is_isotropic(o)) return nullptr;
+  const std::optional<Surface>& coarse = *prepared.coarse;
+  return &shared_field(*cache, coarse ? coarse->mesh : surface.mesh, *prepared.stress, o,
+                       o.field_options.D, o.field_options.A, false)
+              .value;
+}
+
 /// What prepare_design_cache computes (see design.h).
 void warm_up(const Surface& surface, const DesignOptions& o, DesignCache::Impl* cache) {
   InputSurface M(surface.mesh, cache);
   if (o.finish == Finish::regularize) M.projector();  // needs only the input: first
   if (o.symmetry != Symmetry::none) M.symmetry();
-  DesignResult scratch;
   Prepared prepared;
-  prepare(surface, o, nullptr, cache, M, prepared, scratch);
+  warm_field(surface, o, cache, M, prepared);
   const std::optional<Surface>& coarse = *prepared.coarse;
-  if (!is_isotropic(o))
-    shared_field(*cache, coarse ? coarse->mesh : surface.mesh, *prepared.stress, o,
-                 o.field_options.D, o.field_options.A, false);
   if (coarse) {
     M.to_input(coarse->mesh);
     if (o.finish != Finish::planarize) M.projector();
@@ -751,6 +760,14 @@ void carry_field_to_input(const Surface& surface, DesignResult& r, DesignCache& 
 void prepare_design_cache(const Surface& surface, const DesignOptions& o, DesignCache& cache) {
   check_design_options(o);
   warm_up(surface, o, &cache.impl());
+}
+
+const Field* shared_design_field(const Surface& surface, const DesignOptions& o,
+                                 DesignCache& cache) {
+  check_design_options(o);
+  InputSurface M(surface.mesh, &cache.impl());
+  Prepared prepared;
+  return warm_field(surface, o, &cache.impl(), M, prepared);
 }
 
 namespace {

@@ -181,6 +181,11 @@ void carry_field_to_input(const Surface& surface, DesignResult& result, DesignCa
 /// find them ready (the objective search: beside its isotropic reference, which needs no
 /// stress); designs never depend on who computed a value. Throws what the designs would.
 void prepare_design_cache(const Surface& surface, const DesignOptions& options, DesignCache& cache);
+/// The field a design of `surface` with `options` is made on at its full contrast (per triangle
+/// of the analysis surface), from `cache`: computed there when first asked, the value the design
+/// itself then takes. Null for an isotropic design. Throws what the design would.
+const Field* shared_design_field(const Surface& surface, const DesignOptions& options,
+                                 DesignCache& cache);
 
 /// The flat-panel stage with its fallback (docs/panels.md): `flat` holds the flat mesh when it
 /// passes the stage's post-check, else nothing (the free panels stay, with a warning); `info` is

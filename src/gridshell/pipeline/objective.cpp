@@ -103,6 +103,7 @@ nlohmann::json candidate_entry(const Candidate& c) {
     e["density"] = to_string(c.setting.density);
   }
   if (c.setting.feedback > 0) e["feedback"] = c.setting.feedback;
+  if (!c.same_as.empty()) e["same_design_as"] = c.same_as;
   return e;
 }
 
@@ -416,6 +417,74 @@ Pending local_round(const std::vector<Evaluated>& all, const ObjectiveOptions& o
   return round;
 }
 
+/// Whether an earlier candidate's design was made on its field at full contrast (not softened
+/// after a failed extraction): a candidate with the same field gets the same design.
+bool designed_at_full_contrast(const Evaluated& e) {
+  if (!e.candidate.ok || !e.design) return false;
+  const nlohmann::json& d = e.design->details;
+  return !(d.contains("field") && d["field"].contains("softened_from"));
+}
+
+/// Per setting of `round`: the index in `all` of an earlier shell-stress candidate whose field
+/// equals its own bit for bit (a stress-free measure, e.g. tension on a shell in compression
+/// everywhere, gives the same field for every D and A), else −1. The round's fields are computed
+/// into the cache in parallel, as its designs would.
+std::vector<int> twins(const Surface& surface, const DesignOptions& base, const Pending& round,
+                       const std::vector<Evaluated>& all, DesignCache& cache, double length) {
+  auto field_of = [&](const FieldSetting& s) -> const Field* {
+    if (s.source != FieldSource::shell_stress) return nullptr;
+    try {
+      return shared_design_field(surface, candidate_options(base, s, length), cache);
+    } catch (const Error&) {
+      return nullptr;  // the candidate meets the error again when it is designed
+    }
+  };
+  std::vector<const Field*> fresh(round.size());
+  tbb::parallel_for(std::size_t{0}, round.size(),
+                    [&](std::size_t i) { fresh[i] = field_of(round[i].first); });
+  std::vector<int> out(round.size(), -1);
+  for (std::size_t i = 0; i < round.size(); ++i)
+    for (std::size_t j = 0; fresh[i] && j < all.size() && out[i] < 0; ++j) {
+      if (!designed_at_full_contrast(all[j])) continue;
+      const Field* f = field_of(all[j].candidate.setting);
+      if (f && identical(*f, *fresh[i])) out[i] = static_cast<int>(j);
+    }
+  return out;
+}
+
+/// A round after the first: a setting whose field equals an earlier candidate's (twins) takes
+/// that candidate's design and figures — the same metric, seed and length give the same design
+/// bit for bit — instead of making it again; the others are designed as evaluate_all does. The
+/// results are in the round's order.
+std::vector<Evaluated> evaluate_round(const Surface& surface, const DesignOptions& base,
+                                      const Pending& round, const std::vector<Evaluated>& all,
+                                      DesignCache& cache, double length, int number,
+                                      SearchProgress& progress) {
+  const std::vector<int> twin = twins(surface, base, round, all, cache, length);
+  Pending rest;
+  for (std::size_t i = 0; i < round.size(); ++i)
+    if (twin[i] < 0) rest.push_back(round[i]);
+  std::vector<Evaluated> made = evaluate_all(surface, base, rest, cache, length, number, progress);
+  std::vector<Evaluated> out;
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < round.size(); ++i) {
+    if (twin[i] < 0) {
+      out.push_back(std::move(made[k++]));
+      continue;
+    }
+    Evaluated e = all[twin[i]];
+    e.candidate.setting = round[i].first;
+    e.candidate.round = number;
+    e.candidate.seconds = 0;
+    e.candidate.same_as = all[twin[i]].candidate.setting.label();
+    spdlog::info("[objective] {}: the same field as {}, so the same design (not made again)",
+                 e.candidate.setting.label(), e.candidate.same_as);
+    progress.one_more();
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
 /// The choice among all candidates, why, and the chosen design analysed as `base` asks.
 ObjectiveResult choose(const Surface& surface, std::vector<Evaluated>& all,
                        const DesignOptions& base, const ObjectiveOptions& options,
@@ -491,7 +560,7 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   for (int round = 2; round <= options.rounds; ++round) {
     const Pending next = local_round(all, options, explored);
     if (next.empty()) break;
-    for (Evaluated& e : evaluate_all(surface, base, next, cache, length, round, progress))
+    for (Evaluated& e : evaluate_round(surface, base, next, all, cache, length, round, progress))
       all.push_back(std::move(e));
   }
   report_progress(options.progress, "objective search", 1, fmt::format("{} designs", all.size()));

@@ -119,6 +119,9 @@ struct Candidate {
   double length = 0;  ///< total beam length (m)
   int cells = 0;
   double seconds = 0;
+  /// The earlier candidate whose field this one's equals bit for bit (its label): the same
+  /// design, taken over instead of made again (report.json `same_design_as`); empty otherwise.
+  std::string same_as;
   /// `mass`: the candidate's members sized at the search level (`ok` = designed and sized)
   bool sized = false;
   double mass_kg = 0;      ///< steel of the sized (or, when not sized, last tried) members
