@@ -127,6 +127,37 @@ TEST(SparseCholesky, TheFactorOrderCopyGivesTheSameFactor) {
   }
 }
 
+TEST(SparseCholesky, AnAdoptedAnalysisGivesTheSameFactor) {
+  // A solver that copies another's symbolic analysis of the same pattern (the paths of a frame's
+  // geometries) factorises bit for bit as one that ordered the pattern itself, whether the
+  // source was only analysed or already factorised; a source without an analysis is refused.
+  SparseCholeskyOptions o;
+  o.ordering = CholeskyOrdering::best_of_amd_metis;
+  o.stop_at_failure = true;
+  o.factor_order_copy = true;
+  const SpMat A = grid_laplacian(15, 0.5);
+  SparseCholesky own(o), analysed(o), factorised(o), adopted(o), adopted_late(o), refused(o);
+  EXPECT_FALSE(refused.adopt_analysis(analysed, A));
+  ASSERT_TRUE(analysed.analyze(A));
+  ASSERT_TRUE(factorised.factorize(A).ok);
+  ASSERT_TRUE(adopted.adopt_analysis(analysed, A));
+  ASSERT_TRUE(adopted_late.adopt_analysis(factorised, A));
+  for (const double shift : {0.5, 2.0, 0.01}) {
+    const SpMat B = grid_laplacian(15, shift);
+    ASSERT_TRUE(own.factorize(B).ok);
+    ASSERT_TRUE(adopted.factorize(B).ok);
+    ASSERT_TRUE(adopted_late.factorize(B).ok);
+    const Eigen::VectorXd x = own.solve(rhs(225));
+    const Eigen::VectorXd y = adopted.solve(rhs(225)), z = adopted_late.solve(rhs(225));
+    for (int i = 0; i < 225; ++i) {
+      ASSERT_EQ(own.permutation()[i], adopted.permutation()[i]) << i;
+      ASSERT_EQ(x(i), y(i)) << shift << " " << i;
+      ASSERT_EQ(x(i), z(i)) << shift << " " << i;
+    }
+    EXPECT_LT((B.selfadjointView<Eigen::Upper>() * y - rhs(225)).norm(), 1e-10);
+  }
+}
+
 TEST(SparseCholesky, ReportsTheColumnWhereASingularMatrixFails) {
   // A chain of springs with node 7 cut loose from its neighbours: zero row and column but for a
   // zero diagonal, so the factorisation stops at column 7 whatever the ordering.

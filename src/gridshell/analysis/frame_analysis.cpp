@@ -226,10 +226,12 @@ struct PathJob {
 };
 
 /// The job of one path: `mode` < 0 the perfect path; else the geometry perturbed by `sign` ×
-/// that buckling mode (scaled to the imperfection amplitude).
+/// that buckling mode (scaled to the imperfection amplitude). Every job's tangent has the same
+/// pattern: its solvers copy `analysis`, made by the first job (ArcLengthOptions::analysis).
 std::unique_ptr<PathJob> path_job(const FrameModel& model, const FrameMesh& mesh,
                                   const FrameAnalysisOptions& o, const BucklingResult& lba,
-                                  const FrameResult& res, int mode, double sign) {
+                                  const FrameResult& res, int mode, double sign,
+                                  std::shared_ptr<const TangentSolver>& analysis) {
   const double span = plan_span(mesh.X);
   auto job = std::make_unique<PathJob>();
   job->mode = mode;
@@ -240,6 +242,12 @@ std::unique_ptr<PathJob> path_job(const FrameModel& model, const FrameMesh& mesh
   job->assembler.emplace(job->mesh);
   ArcLengthOptions& ao = job->options;
   ao = o.arc;
+  if (!analysis) {
+    auto first = std::make_shared<TangentSolver>(Refactorisation::repeated);
+    first->analyze(job->assembler->pattern());
+    analysis = std::move(first);
+  }
+  ao.analysis = analysis;
   if (!(ao.initial_lambda > 0)) {
     ao.initial_lambda = res.lambda_linear_buckling
                             ? *res.lambda_linear_buckling / 10
@@ -434,10 +442,12 @@ void run_path(const FrameModel& model, const FrameMesh& mesh, const FrameAnalysi
   const bool main_imperfect = o.imperfection && can_perturb;
   // The paths are independent: followed together (each the same whatever the threads).
   std::vector<std::unique_ptr<PathJob>> jobs;
-  if (!main_imperfect || o.stability) jobs.push_back(path_job(model, mesh, o, lba, res, -1, 1.0));
+  std::shared_ptr<const TangentSolver> analysis;
+  if (!main_imperfect || o.stability)
+    jobs.push_back(path_job(model, mesh, o, lba, res, -1, 1.0, analysis));
   if (can_perturb && (main_imperfect || o.stability))
     for (const auto& [mode, sign] : imperfection_candidates(o, lba))
-      jobs.push_back(path_job(model, mesh, o, lba, res, mode, sign));
+      jobs.push_back(path_job(model, mesh, o, lba, res, mode, sign, analysis));
   for (std::size_t i = 1; i < jobs.size(); ++i) jobs[i]->options.progress = {};  // one display
   // Candidates are ended above a lower one's critical point only when that is what they are
   // followed for (with the displacement-limit goal a path's λ is not its critical λ).

@@ -241,6 +241,19 @@ bool SparseCholesky::analyze(const cholmod_sparse& A, const int* permutation) {
   return m.L != nullptr;
 }
 
+bool SparseCholesky::adopt_analysis(const SparseCholesky& analysed, const SpMat& A) {
+  Impl& m = *impl_;
+  if (m.L) cholmod_free_factor(&m.L, &m.c);
+  const cholmod_factor* source = analysed.impl_->L;
+  if (!source) return false;
+  m.L = cholmod_copy_factor(const_cast<cholmod_factor*>(source), &m.c);
+  if (m.L && m.L->xtype != CHOLMOD_PATTERN)  // a factorised source: keep its analysis only
+    cholmod_change_factor(CHOLMOD_PATTERN, m.L->is_ll, m.L->is_super, 1, 1, m.L, &m.c);
+  if (m.L && m.options.factor_order_copy && m.L->is_super && m.options.kind == CholeskyKind::llt)
+    m.build_factor_order_copy(view(A, m.options.triangle));
+  return m.L != nullptr;
+}
+
 bool SparseCholesky::analyzed() const {
   return impl_->L != nullptr;
 }

@@ -122,6 +122,11 @@ class SparseCholesky {
   bool analyze(const SpMat& A, const int* permutation = nullptr);
   /// The same for a CHOLMOD view whose `stype` already names the triangle read (+1 upper).
   bool analyze(const cholmod_sparse_struct& A, const int* permutation = nullptr);
+  /// The symbolic analysis of `analysed` (analysed, on A's pattern) copied instead of made again:
+  /// the same ordering and supernodes, so the same factor bit for bit, without the ordering's
+  /// cost (or METIS's lock). `analysed` is only read: many solvers may copy it at once. False
+  /// when CHOLMOD failed (out of memory) or `analysed` is not analysed.
+  bool adopt_analysis(const SparseCholesky& analysed, const SpMat& A);
   bool analyzed() const;
 
   /// Numeric factorisation of A (the analysed pattern; analyses first if not done).

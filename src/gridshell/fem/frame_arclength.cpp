@@ -387,8 +387,7 @@ double path_alignment(const FrameMesh& mesh, const FrameState& state, const Eige
   return nd > 0 && np > 0 ? std::abs(p.dot(d)) / (nd * np) : 0.0;
 }
 
-// A path's last three points at a bracketed event, in arc length from the last stable one:
-// (−r_prev, λ_prev), (0, λ_cur) and the event (r, λ_next).
+// A path's last three points at an event: (−r_prev, λ_prev), (0, λ_cur), (r, λ_next) in arc length.
 struct LimitBracket {
   double r_prev = 0, lam_prev = 0, lam_cur = 0, r = 0, lam_next = 0;
 };
@@ -516,6 +515,8 @@ class PathWalker {
 };
 
 bool PathWalker::begin(const FrameState& start) {
+  for (TangentSolver* s : {solver_cur_.get(), solver_work_.get()})
+    s->analyze_like(opt_.analysis.get(), asmb_.pattern());
   if (!start_path(mesh_, asmb_, start, *solver_cur_, cur_, ut_cur_, res_)) return false;
   if (opt_.on_point) opt_.on_point(start, 0.0);
   crossing_cur_ = crossing_values(start, 0.0);
@@ -753,6 +754,7 @@ std::optional<double> locate_crossing(const FrameMesh& mesh, const FrameAssemble
                                       const CrossingStep& step, int& factorizations,
                                       double tolerance) {
   TangentSolver start(Refactorisation::repeated), work(Refactorisation::repeated);
+  for (TangentSolver* s : {&start, &work}) s->analyze_like(opt.analysis.get(), asmb.pattern());
   if (!factorize_tangent(asmb, step.from, start, factorizations)) return std::nullopt;
   const Eigen::VectorXd ut = start.solve(mesh.load);
   if (!ut.allFinite()) return std::nullopt;

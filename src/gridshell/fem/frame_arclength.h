@@ -87,6 +87,9 @@ struct ArcLengthOptions {
   /// The corrector relaxes a residual concentrated on a few nodes locally before its global
   /// iteration (fem/frame_relax.h); empty: never. Changes the iterates, not the path.
   std::optional<LocalRelaxOptions> relaxation = LocalRelaxOptions{};
+  /// A symbolic analysis of the tangent's pattern that the path's solvers copy (paths of one
+  /// frame's geometries share it: TangentSolver::analyze_like); null: each orders its own.
+  std::shared_ptr<const TangentSolver> analysis;
 };
 
 /// The accepted step on which a crossing's quantity first reached its level: its start (a

@@ -365,6 +365,11 @@ void TangentSolver::analyze(const SpMat& pattern) {
   if (!m.llt.analyzed()) m.llt.analyze(pattern);
 }
 
+void TangentSolver::analyze_like(const TangentSolver* analysed, const SpMat& pattern) {
+  if (analysed && analysed->impl_->llt.analyzed())
+    impl_->llt.adopt_analysis(analysed->impl_->llt, pattern);
+}
+
 bool TangentSolver::factorize(const SpMat& K) {
   Impl& m = *impl_;
   analyze(K);

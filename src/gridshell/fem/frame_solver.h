@@ -127,6 +127,9 @@ class TangentSolver {
   /// The symbolic analysis (fill-reducing ordering) of K's pattern, which factorize() otherwise
   /// does on its first call: it needs no values, so it can run while K is assembled.
   void analyze(const SpMat& pattern);
+  /// The LLᵀ's symbolic analysis copied from `analysed` (of the same pattern; nothing when null):
+  /// the solvers of a frame's paths, whose tangents share one pattern, order it once.
+  void analyze_like(const TangentSolver* analysed, const SpMat& pattern);
   /// True when the last factorisation was positive definite.
   bool positive_definite() const { return pd_; }
   /// Number of negative pivots of LDLᵀ (0 when positive definite); −1 if LDLᵀ broke down.
