@@ -228,28 +228,28 @@ Vec12 rotate_blocks(const Mat3& R, const Vec12& v) {
   return g;
 }
 
-// k_l = ∂f/∂d of local_forces (symmetric: f is the gradient of the local strain energy).
-Eigen::Matrix<double, 7, 7> local_stiffness(const CorotBeam& b, const Vec7& d, double N) {
+// Bᵀ k_l B, with k_l = ∂f/∂d of local_forces (symmetric: f is the gradient of the local strain
+// energy). k_l is a rank-one axial term, a torsion pair and two 2×2 bending blocks, so the
+// product is summed term by term from B's rows: a quarter of the dense triple product's work.
+Mat12 material_stiffness(const CorotBeam& b, const Vec7& d, double N,
+                         const Eigen::Matrix<double, 7, 12>& B) {
   const double l0 = b.l0;
   const double t1y = d(2), t1z = d(3), t2y = d(5), t2z = d(6);
   Vec7 g;  // ∂ε/∂d
   g << 1 / l0, 0, (4 * t1y - t2y) / 30, (4 * t1z - t2z) / 30, 0, (-t1y + 4 * t2y) / 30,
       (-t1z + 4 * t2z) / 30;
-  Eigen::Matrix<double, 7, 7> k = (b.s.EA * l0) * g * g.transpose();
-  const double gj = b.s.GJ / l0;
-  k(1, 1) += gj;
-  k(4, 4) += gj;
-  k(1, 4) -= gj;
-  k(4, 1) -= gj;
-  // Bending in the two planes: (θ1, θ2) at (2, 5) and (3, 6).
+  const Row12 bg = g.transpose().lazyProduct(B);
+  Mat12 k = ((b.s.EA * l0) * bg.transpose()).lazyProduct(bg);
+  const Row12 bt = B.row(1) - B.row(4);
+  k.noalias() += ((b.s.GJ / l0) * bt.transpose()).lazyProduct(bt);
+  // Bending in the two planes: (θ1, θ2) at rows (2, 5) and (3, 6).
   const double EI[2] = {b.s.EIy, b.s.EIz};
   for (int p = 0; p < 2; ++p) {
-    const int i = 2 + p, j = 5 + p;
     const double c = EI[p] / l0, n = N * l0 / 30;
-    k(i, i) += 4 * c + 4 * n;
-    k(j, j) += 4 * c + 4 * n;
-    k(i, j) += 2 * c - n;
-    k(j, i) += 2 * c - n;
+    const double kii = 4 * c + 4 * n, kij = 2 * c - n;
+    const Row12 bi = B.row(2 + p), bj = B.row(5 + p);
+    const Row12 mi = kii * bi + kij * bj, mj = kij * bi + kii * bj;
+    k.noalias() += bi.transpose().lazyProduct(mi) + bj.transpose().lazyProduct(mj);
   }
   return k;
 }
@@ -327,17 +327,24 @@ Mat12 corot_tangent(const CorotBeam& b, const CorotState& st, Vec12* force, bool
   B(0, 6) = 1;
   B.middleRows<3>(1) = B1;
   B.middleRows<3>(4) = B2;
-  Mat12 k = B.transpose() * local_stiffness(b, e.d, e.f(0)) * B;
-  k.noalias() += e.P1.transpose() * (inverse_jacobian_transpose_derivative(e.k.th1, m1) * B1);
-  k.noalias() += e.P2.transpose() * (inverse_jacobian_transpose_derivative(e.k.th2, m2) * B2);
+  Mat12 k = material_stiffness(b, e.d, e.f(0), B);
+  // P_iᵀ D_i with P_i = I_i − Gᵀ: D_i adds to node i's rotation rows, Gᵀ's part is one product.
+  // Products coefficient-based: at these sizes Eigen's blocked GEMM spends more on packing.
+  const Mat3x12 D1 = inverse_jacobian_transpose_derivative(e.k.th1, m1).lazyProduct(B1);
+  const Mat3x12 D2 = inverse_jacobian_transpose_derivative(e.k.th2, m2).lazyProduct(B2);
+  k.middleRows<3>(3) += D1;
+  k.middleRows<3>(9) += D2;
+  k.noalias() -= e.Gt.transpose().lazyProduct(D1 + D2);
   k -= spin_matrix_derivative(e, e.A1.transpose() * m1 + e.A2.transpose() * m2);
-  for (int a = 0; a < 4; ++a) k.middleRows<3>(3 * a) -= skew(e.fl.segment<3>(3 * a)) * e.Gt;
-  // To global components: K = E k Eᵀ.
-  const Mat3& R = e.k.Rr;
-  Mat12 K;
   for (int a = 0; a < 4; ++a)
-    for (int c = 0; c < 4; ++c)
-      K.block<3, 3>(3 * a, 3 * c) = R * k.block<3, 3>(3 * a, 3 * c) * R.transpose();
+    k.middleRows<3>(3 * a).noalias() -= skew(e.fl.segment<3>(3 * a)).lazyProduct(e.Gt);
+  // To global components: K = E k Eᵀ, by 3-column blocks (k Eᵀ) then 3-row blocks.
+  const Mat3& R = e.k.Rr;
+  Mat12 T, K;
+  for (int c = 0; c < 4; ++c)
+    T.middleCols<3>(3 * c).noalias() = k.middleCols<3>(3 * c).lazyProduct(R.transpose());
+  for (int a = 0; a < 4; ++a)
+    K.middleRows<3>(3 * a).noalias() = R.lazyProduct(T.middleRows<3>(3 * a));
   if (!symmetric) return K;
   return 0.5 * (K + K.transpose());
 }
