@@ -230,7 +230,8 @@ Vec12 rotate_blocks(const Mat3& R, const Vec12& v) {
 
 // Bᵀ k_l B, with k_l = ∂f/∂d of local_forces (symmetric: f is the gradient of the local strain
 // energy). k_l is a rank-one axial term, a torsion pair and two 2×2 bending blocks, so the
-// product is summed term by term from B's rows: a quarter of the dense triple product's work.
+// product is summed term by term from B's rows: about two thirds of the dense triple product's
+// multiplications (1 044 against 1 596), and no 7 × 12 intermediate.
 Mat12 material_stiffness(const CorotBeam& b, const Vec7& d, double N,
                          const Eigen::Matrix<double, 7, 12>& B) {
   const double l0 = b.l0;
