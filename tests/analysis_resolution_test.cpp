@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <thread>
 #include <utility>
 
@@ -84,8 +85,30 @@ TEST(AnalysisResolution, DesignOnAFineInputLiesOnTheInput) {
   ASSERT_FALSE(r.supports.empty());
   for (int v : r.supports) EXPECT_LT(on_input.boundary_distance(r.mesh.vertex(v)), 1e-6);
 
+  // The field where it was computed (the field figure draws it): the copy's triangles and their
+  // field, of which every input triangle's values are one triangle's.
+  ASSERT_EQ(r.analysis_mesh.num_faces(), r.details["analysis_surface"]["triangles"].get<int>());
+  ASSERT_EQ(r.analysis_field.size(), r.analysis_mesh.num_faces());
+  const std::set<double> coarse_d(r.analysis_field.d.begin(), r.analysis_field.d.end());
+  EXPECT_GT(coarse_d.size(), 10u);
+  for (double d : r.field.d) EXPECT_TRUE(coarse_d.contains(d)) << d;
+  // A search's candidate keeps its field on the copy until it is carried over: the same result.
+  DesignCache cache;
+  DesignOptions candidate = o;
+  candidate.field_on_input = false;
+  DesignResult carried = run_design(fine, candidate, cache);
+  EXPECT_EQ(carried.field.size(), r.analysis_mesh.num_faces());
+  EXPECT_EQ(carried.analysis_field.size(), 0);
+  carry_field_to_input(fine, carried, cache);
+  EXPECT_EQ(carried.field.d, r.field.d);
+  EXPECT_EQ(carried.analysis_field.d, r.analysis_field.d);
+  EXPECT_EQ(carried.analysis_mesh.V, r.analysis_mesh.V);
+
   o.analysis_resolution = AnalysisResolution::input;
-  EXPECT_FALSE(run_design(fine, o).details.contains("analysis_surface"));
+  const DesignResult full = run_design(fine, o);
+  EXPECT_FALSE(full.details.contains("analysis_surface"));
+  EXPECT_EQ(full.analysis_field.size(), 0);
+  EXPECT_EQ(full.analysis_mesh.num_faces(), 0);
   EXPECT_EQ(parse_analysis_resolution("input"), AnalysisResolution::input);
   EXPECT_STREQ(to_string(AnalysisResolution::cells), "cells");
   EXPECT_THROW(parse_analysis_resolution("fine"), Error);

@@ -358,6 +358,66 @@ Canvas draw_perspective(const FigureInput& in, const FigureOptions& options) {
   return canvas;
 }
 
+namespace {
+
+/// One direction segment of the field figure: the triangle whose field it shows and where (plan).
+struct DirectionSample {
+  int face = -1;
+  double x = 0, y = 0;
+};
+
+/// The field figure's direction segments on a plan grid of square cells of side `cell`: at a
+/// cell's centre, the highest triangle that covers it in plan; where none does (a cell on the
+/// boundary), at the centroid of the triangle whose centroid is nearest the centre among those
+/// in the cell. The segments then stand on a regular grid however coarse the triangles are.
+std::vector<DirectionSample> direction_samples(const TriMesh& M, const Axes& axes, double cell) {
+  const int nx = static_cast<int>(std::ceil((axes.x1 - axes.x0) / cell));
+  const int ny = static_cast<int>(std::ceil((axes.y1 - axes.y0) / cell));
+  const auto centre = [&](int i, int j) {
+    return Vec2(axes.x0 + (i + 0.5) * cell, axes.y0 + (j + 0.5) * cell);
+  };
+  std::vector<DirectionSample> pick(static_cast<std::size_t>(nx) * ny);
+  std::vector<double> best(pick.size(), 1e300), top(pick.size(), -1e300);
+  std::vector<char> covered(pick.size(), 0);
+  for (int f = 0; f < M.num_faces(); ++f) {
+    const Vec3 a = M.vertex(M.F(f, 0)), b = M.vertex(M.F(f, 1)), c = M.vertex(M.F(f, 2));
+    const Vec3 g = (a + b + c) / 3;
+    const int ci = std::clamp(static_cast<int>((g.x() - axes.x0) / cell), 0, nx - 1);
+    const int cj = std::clamp(static_cast<int>((g.y() - axes.y0) / cell), 0, ny - 1);
+    const std::size_t own = static_cast<std::size_t>(cj) * nx + ci;
+    const double dist = (g.head<2>() - centre(ci, cj)).norm();
+    if (!covered[own] && dist < best[own]) best[own] = dist, pick[own] = {f, g.x(), g.y()};
+    // The cell centres inside the triangle's plan bounding box, tested by their barycentric
+    // coordinates (a triangle seen edge-on in plan covers none).
+    const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+    if (!(std::abs(det) > 0)) continue;
+    const auto index = [&](double v, double v0, int n) {
+      return std::clamp(static_cast<int>(std::floor((v - v0) / cell - 0.5)), -1, n - 1);
+    };
+    const int i0 = index(std::min({a.x(), b.x(), c.x()}), axes.x0, nx) + 1;
+    const int i1 = index(std::max({a.x(), b.x(), c.x()}), axes.x0, nx);
+    const int j0 = index(std::min({a.y(), b.y(), c.y()}), axes.y0, ny) + 1;
+    const int j1 = index(std::max({a.y(), b.y(), c.y()}), axes.y0, ny);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const Vec2 p = centre(i, j);
+        const double s =
+            ((b.x() - p.x()) * (c.y() - p.y()) - (c.x() - p.x()) * (b.y() - p.y())) / det;
+        const double t =
+            ((c.x() - p.x()) * (a.y() - p.y()) - (a.x() - p.x()) * (c.y() - p.y())) / det;
+        if (s < 0 || t < 0 || s + t > 1) continue;
+        const double z = s * a.z() + t * b.z() + (1 - s - t) * c.z();
+        const std::size_t slot = static_cast<std::size_t>(j) * nx + i;
+        if (covered[slot] && z <= top[slot]) continue;
+        covered[slot] = 1, top[slot] = z, pick[slot] = {f, p.x(), p.y()};
+      }
+  }
+  std::erase_if(pick, [](const DirectionSample& d) { return d.face < 0; });
+  return pick;
+}
+
+}  // namespace
+
 Canvas draw_field(const FigureInput& in, const FigureOptions& options) {
   Canvas canvas(options.width, options.height);
   const PageLayout page = page_layout(options.width, options.height);
@@ -393,32 +453,17 @@ Canvas draw_field(const FigureInput& in, const FigureOptions& options) {
       draw_line(canvas, axes.to_pixel(V(b[0], 0), V(b[0], 1)),
                 axes.to_pixel(V(b[1], 0), V(b[1], 1)), {1, 1, 1}, 1.2, 0.6);
   }
-  // Direction segments on a plan grid: per grid cell the triangle whose centroid is nearest
-  // its centre.
+  // Direction segments on a plan grid (direction_samples).
   const double cell = std::max(axes.x1 - axes.x0, axes.y1 - axes.y0) / 48;
-  const int nx = static_cast<int>(std::ceil((axes.x1 - axes.x0) / cell));
-  const int ny = static_cast<int>(std::ceil((axes.y1 - axes.y0) / cell));
-  std::vector<int> pick(static_cast<std::size_t>(nx) * ny, -1);
-  std::vector<double> best(pick.size(), 1e300);
-  for (int f = 0; f < M.num_faces(); ++f) {
-    const Vec3 c = (M.vertex(M.F(f, 0)) + M.vertex(M.F(f, 1)) + M.vertex(M.F(f, 2))) / 3;
-    const int i = std::clamp(static_cast<int>((c.x() - axes.x0) / cell), 0, nx - 1);
-    const int j = std::clamp(static_cast<int>((c.y() - axes.y0) / cell), 0, ny - 1);
-    const double dist =
-        std::hypot(c.x() - (axes.x0 + (i + 0.5) * cell), c.y() - (axes.y0 + (j + 0.5) * cell));
-    const std::size_t slot = static_cast<std::size_t>(j) * nx + i;
-    if (dist < best[slot] || (dist == best[slot] && f < pick[slot]))
-      best[slot] = dist, pick[slot] = f;
-  }
   const double cell_px = cell * axes.pixels_per_unit_x();
   const bool isotropic = a_max <= 1 + 1e-9;  // no stretch, so u means nothing
-  for (int f : pick) {
-    if (f < 0 || isotropic) continue;
+  for (const DirectionSample& sample :
+       isotropic ? std::vector<DirectionSample>{} : direction_samples(M, axes, cell)) {
+    const int f = sample.face;
     const Vec2 u(field.u[f].x(), field.u[f].y());
     if (u.norm() < 1e-6) continue;
-    const double t = a_max > 1 + 1e-9 ? (field.a[f] - 1) / (a_max - 1) : 0.0;
-    const Vec3 c = (M.vertex(M.F(f, 0)) + M.vertex(M.F(f, 1)) + M.vertex(M.F(f, 2))) / 3;
-    const Vec2 p = axes.to_pixel(c.x(), c.y());
+    const double t = (field.a[f] - 1) / (a_max - 1);
+    const Vec2 p = axes.to_pixel(sample.x, sample.y);
     // u in plan keeps its foreshortening: a steep u draws a short segment.
     const Vec2 half = 0.5 * cell_px * (0.35 + 0.6 * t) * Vec2(u.x(), -u.y());
     draw_line(canvas, p - half, p + half, {0.05, 0.05, 0.05}, 2.0, 0.4 + 0.6 * t);

@@ -531,7 +531,11 @@ void on_input_surface(const TriMesh& coarse, InputSurface& M, const DesignOption
   auto t = Clock::now();
   if (r.field.size() != coarse.num_faces())
     throw Error("field transfer", "the field does not match the analysis surface");
-  if (o.field_on_input) r.field = transfer_field(r.field, M.to_input(coarse), M.mesh());
+  if (o.field_on_input) {
+    r.analysis_mesh = coarse;
+    r.analysis_field = r.field;
+    r.field = transfer_field(r.field, M.to_input(coarse), M.mesh());
+  }
   if (o.finish == Finish::raw) {
     const SurfaceProjector& projector = M.projector();
     for (int v = 0; v < r.mesh.num_vertices(); ++v)
@@ -753,6 +757,8 @@ void carry_field_to_input(const Surface& surface, DesignResult& r, DesignCache& 
   });
   if (!coarse.value) throw Error("field transfer", "the field does not match the input");
   InputSurface M(surface.mesh, &cache.impl());
+  r.analysis_mesh = coarse.value->mesh;
+  r.analysis_field = r.field;
   r.field = transfer_field(r.field, M.to_input(coarse.value->mesh), M.mesh());
   lap(r.timings, "coarsen", t);
 }

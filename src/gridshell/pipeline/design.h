@@ -117,6 +117,13 @@ struct DesignResult {
   MeshMetrics metrics, raw_metrics;
   Tessellation tessellation;  ///< engine output (of the sector when symmetric)
   Field field;                ///< on the input surface, per triangle
+  /// When the stages before the finishing step ran on a coarsened copy of the input
+  /// (AnalysisResolution::cells): that copy and the field on its triangles, where the field was
+  /// computed (`field` is its copy on the input's triangles, each taking its nearest triangle's
+  /// values). Empty otherwise. The field figure draws these: the same picture, from the
+  /// analysis surface's triangles instead of every input triangle.
+  TriMesh analysis_mesh;
+  Field analysis_field;
   std::optional<analysis::FrameResult> structure;
   /// With DesignOptions::sizing = sized: the sizing, its members' sections and its final
   /// analysis of every combination (`structure` is its primary combination's).
