@@ -3,6 +3,7 @@
 // Run: ./build/metric_bench --benchmark_counters_tabular=true
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include <cmath>
 
@@ -176,6 +177,18 @@ void BM_AquadomSynthetic(benchmark::State& state) {
   stretch_counters(state, r);
 }
 BENCHMARK(BM_AquadomSynthetic)->Arg(5)->Arg(1)->Unit(benchmark::kMillisecond);
+
+/// The connectivity of a fine input (paraboloid grid of res × res squares, two triangles each):
+/// built by the metric's every refinement round, the coarsening, the projector and the symmetry
+/// check. Arg: res (354: 250 K triangles, 1000: 2 M).
+void BM_BuildTopology(benchmark::State& state) {
+  const TriMesh m = make_builtin(fmt::format("paraboloid:res={}", state.range(0))).mesh;
+  std::size_t edges = 0;
+  for (auto _ : state) edges = build_topology(m).edges.size();
+  state.counters["faces"] = m.num_faces();
+  state.counters["edges"] = static_cast<double>(edges);
+}
+BENCHMARK(BM_BuildTopology)->Arg(354)->Arg(1000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -32,6 +36,79 @@ TEST(Topology, EdgesLoopsAndEuler) {
   EXPECT_EQ(euler_characteristic(m, t), 1);
   EXPECT_TRUE(check_mesh(m).ok());
   EXPECT_NEAR(polygon_area(m, 0) + polygon_area(m, 1), 1.0, 1e-15);
+}
+
+// The topology against a brute-force construction (ordered sets), on messy meshes: random
+// polygons of 3–5 corners over a few vertices (non-manifold edges, faces using an edge twice,
+// repeated corners), the same with an out-of-range id, and a triangle mesh against its polygon
+// copy.
+TEST(Topology, EqualsABruteForceConstruction) {
+  std::uint64_t state = 12345;
+  auto next = [&](int n) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<int>((state >> 33) % static_cast<std::uint64_t>(n));
+  };
+  for (int trial = 0; trial < 40; ++trial) {
+    PolyMesh m;
+    const int nv = 4 + next(12);
+    m.V = Points::Zero(nv, 3);
+    for (int f = 0, nf = 1 + next(20); f < nf; ++f) {
+      std::vector<int> face(3 + next(3));
+      for (int& v : face) v = next(nv);
+      m.faces.push_back(face);
+    }
+    if (trial % 5 == 4) m.faces.back().back() = nv + 2;  // an id out of range
+    const Topology t = build_topology(m);
+    std::set<std::array<int, 2>> edge_set;
+    for (const auto& f : m.faces)
+      for (std::size_t k = 0; k < f.size(); ++k)
+        edge_set.insert(
+            {std::min(f[k], f[(k + 1) % f.size()]), std::max(f[k], f[(k + 1) % f.size()])});
+    const std::vector<std::array<int, 2>> edges(edge_set.begin(), edge_set.end());
+    ASSERT_EQ(t.edges, edges) << trial;
+    std::vector<std::vector<int>> edge_faces(t.edges.size()), vertex_faces(nv);
+    std::vector<std::set<int>> neighbours(nv);
+    for (int fi = 0; fi < m.num_faces(); ++fi) {
+      const auto& f = m.faces[fi];
+      ASSERT_EQ(t.face_edges[fi].size(), f.size());
+      for (std::size_t k = 0; k < f.size(); ++k) {
+        const int a = f[k], b = f[(k + 1) % f.size()];
+        const int e = t.face_edges[fi][k];
+        EXPECT_EQ(t.edges[e], (std::array<int, 2>{std::min(a, b), std::max(a, b)}));
+        EXPECT_EQ(t.find_edge(a, b), e);
+        if (std::find(edge_faces[e].begin(), edge_faces[e].end(), fi) == edge_faces[e].end())
+          edge_faces[e].push_back(fi);
+        if (a < nv) vertex_faces[a].push_back(fi);
+      }
+    }
+    EXPECT_EQ(t.edge_faces, edge_faces) << trial;
+    EXPECT_EQ(t.vertex_faces, vertex_faces) << trial;
+    std::vector<char> on_boundary(nv, 0);
+    for (std::size_t e = 0; e < t.edges.size(); ++e) {
+      const auto [a, b] = t.edges[e];
+      if (b >= nv) continue;
+      neighbours[a].insert(b);
+      neighbours[b].insert(a);
+      if (edge_faces[e].size() == 1) on_boundary[a] = on_boundary[b] = 1;
+    }
+    EXPECT_EQ(t.on_boundary, on_boundary) << trial;
+    for (int v = 0; v < nv; ++v) {
+      // A self-edge (a face repeating a corner) lists its vertex as its own neighbour twice.
+      std::vector<int> unique(t.vertex_neighbors[v]);
+      unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+      EXPECT_EQ(unique, std::vector<int>(neighbours[v].begin(), neighbours[v].end())) << trial;
+      EXPECT_TRUE(std::is_sorted(t.vertex_neighbors[v].begin(), t.vertex_neighbors[v].end()));
+    }
+  }
+  const Surface s = make_builtin("paraboloid:res=12");
+  const Topology tri = build_topology(s.mesh), poly = build_topology(to_poly(s.mesh));
+  EXPECT_EQ(tri.edges, poly.edges);
+  EXPECT_EQ(tri.face_edges, poly.face_edges);
+  EXPECT_EQ(tri.boundary_loops, poly.boundary_loops);
+  EXPECT_EQ(tri.vertex_neighbors, poly.vertex_neighbors);
+  EXPECT_EQ(tri.num_edges(), 12 * 13 * 2 + 12 * 12);  // grid edges and one diagonal per square
+  EXPECT_EQ(tri.boundary_loops.size(), 1u);
+  EXPECT_EQ(tri.boundary_loops[0].size(), 48u);
 }
 
 // Two quads sharing a corner (one component: faces meet through vertices), a lone quad apart

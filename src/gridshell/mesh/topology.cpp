@@ -1,6 +1,7 @@
 #include "gridshell/mesh/topology.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -19,16 +20,73 @@ int Topology::find_edge(int a, int b) const {
   return static_cast<int>(it - edges.begin());
 }
 
-Topology build_topology(const PolyMesh& mesh) {
+namespace {
+
+/// The faces of a polygon mesh, and those of a triangle mesh without a polygon copy: f.size(),
+/// f[k] for face fi = faces[fi].
+struct PolyFaces {
+  const std::vector<std::vector<int>>& faces;
+  int size() const { return static_cast<int>(faces.size()); }
+  const std::vector<int>& operator[](int f) const { return faces[f]; }
+};
+struct TriFaces {
+  const Triangles& F;
+  int size() const { return static_cast<int>(F.rows()); }
+  std::array<int, 3> operator[](int f) const { return {F(f, 0), F(f, 1), F(f, 2)}; }
+};
+
+template <typename Faces>
+bool ids_in_range(const Faces& faces, int nv) {
+  for (int fi = 0; fi < faces.size(); ++fi) {
+    const auto& f = faces[fi];
+    for (std::size_t k = 0; k < f.size(); ++k)
+      if (f[k] < 0 || f[k] >= nv) return false;
+  }
+  return true;
+}
+
+/// The boundary half-edges (edges of one face), oriented as in their face, chained into loops.
+template <typename Faces>
+void add_boundary_loops(const Faces& faces, Topology& t) {
+  std::multimap<int, int> next;  // from vertex -> to vertex
+  for (int fi = 0; fi < faces.size(); ++fi) {
+    const auto& f = faces[fi];
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      const int e = t.face_edges[fi][k];
+      if (t.edge_faces[e].size() == 1) next.emplace(f[k], f[(k + 1) % f.size()]);
+    }
+  }
+  while (!next.empty()) {
+    auto it = next.begin();
+    const int start = it->first;
+    std::vector<int> loop{start};
+    int cur = it->second;
+    next.erase(it);
+    while (cur != start) {
+      loop.push_back(cur);
+      auto nx = next.find(cur);
+      if (nx == next.end()) break;  // open chain (inconsistent orientation): stop here
+      cur = nx->second;
+      next.erase(nx);
+    }
+    t.boundary_loops.push_back(std::move(loop));
+  }
+}
+
+/// Any vertex ids (out-of-range ones included, for `info`'s checks): edges sorted and looked up
+/// by binary search.
+template <typename Faces>
+Topology build_any(const Faces& faces, int nv) {
   Topology t;
-  const int nv = mesh.num_vertices();
-  const int nf = mesh.num_faces();
+  const int nf = faces.size();
   std::vector<std::array<int, 2>> all;
-  for (const auto& f : mesh.faces)
+  for (int fi = 0; fi < nf; ++fi) {
+    const auto& f = faces[fi];
     for (std::size_t k = 0; k < f.size(); ++k) {
       int a = f[k], b = f[(k + 1) % f.size()];
       all.push_back({std::min(a, b), std::max(a, b)});
     }
+  }
   std::sort(all.begin(), all.end());
   all.erase(std::unique(all.begin(), all.end()), all.end());
   t.edges = std::move(all);
@@ -36,7 +94,7 @@ Topology build_topology(const PolyMesh& mesh) {
   t.face_edges.resize(nf);
   t.vertex_faces.assign(nv, {});
   for (int fi = 0; fi < nf; ++fi) {
-    const auto& f = mesh.faces[fi];
+    const auto& f = faces[fi];
     t.face_edges[fi].resize(f.size());
     for (std::size_t k = 0; k < f.size(); ++k) {
       int e = t.find_edge(f[k], f[(k + 1) % f.size()]);
@@ -56,36 +114,101 @@ Topology build_topology(const PolyMesh& mesh) {
     if (t.edge_faces[e].size() == 1) t.on_boundary[a] = t.on_boundary[b] = 1;
   }
   for (auto& n : t.vertex_neighbors) std::sort(n.begin(), n.end());
-
-  // Boundary half-edges oriented as in their face; chain them into loops.
-  std::multimap<int, int> next;  // from vertex -> to vertex
-  for (int fi = 0; fi < nf; ++fi) {
-    const auto& f = mesh.faces[fi];
-    for (std::size_t k = 0; k < f.size(); ++k) {
-      int e = t.face_edges[fi][k];
-      if (t.edge_faces[e].size() == 1) next.emplace(f[k], f[(k + 1) % f.size()]);
-    }
-  }
-  while (!next.empty()) {
-    auto it = next.begin();
-    int start = it->first;
-    std::vector<int> loop{start};
-    int cur = it->second;
-    next.erase(it);
-    while (cur != start) {
-      loop.push_back(cur);
-      auto nx = next.find(cur);
-      if (nx == next.end()) break;  // open chain (inconsistent orientation): stop here
-      cur = nx->second;
-      next.erase(nx);
-    }
-    t.boundary_loops.push_back(std::move(loop));
-  }
+  add_boundary_loops(faces, t);
   return t;
 }
 
+/// The same result for ids in 0 … nv−1, in linear time but for tiny sorts: the edges grouped by
+/// their smaller vertex (counting sort), each group sorted; an edge is found by a scan of its
+/// group, and every per-vertex list is sized before it is filled.
+template <typename Faces>
+Topology build_in_range(const Faces& faces, int nv) {
+  Topology t;
+  const int nf = faces.size();
+  std::vector<int> start(static_cast<std::size_t>(nv) + 1, 0);
+  std::vector<int> corners(static_cast<std::size_t>(nv), 0);  // corners per vertex
+  for (int fi = 0; fi < nf; ++fi) {
+    const auto& f = faces[fi];
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      ++start[std::min(f[k], f[(k + 1) % f.size()]) + 1];
+      ++corners[f[k]];
+    }
+  }
+  for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<int> larger(static_cast<std::size_t>(start[nv]));
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int fi = 0; fi < nf; ++fi) {
+      const auto& f = faces[fi];
+      for (std::size_t k = 0; k < f.size(); ++k) {
+        const int a = f[k], b = f[(k + 1) % f.size()];
+        larger[fill[std::min(a, b)]++] = std::max(a, b);
+      }
+    }
+  }
+  // Per smaller vertex a: its edges' larger ends sorted, duplicates removed; first[a] is a's
+  // first edge.
+  std::vector<int> first(static_cast<std::size_t>(nv) + 1, 0);
+  t.edges.reserve(static_cast<std::size_t>(start[nv]) / 2 + 1);
+  for (int a = 0; a < nv; ++a) {
+    first[a] = static_cast<int>(t.edges.size());
+    const auto begin = larger.begin() + start[a], end = larger.begin() + start[a + 1];
+    std::sort(begin, end);
+    for (auto it = begin; it != end; ++it)
+      if (it == begin || *it != *(it - 1)) t.edges.push_back({a, *it});
+  }
+  first[nv] = static_cast<int>(t.edges.size());
+  const auto edge = [&](int a, int b) {
+    if (a > b) std::swap(a, b);
+    int e = first[a];
+    while (t.edges[e][1] != b) ++e;
+    return e;
+  };
+  t.edge_faces.assign(t.edges.size(), {});
+  for (auto& ef : t.edge_faces) ef.reserve(2);
+  t.face_edges.resize(nf);
+  t.vertex_faces.assign(nv, {});
+  for (int v = 0; v < nv; ++v) t.vertex_faces[v].reserve(corners[v]);
+  for (int fi = 0; fi < nf; ++fi) {
+    const auto& f = faces[fi];
+    t.face_edges[fi].resize(f.size());
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      const int e = edge(f[k], f[(k + 1) % f.size()]);
+      t.face_edges[fi][k] = e;
+      auto& ef = t.edge_faces[e];
+      if (ef.empty() || ef.back() != fi) ef.push_back(fi);  // faces come in order
+      t.vertex_faces[f[k]].push_back(fi);
+    }
+  }
+  std::vector<int> degree(static_cast<std::size_t>(nv), 0);
+  for (const auto& [a, b] : t.edges) ++degree[a], ++degree[b];
+  t.vertex_neighbors.assign(nv, {});
+  for (int v = 0; v < nv; ++v) t.vertex_neighbors[v].reserve(degree[v]);
+  t.on_boundary.assign(nv, 0);
+  for (std::size_t e = 0; e < t.edges.size(); ++e) {
+    const auto [a, b] = t.edges[e];
+    t.vertex_neighbors[a].push_back(b);
+    t.vertex_neighbors[b].push_back(a);
+    if (t.edge_faces[e].size() == 1) t.on_boundary[a] = t.on_boundary[b] = 1;
+  }
+  for (auto& n : t.vertex_neighbors) std::sort(n.begin(), n.end());
+  add_boundary_loops(faces, t);
+  return t;
+}
+
+template <typename Faces>
+Topology build(const Faces& faces, int nv) {
+  return ids_in_range(faces, nv) ? build_in_range(faces, nv) : build_any(faces, nv);
+}
+
+}  // namespace
+
+Topology build_topology(const PolyMesh& mesh) {
+  return build(PolyFaces{mesh.faces}, mesh.num_vertices());
+}
+
 Topology build_topology(const TriMesh& mesh) {
-  return build_topology(to_poly(mesh));
+  return build(TriFaces{mesh.F}, mesh.num_vertices());
 }
 
 std::vector<int> boundary_vertices(const Topology& topo) {
