@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gridshell/field/transfer.h"
 #include "gridshell/mesh/coarsen.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/optimize/projector.h"
@@ -92,6 +93,20 @@ TEST(Coarsen, InteriorSupportStaysPut) {
       ++found;
   EXPECT_EQ(found, 1);
   EXPECT_LT(c.surface.mesh.num_faces(), s.mesh.num_faces() / 10);
+}
+
+// The copy's map to the input's triangles, found with the coarsening's own tree, is the map
+// nearest_faces builds its tree for, entry for entry (ties between equally near triangles, where
+// a centroid's closest point lies on a shared edge, included).
+TEST(Coarsen, NearestInputFacesAreThoseOfNearestFaces) {
+  for (const char* spec : {"paraboloid:res=96", "funicular:res=64", "barrel:res=64"})
+    for (double edge : {0.6, 1.5}) {
+      const Surface fine = make_builtin(spec);
+      const CoarseSurface c = coarsen_surface(fine, {.edge_length = edge});
+      ASSERT_LT(c.surface.mesh.num_faces(), fine.mesh.num_faces()) << spec;
+      EXPECT_EQ(c.nearest_input_face, nearest_faces(fine.mesh, c.surface.mesh)) << spec << edge;
+    }
+  EXPECT_TRUE(coarsen_surface(make_builtin("paraboloid", {}), {}).nearest_input_face.empty());
 }
 
 TEST(Coarsen, ZeroLengthCopiesTheInput) {

@@ -137,7 +137,8 @@ std::vector<std::uint8_t> vertex_roles(const Surface& s, double corner_angle_deg
 /// A CGAL AABB tree over the non-degenerate triangles of a surface, for closest points. Built in
 /// the order of the original single-threaded code (distance-query kd-tree over the primitives as
 /// given, then the tree): the kd-tree's hint decides between equally close triangles, so another
-/// order (SurfaceProjector's) places a few vertices differently at round-off.
+/// order (SurfaceProjector's) places a few vertices differently at round-off. It is the tree
+/// nearest_faces (field/transfer.h) builds, in the same steps.
 class ClosestPoints {
  public:
   explicit ClosestPoints(const TriMesh& surface) {
@@ -146,7 +147,9 @@ class ClosestPoints {
     for (int f = 0; f < surface.num_faces(); ++f) {
       const Kernel::Triangle_3 t(point(surface.F(f, 0)), point(surface.F(f, 1)),
                                  point(surface.F(f, 2)));
-      if (!t.is_degenerate()) triangles_.push_back(t);
+      if (t.is_degenerate()) continue;
+      triangles_.push_back(t);
+      face_.push_back(f);
     }
     if (triangles_.empty()) return;
     tree_.insert(triangles_.cbegin(), triangles_.cend());
@@ -159,11 +162,28 @@ class ClosestPoints {
     const Point q = tree_.closest_point(Point(p.x(), p.y(), p.z()));
     return Vec3(q.x(), q.y(), q.z());
   }
+  /// Per triangle of `to`, the surface's triangle nearest its centroid: nearest_faces(surface,
+  /// to), the same queries on the same tree.
+  std::vector<int> nearest_faces(const TriMesh& to) const {
+    std::vector<int> out(to.num_faces());
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, to.num_faces(), 1024),
+        [&](const tbb::blocked_range<int>& range) {
+          for (int f = range.begin(); f < range.end(); ++f) {
+            const Vec3 c =
+                (to.vertex(to.F(f, 0)) + to.vertex(to.F(f, 1)) + to.vertex(to.F(f, 2))) / 3;
+            const auto hit = tree_.closest_point_and_primitive(Point(c.x(), c.y(), c.z()));
+            out[f] = face_[hit.second - triangles_.cbegin()];
+          }
+        });
+    return out;
+  }
 
  private:
   using Primitive =
       CGAL::AABB_triangle_primitive<Kernel, std::vector<Kernel::Triangle_3>::const_iterator>;
   std::vector<Kernel::Triangle_3> triangles_;
+  std::vector<int> face_;  ///< per kept triangle: its face of the surface
   CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>> tree_;
 };
 
@@ -180,7 +200,7 @@ void project_interior(TriMesh& mesh, const std::vector<int>& source, const Close
 }
 
 CoarseSurface unchanged(const Surface& surface) {
-  CoarseSurface out{surface, std::vector<int>(surface.mesh.num_vertices())};
+  CoarseSurface out{surface, std::vector<int>(surface.mesh.num_vertices()), {}};
   std::iota(out.source_vertex.begin(), out.source_vertex.end(), 0);
   return out;
 }
@@ -239,6 +259,7 @@ CoarseSurface coarsen_surface(const Surface& surface, const CoarsenOptions& opti
   std::sort(out.surface.supports.begin(), out.surface.supports.end());
   tree.wait();
   project_interior(mesh, out.source_vertex, *closest);
+  if (!closest->empty()) out.nearest_input_face = closest->nearest_faces(mesh);
   return out;
 }
 

@@ -2,15 +2,12 @@
 
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <tuple>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
-#include <tbb/task_arena.h>
 
 #include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
@@ -22,6 +19,7 @@
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/optimize/projector.h"
+#include "gridshell/pipeline/once_map.h"
 #include "gridshell/pipeline/structure.h"
 
 namespace gridshell {
@@ -88,9 +86,11 @@ double predicted_deformed_area(const TriMesh& mesh, const Field& field) {
 
 /// Stage 0: the surface the stages before the finishing step run on — a coarsened copy of the
 /// input when it is much finer than the cells need (DesignOptions::analysis_resolution), else
-/// none (the input itself).
+/// none (the input itself). `nearest_input_face` (optional): the copy's map to the input's
+/// triangles, nearest_faces(input, copy), which the coarsening finds with its own tree.
 std::optional<Surface> analysis_surface(const Surface& surface, const DesignOptions& o,
-                                        DesignResult& r) {
+                                        DesignResult& r,
+                                        std::vector<int>* nearest_input_face = nullptr) {
   if (o.analysis_resolution != AnalysisResolution::cells) return std::nullopt;
   auto t = Clock::now();
   const double area = surface_area(surface.mesh);
@@ -108,6 +108,7 @@ std::optional<Surface> analysis_surface(const Surface& surface, const DesignOpti
                                    {"supports", coarse.surface.supports.size()}};
   lap(r.timings, "coarsen", t);
   if (coarse.surface.mesh.num_faces() == faces) return std::nullopt;  // refused (non-manifold)
+  if (nearest_input_face) *nearest_input_face = std::move(coarse.nearest_input_face);
   return std::move(coarse.surface);
 }
 
@@ -220,32 +221,6 @@ struct Staged {
   T value;
   nlohmann::json details;
 };
-/// Values computed once per key, thread-safe.
-template <class Key, class Value>
-class OnceMap {
- public:
-  template <class Make>
-  const Value& get(const Key& key, Make&& make) {
-    std::shared_ptr<Slot> slot;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      std::shared_ptr<Slot>& s = slots_[key];
-      if (!s) s = std::make_shared<Slot>();
-      slot = s;
-    }
-    std::call_once(slot->once,
-                   [&] { tbb::this_task_arena::isolate([&] { slot->value = make(); }); });
-    return slot->value;
-  }
-
- private:
-  struct Slot {
-    std::once_flag once;
-    Value value;
-  };
-  std::mutex mutex_;
-  std::map<Key, std::shared_ptr<Slot>> slots_;
-};
 /// (D, A, measure, stretch, density) of a field.
 using FieldKey = std::tuple<double, double, int, int, int>;
 /// A field's key, the length target and the number of sectors of a metric.
@@ -300,6 +275,15 @@ class InputSurface {
   /// nearest_faces(M, analysis): per triangle of the analysis surface, the nearest of M.
   const std::vector<int>& to_analysis(const TriMesh& analysis) {
     return map(cache_ ? &cache_->to_analysis : nullptr, own_to_analysis_, M_, analysis);
+  }
+  /// to_analysis's value found elsewhere, the same bits (the coarsening's tree over M; nothing
+  /// when empty): a design with a stress per input triangle then does not build that tree again.
+  void known_to_analysis(std::vector<int> map) {
+    if (map.empty()) return;
+    if (cache_)
+      cache_->to_analysis.get(0, [&] { return std::move(map); });
+    else if (own_to_analysis_.empty())
+      own_to_analysis_ = std::move(map);
   }
 
  private:
@@ -626,15 +610,18 @@ StressField analysis_stress(const Surface& input, const std::optional<Surface>& 
 
 void prepare(const Surface& surface, const DesignOptions& o, const StressField* given,
              DesignCache::Impl* cache, InputSurface& M, Prepared& p, DesignResult& r) {
+  std::vector<int> nearest_input_face;
   if (!cache) {
-    p.own_surface = analysis_surface(surface, o, r);
+    p.own_surface = analysis_surface(surface, o, r, &nearest_input_face);
+    M.known_to_analysis(std::move(nearest_input_face));
     p.own_stress = analysis_stress(surface, p.own_surface, o, given, M, r);
     return;
   }
   auto t = Clock::now();
   const auto& s = cache->surface.get(0, [&] {
     DesignResult scratch;
-    std::optional<Surface> coarse = analysis_surface(surface, o, scratch);
+    std::optional<Surface> coarse = analysis_surface(surface, o, scratch, &nearest_input_face);
+    M.known_to_analysis(std::move(nearest_input_face));
     return Staged<std::optional<Surface>>{std::move(coarse), std::move(scratch.details)};
   });
   p.coarse = &s.value;
