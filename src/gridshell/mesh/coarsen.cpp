@@ -13,13 +13,14 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <future>
 #include <numeric>
 #include <optional>
 
+#include "gridshell/core/error.h"
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 
@@ -114,17 +115,29 @@ struct KeepingVisitor : SMS::Edge_collapse_visitor_base<SurfaceMesh> {
 
 /// Per input vertex: its role (see Role).
 std::vector<std::uint8_t> vertex_roles(const Surface& s, double corner_angle_deg) {
-  const Topology topo = build_topology(s.mesh);
-  std::vector<char> support(s.mesh.num_vertices(), 0);
-  for (int v : s.supports) support[v] = 1;
-  const std::vector<char> corner =
-      boundary_corners(s.mesh.V, topo.boundary_loops, corner_angle_deg);
-  std::vector<std::uint8_t> role(s.mesh.num_vertices(), kInterior);
-  for (int v = 0; v < s.mesh.num_vertices(); ++v) {
-    if (topo.on_boundary[v]) role[v] = kBoundary;
-    if (corner[v] || (support[v] && !topo.on_boundary[v])) role[v] = kKept;
+  const int nv = s.mesh.num_vertices();
+  // The boundary loops: from the triangle adjacency (linear time, no per-vertex lists; the same
+  // loops as Topology's), or from the general topology where the adjacency refuses the mesh.
+  std::vector<std::vector<int>> loops;
+  std::vector<char> on_boundary(nv, 0);
+  try {
+    loops = build_triangle_adjacency(s.mesh.F, nv).boundary_loops;
+    for (const auto& loop : loops)
+      for (int v : loop) on_boundary[v] = 1;
+  } catch (const Error&) {
+    Topology topo = build_topology(s.mesh);
+    loops = std::move(topo.boundary_loops);
+    on_boundary = std::move(topo.on_boundary);
   }
-  for (const auto& loop : topo.boundary_loops) {  // where the supported stretches end
+  std::vector<char> support(nv, 0);
+  for (int v : s.supports) support[v] = 1;
+  const std::vector<char> corner = boundary_corners(s.mesh.V, loops, corner_angle_deg);
+  std::vector<std::uint8_t> role(nv, kInterior);
+  for (int v = 0; v < nv; ++v) {
+    if (on_boundary[v]) role[v] = kBoundary;
+    if (corner[v] || (support[v] && !on_boundary[v])) role[v] = kKept;
+  }
+  for (const auto& loop : loops) {  // where the supported stretches end
     const std::size_t n = loop.size();
     for (std::size_t k = 0; k < n; ++k) {
       const int v = loop[k], prev = loop[(k + n - 1) % n], next = loop[(k + 1) % n];
@@ -211,6 +224,8 @@ CoarseSurface coarsen_surface(const Surface& surface, const CoarsenOptions& opti
   if (!(options.edge_length > 0)) return unchanged(surface);
   const TriMesh& in = surface.mesh;
   SurfaceMesh sm;
+  // Room for every element up front (edges: at most 3 per face, fewer when shared).
+  sm.reserve(in.num_vertices(), 3 * in.num_faces() / 2 + in.num_vertices(), in.num_faces());
   std::vector<VertexIndex> vertex(in.num_vertices());
   for (int v = 0; v < in.num_vertices(); ++v)
     vertex[v] = sm.add_vertex(Point(in.V(v, 0), in.V(v, 1), in.V(v, 2)));
@@ -221,16 +236,17 @@ CoarseSurface coarsen_surface(const Surface& surface, const CoarsenOptions& opti
   Maps maps{sm.add_property_map<VertexIndex, std::uint8_t>("v:role", kInterior).first,
             sm.add_property_map<VertexIndex, int>("v:source", -1).first,
             sm.add_property_map<VertexIndex, std::uint8_t>("v:support", 0).first};
+  // The input's closest-point tree (for the copy's interior vertices at the end) is built on a
+  // thread of its own while the roles and the collapse run: not as a TBB task, which waited for
+  // a free worker of the pool, and the pool's other thread may be blocked waiting for this very
+  // coarsening (a design cache warmed beside it): the tree was then built after the collapse.
+  std::optional<ClosestPoints> closest;
+  std::future<void> tree = std::async(std::launch::async, [&] { closest.emplace(in); });
   const std::vector<std::uint8_t> role = vertex_roles(surface, options.corner_angle_deg);
   for (int v = 0; v < in.num_vertices(); ++v)
     maps.role[vertex[v]] = role[v], maps.source[vertex[v]] = v;
   for (int v : surface.supports) maps.support[vertex[v]] = 1;
 
-  // The input's closest-point tree (for the copy's interior vertices at the end) is built on
-  // another thread while the collapse runs.
-  std::optional<ClosestPoints> closest;
-  tbb::task_group tree;
-  tree.run([&] { closest.emplace(in); });
   SMS::Edge_length_stop_predicate<double> stop(options.edge_length);
   SMS::edge_collapse(sm, stop,
                      CGAL::parameters::get_cost(SMS::Edge_length_cost<SurfaceMesh>())
@@ -257,7 +273,7 @@ CoarseSurface coarsen_surface(const Surface& surface, const CoarsenOptions& opti
       mesh.F(static_cast<int>(f), k++) = static_cast<int>(v);
   }
   std::sort(out.surface.supports.begin(), out.surface.supports.end());
-  tree.wait();
+  tree.get();
   project_interior(mesh, out.source_vertex, *closest);
   if (!closest->empty()) out.nearest_input_face = closest->nearest_faces(mesh);
   return out;
