@@ -13,10 +13,10 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <cstdint>
-#include <future>
 #include <numeric>
 #include <optional>
 
@@ -236,12 +236,15 @@ CoarseSurface coarsen_surface(const Surface& surface, const CoarsenOptions& opti
   Maps maps{sm.add_property_map<VertexIndex, std::uint8_t>("v:role", kInterior).first,
             sm.add_property_map<VertexIndex, int>("v:source", -1).first,
             sm.add_property_map<VertexIndex, std::uint8_t>("v:support", 0).first};
-  // The input's closest-point tree (for the copy's interior vertices at the end) is built on a
-  // thread of its own while the roles and the collapse run: not as a TBB task, which waited for
-  // a free worker of the pool, and the pool's other thread may be blocked waiting for this very
-  // coarsening (a design cache warmed beside it): the tree was then built after the collapse.
+  // The input's closest-point tree (for the copy's interior vertices at the end) is built beside
+  // the collapse when the pool has a free worker. In an objective search the other worker is
+  // blocked waiting for this very coarsening (the design cache warmed beside it) and the tree is
+  // built after the collapse (1.4 s at 2 M triangles). A thread of its own avoided that but kept
+  // the tree's freed memory in that thread's allocator arena: +0.4 GB peak at 2 M triangles
+  // (docs/performance.md, "The coarsening's own serial steps").
   std::optional<ClosestPoints> closest;
-  std::future<void> tree = std::async(std::launch::async, [&] { closest.emplace(in); });
+  tbb::task_group tree;
+  tree.run([&] { closest.emplace(in); });
   const std::vector<std::uint8_t> role = vertex_roles(surface, options.corner_angle_deg);
   for (int v = 0; v < in.num_vertices(); ++v)
     maps.role[vertex[v]] = role[v], maps.source[vertex[v]] = v;
@@ -273,7 +276,7 @@ CoarseSurface coarsen_surface(const Surface& surface, const CoarsenOptions& opti
       mesh.F(static_cast<int>(f), k++) = static_cast<int>(v);
   }
   std::sort(out.surface.supports.begin(), out.surface.supports.end());
-  tree.get();
+  tree.wait();
   project_interior(mesh, out.source_vertex, *closest);
   if (!closest->empty()) out.nearest_input_face = closest->nearest_faces(mesh);
   return out;
