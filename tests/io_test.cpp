@@ -4,8 +4,10 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 #include <fstream>
+#include <limits>
+#include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -304,6 +306,75 @@ TEST(MeshIO, TriangleVtpEqualsPolygonVtp) {
   int files = 0;
   for (const auto& e : fs::directory_iterator(d)) files += e.is_regular_file();
   EXPECT_EQ(files, 2);  // tri.vtp and poly.vtp: nothing half-written, no temp file
+}
+
+// The binary encoding of field.vtp (VTK's appended raw data): every array decoded from its
+// offset — a UInt64 byte count, then little-endian values — equals what was written, bit for bit;
+// a non-finite value leaves no file.
+TEST(MeshIO, BinaryVtpHoldsTheSameValues) {
+  BuiltinOptions bo;
+  bo.res = 150;  // 45 000 triangles: more than one block of values
+  const Surface s = make_builtin("paraboloid", bo);
+  const fs::path d = test::temp_dir("binvtp");
+  io::Attributes point, cell;
+  point["height"] = s.mesh.V.col(2);
+  Eigen::MatrixXd faces(s.mesh.num_faces(), 2);
+  for (int f = 0; f < s.mesh.num_faces(); ++f) faces.row(f) << f / 7.0, -f;
+  cell["face"] = faces;
+  io::write_vtp(d / "b.vtp", s.mesh, point, cell, io::VtpEncoding::binary);
+  const std::string b = io::read_file(d / "b.vtp");
+  EXPECT_NE(b.find("header_type=\"UInt64\""), std::string::npos);
+  EXPECT_NE(b.find(fmt::format("NumberOfPoints=\"{}\" NumberOfPolys=\"{}\"", s.mesh.num_vertices(),
+                               s.mesh.num_faces())),
+            std::string::npos);
+  const std::size_t data = b.find("<AppendedData encoding=\"raw\">\n_");
+  ASSERT_NE(data, std::string::npos);
+  const std::size_t base = b.find('_', data) + 1;
+  // The values of the array whose element contains `name` (a DataArray in document order).
+  auto values = [&](const std::string& name) {
+    const std::size_t at = b.find(name);
+    EXPECT_LT(at, data) << name;
+    const std::size_t o = b.find("offset=\"", at) + 8;
+    const std::size_t offset = std::stoull(b.substr(o, b.find('"', o) - o));
+    std::uint64_t bytes = 0;
+    std::memcpy(&bytes, b.data() + base + offset, sizeof(bytes));
+    return std::string_view(b).substr(base + offset + sizeof(bytes), bytes);
+  };
+  auto doubles = [](std::string_view raw) {
+    std::vector<double> v(raw.size() / sizeof(double));
+    std::memcpy(v.data(), raw.data(), raw.size());
+    return v;
+  };
+  auto longs = [](std::string_view raw) {
+    std::vector<std::int64_t> v(raw.size() / sizeof(std::int64_t));
+    std::memcpy(v.data(), raw.data(), raw.size());
+    return v;
+  };
+  const std::vector<double> xyz = doubles(values("<Points>"));
+  ASSERT_EQ(xyz.size(), 3u * s.mesh.num_vertices());
+  for (int v = 0; v < s.mesh.num_vertices(); ++v)
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(xyz[3 * v + c], s.mesh.V(v, c));
+  const std::vector<std::int64_t> conn = longs(values("\"connectivity\"")),
+                                  offsets = longs(values("\"offsets\""));
+  ASSERT_EQ(conn.size(), 3u * s.mesh.num_faces());
+  ASSERT_EQ(offsets.size(), static_cast<std::size_t>(s.mesh.num_faces()));
+  for (int f = 0; f < s.mesh.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(conn[3 * f + k], s.mesh.F(f, k));
+    ASSERT_EQ(offsets[f], 3 * (f + 1));
+  }
+  const std::vector<double> height = doubles(values("\"height\"")),
+                            face = doubles(values("\"face\""));
+  ASSERT_EQ(height.size(), static_cast<std::size_t>(s.mesh.num_vertices()));
+  for (int v = 0; v < s.mesh.num_vertices(); ++v) ASSERT_EQ(height[v], s.mesh.V(v, 2));
+  ASSERT_EQ(face.size(), 2u * s.mesh.num_faces());
+  for (int f = 0; f < s.mesh.num_faces(); ++f) {
+    ASSERT_EQ(face[2 * f], f / 7.0);
+    ASSERT_EQ(face[2 * f + 1], -f);
+  }
+  EXPECT_EQ(b.substr(b.size() - 28), "\n</AppendedData>\n</VTKFile>\n");
+  cell["face"](44990, 0) = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(io::write_vtp(d / "bad.vtp", s.mesh, point, cell, io::VtpEncoding::binary), Error);
+  EXPECT_FALSE(fs::exists(d / "bad.vtp"));
 }
 
 TEST(MeshIO, RefusesToWriteNaN) {

@@ -6,8 +6,6 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <functional>
-#include <iterator>
 #include <sstream>
 #include <string_view>
 
@@ -15,7 +13,6 @@
 #include <CGAL/IO/STL.h>
 #include <CGAL/Simple_cartesian.h>
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include "gridshell/core/error.h"
 #include "gridshell/io/files.h"
@@ -593,179 +590,6 @@ void write_ply(const fs::path& path, const PolyMesh& mesh, const std::vector<int
     }
   }
   write_file_atomic(path, s);
-}
-
-namespace {
-
-// Appends format_number(x) and `sep` to s without a temporary string (field.vtp of a 250 K
-// triangle input holds millions of numbers).
-void append_number(std::string& s, double x, char sep) {
-  if (!std::isfinite(x)) throw Error("", "internal: refusing to write a non-finite number");
-  fmt::format_to(std::back_inserter(s), "{}{}", x, sep);
-}
-
-/// Appends rows 0 … rows−1, each formatted by `row(s, i)`, to `out`: blocks of rows are
-/// formatted on all threads and written in order (the same bytes as one thread), a batch of
-/// blocks at a time (a few MB of text in memory, whatever the file's size).
-template <class Row>
-void append_rows(AtomicFileWriter& out, Eigen::Index rows, const Row& row) {
-  constexpr Eigen::Index kBlock = 4096, kBlocks = 16;
-  std::vector<std::string> parts(kBlocks);
-  for (Eigen::Index first = 0; first < rows; first += kBlock * kBlocks) {
-    const Eigen::Index end = std::min(rows, first + kBlock * kBlocks);
-    const auto blocks = static_cast<int>((end - first + kBlock - 1) / kBlock);
-    tbb::parallel_for(0, blocks, [&](int b) {
-      std::string& s = parts[b];
-      s.clear();
-      const Eigen::Index from = first + b * kBlock, to = std::min(end, from + kBlock);
-      for (Eigen::Index i = from; i < to; ++i) row(s, i);
-    });
-    for (int b = 0; b < blocks; ++b) out.append(parts[b]);
-  }
-}
-
-void check_rows(const Attributes& attrs, Eigen::Index rows) {
-  for (const auto& [name, values] : attrs)
-    if (values.rows() != rows)
-      throw Error(name,
-                  fmt::format("internal: attribute has {} rows, expected {}", values.rows(), rows));
-}
-
-void append_data_arrays(AtomicFileWriter& out, const Attributes& attrs, Eigen::Index rows) {
-  check_rows(attrs, rows);
-  for (const auto& [name, values] : attrs) {
-    out.append(fmt::format(
-        "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
-        name, values.cols()));
-    const Eigen::MatrixXd& m = values;
-    append_rows(out, m.rows(), [&m](std::string& s, Eigen::Index i) {
-      for (Eigen::Index c = 0; c < m.cols(); ++c) append_number(s, m(i, c), ' ');
-      s += '\n';
-    });
-    out.append("</DataArray>\n");
-  }
-}
-
-void append_points(AtomicFileWriter& out, const Points& V) {
-  out.append("<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
-  append_rows(out, V.rows(), [&V](std::string& s, Eigen::Index v) {
-    for (int c = 0; c < 3; ++c) append_number(s, V(v, c), c < 2 ? ' ' : '\n');
-  });
-  out.append("</DataArray>\n</Points>\n");
-}
-
-/// The polygons of a piece: how many, each one's vertex count, and its connectivity row.
-struct Polys {
-  Eigen::Index count = 0;
-  std::function<std::size_t(Eigen::Index)> size;
-  std::function<void(std::string&, Eigen::Index)> row;  ///< "v0 v1 … \n"
-};
-
-Polys polys_of(const std::vector<std::vector<int>>& faces) {
-  return {static_cast<Eigen::Index>(faces.size()),
-          [&faces](Eigen::Index i) { return faces[i].size(); },
-          [&faces](std::string& s, Eigen::Index i) {
-            for (int v : faces[i]) fmt::format_to(std::back_inserter(s), "{} ", v);
-            s += '\n';
-          }};
-}
-
-/// VTK XML PolyData with any of line segments and polygons (VTK orders cells lines first).
-void write_polydata(const fs::path& path, const Points& V,
-                    const std::vector<std::array<int, 2>>& lines, const Polys& polys,
-                    const Attributes& point_data, const Attributes& cell_data) {
-  const auto cells = static_cast<Eigen::Index>(lines.size()) + polys.count;
-  check_rows(point_data, V.rows());
-  check_rows(cell_data, cells);
-  AtomicFileWriter out(path);
-  std::string& s = out.buffer();
-  s += "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" "
-       "byte_order=\"LittleEndian\">\n<PolyData>\n";
-  s += fmt::format("<Piece NumberOfPoints=\"{}\"", V.rows());
-  if (!lines.empty()) s += fmt::format(" NumberOfLines=\"{}\"", lines.size());
-  if (polys.count > 0 || lines.empty()) s += fmt::format(" NumberOfPolys=\"{}\"", polys.count);
-  s += ">\n";
-  append_points(out, V);
-  if (!lines.empty()) {
-    out.append("<Lines>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    append_rows(out, static_cast<Eigen::Index>(lines.size()), [&lines](std::string& t, Eigen::Index i) {
-      fmt::format_to(std::back_inserter(t), "{} {}\n", lines[i][0], lines[i][1]);
-    });
-    out.append("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-    append_rows(out, static_cast<Eigen::Index>(lines.size()), [](std::string& t, Eigen::Index i) {
-      fmt::format_to(std::back_inserter(t), "{}\n", 2 * (static_cast<std::size_t>(i) + 1));
-    });
-    out.append("</DataArray>\n</Lines>\n");
-  }
-  if (polys.count > 0 || lines.empty()) {
-    out.append("<Polys>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    append_rows(out, polys.count, polys.row);
-    out.append("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-    std::vector<std::size_t> offset(polys.count);
-    std::size_t sum = 0;
-    for (Eigen::Index i = 0; i < polys.count; ++i) offset[i] = sum += polys.size(i);
-    append_rows(out, polys.count, [&offset](std::string& t, Eigen::Index i) {
-      fmt::format_to(std::back_inserter(t), "{}\n", offset[i]);
-    });
-    out.append("</DataArray>\n</Polys>\n");
-  }
-  out.append("<PointData>\n");
-  append_data_arrays(out, point_data, V.rows());
-  out.append("</PointData>\n<CellData>\n");
-  append_data_arrays(out, cell_data, cells);
-  out.append("</CellData>\n</Piece>\n</PolyData>\n</VTKFile>\n");
-  out.commit();
-}
-
-}  // namespace
-
-void write_vtp(const fs::path& path, const PolyMesh& mesh, const Attributes& point_data,
-               const Attributes& cell_data) {
-  write_polydata(path, mesh.V, {}, polys_of(mesh.faces), point_data, cell_data);
-}
-
-void write_vtp(const fs::path& path, const TriMesh& mesh, const Attributes& point_data,
-               const Attributes& cell_data) {
-  const Triangles& F = mesh.F;
-  const Polys polys{F.rows(), [](Eigen::Index) { return std::size_t{3}; },
-                    [&F](std::string& s, Eigen::Index i) {
-                      fmt::format_to(std::back_inserter(s), "{} {} {} \n", F(i, 0), F(i, 1),
-                                     F(i, 2));
-                    }};
-  write_polydata(path, mesh.V, {}, polys, point_data, cell_data);
-}
-
-void write_vtp_lines(const fs::path& path, const Points& V,
-                     const std::vector<std::array<int, 2>>& lines, const Attributes& point_data,
-                     const Attributes& cell_data) {
-  write_polydata(path, V, lines, Polys{}, point_data, cell_data);
-}
-
-void write_vtp_beams_and_panels(const fs::path& path, const PolyMesh& mesh,
-                                const std::vector<std::array<int, 2>>& lines,
-                                const Attributes& point_data, const Attributes& line_data,
-                                const Attributes& panel_data) {
-  const auto nl = static_cast<Eigen::Index>(lines.size());
-  const Eigen::Index nf = mesh.num_faces();
-  Attributes cells;
-  auto place = [&](const Attributes& attrs, Eigen::Index rows, Eigen::Index first) {
-    for (const auto& [name, values] : attrs) {
-      if (values.rows() != rows)
-        throw Error(
-            name, fmt::format("internal: attribute has {} rows, expected {}", values.rows(), rows));
-      Eigen::MatrixXd& all = cells[name];
-      if (all.size() == 0) all = Eigen::MatrixXd::Zero(nl + nf, values.cols());
-      if (all.cols() != values.cols())
-        throw Error(name, "internal: beam and panel attributes differ in components");
-      all.middleRows(first, rows) = values;
-    }
-  };
-  place(line_data, nl, 0);
-  place(panel_data, nf, nl);
-  Eigen::MatrixXd is_beam = Eigen::MatrixXd::Zero(nl + nf, 1);
-  is_beam.topRows(nl).setOnes();
-  cells["is_beam"] = is_beam;
-  write_polydata(path, mesh.V, lines, polys_of(mesh.faces), point_data, cells);
 }
 
 }  // namespace gridshell::io

@@ -58,11 +58,19 @@ void write_ply(const std::filesystem::path& path, const PolyMesh& mesh,
 /// Writes VTK XML PolyData: polygons, plus point and cell attributes.
 void write_vtp(const std::filesystem::path& path, const PolyMesh& mesh,
                const Attributes& point_data = {}, const Attributes& cell_data = {});
-/// The same for a triangle mesh (the same bytes as its to_poly, without that copy). The file is
-/// written in pieces as it is formatted (blocks of rows on all threads, in order): a 2 M-triangle
-/// field.vtp is never held in memory whole.
+/// How a VTK XML file stores its arrays.
+enum class VtpEncoding {
+  ascii,   ///< numbers as text inside each DataArray (shortest round-trip form)
+  binary,  ///< VTK's appended raw data: little-endian bytes after the XML, each array preceded by
+           ///< its length (UInt64); the same values, written without formatting
+};
+
+/// The same for a triangle mesh (ascii: the same bytes as its to_poly, without that copy). The
+/// file is written in pieces as it is formatted (blocks of rows on all threads, in order): a
+/// 2 M-triangle field.vtp is never held in memory whole.
 void write_vtp(const std::filesystem::path& path, const TriMesh& mesh,
-               const Attributes& point_data = {}, const Attributes& cell_data = {});
+               const Attributes& point_data = {}, const Attributes& cell_data = {},
+               VtpEncoding encoding = VtpEncoding::ascii);
 
 /// Writes VTK XML PolyData of line segments (beams) and polygons (panels) in one piece: the
 /// beams are cells 0 … L−1 and the polygons cells L … L+F−1 (VTK's order). A cell array given for

@@ -81,7 +81,8 @@ nlohmann::json write_design_folder(const std::filesystem::path& dir, const Desig
   const nlohmann::json bom = fabrication_report(dir, r.mesh, r.supports, structure, frame,
                                                 in.sheet, envelope ? &*envelope : nullptr);
   const double fabrication_s = fabrication_watch.seconds();
-  io::write_vtp(dir / "field.vtp", in.surface->mesh, {}, field_attributes(r.field));
+  io::write_vtp(dir / "field.vtp", in.surface->mesh, {}, field_attributes(r.field),
+                io::VtpEncoding::binary);
   nlohmann::json report = design_report(r, options);
   double combinations_s = 0;
   report["surface"] = in.surface_name;
