@@ -278,19 +278,32 @@ TEST(MeshIO, VtpIsWellFormed) {
   EXPECT_NE(s.find("</VTKFile>"), std::string::npos);
 }
 
+namespace {
+/// A paraboloid of res × res squares with a point array `height` (z) and a two-component cell
+/// array `face` (f / 7, −f): the fine-input VTP tests' data.
+struct VtpCase {
+  Surface s;
+  io::Attributes point, cell;
+};
+VtpCase vtp_case(int res) {
+  BuiltinOptions bo;
+  bo.res = res;
+  VtpCase c{make_builtin("paraboloid", bo), {}, {}};
+  c.point["height"] = c.s.mesh.V.col(2);
+  Eigen::MatrixXd faces(c.s.mesh.num_faces(), 2);
+  for (int f = 0; f < c.s.mesh.num_faces(); ++f) faces.row(f) << f / 7.0, -f;
+  c.cell["face"] = faces;
+  return c;
+}
+}  // namespace
+
 // field.vtp of a fine input: the triangle-mesh writer gives the bytes of the polygon-mesh one,
 // across the writer's batches of rows (16 blocks of 4096, formatted on several threads and
 // written in order); a non-finite value late in the file leaves no file and no temp file.
 TEST(MeshIO, TriangleVtpEqualsPolygonVtp) {
-  BuiltinOptions bo;
-  bo.res = 200;  // 80 000 triangles, 40 401 vertices: more than one batch of rows
-  const Surface s = make_builtin("paraboloid", bo);
+  // 80 000 triangles, 40 401 vertices: more than one batch of rows.
+  auto [s, point, cell] = vtp_case(200);
   const fs::path d = test::temp_dir("trivtp");
-  io::Attributes point, cell;
-  point["height"] = s.mesh.V.col(2);
-  Eigen::MatrixXd faces(s.mesh.num_faces(), 2);
-  for (int f = 0; f < s.mesh.num_faces(); ++f) faces.row(f) << f / 7.0, -f;
-  cell["face"] = faces;
   io::write_vtp(d / "tri.vtp", s.mesh, point, cell);
   io::write_vtp(d / "poly.vtp", to_poly(s.mesh), point, cell);
   const std::string tri = io::read_file(d / "tri.vtp");
@@ -312,15 +325,8 @@ TEST(MeshIO, TriangleVtpEqualsPolygonVtp) {
 // offset — a UInt64 byte count, then little-endian values — equals what was written, bit for bit;
 // a non-finite value leaves no file.
 TEST(MeshIO, BinaryVtpHoldsTheSameValues) {
-  BuiltinOptions bo;
-  bo.res = 150;  // 45 000 triangles: more than one block of values
-  const Surface s = make_builtin("paraboloid", bo);
+  auto [s, point, cell] = vtp_case(150);  // 45 000 triangles: more than one block of values
   const fs::path d = test::temp_dir("binvtp");
-  io::Attributes point, cell;
-  point["height"] = s.mesh.V.col(2);
-  Eigen::MatrixXd faces(s.mesh.num_faces(), 2);
-  for (int f = 0; f < s.mesh.num_faces(); ++f) faces.row(f) << f / 7.0, -f;
-  cell["face"] = faces;
   io::write_vtp(d / "b.vtp", s.mesh, point, cell, io::VtpEncoding::binary);
   const std::string b = io::read_file(d / "b.vtp");
   EXPECT_NE(b.find("header_type=\"UInt64\""), std::string::npos);
