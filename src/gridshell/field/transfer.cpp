@@ -1,27 +1,11 @@
 #include "gridshell/field/transfer.h"
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Simple_cartesian.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/nearest_triangles.h"
 
 namespace gridshell {
 
 namespace {
-using Kernel = CGAL::Simple_cartesian<double>;
-using Point = Kernel::Point_3;
-using Triangle = Kernel::Triangle_3;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-
-Point point(const TriMesh& m, int v) {
-  return Point(m.V(v, 0), m.V(v, 1), m.V(v, 2));
-}
-
 /// u projected onto the plane of face f of `to`, normalised (unchanged if it vanishes).
 Vec3 onto_face(const Vec3& u, const TriMesh& to, int f) {
   const Vec3 a = to.vertex(to.F(f, 0)), b = to.vertex(to.F(f, 1)), c = to.vertex(to.F(f, 2));
@@ -33,35 +17,9 @@ Vec3 onto_face(const Vec3& u, const TriMesh& to, int f) {
 }  // namespace
 
 std::vector<int> nearest_faces(const TriMesh& from, const TriMesh& to) {
-  std::vector<Triangle> triangles;
-  std::vector<int> face;
-  triangles.reserve(from.num_faces());
-  for (int f = 0; f < from.num_faces(); ++f) {
-    const Triangle t(point(from, from.F(f, 0)), point(from, from.F(f, 1)),
-                     point(from, from.F(f, 2)));
-    if (t.is_degenerate()) continue;
-    triangles.push_back(t);
-    face.push_back(f);
-  }
-  if (triangles.empty()) throw Error("field transfer", "the source mesh has no triangle");
-  Tree tree(triangles.cbegin(), triangles.cend());
-  tree.accelerate_distance_queries();
-  tree.build();
-  (void)tree.closest_point(triangles.front().vertex(0));  // the search tree, before the threads
-  std::vector<int> out(to.num_faces());
-  // Independent queries, each writing its own entry: the same map on any number of threads.
-  tbb::parallel_for(tbb::blocked_range<int>(0, to.num_faces(), 1024),
-                    [&](const tbb::blocked_range<int>& range) {
-                      for (int f = range.begin(); f < range.end(); ++f) {
-                        const Vec3 c = (to.vertex(to.F(f, 0)) + to.vertex(to.F(f, 1)) +
-                                        to.vertex(to.F(f, 2))) /
-                                       3;
-                        const auto hit =
-                            tree.closest_point_and_primitive(Point(c.x(), c.y(), c.z()));
-                        out[f] = face[hit.second - triangles.cbegin()];
-                      }
-                    });
-  return out;
+  const NearestTriangles tree(from);
+  if (tree.empty()) throw Error("field transfer", "the source mesh has no triangle");
+  return tree.nearest_faces(to);
 }
 
 Field transfer_field(const TriMesh& from, const Field& field, const TriMesh& to) {

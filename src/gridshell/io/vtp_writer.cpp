@@ -195,10 +195,10 @@ void write_binary_vtp(const fs::path& path, const TriMesh& mesh, const Attribute
   const Eigen::MatrixXd points = mesh.V;
   std::vector<AppendedArray> arrays;
   std::string xml;
+  std::uint64_t offset = 0;  // of the next array in the appended block
   const auto add = [&](AppendedArray a) {
-    std::uint64_t offset = 0;
-    for (const AppendedArray& b : arrays) offset += sizeof(std::uint64_t) + b.bytes;
     xml += fmt::format(fmt::runtime(a.element), offset);
+    offset += sizeof(std::uint64_t) + a.bytes;
     arrays.push_back(std::move(a));
   };
   const Triangles& F = mesh.F;

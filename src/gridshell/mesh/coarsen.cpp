@@ -1,8 +1,5 @@
 #include "gridshell/mesh/coarsen.h"
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
@@ -22,6 +19,7 @@
 
 #include "gridshell/core/error.h"
 #include "gridshell/mesh/geometry.h"
+#include "gridshell/mesh/nearest_triangles.h"
 #include "gridshell/mesh/topology.h"
 
 namespace gridshell {
@@ -147,62 +145,10 @@ std::vector<std::uint8_t> vertex_roles(const Surface& s, double corner_angle_deg
   return role;
 }
 
-/// A CGAL AABB tree over the non-degenerate triangles of a surface, for closest points. Built in
-/// the order of the original single-threaded code (distance-query kd-tree over the primitives as
-/// given, then the tree): the kd-tree's hint decides between equally close triangles, so another
-/// order (SurfaceProjector's) places a few vertices differently at round-off. It is the tree
-/// nearest_faces (field/transfer.h) builds, in the same steps.
-class ClosestPoints {
- public:
-  explicit ClosestPoints(const TriMesh& surface) {
-    triangles_.reserve(surface.num_faces());
-    auto point = [&](int v) { return Point(surface.V(v, 0), surface.V(v, 1), surface.V(v, 2)); };
-    for (int f = 0; f < surface.num_faces(); ++f) {
-      const Kernel::Triangle_3 t(point(surface.F(f, 0)), point(surface.F(f, 1)),
-                                 point(surface.F(f, 2)));
-      if (t.is_degenerate()) continue;
-      triangles_.push_back(t);
-      face_.push_back(f);
-    }
-    if (triangles_.empty()) return;
-    tree_.insert(triangles_.cbegin(), triangles_.cend());
-    tree_.accelerate_distance_queries();
-    tree_.build();
-  }
-  bool empty() const { return triangles_.empty(); }
-  /// Thread-safe once built.
-  Vec3 closest_point(const Vec3& p) const {
-    const Point q = tree_.closest_point(Point(p.x(), p.y(), p.z()));
-    return Vec3(q.x(), q.y(), q.z());
-  }
-  /// Per triangle of `to`, the surface's triangle nearest its centroid: nearest_faces(surface,
-  /// to), the same queries on the same tree.
-  std::vector<int> nearest_faces(const TriMesh& to) const {
-    std::vector<int> out(to.num_faces());
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, to.num_faces(), 1024),
-        [&](const tbb::blocked_range<int>& range) {
-          for (int f = range.begin(); f < range.end(); ++f) {
-            const Vec3 c =
-                (to.vertex(to.F(f, 0)) + to.vertex(to.F(f, 1)) + to.vertex(to.F(f, 2))) / 3;
-            const auto hit = tree_.closest_point_and_primitive(Point(c.x(), c.y(), c.z()));
-            out[f] = face_[hit.second - triangles_.cbegin()];
-          }
-        });
-    return out;
-  }
-
- private:
-  using Primitive =
-      CGAL::AABB_triangle_primitive<Kernel, std::vector<Kernel::Triangle_3>::const_iterator>;
-  std::vector<Kernel::Triangle_3> triangles_;
-  std::vector<int> face_;  ///< per kept triangle: its face of the surface
-  CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>> tree_;
-};
-
 /// Moves each interior vertex of `mesh` onto the closest point of the input (`closest`); the
 /// queries run in parallel, each writing its own row.
-void project_interior(TriMesh& mesh, const std::vector<int>& source, const ClosestPoints& closest) {
+void project_interior(TriMesh& mesh, const std::vector<int>& source,
+                      const NearestTriangles& closest) {
   if (closest.empty()) return;
   tbb::parallel_for(tbb::blocked_range<int>(0, mesh.num_vertices(), 256),
                     [&](const tbb::blocked_range<int>& range) {
@@ -242,7 +188,7 @@ CoarseSurface coarsen_surface(const Surface& surface, const CoarsenOptions& opti
   // built after the collapse (1.4 s at 2 M triangles). A thread of its own avoided that but kept
   // the tree's freed memory in that thread's allocator arena: +0.4 GB peak at 2 M triangles
   // (docs/performance.md, "The coarsening's own serial steps").
-  std::optional<ClosestPoints> closest;
+  std::optional<NearestTriangles> closest;
   tbb::task_group tree;
   tree.run([&] { closest.emplace(in); });
   const std::vector<std::uint8_t> role = vertex_roles(surface, options.corner_angle_deg);

@@ -32,9 +32,9 @@ struct CoarseSurface {
   std::vector<int> source_vertex;  ///< per vertex of the copy: the input vertex it was (boundary
                                    ///< and supports), or −1 (interior, moved)
   /// Per triangle of the copy: the input triangle nearest its centroid, found with the tree the
-  /// copy's vertices were projected with — bit for bit `nearest_faces(input, copy)` of
-  /// field/transfer.h (the same tree over the same triangles, the same queries), which on a
-  /// 2 M-triangle input would build that tree again. Empty when the copy is the input.
+  /// copy's vertices were projected with (mesh/nearest_triangles.h) — bit for bit
+  /// `nearest_faces(input, copy)` of field/transfer.h, which on a 2 M-triangle input would build
+  /// that tree again. Empty when the copy is the input.
   std::vector<int> nearest_input_face;
 };
 
