@@ -79,7 +79,7 @@ struct CaseRun {
 /// judges it by design's rule: every combination (combinations_block) and the governing
 /// verdicts (governing_block), as `gridshell design` writes them in report.json.
 CaseRun run_case(const Surface& surface, const DesignOptions& base, const SweepCase& c,
-                 const StressField* stress, DesignCache& cache) {
+                 const GivenStress* stress, DesignCache& cache) {
   DesignOptions o = base;
   o.field_options.D = c.D, o.field_options.A = c.A;
   o.tessellation.seed = c.seed;
@@ -140,9 +140,9 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   // What does not change between cases is computed once: the analysis surface and the stress
   // (or the file's), and per (D, A) the field and M′ (the repeats differ only in the seed).
   DesignCache cache;
-  std::optional<StressField> stress;
+  std::optional<GivenStress> stress;
   if (options.field == FieldInput::file)
-    stress = read_field_file(options.field_file, surface.mesh);
+    stress = GivenStress{read_field_file(options.field_file, surface.mesh), {}};
   spdlog::info("[sweep] {} of {} cases on {}{}", cases.size(), all, a.surface,
                mpi.active() ? fmt::format(" (MPI rank {} of {})", mpi.rank(), mpi.size()) : "");
   std::atomic<int> finished{0};

@@ -147,7 +147,7 @@ TEST(AnalysisResolution, WarmedCacheGivesTheUncachedDesigns) {
   o.tessellation.cells = 48;
   o.tessellation.seed = 5;
   o.analyze = analysis::AnalysisLevel::none;
-  const StressField given = fem::analyze_surface_stress(s).stress;
+  const GivenStress given{fem::analyze_surface_stress(s).stress, {}};
   const DesignResult plain = run_design(s, o);
   const DesignResult plain_given = run_design(s, o, given);
   ASSERT_TRUE(plain.details.contains("analysis_surface"));  // designed on a coarsened copy
@@ -169,4 +169,44 @@ TEST(AnalysisResolution, WarmedCacheGivesTheUncachedDesigns) {
   // The given stress made another design.
   EXPECT_FALSE(plain.mesh.V.rows() == plain_given.mesh.V.rows() &&
                plain.mesh.V == plain_given.mesh.V);
+}
+
+// A given stress sampled only at the input triangles the design reads (given_stress_faces: one
+// per triangle of the coarsened copy) makes the design the whole stress makes, bit for bit; one
+// sampled elsewhere, or for a copy the design does not run on, is refused.
+TEST(AnalysisResolution, AStressSampledWhereTheDesignReadsGivesTheSameDesign) {
+  const Surface s = paraboloid(96);
+  DesignOptions o;
+  o.field_options.D = o.field_options.A = 2;
+  o.tessellation.cells = 48;
+  o.tessellation.seed = 2;
+  o.analyze = analysis::AnalysisLevel::none;
+  const GivenStress whole{fem::analyze_surface_stress(s).stress, {}};
+  DesignCache cache;
+  GivenStress sampled;
+  sampled.at = given_stress_faces(s, o, cache);
+  ASSERT_TRUE(design_analysis_surface(s, o));  // designed on a coarsened copy
+  ASSERT_EQ(static_cast<int>(sampled.at.size()), design_analysis_surface(s, o)->mesh.num_faces());
+  for (int f : sampled.at) sampled.values.push_back(whole.values[f]);
+  const DesignResult a = run_design(s, o, whole, cache);
+  const DesignResult b = run_design(s, o, sampled, cache);
+  const DesignResult c = run_design(s, o, sampled);  // no cache: the design finds the same map
+  for (const DesignResult* r : {&b, &c}) {
+    EXPECT_EQ(a.mesh.V, r->mesh.V);
+    EXPECT_EQ(a.mesh.faces, r->mesh.faces);
+    EXPECT_EQ(a.field.d, r->field.d);
+    EXPECT_EQ(a.field.u, r->field.u);
+  }
+  GivenStress elsewhere = sampled;
+  std::swap(elsewhere.at.front(), elsewhere.at.back());
+  if (elsewhere.at.front() == elsewhere.at.back()) elsewhere.at.front() += 1;
+  EXPECT_THROW(run_design(s, o, elsewhere, cache), Error);
+  sampled.values.pop_back();
+  EXPECT_THROW(run_design(s, o, sampled, cache), Error);  // one entry short
+  DesignOptions on_input = o;
+  on_input.analysis_resolution = AnalysisResolution::input;
+  DesignCache other;
+  EXPECT_TRUE(given_stress_faces(s, on_input, other).empty());
+  sampled.values.push_back(sampled.values.back());
+  EXPECT_THROW(run_design(s, on_input, sampled), Error);  // sampled for a copy it does not use
 }

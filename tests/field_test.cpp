@@ -558,3 +558,39 @@ TEST(FrameResponse, SquareGridWithEnergyInOneDirectionGivesAUniaxialTensor) {
   value.push_back(-1);
   EXPECT_THROW(frame_response_field(surface, g, value), Error);
 }
+
+// The field at some triangles only (what a design on a coarsened copy reads) is, entry for entry
+// and bit for bit, the whole field at those triangles: in any order, with repeats.
+TEST(FrameResponse, TheFieldAtSomeTrianglesIsTheWholeFieldThere) {
+  TriMesh surface = grid(24, 24, 1, 1);  // curved, so that every triangle has its own frame
+  for (int v = 0; v < surface.num_vertices(); ++v)
+    surface.V(v, 2) = 0.1 * std::sin(3 * surface.V(v, 0)) * std::cos(2 * surface.V(v, 1));
+  PolyMesh g;  // a coarse grid-shell over the same square, with irregular member values
+  const int n = 5;
+  g.V.resize((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) g.V.row(j * (n + 1) + i) << i * 0.2, j * 0.2, 0.01 * i * j;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      g.faces.push_back({a, a + 1, a + n + 2, a + n + 1});
+    }
+  std::vector<double> value(build_topology(g).num_edges());
+  for (std::size_t e = 0; e < value.size(); ++e) value[e] = 1 + std::sin(3.0 * e);
+  const StressField whole = frame_response_field(surface, g, value);
+  std::vector<int> faces;
+  for (int f = surface.num_faces() - 1; f >= 0; f -= 7) faces.push_back(f);
+  faces.push_back(faces.front());
+  faces.push_back(3);
+  const StressField part = frame_response_field(surface, faces, g, value);
+  ASSERT_EQ(part.size(), faces.size());
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    const PrincipalStress &a = part[k], &b = whole[faces[k]];
+    EXPECT_EQ(a.s1, b.s1);
+    EXPECT_EQ(a.s2, b.s2);
+    EXPECT_EQ(a.d1, b.d1);
+    EXPECT_EQ(a.d2, b.d2);
+  }
+  EXPECT_THROW(frame_response_field(surface, std::vector<int>{surface.num_faces()}, g, value),
+               Error);
+}

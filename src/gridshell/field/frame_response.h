@@ -33,4 +33,13 @@ namespace gridshell {
 StressField frame_response_field(const TriMesh& surface, const PolyMesh& gridshell,
                                  const std::vector<double>& member_value);
 
+/// The same field at the listed triangles of `surface` only: entry k is, bit for bit, entry
+/// `faces[k]` of the whole field (a triangle's value depends on its own three vertices alone).
+/// What a design on a coarsened copy of a fine input reads of it (pipeline/design.h,
+/// GivenStress): on a 2 M-triangle input, about 8 000 triangles instead of every one. Throws
+/// also for a face id out of range.
+StressField frame_response_field(const TriMesh& surface, const std::vector<int>& faces,
+                                 const PolyMesh& gridshell,
+                                 const std::vector<double>& member_value);
+
 }  // namespace gridshell

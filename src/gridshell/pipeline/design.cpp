@@ -3,13 +3,13 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <tuple>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "gridshell/core/enum_words.h"
 #include "gridshell/core/error.h"
 #include "gridshell/field/field_io.h"
 #include "gridshell/field/transfer.h"
@@ -113,10 +113,8 @@ std::optional<Surface> analysis_surface(const Surface& surface, const DesignOpti
 }
 
 /// Stage 1: the stress that drives the field (empty for an isotropic design).
-StressField design_stress(const Surface& surface, const DesignOptions& o,
-                          const StressField* given, DesignResult& r) {
+StressField design_stress(const Surface& surface, const DesignOptions& o, DesignResult& r) {
   if (is_isotropic(o)) return {};
-  if (given) return *given;
   if (o.field == FieldInput::file) return read_field_file(o.field_file, surface.mesh);
   auto t = Clock::now();
   spdlog::info("[stress] shell analysis of {} triangles", surface.mesh.num_faces());
@@ -543,44 +541,11 @@ void make_panels_flat(InputSurface& M, const DesignOptions& o, DesignResult& r) 
   lap(r.timings, "flat_panels", t);
 }
 
-constexpr EnumWords<AnalysisResolution, 2> kAnalysisResolutionWords{
-    {{"cells", AnalysisResolution::cells}, {"input", AnalysisResolution::input}}};
-
 }  // namespace
-
-AnalysisResolution parse_analysis_resolution(const std::string& word) {
-  return parse_word(word, "--analysis-resolution", kAnalysisResolutionWords);
-}
-const char* to_string(AnalysisResolution resolution) {
-  return word_of(resolution, kAnalysisResolutionWords);
-}
-
-FieldInput parse_field_input(const std::string& word, std::string* file) {
-  if (word == "stress") return FieldInput::stress;
-  if (word == "uniform") return FieldInput::uniform;
-  if (file) *file = word;
-  return FieldInput::file;
-}
 
 std::optional<Surface> design_analysis_surface(const Surface& surface, const DesignOptions& o) {
   DesignResult scratch;
   return analysis_surface(surface, o, scratch);
-}
-
-analysis::GridshellFrameOptions analysed_frame(const DesignOptions& options,
-                                              const DesignResult& result) {
-  analysis::GridshellFrameOptions f = options.frame;
-  if (result.sizing) f.member_sections = result.sizing->member_sections;
-  return f;
-}
-
-analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,
-                                        analysis::AnalysisLevel level,
-                                        const analysis::GridshellFrameOptions& frame,
-                                        const analysis::FrameAnalysisOptions& options) {
-  analysis::FrameAnalysisOptions o = analysis::at_level(options, level);
-  if (o.subject == "model") o.subject = "analysis";
-  return analysis::analyze_frame(analysis::gridshell_frame(mesh, supports, frame), o);
 }
 
 namespace {
@@ -592,14 +557,39 @@ struct Prepared {
   const std::optional<Surface>* coarse = &own_surface;
   const StressField* stress = &own_stress;
 };
+
+/// A given stress on the analysis surface (the input itself when `coarse` is empty): its entries
+/// at the input triangles nearest the copy's, carried onto the copy's triangles.
+void given_stress(const std::optional<Surface>& coarse, const GivenStress& given, InputSurface& M,
+                  Prepared& p, DesignResult& r) {
+  if (!coarse) {
+    if (!given.at.empty())
+      throw Error("field",
+                  "a stress sampled for a coarsened copy, but the design runs on the input");
+    p.stress = &given.values;  // read in place: no copy of a fine input's stress
+    return;
+  }
+  auto t = Clock::now();
+  const std::vector<int>& to_analysis = M.to_analysis(coarse->mesh);
+  if (given.at.empty()) {
+    p.own_stress = transfer_stress(given.values, to_analysis, coarse->mesh);
+  } else {
+    if (given.at != to_analysis)
+      throw Error("field", "the stress was sampled at other triangles than the design reads");
+    std::vector<int> own(to_analysis.size());
+    std::iota(own.begin(), own.end(), 0);
+    p.own_stress = transfer_stress(given.values, own, coarse->mesh);
+  }
+  lap(r.timings, "coarsen", t);
+}
+
 /// The stress on the analysis surface `S`: design_stress there, or a stress per input triangle
-/// (given, or read from a file) carried over to the coarsened copy.
+/// read from a file carried over to the coarsened copy.
 StressField analysis_stress(const Surface& input, const std::optional<Surface>& coarse,
-                            const DesignOptions& o, const StressField* given, InputSurface& M,
-                            DesignResult& r) {
-  if (!coarse || is_isotropic(o)) return design_stress(coarse ? *coarse : input, o, given, r);
-  if (!given && o.field == FieldInput::stress) return design_stress(*coarse, o, nullptr, r);
-  const StressField on_input = design_stress(input, o, given, r);
+                            const DesignOptions& o, InputSurface& M, DesignResult& r) {
+  if (!coarse || is_isotropic(o)) return design_stress(coarse ? *coarse : input, o, r);
+  if (o.field == FieldInput::stress) return design_stress(*coarse, o, r);
+  const StressField on_input = design_stress(input, o, r);
   auto t = Clock::now();
   if (static_cast<int>(on_input.size()) != input.mesh.num_faces())
     throw Error("field transfer", "the stress does not match the source mesh");
@@ -608,32 +598,42 @@ StressField analysis_stress(const Surface& input, const std::optional<Surface>& 
   return out;
 }
 
-void prepare(const Surface& surface, const DesignOptions& o, const StressField* given,
-             DesignCache::Impl* cache, InputSurface& M, Prepared& p, DesignResult& r) {
-  std::vector<int> nearest_input_face;
-  if (!cache) {
-    p.own_surface = analysis_surface(surface, o, r, &nearest_input_face);
-    M.known_to_analysis(std::move(nearest_input_face));
-    p.own_stress = analysis_stress(surface, p.own_surface, o, given, M, r);
-    return;
-  }
-  auto t = Clock::now();
-  const auto& s = cache->surface.get(0, [&] {
+/// Stage 0 from `cache`: the analysis surface the cache's first design made (and its map to
+/// the input, found by the coarsening, into M).
+const Staged<std::optional<Surface>>& cached_surface(const Surface& surface, const DesignOptions& o,
+                                                     DesignCache::Impl& cache, InputSurface& M) {
+  return cache.surface.get(0, [&] {
     DesignResult scratch;
+    std::vector<int> nearest_input_face;
     std::optional<Surface> coarse = analysis_surface(surface, o, scratch, &nearest_input_face);
     M.known_to_analysis(std::move(nearest_input_face));
     return Staged<std::optional<Surface>>{std::move(coarse), std::move(scratch.details)};
   });
-  p.coarse = &s.value;
-  add_details(r, s.details);
-  if (*p.coarse) lap(r.timings, "coarsen", t);
-  if (given || is_isotropic(o)) {  // a given stress is not shared
-    p.own_stress = analysis_stress(surface, s.value, o, given, M, r);
+}
+
+void prepare(const Surface& surface, const DesignOptions& o, const GivenStress* given,
+             DesignCache::Impl* cache, InputSurface& M, Prepared& p, DesignResult& r) {
+  if (!cache) {
+    std::vector<int> nearest_input_face;
+    p.own_surface = analysis_surface(surface, o, r, &nearest_input_face);
+    M.known_to_analysis(std::move(nearest_input_face));
+  } else {
+    auto t = Clock::now();
+    const auto& s = cached_surface(surface, o, *cache, M);
+    p.coarse = &s.value;
+    add_details(r, s.details);
+    if (*p.coarse) lap(r.timings, "coarsen", t);
+  }
+  if (is_isotropic(o)) return;                                 // no stress
+  if (given) return given_stress(*p.coarse, *given, M, p, r);  // not shared
+  if (!cache) {
+    p.own_stress = analysis_stress(surface, p.own_surface, o, M, r);
     return;
   }
+  auto t = Clock::now();
   const auto& stress = cache->stress.get(0, [&] {
     DesignResult scratch;
-    StressField field = analysis_stress(surface, s.value, o, nullptr, M, scratch);
+    StressField field = analysis_stress(surface, *p.coarse, o, M, scratch);
     return Staged<StressField>{std::move(field), std::move(scratch.details)};
   });
   p.stress = &stress.value;
@@ -668,7 +668,7 @@ void warm_up(const Surface& surface, const DesignOptions& o, DesignCache::Impl* 
   }
 }
 
-DesignResult design(const Surface& surface, const DesignOptions& o, const StressField* given,
+DesignResult design(const Surface& surface, const DesignOptions& o, const GivenStress* given,
                     DesignCache::Impl* cache) {
   check_design_options(o);
   DesignResult r;
@@ -764,23 +764,31 @@ const Field* shared_design_field(const Surface& surface, const DesignOptions& o,
 }
 
 namespace {
-/// A given stress field must have one tensor per triangle of the surface.
-void check_stress_size(const Surface& surface, const StressField& stress) {
-  if (static_cast<int>(stress.size()) != surface.mesh.num_faces())
-    throw Error("field", fmt::format("{} stresses for {} triangles", stress.size(),
-                                     surface.mesh.num_faces()));
+/// A given stress must have one tensor per triangle of the surface, or one per sampled one.
+void check_stress_size(const Surface& surface, const GivenStress& stress) {
+  const std::size_t n = stress.at.empty() ? surface.mesh.num_faces() : stress.at.size();
+  if (stress.values.size() != n)
+    throw Error("field", fmt::format("{} stresses for {} triangles", stress.values.size(), n));
 }
 }  // namespace
 
-DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress) {
+DesignResult run_design(const Surface& surface, const DesignOptions& o, const GivenStress& stress) {
   check_stress_size(surface, stress);
   return design(surface, o, &stress, nullptr);
 }
 
-DesignResult run_design(const Surface& surface, const DesignOptions& o, const StressField& stress,
+DesignResult run_design(const Surface& surface, const DesignOptions& o, const GivenStress& stress,
                         DesignCache& cache) {
   check_stress_size(surface, stress);
   return design(surface, o, &stress, &cache.impl());
+}
+
+std::vector<int> given_stress_faces(const Surface& surface, const DesignOptions& o,
+                                    DesignCache& cache) {
+  check_design_options(o);
+  InputSurface M(surface.mesh, &cache.impl());
+  const std::optional<Surface>& coarse = cached_surface(surface, o, cache.impl(), M).value;
+  return coarse ? M.to_analysis(coarse->mesh) : std::vector<int>{};
 }
 
 }  // namespace gridshell

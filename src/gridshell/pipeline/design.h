@@ -144,11 +144,22 @@ std::optional<Surface> design_analysis_surface(const Surface& surface, const Des
 
 /// Runs the pipeline on `surface`. Throws Error for bad options or input.
 DesignResult run_design(const Surface& surface, const DesignOptions& options);
-/// The same with the stress stage replaced by a given stress per triangle of `surface.mesh`
-/// (e.g. a frame response, field/frame_response.h); `options.field` is then not read (except
-/// `uniform`, which still means isotropic cells).
+
+/// A stress that replaces the design's stress stage (e.g. a frame response,
+/// field/frame_response.h): one entry per triangle of the input surface, or only at the input
+/// triangles the design reads — `at` = given_stress_faces(...) of the design's cache, entry k
+/// at input triangle at[k]. On a coarsened input (DesignOptions::analysis_resolution) the design
+/// reads the input triangle nearest each triangle of its analysis surface, so the two give the
+/// same design bit for bit; the second is ~250× less work on a 2 M-triangle input.
+struct GivenStress {
+  StressField values;
+  std::vector<int> at;  ///< empty: `values` has one entry per input triangle
+};
+/// run_design with a given stress; `options.field` is then not read (except `uniform`, which
+/// still means isotropic cells). Throws Error when `stress` has the wrong size, or was sampled
+/// (`at`) at other triangles than the design reads.
 DesignResult run_design(const Surface& surface, const DesignOptions& options,
-                        const StressField& stress);
+                        const GivenStress& stress);
 
 /// What designs of one surface share when they differ only in D, A, the field's conventions
 /// (measure, stretch, density) and the seed — a sweep, the objective search: the analysis
@@ -173,10 +184,16 @@ class DesignCache {
 };
 /// run_design(surface, options) with what `cache` holds from earlier designs of `surface`.
 DesignResult run_design(const Surface& surface, const DesignOptions& options, DesignCache& cache);
-/// The same with a given stress (shares only the analysis surface: fields of a given stress are
-/// not kept).
+/// The same with a given stress (shares only the analysis surface and its maps: fields of a
+/// given stress are not kept).
 DesignResult run_design(const Surface& surface, const DesignOptions& options,
-                        const StressField& stress, DesignCache& cache);
+                        const GivenStress& stress, DesignCache& cache);
+/// The input triangles a design of `surface` with `options` from `cache` reads a given stress
+/// at (GivenStress::at): per triangle of its coarsened analysis surface, the input triangle
+/// nearest the centroid (the analysis surface is made now when `cache` has none yet). Empty
+/// when the design runs on the input itself, which reads every triangle.
+std::vector<int> given_stress_faces(const Surface& surface, const DesignOptions& options,
+                                    DesignCache& cache);
 /// For a design made from `cache` with DesignOptions::field_on_input = false on a coarsened
 /// analysis surface: carries its field to the input's triangles, as run_design would have
 /// (nothing when it is there already). The seconds are added to the design's `coarsen` timing.

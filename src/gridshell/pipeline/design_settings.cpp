@@ -16,8 +16,24 @@ namespace {
 
 constexpr EnumWords<Finish, 3> kFinishWords{
     {{"raw", Finish::raw}, {"regularize", Finish::regularize}, {"planarize", Finish::planarize}}};
+constexpr EnumWords<AnalysisResolution, 2> kAnalysisResolutionWords{
+    {{"cells", AnalysisResolution::cells}, {"input", AnalysisResolution::input}}};
 
 }  // namespace
+
+AnalysisResolution parse_analysis_resolution(const std::string& word) {
+  return parse_word(word, "--analysis-resolution", kAnalysisResolutionWords);
+}
+const char* to_string(AnalysisResolution resolution) {
+  return word_of(resolution, kAnalysisResolutionWords);
+}
+
+FieldInput parse_field_input(const std::string& word, std::string* file) {
+  if (word == "stress") return FieldInput::stress;
+  if (word == "uniform") return FieldInput::uniform;
+  if (file) *file = word;
+  return FieldInput::file;
+}
 
 Finish parse_finish(const std::string& word) {
   return parse_word(word, "--finish", kFinishWords);

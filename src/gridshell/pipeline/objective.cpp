@@ -144,7 +144,7 @@ using namespace objective_detail;
 /// Shell-stress and uniform candidates share the analysis surface, the shell stress, their
 /// fields and M′ through `cache`; a frame response is a stress per input triangle.
 Evaluated evaluate(const Surface& surface, const DesignOptions& base, const FieldSetting& s,
-                   const StressField* stress, DesignCache& cache, double length, int round,
+                   const GivenStress* stress, DesignCache& cache, double length, int round,
                    bool rethrow = false) {
   CandidateJudge how;
   how.options = [&] { return candidate_options(base, s, length); };
@@ -238,7 +238,7 @@ Evaluated reference_beside_warm_up(const Surface& surface, const DesignOptions& 
 
 std::vector<Evaluated> evaluate_all(
     const Surface& surface, const DesignOptions& base,
-    const std::vector<std::pair<FieldSetting, const StressField*>>& settings, DesignCache& cache,
+    const std::vector<std::pair<FieldSetting, const GivenStress*>>& settings, DesignCache& cache,
     double length, int round, SearchProgress& progress) {
   std::vector<Evaluated> out(settings.size());
   tbb::parallel_for(0, static_cast<int>(settings.size()), [&](int i) {
@@ -335,7 +335,7 @@ DesignResult design_from_frame_response(const Surface& surface, const DesignOpti
   const DesignResult iso = run_design(surface, candidate_options(options, FieldSetting{}, 0));
   const std::vector<double>* values = response_values(iso, source);
   if (!values) throw Error("--field", "the isotropic design has no buckling mode to follow");
-  const StressField response = frame_response_field(surface.mesh, iso.mesh, *values);
+  GivenStress response{frame_response_field(surface.mesh, iso.mesh, *values), {}};
   DesignOptions o = options;
   o.field = FieldInput::stress;
   if (!(o.tessellation.length > 0)) {
@@ -350,12 +350,19 @@ DesignResult design_from_frame_response(const Surface& surface, const DesignOpti
 }
 
 void objective_detail::add_response_candidates(
-    const Surface& surface, const DesignResult& reference, std::deque<StressField>& responses,
-    std::vector<std::pair<FieldSetting, const StressField*>>& round) {
+    const Surface& surface, const DesignResult& reference, const DesignOptions& options,
+    DesignCache& cache, std::deque<GivenStress>& responses,
+    std::vector<std::pair<FieldSetting, const GivenStress*>>& round) {
+  std::vector<int> at;  // empty: every input triangle
+  bool sampled = false;
   for (FieldSource src : {FieldSource::frame_mode, FieldSource::frame_energy}) {
     const std::vector<double>* values = response_values(reference, src);
     if (!values) continue;
-    responses.push_back(frame_response_field(surface.mesh, reference.mesh, *values));
+    if (!sampled) at = given_stress_faces(surface, options, cache), sampled = true;
+    responses.push_back({at.empty()
+                             ? frame_response_field(surface.mesh, reference.mesh, *values)
+                             : frame_response_field(surface.mesh, at, reference.mesh, *values),
+                         at});
     FieldSetting s;
     s.source = src;
     s.D = 2;
@@ -367,15 +374,16 @@ void objective_detail::add_response_candidates(
 
 namespace {
 
-using Pending = std::vector<std::pair<FieldSetting, const StressField*>>;
+using Pending = std::vector<std::pair<FieldSetting, const GivenStress*>>;
 
 /// Round 1: the shell stress in four conventions, and the reference's two frame responses (kept
 /// in `responses`, whose addresses the settings point to).
-Pending first_round(const Surface& surface, const DesignResult& reference, const StressField& shell,
-                    std::deque<StressField>& responses) {
+Pending first_round(const Surface& surface, const DesignResult& reference, const GivenStress& shell,
+                    const DesignOptions& base, DesignCache& cache,
+                    std::deque<GivenStress>& responses) {
   Pending round;
   for (const FieldSetting& s : shell_settings()) round.emplace_back(s, &shell);
-  add_response_candidates(surface, reference, responses, round);
+  add_response_candidates(surface, reference, base, cache, responses, round);
   return round;
 }
 
@@ -550,11 +558,11 @@ ObjectiveResult design_for_objective(const Surface& surface, const DesignOptions
   if (stop_requested(options.stop)) throw Stopped{};
   const double length =
       base.tessellation.length > 0 ? base.tessellation.length : all[0].candidate.length;
-  const StressField shell;  // stands for the shell stress, which `cache` computes once
-  std::deque<StressField> responses;
-  for (Evaluated& e :
-       evaluate_all(surface, base, first_round(surface, *all[0].design, shell, responses), cache,
-                    length, 1, progress))
+  const GivenStress shell;  // stands for the shell stress, which `cache` computes once
+  std::deque<GivenStress> responses;
+  for (Evaluated& e : evaluate_all(
+           surface, base, first_round(surface, *all[0].design, shell, base, cache, responses),
+           cache, length, 1, progress))
     all.push_back(std::move(e));
   std::vector<std::string> explored;
   for (int round = 2; round <= options.rounds; ++round) {

@@ -73,7 +73,7 @@ void governing_check(const sizing::SizingResult& s, double lambda_min, Candidate
 
 /// Designs and sizes one candidate. A failure marks it failed, unless `rethrow` (the reference:
 /// its failure is the user's).
-Evaluated evaluate_mass(MassSearch& m, const FieldSetting& s, const StressField* stress, int round,
+Evaluated evaluate_mass(MassSearch& m, const FieldSetting& s, const GivenStress* stress, int round,
                         bool rethrow = false) {
   CandidateJudge how;
   how.options = [&] { return mass_options(m, s); };
@@ -122,7 +122,7 @@ Evaluated reference_beside_warm_up(MassSearch& m) {
   return std::move(*reference);
 }
 
-using Pending = std::vector<std::pair<FieldSetting, const StressField*>>;
+using Pending = std::vector<std::pair<FieldSetting, const GivenStress*>>;
 
 void evaluate_round(MassSearch& m, const Pending& pending, int round, SearchProgress& progress,
                     std::vector<Evaluated>& all) {
@@ -138,8 +138,8 @@ void evaluate_round(MassSearch& m, const Pending& pending, int round, SearchProg
 
 /// Round 1: the isotropic design at the other sizes, the four shell-stress conventions and the
 /// reference's two frame responses (kept in `responses`), within `max_designs` in all.
-Pending first_round(const Surface& surface, const DesignResult& reference, const StressField& shell,
-                    std::deque<StressField>& responses, int max_designs) {
+Pending first_round(MassSearch& m, const DesignResult& reference, const GivenStress& shell,
+                    std::deque<GivenStress>& responses, int max_designs) {
   Pending round;
   for (double f : kSizes) {
     if (f == 1) continue;
@@ -148,7 +148,8 @@ Pending first_round(const Surface& surface, const DesignResult& reference, const
     round.emplace_back(s, nullptr);
   }
   for (const FieldSetting& s : shell_settings()) round.emplace_back(s, &shell);
-  add_response_candidates(surface, reference, responses, round);
+  add_response_candidates(m.surface, reference, mass_options(m, FieldSetting{}), m.cache, responses,
+                          round);
   if (static_cast<int>(round.size()) > max_designs - 1)
     round.resize(static_cast<std::size_t>(std::max(0, max_designs - 1)));
   return round;
@@ -308,11 +309,11 @@ ObjectiveResult design_for_mass(const Surface& surface, const DesignOptions& bas
   all.push_back(reference_beside_warm_up(m));
   progress.one_more();
   if (stop_requested(options.stop)) throw Stopped{};
-  const StressField shell;  // stands for the shell stress, which the cache computes once
-  std::deque<StressField> responses;
+  const GivenStress shell;  // stands for the shell stress, which the cache computes once
+  std::deque<GivenStress> responses;
   if (all[0].design)
-    evaluate_round(m, first_round(surface, *all[0].design, shell, responses, bounded.max_designs),
-                   1, progress, all);
+    evaluate_round(m, first_round(m, *all[0].design, shell, responses, bounded.max_designs), 1,
+                   progress, all);
   if (options.rounds >= 2)
     evaluate_round(m, second_round(all, bounded.max_designs), 2, progress, all);
   report_progress(options.progress, "objective search", 1, fmt::format("{} designs", all.size()));

@@ -28,7 +28,7 @@ constexpr double kMaxRatio = 4;
 struct Evaluated {
   Candidate candidate;
   std::optional<DesignResult> design;
-  const StressField* field = nullptr;  ///< the stress it was designed from (null: isotropic)
+  const GivenStress* field = nullptr;  ///< the stress it was designed from (null: isotropic)
 };
 
 /// report.json's entry of a candidate in either search: its setting, round, verdict and seconds
@@ -39,7 +39,7 @@ nlohmann::json candidate_entry(const Candidate& c);
 struct CandidateRun {
   const Surface& surface;
   const FieldSetting& setting;
-  const StressField* stress;  ///< a frame response's stress (null: the setting's own field)
+  const GivenStress* stress;  ///< a frame response's stress (null: the setting's own field)
   DesignCache& cache;
   int round = 0;
   bool rethrow = false;  ///< the reference: its failure is the user's (a bad size or surface)
@@ -74,10 +74,12 @@ std::vector<FieldSetting> shell_settings();
 const std::vector<double>* response_values(const DesignResult& r, FieldSource source);
 
 /// The reference's two frame-response fields (D = 2, A = 1), kept in `responses` (whose
-/// addresses the settings point to), appended to `round`.
+/// addresses the settings point to), appended to `round`: computed only at the input triangles
+/// the candidates read (given_stress_faces of `cache`, for designs with `options`).
 void add_response_candidates(const Surface& surface, const DesignResult& reference,
-                             std::deque<StressField>& responses,
-                             std::vector<std::pair<FieldSetting, const StressField*>>& round);
+                             const DesignOptions& options, DesignCache& cache,
+                             std::deque<GivenStress>& responses,
+                             std::vector<std::pair<FieldSetting, const GivenStress*>>& round);
 
 /// `design --objective mass` (objective.h); `base` is checked already.
 ObjectiveResult design_for_mass(const Surface& surface, const DesignOptions& base,

@@ -10,8 +10,25 @@
 
 #include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
+#include "gridshell/pipeline/design.h"
 
 namespace gridshell {
+
+analysis::GridshellFrameOptions analysed_frame(const DesignOptions& options,
+                                               const DesignResult& result) {
+  analysis::GridshellFrameOptions f = options.frame;
+  if (result.sizing) f.member_sections = result.sizing->member_sections;
+  return f;
+}
+
+analysis::FrameResult analyze_gridshell(const PolyMesh& mesh, const std::vector<int>& supports,
+                                        analysis::AnalysisLevel level,
+                                        const analysis::GridshellFrameOptions& frame,
+                                        const analysis::FrameAnalysisOptions& options) {
+  analysis::FrameAnalysisOptions o = analysis::at_level(options, level);
+  if (o.subject == "model") o.subject = "analysis";
+  return analysis::analyze_frame(analysis::gridshell_frame(mesh, supports, frame), o);
+}
 
 GridshellStructure analyze_structure(const PolyMesh& mesh, const std::vector<int>& supports,
                                      const analysis::GridshellFrameOptions& frame,
@@ -20,9 +37,7 @@ GridshellStructure analyze_structure(const PolyMesh& mesh, const std::vector<int
   GridshellStructure out;
   out.frame = frame;
   if (s.sizing == sizing::MemberSizing::given) {
-    analysis::FrameAnalysisOptions o = analysis::at_level(options, s.level);
-    if (o.subject == "model") o.subject = "analysis";
-    out.result = analysis::analyze_frame(analysis::gridshell_frame(mesh, supports, frame), o);
+    out.result = analyze_gridshell(mesh, supports, s.level, frame, options);
     return out;
   }
   sizing::SizingResult sized =
