@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -154,6 +155,9 @@ struct AppendedArray {
 };
 
 /// Appends the little-endian bytes of n values of type T, value(i) each, in blocks.
+static_assert(
+    std::endian::native == std::endian::little,
+    "the binary VTP writer copies values as they are in memory (byte_order=LittleEndian)");
 template <class T, class Value>
 void append_values(AtomicFileWriter& out, Eigen::Index n, const Value& value) {
   constexpr Eigen::Index kBlock = 1 << 16;
@@ -165,13 +169,16 @@ void append_values(AtomicFileWriter& out, Eigen::Index n, const Value& value) {
     char* p = s.data() + at;
     for (Eigen::Index i = first; i < end; ++i, p += sizeof(T)) {
       const T v = value(i);
-      std::memcpy(p, &v, sizeof(T));  // the machines we build for are little endian
+      std::memcpy(p, &v, sizeof(T));
     }
     out.flush_if_large();
   }
 }
 
-AppendedArray float_array(const std::string& attributes, const Eigen::MatrixXd& m) {
+/// `m`: any dense matrix (the mesh's row-major points or a column-major attribute), read in
+/// place; it must outlive the array's `write`.
+template <class Matrix>
+AppendedArray float_array(const std::string& attributes, const Matrix& m) {
   if (!m.allFinite()) throw Error("", "internal: refusing to write a non-finite number");
   AppendedArray a;
   a.element = fmt::format(
@@ -192,7 +199,6 @@ void write_binary_vtp(const fs::path& path, const TriMesh& mesh, const Attribute
                       const Attributes& cell_data) {
   check_rows(point_data, mesh.num_vertices());
   check_rows(cell_data, mesh.num_faces());
-  const Eigen::MatrixXd points = mesh.V;
   std::vector<AppendedArray> arrays;
   std::string xml;
   std::uint64_t offset = 0;  // of the next array in the appended block
@@ -205,7 +211,7 @@ void write_binary_vtp(const fs::path& path, const TriMesh& mesh, const Attribute
   const Eigen::Index nf = F.rows();
   xml += fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfPolys=\"{}\">\n<Points>\n",
                      mesh.num_vertices(), nf);
-  add(float_array("", points));
+  add(float_array("", mesh.V));
   xml += "</Points>\n<Polys>\n";
   add({"<DataArray type=\"Int64\" Name=\"connectivity\" format=\"appended\" offset=\"{}\"/>\n",
        static_cast<std::uint64_t>(3 * nf) * sizeof(std::int64_t), [&F, nf](AtomicFileWriter& out) {
@@ -271,10 +277,8 @@ void write_vtp_beams_and_panels(const fs::path& path, const PolyMesh& mesh,
   const Eigen::Index nf = mesh.num_faces();
   Attributes cells;
   auto place = [&](const Attributes& attrs, Eigen::Index rows, Eigen::Index first) {
+    check_rows(attrs, rows);
     for (const auto& [name, values] : attrs) {
-      if (values.rows() != rows)
-        throw Error(
-            name, fmt::format("internal: attribute has {} rows, expected {}", values.rows(), rows));
       Eigen::MatrixXd& all = cells[name];
       if (all.size() == 0) all = Eigen::MatrixXd::Zero(nl + nf, values.cols());
       if (all.cols() != values.cols())

@@ -353,12 +353,10 @@ void objective_detail::add_response_candidates(
     const Surface& surface, const DesignResult& reference, const DesignOptions& options,
     DesignCache& cache, std::deque<GivenStress>& responses,
     std::vector<std::pair<FieldSetting, const GivenStress*>>& round) {
-  std::vector<int> at;  // empty: every input triangle
-  bool sampled = false;
+  const std::vector<int> at = given_stress_faces(surface, options, cache);  // empty: all
   for (FieldSource src : {FieldSource::frame_mode, FieldSource::frame_energy}) {
     const std::vector<double>* values = response_values(reference, src);
     if (!values) continue;
-    if (!sampled) at = given_stress_faces(surface, options, cache), sampled = true;
     responses.push_back({at.empty()
                              ? frame_response_field(surface.mesh, reference.mesh, *values)
                              : frame_response_field(surface.mesh, at, reference.mesh, *values),
