@@ -1,7 +1,7 @@
-// Flat panels on the six shared real surfaces (heavy; skips without ../shared/data). Where the
-// flat stage succeeds: every panel flat to ≤ 0.5 mm, simple, without overlaps, joints within 1 %
-// of the span of the surface. Where it fails its post-check (Shell and Aquadom at these
-// settings, docs/panels.md): the design says why and keeps exactly its free panels.
+// Flat panels on the six shared real surfaces (heavy; skips without ../shared/data), at the
+// default field settings: every design gets flat panels — Shell and Aquadom only through the last
+// resort, a few failing panels glazed as flat triangles (docs/panels.md) — with every panel flat
+// to ≤ 0.5 mm, simple, no overlap the free design does not have, joints within 1 % of the span.
 
 #include <gtest/gtest.h>
 
@@ -27,14 +27,12 @@ TEST_P(FlatShared, EveryPanelFlatSimpleAndNearTheSurface) {
   o.tessellation.cells = 300;
   o.tessellation.seed = 1;
   o.panels = PanelMode::flat;
-  DesignResult r = run_design(s, o);
+  const DesignResult r = run_design(s, o);
   const nlohmann::json& info = r.details["flat_panels"];
-  if (info["panels"] != "flat") {
-    EXPECT_FALSE(info.value("failure", std::string()).empty());
-    o.panels = PanelMode::free;
-    EXPECT_EQ(r.mesh.V, run_design(s, o).mesh.V);  // exactly the free design
-    return;
-  }
+  ASSERT_EQ(info["panels"], "flat") << info.dump();
+  o.panels = PanelMode::free;
+  const DesignResult free = run_design(s, o);
+  EXPECT_LE(info["triangulated_panels"].get<int>(), free.mesh.num_faces() / 10);
   const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
   const double span = std::max(extent.x(), extent.y());
   const SurfaceProjector projector(s.mesh);
@@ -42,7 +40,8 @@ TEST_P(FlatShared, EveryPanelFlatSimpleAndNearTheSurface) {
   EXPECT_LE(shape.out_of_plane_max, 5e-4);
   EXPECT_EQ(shape.self_intersecting, 0);
   for (const auto& f : r.mesh.faces) EXPECT_TRUE(is_simple_polygon(r.mesh, f));
-  EXPECT_EQ(find_overlaps(r.mesh, build_topology(r.mesh)).count(), 0);
+  EXPECT_LE(find_overlaps(r.mesh, build_topology(r.mesh)).count(),
+            find_overlaps(free.mesh, build_topology(free.mesh)).count());
   EXPECT_LE(shape.surface_distance_max, 0.01 * span);
 }
 

@@ -200,6 +200,7 @@ TEST(FlatBoundary, TheDefaultFunicularPassesWithRestartsAndSpreadSplitJoints) {
 
     o.flat.restarts = 0;
     o.flat.split_spacing = 0;
+    o.flat.max_triangulated = 0;  // the last resort would glaze the failing panels as triangles
     const DesignResult before = run_design(s, o);
     EXPECT_EQ(before.details["flat_panels"]["panels"], "free") << "seed " << seed;
     EXPECT_NE(before.details["flat_panels"].value("failure", std::string()).find("self-intersect"),
@@ -242,6 +243,7 @@ TEST(FlatBoundary, BoundaryFlipsLetThePanelBehindReachTheBoundary) {
   const Topology t = build_topology(r.mesh);
   for (int e = 0; e < t.num_edges(); ++e) EXPECT_LE(t.edge_faces[e].size(), 2u);
   o.flat.boundary_flips = false;
+  o.flat.max_triangulated = 0;
   EXPECT_EQ(run_design(s, o).details["flat_panels"]["panels"], "free");
 }
 
@@ -279,6 +281,85 @@ TEST(FlatPanels, FlippedBeamsKeepAManifoldGridOfTheSamePanels) {
   const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
   expect_flat(m, s.mesh, std::max(extent.x(), extent.y()));
   expect_true_outlines(m);
+}
+
+TEST(TriangulatePolygon, LargestSmallestAngleOnClosedForms) {
+  // A square: either diagonal, 45°. A regular hexagon: every triangulation has a 30° corner.
+  // Min side above the square's diagonal: no triangulation.
+  const std::vector<Vec3> square{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const auto smallest = [](const std::vector<Vec3>& p, const std::vector<std::array<int, 3>>& t) {
+    double a = 180;
+    for (const auto& tri : t)
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 u = p[tri[(k + 1) % 3]] - p[tri[k]], v = p[tri[(k + 2) % 3]] - p[tri[k]];
+        a = std::min(a, std::atan2(u.cross(v).norm(), u.dot(v)) * 180 / M_PI);
+      }
+    return a;
+  };
+  auto t = triangulate_polygon(square, 0.1);
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_NEAR(smallest(square, t), 45, 1e-9);
+  EXPECT_TRUE(triangulate_polygon(square, 1.5).empty());
+  std::vector<Vec3> hexagon;
+  for (int k = 0; k < 6; ++k)
+    hexagon.emplace_back(std::cos(k * M_PI / 3), std::sin(k * M_PI / 3), 0.1 * (k % 2));
+  t = triangulate_polygon(hexagon, 0.1);
+  ASSERT_EQ(t.size(), 4u);
+  EXPECT_GT(smallest(hexagon, t), 25);  // 30° in the plane; the corners alternate 0.1 up
+  // A non-convex arrow (reflex corner 3): the only diagonals inside run from corner 3, so every
+  // triangle has corner 3 and the triangles' areas sum to the polygon's.
+  const std::vector<Vec3> arrow{{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {1, 0.5, 0}, {0, 2, 0}};
+  t = triangulate_polygon(arrow, 0.01);
+  ASSERT_EQ(t.size(), 3u);
+  double area = 0;
+  for (const auto& tri : t) {
+    EXPECT_TRUE(tri[0] == 3 || tri[1] == 3 || tri[2] == 3);
+    const Vec3 n = (arrow[tri[1]] - arrow[tri[0]]).cross(arrow[tri[2]] - arrow[tri[0]]);
+    EXPECT_GT(n.z(), 0);  // the polygon's orientation
+    area += 0.5 * n.z();
+  }
+  EXPECT_NEAR(area, 4 - 0.5 * 2 * 1.5, 1e-12);
+}
+
+TEST(FlatLastResort, FailingPanelsAreGlazedAsTrianglesAndEveryCheckHolds) {
+  // The court at 120 cells without restarts and retries fails the post-check. The last resort
+  // takes the failing panels' planes away and glazes them as flat triangles: a few panels
+  // (≤ 10 %), every check holds (flat, simple, no overlaps, near the surface), the triangles
+  // follow all panels, and the outlines are the true shapes. Switched off, the design keeps its
+  // free panels, as before.
+  const Surface s = make_builtin("court");
+  const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
+  DesignOptions o;
+  o.analyze = analysis::AnalysisLevel::none;
+  o.tessellation.cells = 120;
+  o.tessellation.seed = 1;
+  o.field_options.D = o.field_options.A = 2;
+  const DesignResult free = run_design(s, o);
+  o.panels = PanelMode::flat;
+  o.flat.restarts = 0;
+  o.flat.retry_surface_weights.clear();
+  const DesignResult r = run_design(s, o);
+  const nlohmann::json& info = r.details["flat_panels"];
+  ASSERT_EQ(info["panels"], "flat") << info.dump();
+  const int split = info["triangulated_panels"].get<int>();
+  EXPECT_GE(split, 1);
+  EXPECT_LE(split, free.mesh.num_faces() / 10);
+  expect_flat(r.mesh, s.mesh, std::max(extent.x(), extent.y()));
+  expect_true_outlines(r.mesh);
+  // A panel of k sides becomes k − 2 triangles: the first keeps its id, the others follow.
+  const int nf = free.mesh.num_faces();
+  EXPECT_GE(r.mesh.num_faces(), nf + split);
+  int triangles = 0;
+  for (int f = 0; f < nf; ++f) triangles += r.mesh.faces[f].size() == 3;
+  EXPECT_GE(triangles, split);
+  for (int f = nf; f < r.mesh.num_faces(); ++f) EXPECT_EQ(r.mesh.faces[f].size(), 3u);
+  const Topology t = build_topology(r.mesh);
+  for (int e = 0; e < t.num_edges(); ++e) EXPECT_LE(t.edge_faces[e].size(), 2u);
+
+  o.flat.max_triangulated = 0;
+  const DesignResult off = run_design(s, o);
+  EXPECT_EQ(off.details["flat_panels"]["panels"], "free");
+  EXPECT_EQ(off.mesh.V, free.mesh.V);
 }
 
 TEST(FlatPanels, FailsLoudlyWhereItCannotBeFlat) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
+#include <optional>
 
 #include <Eigen/Sparse>
 #include <fmt/format.h>
@@ -207,6 +209,8 @@ bool keep_if_flat_already(const PolyMesh& design, const std::vector<int>& suppor
   std::sort(out.supports.begin(), out.supports.end());
   out.source_vertex.resize(design.num_vertices());
   for (int v = 0; v < design.num_vertices(); ++v) out.source_vertex[v] = v;
+  out.source_face.resize(design.num_faces());
+  std::iota(out.source_face.begin(), out.source_face.end(), 0);
   for (int f = 0; f < design.num_faces(); ++f) {
     const Vec3 n = vector_area(design, f).normalized();
     out.normal.push_back(n);
@@ -239,6 +243,12 @@ struct PostCheck {
   double span = 0;             ///< larger plan side of the surface (m)
 };
 
+/// The surface's larger plan side (m): the post-check's span.
+double plan_span(const TriMesh& surface) {
+  const Eigen::RowVector3d extent = surface.V.colwise().maxCoeff() - surface.V.colwise().minCoeff();
+  return std::max(extent.x(), extent.y());
+}
+
 PostCheck post_check(const FlatPanelResult& out, const std::vector<Vec3>& normal,
                      const std::vector<double>& offset, const TriMesh& surface,
                      const SurfaceProjector& projector) {
@@ -255,8 +265,7 @@ PostCheck post_check(const FlatPanelResult& out, const std::vector<Vec3>& normal
   const PanelShape shape = panel_shape(m);
   c.best_fit = shape.out_of_plane_max;
   c.self_intersecting = shape.self_intersecting;
-  const Eigen::RowVector3d extent = surface.V.colwise().maxCoeff() - surface.V.colwise().minCoeff();
-  c.span = std::max(extent.x(), extent.y());
+  c.span = plan_span(surface);
   std::vector<double> dist(m.num_vertices());
   tbb::parallel_for(0, m.num_vertices(), [&](int v) { dist[v] = projector.distance(m.vertex(v)); });
   for (double d : dist) c.farthest = std::max(c.farthest, d);
@@ -319,12 +328,46 @@ void hold_failing_regions(const Layout& L, const Problem& P, const Planes& pl,
     if (mark[j]) stiffness[j] *= factor;
 }
 
+/// The last resort of a failed attempt (split_failing_panels): `out` (the attempt's supports,
+/// source joints and stats) with its failing panels glazed as triangles, kept in `best` when it
+/// passes the same post-check with fewer triangulated panels than the best so far.
+void keep_if_split_passes(const Problem& P, const Planes& pl, const TriMesh& surface,
+                          const SurfaceProjector& projector, FlatPanelResult out,
+                          std::optional<FlatPanelResult>& best) {
+  const double limit = P.o.max_surface_distance * plan_span(surface);
+  const int max_panels =
+      static_cast<int>(std::floor(P.o.max_triangulated * static_cast<double>(P.L->faces.size())));
+  SplitPanels s;
+  if (max_panels <= 0 || !split_failing_panels(P, pl, projector, limit, max_panels, s)) return;
+  if (best && best->stats.triangulated_panels <= s.split) return;
+  out.mesh.V.resize(static_cast<int>(s.x.size()), 3);
+  for (std::size_t j = 0; j < s.x.size(); ++j)
+    out.mesh.V.row(static_cast<int>(j)) = s.x[j].transpose();
+  out.mesh.faces = std::move(s.faces);
+  out.source_face = std::move(s.owner);
+  out.normal = std::move(s.normal);
+  out.offset = std::move(s.offset);
+  const PostCheck c = post_check(out, out.normal, out.offset, surface, projector);
+  const std::string failure = post_check_failure(c, P.o, P.shortest_allowed);
+  spdlog::debug("[flat panels] {} panels triangulated: {}", s.split,
+                failure.empty() ? "passes" : failure);
+  if (!failure.empty()) return;
+  out.stats.triangulated_panels = s.split;
+  out.stats.surface_weight = P.o.surface_weight;
+  out.stats.out_of_plane_max = c.own_plane;
+  out.stats.surface_distance_max = c.farthest;
+  out.stats.shortest_beam = c.shortest;
+  best = std::move(out);
+}
+
 /// One run of the optimisation with `options` (its surface weight), checked; throws
 /// FlatPanelsFailed when the result fails the post-check, after raising `stiffness` (per joint,
-/// in and out) where it failed (hold_failing_regions).
+/// in and out) where it failed (hold_failing_regions) and keeping in `split` the result with the
+/// failing panels triangulated when that passes with fewer of them (keep_if_split_passes).
 FlatPanelResult flat_attempt(const PolyMesh& design, const std::vector<int>& supports,
                              const TriMesh& surface, const SurfaceProjector& projector,
-                             const FlatPanelOptions& options, std::vector<double>& stiffness) {
+                             const FlatPanelOptions& options, std::vector<double>& stiffness,
+                             std::optional<FlatPanelResult>& split) {
   FlatPanelResult out;
   const int nv = design.num_vertices(), nf = design.num_faces();
   std::vector<char> is_support(nv, 0);
@@ -387,8 +430,14 @@ FlatPanelResult flat_attempt(const PolyMesh& design, const std::vector<int>& sup
     out.stats.iterations += optimise(P, pl, surface, projector, out.stats);
   }
 
-  if (!joints_of(P, pl, x, det, options.min_det))
+  for (std::size_t j = 0; j < L.joints.size(); ++j) {
+    out.source_vertex.push_back(L.joints[j].source);
+    if (L.joints[j].support) out.supports.push_back(static_cast<int>(j));
+  }
+  if (!joints_of(P, pl, x, det, options.min_det)) {
+    keep_if_split_passes(P, pl, surface, projector, out, split);
     throw FlatPanelsFailed("the panels' planes are parallel at a joint");
+  }
   if (spdlog::should_log(spdlog::level::debug))
     for (int f = 0; f < nf; ++f) {
       std::vector<Vec3> p;
@@ -408,14 +457,12 @@ FlatPanelResult flat_attempt(const PolyMesh& design, const std::vector<int>& sup
   out.mesh.V.resize(static_cast<int>(x.size()), 3);
   for (std::size_t j = 0; j < x.size(); ++j) out.mesh.V.row(static_cast<int>(j)) = x[j].transpose();
   out.mesh.faces = L.faces;
+  out.source_face.resize(nf);
+  std::iota(out.source_face.begin(), out.source_face.end(), 0);
   out.normal = pl.n;
   out.offset = pl.d;
   out.stats.min_det = INFINITY;
   for (double d : det) out.stats.min_det = std::min(out.stats.min_det, std::abs(d));
-  for (std::size_t j = 0; j < L.joints.size(); ++j) {
-    out.source_vertex.push_back(L.joints[j].source);
-    if (L.joints[j].support) out.supports.push_back(static_cast<int>(j));
-  }
   const PostCheck c = post_check(out, pl.n, pl.d, surface, projector);
   out.stats.out_of_plane_max = c.own_plane;
   out.stats.surface_distance_max = c.farthest;
@@ -428,6 +475,7 @@ FlatPanelResult flat_attempt(const PolyMesh& design, const std::vector<int>& sup
   if (!failure.empty()) {
     hold_failing_regions(L, P, pl, x, projector, options.max_surface_distance * c.span,
                          options.restart_stiffness, stiffness);
+    keep_if_split_passes(P, pl, surface, projector, std::move(out), split);
     throw FlatPanelsFailed(failure);
   }
   return out;
@@ -446,6 +494,7 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
   weights.insert(weights.end(), options.retry_surface_weights.begin(),
                  options.retry_surface_weights.end());
   std::string first_failure;
+  std::optional<FlatPanelResult> split;  // the last resort: failing panels triangulated
   int attempts = 0;
   for (std::size_t k = 0; k < weights.size(); ++k) {
     FlatPanelOptions o = options;
@@ -455,7 +504,7 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
       const std::vector<double> before = stiffness;
       try {
         ++attempts;
-        out = flat_attempt(design, supports, surface, projector, o, stiffness);
+        out = flat_attempt(design, supports, surface, projector, o, stiffness, split);
         out.stats.attempts = attempts;
         out.stats.surface_weight = weights[k];
         out.stats.seconds =
@@ -472,6 +521,12 @@ FlatPanelResult flat_panels(const PolyMesh& design, const std::vector<int>& supp
         if (!held) break;  // nothing failed where a restart could hold it: the same result again
       }
     }
+  }
+  if (split) {
+    split->stats.attempts = attempts;
+    split->stats.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return std::move(*split);
   }
   // What the first (default) attempt failed on; the retries and restarts are in docs/panels.md.
   throw FlatPanelsFailed(first_failure);

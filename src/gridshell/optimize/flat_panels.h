@@ -42,6 +42,9 @@
 /// neighbours held closer to their design positions, which pass every check (`restarts`,
 /// `restart_stiffness`). Retry: then the same with each of `retry_surface_weights`; the first
 /// result that passes the same post-check is kept.
+/// Last resort: when every attempt fails, the failing panels of the attempt that needs the fewest
+/// give up their planes and are glazed as flat triangles (`max_triangulated`); the rest stay
+/// flat cells (flat_panels_internal.h, split_failing_panels).
 /// Start: nearly planar panels by a ShapeUp-like alternation with a rising planarity weight
 /// (best-fit plane per panel, then each joint nearest to its three planes, the surface and its
 /// design position); their planes start the Levenberg–Marquardt steps. When two of a joint's
@@ -57,6 +60,7 @@
 /// per round); up to 1 + flip_rounds rounds of max_iterations steps per attempt, (1 + restarts) ×
 /// (1 + retries) attempts (bench/flat_panels_bench.cpp: Botanic at about 1200 panels).
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -81,6 +85,13 @@ const char* to_string(PanelMode mode);
 /// of A the normals: ∂x/∂d_i = A⁻¹ e_i = c_i, ∂x/∂n_i = −c_i xᵀ.
 bool intersect_planes(const Vec3 n[3], const double d[3], Vec3& x, double& det,
                       double min_det = 1e-14, Eigen::Matrix<double, 3, 12>* jacobian = nullptr);
+
+/// A triangulation of the polygon `p` (3-D corners, in order) whose diagonals run inside it
+/// (seen along its best-fit plane's normal, as panel_shape sees it) and are at least `min_side`
+/// long, with the largest smallest corner angle (Klincsek's O(n³) dynamic programme); corner
+/// indices, in the polygon's orientation. Empty when there is none (the polygon is not simple as
+/// seen, or every triangulation needs a shorter diagonal).
+std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& p, double min_side);
 
 struct FlatPanelOptions {
   /// w_s: joint to the input surface (normal distance). Measured on the 11 surfaces of
@@ -133,6 +144,11 @@ struct FlatPanelOptions {
   /// The post-check: no beam shorter than this × the design's shortest beam (a collapsed beam
   /// would be a mechanism in the frame analysis; the beams of split joints are held to it too).
   double min_beam_ratio = 0.25;
+  /// The last resort when every attempt fails the post-check: in the attempt that needs the
+  /// fewest, the failing panels give up their planes and are glazed as flat triangles (new beams
+  /// along their diagonals), at most this fraction of the panels (0: never; the design then keeps
+  /// its free panels). Every other panel stays a flat cell of the design.
+  double max_triangulated = 0.1;
   /// A step may not add self-intersecting panels (off: only the energy decides; measured: on
   /// gives fewer failures).
   bool guard = true;
@@ -164,13 +180,17 @@ struct FlatPanelStats {
   double shortest_beam = 0;      ///< m
   int attempts = 1;              ///< optimisations run (1 + the retries and restarts needed)
   double surface_weight = 0;     ///< w_s of the attempt that passed
+  int triangulated_panels = 0;   ///< panels glazed as triangles (max_triangulated)
   double seconds = 0;
 };
 
 struct FlatPanelResult {
-  PolyMesh mesh;              ///< same faces (ids), joints at plane intersections
+  /// The design's faces (ids), joints at plane intersections; a triangulated panel's first
+  /// triangle keeps its id, its others follow all panels.
+  PolyMesh mesh;
   std::vector<int> supports;  ///< support joints of `mesh` (sorted)
   std::vector<int> source_vertex;  ///< per joint of `mesh`: the design joint it comes from
+  std::vector<int> source_face;    ///< per panel of `mesh`: the design panel it glazes
   std::vector<Vec3> normal;   ///< per panel: unit normal of its plane
   std::vector<double> offset; ///< per panel: n·x = offset
   FlatPanelStats stats;

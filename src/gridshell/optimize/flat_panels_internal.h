@@ -134,4 +134,25 @@ int short_beams(const Problem& P, const std::vector<Vec3>& x);
 int flip_collapsed_beams(Layout& L, Problem& P, const Planes& pl, const std::vector<Vec3>& x,
                          int max_flips);
 
+/// The flat grid-shell after split_failing_panels: joints, faces (a split panel's first triangle
+/// keeps its id, the others follow all panels) and each face's plane.
+struct SplitPanels {
+  std::vector<Vec3> x;
+  std::vector<std::vector<int>> faces;
+  std::vector<Vec3> normal;
+  std::vector<double> offset;
+  std::vector<int> owner;  ///< per face: the panel of the layout it glazes
+  int split = 0;           ///< panels glazed as triangles
+};
+
+/// The last resort when the planes `pl` fail the post-check: the failing panels (one that
+/// self-intersects, a short side — both panels along it —, a joint farther from the surface than
+/// `far_limit` or whose planes are parallel — all its panels) give up their planes and become
+/// flat triangles (triangulate_polygon). A joint then sits nearest its target on the planes it
+/// keeps (its three: their intersection, as before; none: its target, on the surface), so every
+/// kept panel stays flat. Repeated while something fails (a split panel that cannot be
+/// triangulated splits its neighbours too); false when more than `max_panels` panels would split.
+bool split_failing_panels(const Problem& P, const Planes& pl, const SurfaceProjector& projector,
+                          double far_limit, int max_panels, SplitPanels& out);
+
 }  // namespace gridshell::flat_detail

@@ -153,6 +153,8 @@ Baseline make_baseline(const Surface& surface, const BaselineOptions& o) {
       if (out.raw.num_faces() == 0) out.raw = out.mesh;
       out.mesh = std::move(flat.flat->mesh);
       out.supports = std::move(flat.flat->supports);
+      out.d_target = per_flat_panel(out.d_target, flat.flat->source_face);
+      out.a_target = per_flat_panel(out.a_target, flat.flat->source_face);
       out.planarity.clear();
       out.regularity.clear();
     }

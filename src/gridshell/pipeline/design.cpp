@@ -535,6 +535,8 @@ void make_panels_flat(InputSurface& M, const DesignOptions& o, DesignResult& r) 
   if (a.flat) {
     r.mesh = std::move(a.flat->mesh);
     r.supports = std::move(a.flat->supports);
+    r.d_target = per_flat_panel(r.d_target, a.flat->source_face);
+    r.a_target = per_flat_panel(r.a_target, a.flat->source_face);
     r.metrics = mesh_metrics(r.mesh);
   }
   r.details["flat_panels"] = std::move(a.info);

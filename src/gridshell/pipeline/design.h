@@ -222,6 +222,11 @@ struct FlatPanelAttempt {
 FlatPanelAttempt attempt_flat_panels(const PolyMesh& mesh, const std::vector<int>& supports,
                                      const TriMesh& surface, const SurfaceProjector& projector,
                                      const FlatPanelOptions& options = {});
+/// Per panel of a flat result, `values` given per panel of the design it was made from
+/// (`source_face`: FlatPanelResult::source_face; a panel glazed as triangles gives each its
+/// value). Empty stays empty.
+std::vector<double> per_flat_panel(const std::vector<double>& values,
+                                   const std::vector<int>& source_face);
 
 /// The frame options the design was analysed with: `options.frame`, with a sized design's
 /// member sections.
