@@ -114,17 +114,29 @@ void expect_flat(const PolyMesh& mesh, const TriMesh& surface, double span) {
   EXPECT_TRUE(mesh.V.allFinite());
 }
 
+/// Design options at D = A = 2 without analysis, free panels.
+DesignOptions options_d2a2(int cells, unsigned seed = 1) {
+  DesignOptions o;
+  o.analyze = analysis::AnalysisLevel::none;
+  o.tessellation.cells = cells;
+  o.tessellation.seed = seed;
+  o.field_options.D = o.field_options.A = 2;
+  return o;
+}
+
+/// The larger plan side of a surface (the post-check's span).
+double span_of(const Surface& s) {
+  const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
+  return std::max(extent.x(), extent.y());
+}
+
 /// The free and the flat design of a built-in at about `cells` cells (no analysis).
 struct Pair {
   DesignResult free, flat;
 };
 Pair designs(const std::string& spec, int cells) {
   const Surface s = make_builtin(spec);
-  DesignOptions o;
-  o.analyze = analysis::AnalysisLevel::none;
-  o.tessellation.cells = cells;
-  o.tessellation.seed = 1;
-  o.field_options.D = o.field_options.A = 2;
+  DesignOptions o = options_d2a2(cells);
   Pair p;
   p.free = run_design(s, o);
   o.panels = PanelMode::flat;
@@ -229,16 +241,11 @@ TEST(FlatBoundary, BoundaryFlipsLetThePanelBehindReachTheBoundary) {
   // joints to interior ones shrink below the limit and boundary panels self-intersect in every
   // attempt; with them the panel behind such a beam reaches the boundary and every check holds.
   const Surface s = make_builtin("funicular");
-  const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
-  DesignOptions o;
-  o.analyze = analysis::AnalysisLevel::none;
-  o.tessellation.cells = 500;
-  o.tessellation.seed = 1;
-  o.field_options.D = o.field_options.A = 2;
+  DesignOptions o = options_d2a2(500);
   o.panels = PanelMode::flat;
   const DesignResult r = run_design(s, o);
   ASSERT_EQ(r.details["flat_panels"]["panels"], "flat") << r.details["flat_panels"].dump();
-  expect_flat(r.mesh, s.mesh, std::max(extent.x(), extent.y()));
+  expect_flat(r.mesh, s.mesh, span_of(s));
   expect_true_outlines(r.mesh);
   const Topology t = build_topology(r.mesh);
   for (int e = 0; e < t.num_edges(); ++e) EXPECT_LE(t.edge_faces[e].size(), 2u);
@@ -328,12 +335,7 @@ TEST(FlatLastResort, FailingPanelsAreGlazedAsTrianglesAndEveryCheckHolds) {
   // follow all panels, and the outlines are the true shapes. Switched off, the design keeps its
   // free panels, as before.
   const Surface s = make_builtin("court");
-  const Eigen::Vector3d extent = s.mesh.V.colwise().maxCoeff() - s.mesh.V.colwise().minCoeff();
-  DesignOptions o;
-  o.analyze = analysis::AnalysisLevel::none;
-  o.tessellation.cells = 120;
-  o.tessellation.seed = 1;
-  o.field_options.D = o.field_options.A = 2;
+  DesignOptions o = options_d2a2(120);
   const DesignResult free = run_design(s, o);
   o.panels = PanelMode::flat;
   o.flat.restarts = 0;
@@ -344,7 +346,7 @@ TEST(FlatLastResort, FailingPanelsAreGlazedAsTrianglesAndEveryCheckHolds) {
   const int split = info["triangulated_panels"].get<int>();
   EXPECT_GE(split, 1);
   EXPECT_LE(split, free.mesh.num_faces() / 10);
-  expect_flat(r.mesh, s.mesh, std::max(extent.x(), extent.y()));
+  expect_flat(r.mesh, s.mesh, span_of(s));
   expect_true_outlines(r.mesh);
   // A panel of k sides becomes k − 2 triangles: the first keeps its id, the others follow.
   const int nf = free.mesh.num_faces();
