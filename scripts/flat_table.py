@@ -4,7 +4,7 @@ the built-ins.
 
 Runs `gridshell design SURFACE -D D -A A --panels free|flat --analyze buckling` for every case
 (two runs at a time at most, under nice 19, into a temporary folder) and prints one Markdown row
-per case from the two runs' report.json: whether the flat stage passed (attempt, flips) or why it
+per case from the two runs' report.json: whether the flat stage passed (attempt, flips, panels glazed as triangles) or why it
 failed, out of plane free → flat, the flat joints' distance to the surface, non-convex panels and
 the smallest panel angle (free → flat), λ_LBA free → flat, the flat/free total beam length and
 the flat stage's seconds, then the pass count.
@@ -81,6 +81,7 @@ def numbers(free, flat):
         "panels": get(flat, "mesh", "panels"),
         "attempts": fp.get("attempts"),
         "flips": fp.get("flipped_beams"),
+        "triangulated": fp.get("triangulated_panels", 0),
         "failure": fp.get("failure"),
         "oop_free_max": get(free, "mesh", "out_of_plane_max_m"),
         "oop_free_median": get(free, "mesh", "out_of_plane_median_m"),
@@ -116,6 +117,8 @@ def markdown(name, r):
             extra.append("attempt %d" % r["attempts"])
         if r["flips"]:
             extra.append("%d flips" % r["flips"])
+        if r["triangulated"]:
+            extra.append("%d as triangles" % r["triangulated"])
         panels = "**flat**" + (" (%s)" % ", ".join(extra) if extra else "")
         oop = "%s / %s → %s" % (g(r["oop_free_max"], 3, mm), g(r["oop_free_median"], 3, mm),
                                g(r["oop_flat"], 2, mm))

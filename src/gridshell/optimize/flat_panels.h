@@ -89,8 +89,9 @@ bool intersect_planes(const Vec3 n[3], const double d[3], Vec3& x, double& det,
 /// A triangulation of the polygon `p` (3-D corners, in order) whose diagonals run inside it
 /// (seen along its best-fit plane's normal, as panel_shape sees it) and are at least `min_side`
 /// long, with the largest smallest corner angle (Klincsek's O(n³) dynamic programme); corner
-/// indices, in the polygon's orientation. Empty when there is none (the polygon is not simple as
-/// seen, or every triangulation needs a shorter diagonal).
+/// indices, in the polygon's orientation. A polygon folded over itself as seen is triangulated
+/// in space, every triangle turning the way its best-fit normal does. Empty when there is none
+/// (every triangulation needs a shorter diagonal or a triangle turned over).
 std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& p, double min_side);
 
 struct FlatPanelOptions {
