@@ -324,6 +324,32 @@ TEST_F(StudioServerTest, BadInputGets400AndTheServerLivesOn) {
   EXPECT_NE(page->body.find("gridshell studio"), std::string::npos);
 }
 
+TEST_F(StudioServerTest, FlatPanelsOfAnUploadedRoofGlazeTheirFailingPanelsAsTriangles) {
+  // Aquadom at D = A = 2: every plane optimisation of its flat stage fails, and the last resort
+  // glazes a failing panel as triangles (docs/panels.md). The studio answers with the flat
+  // design, its per-panel view (one value per panel, the triangles included) and the count.
+  SKIP_WITHOUT_SHARED_DATA();
+  auto c = client();
+  const auto up = c.Post("/api/surface?name=aquadom_Vouga.ply",
+                         slurp(gridshell::test::shared_file("surfaces/aquadom_Vouga.ply")), "x/y");
+  ASSERT_TRUE(up);
+  ASSERT_EQ(up->status, 200) << up->body;
+  const std::string id = nlohmann::json::parse(up->body)["surface"];
+  const auto res =
+      c.Get("/api/design?surface=" + id + "&D=2&A=2&cells=300&seed=1&panels=flat&analyze=linear");
+  ASSERT_TRUE(res);
+  ASSERT_EQ(res->status, 200) << res->body;
+  const nlohmann::json j = nlohmann::json::parse(res->body);
+  const auto& report = j["report"];
+  EXPECT_EQ(report["mesh"]["panels"], "flat");
+  const int glazed = report["design"]["flat_panels"]["triangulated_panels"].get<int>();
+  EXPECT_GE(glazed, 1);
+  EXPECT_LE(glazed, 30);
+  EXPECT_GT(j["mesh"]["faces"].size(), 300u);  // the triangles follow the 300 panels
+  EXPECT_LE(report["mesh"]["out_of_plane_max_m"].get<double>(), 5e-4);
+  EXPECT_EQ(report["mesh"]["self_intersecting_panels"].get<int>(), 0);
+}
+
 namespace {
 
 /// A server of its own whose design requests stop at the gate's pause points.
