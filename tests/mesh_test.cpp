@@ -171,6 +171,64 @@ TEST(Topology, DetectsEveryProblemKind) {
   EXPECT_FALSE(p.ok());
 }
 
+// Pinched vertices (pieces touching at one corner) against a fan count from the topology: per
+// vertex, its faces joined across the edges at it, on random meshes of faces with distinct
+// corners (non-manifold edges included), and closed forms: none on a grid, one on a bow-tie,
+// one on three triangles around a vertex where only two share an edge.
+TEST(Topology, PinchedVerticesAreWhereFacesFormSeveralFans) {
+  std::uint64_t state = 777;
+  auto next = [&](int n) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<int>((state >> 33) % static_cast<std::uint64_t>(n));
+  };
+  int pinched_total = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    PolyMesh m;
+    const int nv = 5 + next(15);
+    m.V = Points::Zero(nv, 3);
+    for (int f = 0, nf = 1 + next(14); f < nf; ++f) {
+      std::vector<int> face;
+      while (face.size() < static_cast<std::size_t>(3 + next(2))) {
+        const int v = next(nv);
+        if (std::find(face.begin(), face.end(), v) == face.end()) face.push_back(v);
+      }
+      m.faces.push_back(face);
+    }
+    const Topology t = build_topology(m);
+    std::vector<int> expected;
+    for (int v = 0; v < nv; ++v) {
+      const auto& vf = t.vertex_faces[v];
+      if (vf.size() < 2) continue;
+      DisjointSets fan(static_cast<int>(vf.size()));
+      for (std::size_t e = 0; e < t.edges.size(); ++e) {
+        if (t.edges[e][0] != v && t.edges[e][1] != v) continue;
+        const auto& ef = t.edge_faces[e];
+        for (std::size_t i = 1; i < ef.size(); ++i)
+          fan.unite(static_cast<int>(std::find(vf.begin(), vf.end(), ef[0]) - vf.begin()),
+                    static_cast<int>(std::find(vf.begin(), vf.end(), ef[i]) - vf.begin()));
+      }
+      int roots = 0;
+      for (std::size_t i = 0; i < vf.size(); ++i) roots += fan.find(static_cast<int>(i)) == int(i);
+      if (roots > 1) expected.push_back(v);
+    }
+    EXPECT_EQ(pinched_vertices(m), expected) << trial;
+    pinched_total += static_cast<int>(expected.size());
+  }
+  EXPECT_GT(pinched_total, 10);  // the random meshes do exercise it
+  EXPECT_TRUE(pinched_vertices(to_poly(make_builtin("paraboloid:res=12").mesh)).empty());
+  PolyMesh bowtie;
+  bowtie.V = Points::Zero(5, 3);
+  bowtie.faces = {{0, 1, 2}, {0, 3, 4}};
+  EXPECT_EQ(pinched_vertices(bowtie), std::vector<int>{0});
+  EXPECT_EQ(check_mesh(bowtie).non_manifold_vertices, 1);
+  bowtie.faces.push_back({0, 2, 3});  // the gap closed: one fan
+  EXPECT_TRUE(pinched_vertices(bowtie).empty());
+  PolyMesh three;
+  three.V = Points::Zero(6, 3);
+  three.faces = {{0, 1, 2}, {0, 2, 3}, {0, 4, 5}};
+  EXPECT_EQ(pinched_vertices(three), std::vector<int>{0});
+}
+
 TEST(Topology, InconsistentOrientation) {
   PolyMesh m = square_with_two_triangles();
   m.faces[1] = {0, 3, 2};

@@ -531,6 +531,22 @@ TEST(MessySurface, AFinIsRefused) {
   EXPECT_EQ(load_surface(p.string()).mesh.num_faces(), 2);
 }
 
+TEST(MessySurface, PiecesTouchingAtASingleCornerAreRefused) {
+  // Two squares that share only the corner (1, 1, 0): a bow-tie. The first stage that walks
+  // that vertex's neighbourhood could not; the loader names it instead.
+  const fs::path p = write(test::temp_dir("messy") / "bowtie.obj",
+                           "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 1 0\nv 2 2 0\nv 1 2 0\n"
+                           "f 1 2 3 4\nf 3 5 6 7\n");
+  const std::string error = load_error(p);
+  EXPECT_NE(error.find("1 vertex where pieces of the surface touch at a single corner (the first "
+                       "at 1 1 0, vertex 2 counting from 0)"),
+            std::string::npos)
+      << error;
+  // Joined along an edge (the second square moved down to share the edge 2–3) it loads.
+  write(p, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n");
+  EXPECT_EQ(load_surface(p.string()).mesh.num_faces(), 4);
+}
+
 TEST(MessySurface, AConcavePolygonIsTriangulatedInsideItsOutline) {
   // A 2 × 2 square with a notch down to (1, 0.5) as one pentagon listed from the corner beside
   // the notch, and a square beside it: a fan from the first corner would fold the notch's

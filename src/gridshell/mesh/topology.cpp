@@ -365,6 +365,48 @@ std::vector<std::string> MeshProblems::describe() const {
   return out;
 }
 
+std::vector<int> pinched_vertices(const PolyMesh& mesh) {
+  const int nv = mesh.num_vertices();
+  // Per vertex, its corners (one per face at it), each with the two other ends of its edges.
+  std::vector<int> start(nv + 1, 0);
+  for (const auto& f : mesh.faces)
+    for (int v : f) ++start[v + 1];
+  for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<std::array<int, 2>> ends(start[nv]);
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (const auto& f : mesh.faces)
+    for (std::size_t k = 0; k < f.size(); ++k)
+      ends[fill[f[k]]++] = {f[(k + f.size() - 1) % f.size()], f[(k + 1) % f.size()]};
+  std::vector<int> out;
+  std::vector<std::pair<int, int>> by_end;  // (other end of an edge, corner), sorted
+  std::vector<int> parent;
+  for (int v = 0; v < nv; ++v) {
+    const int d = start[v + 1] - start[v];
+    if (d < 2) continue;
+    by_end.clear();
+    for (int c = 0; c < d; ++c)
+      for (int e : ends[start[v] + c]) by_end.emplace_back(e, c);
+    std::sort(by_end.begin(), by_end.end());
+    parent.resize(d);
+    std::iota(parent.begin(), parent.end(), 0);
+    const auto root = [&](int c) {
+      while (parent[c] != c) c = parent[c] = parent[parent[c]];
+      return c;
+    };
+    int fans = d;  // corners sharing an edge at v are in one fan
+    for (std::size_t i = 1; i < by_end.size(); ++i)
+      if (by_end[i].first == by_end[i - 1].first) {
+        const int a = root(by_end[i].second), b = root(by_end[i - 1].second);
+        if (a != b) {
+          parent[a] = b;
+          --fans;
+        }
+      }
+    if (fans > 1) out.push_back(v);
+  }
+  return out;
+}
+
 MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance) {
   MeshProblems p;
   const int nv = mesh.num_vertices();
@@ -417,26 +459,7 @@ MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance) {
       if (dir(ef[0]) == dir(ef[1])) ++p.inconsistent_orientation;
     }
   }
-  // Non-manifold vertices: the faces around a vertex must form a single fan (connected through
-  // shared edges that contain the vertex).
-  for (int v = 0; v < nv; ++v) {
-    const auto& vf = t.vertex_faces[v];
-    if (vf.size() < 2) continue;
-    DisjointSets fan(static_cast<int>(vf.size()));
-    for (int nb : t.vertex_neighbors[v]) {
-      int e = t.find_edge(v, nb);
-      const auto& ef = t.edge_faces[e];
-      for (std::size_t i = 1; i < ef.size(); ++i) {
-        auto ia = std::find(vf.begin(), vf.end(), ef[0]) - vf.begin();
-        auto ib = std::find(vf.begin(), vf.end(), ef[i]) - vf.begin();
-        fan.unite(static_cast<int>(ia), static_cast<int>(ib));
-      }
-    }
-    int roots = 0;
-    for (std::size_t i = 0; i < vf.size(); ++i)
-      roots += (fan.find(static_cast<int>(i)) == static_cast<int>(i));
-    if (roots > 1) ++p.non_manifold_vertices;
-  }
+  p.non_manifold_vertices = static_cast<int>(pinched_vertices(clean).size());
   // Exact duplicate positions.
   std::vector<int> order(nv);
   std::iota(order.begin(), order.end(), 0);

@@ -126,6 +126,12 @@ struct MeshProblems {
   bool ok() const { return describe().empty(); }
 };
 
+/// The vertices where pieces of the surface touch at a single corner (a bow-tie): the faces
+/// around such a vertex form more than one fan, fans being joined across the edges that meet at
+/// the vertex. Every face must have in-range indices and distinct corners. Increasing order.
+/// Cost: O(S log d), S the sum of face sizes, d the largest number of faces at a vertex.
+std::vector<int> pinched_vertices(const PolyMesh& mesh);
+
 /// Checks a mesh for everything above. Never throws on bad indices: they are counted.
 /// `degenerate_tolerance` is relative to the squared bounding-box diagonal.
 MeshProblems check_mesh(const PolyMesh& mesh, double degenerate_tolerance = 1e-14);

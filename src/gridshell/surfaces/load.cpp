@@ -172,6 +172,31 @@ RepairReport repaired(io::MeshFile& file, const std::string& subject,
   return repair;
 }
 
+/// Error when pieces of the repaired mesh touch at a single corner (mesh/topology.h
+/// pinched_vertices): no stage can walk such a vertex's neighbourhood. Names the first one by
+/// its number in the file (`new_id`: file → repaired) and its coordinates there.
+void refuse_pinched(const std::string& subject, const PolyMesh& mesh,
+                    const std::vector<int>& new_id) {
+  const std::vector<int> pinched = pinched_vertices(mesh);
+  if (pinched.empty()) return;
+  const int v = pinched.front();
+  int in_file = v;
+  for (std::size_t i = 0; i < new_id.size(); ++i)
+    if (new_id[i] == v) {
+      in_file = static_cast<int>(i);
+      break;
+    }
+  const Vec3 p = mesh.V.row(v).transpose();
+  throw Error(subject,
+              fmt::format("{} where pieces of the surface touch at a single corner (the first at "
+                          "{:.6g} {:.6g} {:.6g}, vertex {} counting from 0): the surface must be a "
+                          "manifold; join the pieces along an edge or design each from its own "
+                          "file",
+                          pinched.size() == 1 ? "1 vertex"
+                                              : fmt::format("{} vertices", pinched.size()),
+                          p.x(), p.y(), p.z(), in_file));
+}
+
 void warn(const std::string& subject, const std::vector<std::string>& notes) {
   if (notes.empty()) return;
   std::string line;
@@ -246,6 +271,7 @@ Surface load_surface(const std::string& spec, const SurfaceOptions& o) {
                               "design each roof from its own file",
                               repair.non_manifold_edges,
                               repair.non_manifold_edges == 1 ? "edge" : "edges"));
+    refuse_pinched(spec, file.mesh, repair.new_id);
     s.mesh = triangulate(file.mesh);
     s.supports = resolve_supports(o, file.mesh, &file, repair.new_id, nullptr, notes);
     if (const int slivers = count_slivers(s.mesh); slivers > 0)
