@@ -97,7 +97,11 @@ fs::path dome_report(const std::string& name, int n = 8) {
                                               gridshell::analysis::AnalysisLevel::buckling);
   rep::ReportInput in = rep::gridshell_report_input(d.mesh, d.supports, &r);
   in.title = "dome <test>";
-  in.report = {{"structure", {{"delta_max_m", r.delta_max_m}}}};
+  // Two overlaps and one panel glazed as two triangles (report.json's mesh and design blocks),
+  // so that the key figures say so: "143 (1 glazed as 2 triangles)" for the 144 quads.
+  in.report = {{"structure", {{"delta_max_m", r.delta_max_m}}},
+               {"mesh", {{"overlaps", 2}}},
+               {"design", {{"flat_panels", {{"cells", n * n - 1}, {"triangulated_panels", 1}}}}}};
   const fs::path dir = temp_dir(name);
   fs::create_directories(dir / "figures");
   gridshell::io::write_file_atomic(dir / "figures" / "a.png", png_bytes());
@@ -448,6 +452,11 @@ TEST(ReportHtml, ChromiumDrawsTheMeshFromDiskAndOverHttp) {
   EXPECT_EQ(page_errors(disk.dom), "") << disk.dom.substr(0, 400);
   EXPECT_NE(disk.dom.find("data-ready=\"1\""), std::string::npos);
   EXPECT_TRUE(console_errors(disk.log).empty()) << console_errors(disk.log).front();
+  EXPECT_NE(disk.dom.find("<th>cells (panels)</th><td>143 (1 glazed as 2 triangles)</td>"),
+            std::string::npos);
+  EXPECT_NE(disk.dom.find("<th>overlaps</th><td><b style=\"color:#b00\">2</b> (not buildable as "
+                          "is)</td>"),
+            std::string::npos);
   const Image a = read_png(work / "disk.png");
   ASSERT_EQ(a.width, 1200);
   ASSERT_EQ(a.height, 800);

@@ -64,6 +64,22 @@ export function escapeHtml(s) {
   return String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c]);
 }
 
+// The panel count of a key-figures table: the cells, and when the flat-panel stage glazed some
+// as flat triangles (report.json design.flat_panels), how many and into how many panes.
+export function cellsText(report, panes) {
+  const fp = ((report || {}).design || {}).flat_panels || {};
+  const k = fp.triangulated_panels || 0;
+  if (!(k > 0) || fp.cells == null) return String(panes);
+  return `${fp.cells} (${k} glazed as ${panes - fp.cells + k} triangles)`;
+}
+
+// Overlaps (report.json mesh.overlaps: beams that cross without a joint, joints inside a panel
+// not their own): a count, red when the grid-shell cannot be built as it is.
+export function overlapsText(n) {
+  if (n == null) return null;
+  return n > 0 ? `<b style="color:#b00">${n}</b> (not buildable as is)` : '0';
+}
+
 // A qualitative palette for categories (beam sections): Kelly's colours of maximum contrast
 // (K. L. Kelly, 1965), ordered so that neighbours differ most and the pale ones come last; beyond
 // 20, hues step by the golden angle.

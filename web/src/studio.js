@@ -15,7 +15,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import {
-  buildGridObjects, colourModes, createScene, escapeHtml, fmt, legendHtml,
+  buildGridObjects, cellsText, colourModes, createScene, escapeHtml, fmt, legendHtml, overlapsText,
 } from './gridshell_scene.js';
 
 const root = document.documentElement;
@@ -98,10 +98,12 @@ function showFigures(answer, data) {
   const mesh = report.mesh || {};
   const st = report.structure || {};
   let html = '<table>';
-  html += row('cells (panels)', (data.panels || []).length);
+  html += row('cells (panels)', cellsText(report, (data.panels || []).length));
   html += row('beams', (data.beams || []).length / 2);
   html += row('joints', (data.joints || []).length / 3);
   html += row('supports', (data.supports || []).length);
+  const overlaps = overlapsText(mesh.overlaps);
+  if (overlaps != null) html += row('overlaps', overlaps);
   if (mesh.total_length_m != null) html += row('total length', `${fmt(mesh.total_length_m)} m`);
   if (st.mass_kg != null) html += row('steel mass', `${fmt(st.mass_kg)} kg`);
   if (st.lambda_linear_buckling != null) html += row('λ linear buckling', fmt(st.lambda_linear_buckling));

@@ -9,7 +9,8 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import {
-  buildGridObjects, colourModes, createScene, displacementMagnitudes, escapeHtml, fmt, legendHtml,
+  buildGridObjects, cellsText, colourModes, createScene, displacementMagnitudes, escapeHtml, fmt,
+  legendHtml, overlapsText,
 } from './gridshell_scene.js';
 import { steelPanel } from './steel_panel.js';
 
@@ -190,10 +191,12 @@ function keyFigures() {
   }
   const mass = st.mass_kg ?? fab.mass_kg;
   let html = '<table>';
-  html += row('cells (panels)', panels.length);
+  html += row('cells (panels)', cellsText(report, panels.length));
   html += row('beams', nBeams);
   html += row('joints', nJoints);
   html += row('supports', supports.length);
+  const overlaps = overlapsText(mesh.overlaps);
+  if (overlaps != null) html += row('overlaps', overlaps);
   html += row('total length', `${fmt(length)} m`);
   if (st.section && st.section.designation) {
     html += row('section', escapeHtml(st.section.designation) +

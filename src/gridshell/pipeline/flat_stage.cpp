@@ -24,6 +24,7 @@ FlatPanelAttempt attempt_flat_panels(const PolyMesh& mesh, const std::vector<int
     a.info["flipped_beams"] = f.stats.flipped_beams;
     a.info["attempts"] = f.stats.attempts;
     a.info["triangulated_panels"] = f.stats.triangulated_panels;
+    a.info["cells"] = mesh.num_faces();  // the panels before any was glazed as triangles
     a.info["surface_weight"] = f.stats.surface_weight;
     a.info["surface_distance_max_m"] = f.stats.surface_distance_max;
     a.info["shortest_beam_m"] = f.stats.shortest_beam;
