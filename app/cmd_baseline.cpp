@@ -136,6 +136,7 @@ int run_baseline(const BaselineArgs& a, const CLI::App* sub) {
   if (bo.length > 0) {
     report["mesh"]["target_length_m"] = bo.length;
     report["mesh"]["length_error"] = report["mesh"]["total_length_m"].get<double>() / bo.length - 1;
+    warn_if_length_missed(report["mesh"]["total_length_m"].get<double>(), bo.length, 0.05);
   }
   if (structure)
     add_structure_report(a, out, frame, options, structure_options, *structure,

@@ -78,6 +78,8 @@ int run_design_cmd(const DesignArgs& a, const CLI::App* sub) {
                          : response ? design_from_frame_response(surface, options, *response)
                                     : run_design(surface, options);
   warn_if_panels_kept_free(r.details.value("flat_panels", nlohmann::json()));
+  warn_if_length_missed(r.metrics.total_length, options.tessellation.length,
+                        options.tessellation.length_tolerance);
 
   report::DesignFolderInput folder;
   folder.surface = &surface;

@@ -81,6 +81,11 @@ void write_report_page(const std::string& dir, report::ReportInput page,
 /// itself logs at info level, so the objective search's other candidates stay quiet.
 void warn_if_panels_kept_free(const nlohmann::json& flat_info);
 
+/// Warns, once per command, when the grid-shell's total beam length misses `--length` (target
+/// > 0) by more than `tolerance` (relative): a target shorter than the boundary and the fewest
+/// cells allow, or longer than the surface's mesh can carry.
+void warn_if_length_missed(double total_length, double target, double tolerance);
+
 /// Expands `--config FILE` in argv: options stored in FILE and not given on the command line are
 /// appended. Throws Error for a bad file.
 std::vector<std::string> expand_config(const std::vector<std::string>& args, const CLI::App& cli);
