@@ -140,4 +140,10 @@ PolyMesh to_poly(const TriMesh& tri) {
   return out;
 }
 
+Points to_points(const std::vector<Vec3>& x) {
+  Points V(static_cast<Eigen::Index>(x.size()), 3);
+  for (std::size_t j = 0; j < x.size(); ++j) V.row(static_cast<Eigen::Index>(j)) = x[j].transpose();
+  return V;
+}
+
 }  // namespace gridshell

@@ -49,4 +49,7 @@ TriMesh triangulate(const PolyMesh& poly);
 /// The polygon mesh whose faces are the triangles of `tri`.
 PolyMesh to_poly(const TriMesh& tri);
 
+/// The rows of a vertex array: x[i] is row i.
+Points to_points(const std::vector<Vec3>& x);
+
 }  // namespace gridshell

@@ -94,9 +94,7 @@ DualMesh dual_polygon_mesh(const TriMesh& m, double corner_angle_deg) {
     }
     if (poly.size() >= 3) d.mesh.faces.push_back(std::move(poly));
   }
-  d.mesh.V.resize(static_cast<int>(pts.size()), 3);
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    d.mesh.V.row(static_cast<int>(i)) = pts[i].transpose();
+  d.mesh.V = to_points(pts);
   return d;
 }
 

@@ -340,9 +340,7 @@ void keep_if_split_passes(const Problem& P, const Planes& pl, const TriMesh& sur
   SplitPanels s;
   if (max_panels <= 0 || !split_failing_panels(P, pl, projector, limit, max_panels, s)) return;
   if (best && best->stats.triangulated_panels <= s.split) return;
-  out.mesh.V.resize(static_cast<int>(s.x.size()), 3);
-  for (std::size_t j = 0; j < s.x.size(); ++j)
-    out.mesh.V.row(static_cast<int>(j)) = s.x[j].transpose();
+  out.mesh.V = to_points(s.x);
   out.mesh.faces = std::move(s.faces);
   out.source_face = std::move(s.owner);
   out.normal = std::move(s.normal);
@@ -454,8 +452,7 @@ FlatPanelResult flat_attempt(const PolyMesh& design, const std::vector<int>& sup
                       "beams from the design, smallest det {:.3g}",
                       f, p.size(), boundary ? ", boundary" : "", far, dmin);
     }
-  out.mesh.V.resize(static_cast<int>(x.size()), 3);
-  for (std::size_t j = 0; j < x.size(); ++j) out.mesh.V.row(static_cast<int>(j)) = x[j].transpose();
+  out.mesh.V = to_points(x);
   out.mesh.faces = L.faces;
   out.source_face.resize(nf);
   std::iota(out.source_face.begin(), out.source_face.end(), 0);

@@ -186,8 +186,7 @@ SplitPanels glazed(const Layout& L, const Planes& pl, const std::vector<Vec3>& x
 
 PolyMesh mesh_of(const std::vector<Vec3>& x, const std::vector<std::vector<int>>& faces) {
   PolyMesh m;
-  m.V.resize(static_cast<int>(x.size()), 3);
-  for (std::size_t j = 0; j < x.size(); ++j) m.V.row(static_cast<int>(j)) = x[j].transpose();
+  m.V = to_points(x);
   m.faces = faces;
   return m;
 }

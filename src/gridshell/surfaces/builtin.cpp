@@ -122,8 +122,7 @@ Surface dome(const BuiltinOptions& o) {
         }
       }
   }
-  m.V.resize(static_cast<int>(pts.size()), 3);
-  for (std::size_t i = 0; i < pts.size(); ++i) m.V.row(static_cast<int>(i)) = pts[i].transpose();
+  m.V = to_points(pts);
   m.F.resize(static_cast<int>(tris.size()), 3);
   for (std::size_t i = 0; i < tris.size(); ++i)
     m.F.row(static_cast<int>(i)) << tris[i][0], tris[i][1], tris[i][2];
