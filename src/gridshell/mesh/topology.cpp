@@ -8,6 +8,8 @@
 #include <tuple>
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "gridshell/core/error.h"
 
@@ -238,28 +240,44 @@ TriangleAdjacency build_triangle_adjacency(const Triangles& F, int nv) {
   TriangleAdjacency adj;
   adj.neighbor.assign(nt, {-1, -1, -1});
   adj.neighbor_edge.assign(nt, {-1, -1, -1});
-  std::vector<int> out(nv, -1);  // boundary half-edge leaving each vertex
-  for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(t, k), b = F(t, (k + 1) % 3);
-      int same = 0, twin = -1, twins = 0;
-      for (int q = start[a]; q < start[a + 1]; ++q) same += to[q] == b;
-      for (int q = start[b]; q < start[b + 1]; ++q)
-        if (to[q] == a) {
-          twin = from[q];
-          ++twins;
-        }
-      if (same + twins > 2) throw Error("surface", "non-manifold edge (more than two triangles)");
-      if (same > 1) throw Error("surface", "inconsistently oriented triangles (flip some faces)");
-      if (twin >= 0) {
-        adj.neighbor[t][k] = twin / 3;
-        adj.neighbor_edge[t][k] = twin % 3;
-      } else {
-        if (out[a] >= 0)
-          throw Error("surface", "non-manifold boundary vertex (two boundaries touch)");
-        out[a] = 3 * t + k;
+  // Each half-edge's twin, found in parallel; what a half-edge is (inner, boundary, or a problem)
+  // is then read in half-edge order, so the error a bad mesh gets is the serial walk's.
+  enum : char { kInner, kBoundary, kNonManifold, kMisoriented };
+  std::vector<char> kind(static_cast<std::size_t>(nt) * 3, kInner);
+  tbb::parallel_for(tbb::blocked_range<int>(0, nt, 8192), [&](const tbb::blocked_range<int>& r) {
+    for (int t = r.begin(); t < r.end(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int a = F(t, k), b = F(t, (k + 1) % 3);
+        int same = 0, twin = -1, twins = 0;
+        for (int q = start[a]; q < start[a + 1]; ++q) same += to[q] == b;
+        for (int q = start[b]; q < start[b + 1]; ++q)
+          if (to[q] == a) {
+            twin = from[q];
+            ++twins;
+          }
+        char& h = kind[3 * static_cast<std::size_t>(t) + k];
+        if (same + twins > 2)
+          h = kNonManifold;
+        else if (same > 1)
+          h = kMisoriented;
+        else if (twin >= 0) {
+          adj.neighbor[t][k] = twin / 3;
+          adj.neighbor_edge[t][k] = twin % 3;
+        } else
+          h = kBoundary;
       }
-    }
+  });
+  std::vector<int> out(nv, -1);  // boundary half-edge leaving each vertex
+  for (int h = 0; h < 3 * nt; ++h) {
+    if (kind[h] == kNonManifold)
+      throw Error("surface", "non-manifold edge (more than two triangles)");
+    if (kind[h] == kMisoriented)
+      throw Error("surface", "inconsistently oriented triangles (flip some faces)");
+    if (kind[h] != kBoundary) continue;
+    const int a = F(h / 3, h % 3);
+    if (out[a] >= 0) throw Error("surface", "non-manifold boundary vertex (two boundaries touch)");
+    out[a] = h;
+  }
   // Boundary loops from the smallest unused vertex with a boundary half-edge leaving it.
   std::vector<char> used(nv, 0);
   for (int v = 0; v < nv; ++v) {

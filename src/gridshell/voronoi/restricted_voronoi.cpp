@@ -57,8 +57,10 @@ class SeedGrid {
     return best;
   }
 
-  /// Index of the seed nearest to p (ties: lowest index).
-  int nearest(const Vec3& p) const {
+  /// Index of the seed nearest to p (ties: lowest index), seed `exclude` left out (-1 when
+  /// there is no other seed).
+  int nearest(const Vec3& p) const { return nearest_except(p, -1); }
+  int nearest_except(const Vec3& p, int exclude) const {
     int c[3];
     coords(p, c);
     int best = -1;
@@ -73,7 +75,7 @@ class SeedGrid {
           for (int k = c[2] - r; k <= c[2] + r; ++k) {
             if (k < 0 || k >= n_[2]) continue;
             if (!face_ij && k != c[2] - r && k != c[2] + r) continue;  // only the shell of ring r
-            scan((k * n_[1] + j) * n_[0] + i, p, bd, best);
+            scan((k * n_[1] + j) * n_[0] + i, p, bd, best, exclude);
           }
         }
       }
@@ -84,10 +86,12 @@ class SeedGrid {
   }
 
  private:
-  /// Updates (bd, best) with the seeds of grid cell cc: squared distance, ties to the lowest index.
-  void scan(int cc, const Vec3& p, double& bd, int& best) const {
+  /// Updates (bd, best) with the seeds of grid cell cc but `exclude`: squared distance, ties to
+  /// the lowest index.
+  void scan(int cc, const Vec3& p, double& bd, int& best, int exclude = -1) const {
     for (int s = start_[cc]; s < start_[cc + 1]; ++s) {
       const int q = items_[s];
+      if (q == exclude) continue;
       const double d = (pts_[q] - p).squaredNorm();
       if (d < bd || (d == bd && q < best)) {
         bd = d;
@@ -195,12 +199,28 @@ void compute_labels(Engine& E, int first, int labelled) {
     const int l = u >= 0 && u < known ? E.label[u] : -1;
     return l >= 0 && l < ns ? l : -1;
   };
+  // A point closer to seed s than half the distance from s to its nearest other seed has s as
+  // its only nearest seed (triangle inequality): most vertices keep their hint's label after one
+  // distance (on a surface the disk of that radius is ~90 % of a hexagonal cell). The bound is
+  // shrunk by a relative 4e-9, far above the rounding of the squared distances, so the label is
+  // the exhaustive search's, bit for bit; coincident seeds give a bound of 0 (always searched).
+  std::vector<double> sure(ns, std::numeric_limits<double>::infinity());
+  if (ns > 1)
+    tbb::parallel_for(tbb::blocked_range<int>(0, ns, 1024), [&](const tbb::blocked_range<int>& r) {
+      for (int i = r.begin(); i < r.end(); ++i) {
+        const int j = grid.nearest_except(pts[i], i);
+        sure[i] = 0.25 * (pts[j] - pts[i]).squaredNorm() * (1 - 4e-9);
+      }
+    });
   tbb::parallel_for(
       tbb::blocked_range<int>(first, nv, 4096), [&](const tbb::blocked_range<int>& r) {
         for (int v = r.begin(); v < r.end(); ++v) {
           const Vec3 p = E.S.deformed.vertex(v);
           const int h = hint(v);
-          E.label[v] = h >= 0 ? grid.nearest(p, h) : grid.nearest(p);
+          if (h >= 0 && (pts[h] - p).squaredNorm() < sure[h])
+            E.label[v] = h;
+          else
+            E.label[v] = h >= 0 ? grid.nearest(p, h) : grid.nearest(p);
         }
       });
 }

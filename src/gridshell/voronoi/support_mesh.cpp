@@ -2,6 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include "gridshell/core/error.h"
 
@@ -72,9 +78,9 @@ Vec3 weights_in(const SupportMesh& m, int v, int f) {
   return w;
 }
 
-/// The new vertex's place on the original mesh: the midpoint of a and b, which lie in original
-/// triangle f.
-void add_midpoint_origin(SupportMesh& m, int a, int b, int f) {
+/// The new vertex v's place on the original mesh: the midpoint of a and b, which lie in original
+/// triangle f (v's entries of origin, origin_weights and origin_face are set).
+void set_midpoint_origin(SupportMesh& m, int v, int a, int b, int f) {
   const std::array<int, 2> o = midpoint_origin(m.origin[a], m.origin[b]);
   const Vec3 w = 0.5 * (weights_in(m, a, f) + weights_in(m, b, f));
   Vec3 ow(1, 0, 0);
@@ -86,9 +92,9 @@ void add_midpoint_origin(SupportMesh& m, int a, int b, int f) {
       if (m.original(f, k) == o[1]) ow(1) = w(k);
     }
   }
-  m.origin.push_back(o);
-  m.origin_weights.push_back(ow);
-  m.origin_face.push_back(o[0] < 0 ? f : -1);
+  m.origin[v] = o;
+  m.origin_weights[v] = ow;
+  m.origin_face[v] = o[0] < 0 ? f : -1;
 }
 
 /// Sub-triangles (corner slots 0–2, midpoints 3 + k of side k) of a triangle by its split sides.
@@ -146,14 +152,22 @@ int refine_support_mesh(SupportMesh& m, const std::function<bool(int, int)>& spl
   // The edges to split, sorted by key (the midpoints are numbered in that order), each with the
   // face sides (3 f + k) it is on, so that every side finds its midpoint without a search (a
   // binary search per side was half of this function). Only the split edges are sorted: a pass
-  // that splits few edges (the extraction's border refinement) stays cheap.
-  std::vector<std::pair<std::uint64_t, int>> sides;
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) {
-      int a = m.rest.F(f, k), b = m.rest.F(f, (k + 1) % 3);
-      if (a > b) std::swap(a, b);
-      if (split(a, b)) sides.emplace_back(edge_key(a, b), 3 * f + k);
-    }
+  // that splits few edges (the extraction's border refinement) stays cheap. The (key, side)
+  // pairs are distinct, so their sorted order, and so every number below, does not depend on the
+  // threads that found them.
+  using Side = std::pair<std::uint64_t, int>;
+  tbb::enumerable_thread_specific<std::vector<Side>> found;
+  tbb::parallel_for(tbb::blocked_range<int>(0, nf, 4096), [&](const tbb::blocked_range<int>& r) {
+    std::vector<Side>& mine = found.local();
+    for (int f = r.begin(); f < r.end(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        int a = m.rest.F(f, k), b = m.rest.F(f, (k + 1) % 3);
+        if (a > b) std::swap(a, b);
+        if (split(a, b)) mine.emplace_back(edge_key(a, b), 3 * f + k);
+      }
+  });
+  std::vector<Side> sides;
+  for (const auto& mine : found) sides.insert(sides.end(), mine.begin(), mine.end());
   if (sides.empty()) {
     if (source) {
       source->resize(nf);
@@ -161,59 +175,68 @@ int refine_support_mesh(SupportMesh& m, const std::function<bool(int, int)>& spl
     }
     return 0;
   }
-  std::sort(sides.begin(), sides.end());
-  std::vector<int> side_mid(3 * static_cast<std::size_t>(nf), -1);
+  tbb::parallel_sort(sides.begin(), sides.end());
+  // The midpoint of each side's edge: new vertices numbered in key order.
   const int nv0 = m.rest.num_vertices();
+  std::vector<int> mid(sides.size());
   int added = 0;
-  for (std::size_t i = 0; i < sides.size(); ++i)
+  for (std::size_t i = 0; i < sides.size(); ++i) {
     if (i == 0 || sides[i].first != sides[i - 1].first) ++added;
+    mid[i] = nv0 + added - 1;
+  }
   m.rest.V.conservativeResize(nv0 + added, 3);
   m.deformed.V.conservativeResize(nv0 + added, 3);
-  m.origin.reserve(nv0 + added);
-  m.origin_weights.reserve(nv0 + added);
-  m.origin_face.reserve(nv0 + added);
-  m.split_end.reserve(nv0 + added);
-  int nv = nv0;
-  for (std::size_t i = 0; i < sides.size(); ++i) {
-    const std::uint64_t key = sides[i].first;
-    if (i == 0 || key != sides[i - 1].first) {
-      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xFFFFFFFFu);
-      m.rest.V.row(nv) = 0.5 * (m.rest.V.row(a) + m.rest.V.row(b));
-      m.deformed.V.row(nv) = 0.5 * (m.deformed.V.row(a) + m.deformed.V.row(b));
-      add_midpoint_origin(m, a, b, m.parent[sides[i].second / 3]);
-      m.split_end.push_back(a);
-      ++nv;
-    }
-    side_mid[sides[i].second] = nv - 1;
-  }
+  m.origin.resize(nv0 + added);
+  m.origin_weights.resize(nv0 + added);
+  m.origin_face.resize(nv0 + added);
+  m.split_end.resize(nv0 + added);
+  std::vector<int> side_mid(3 * static_cast<std::size_t>(nf), -1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sides.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        side_mid[sides[i].second] = mid[i];
+                        if (i > 0 && sides[i].first == sides[i - 1].first) continue;
+                        const std::uint64_t key = sides[i].first;
+                        const int a = static_cast<int>(key >> 32),
+                                  b = static_cast<int>(key & 0xFFFFFFFFu), v = mid[i];
+                        m.rest.V.row(v) = 0.5 * (m.rest.V.row(a) + m.rest.V.row(b));
+                        m.deformed.V.row(v) = 0.5 * (m.deformed.V.row(a) + m.deformed.V.row(b));
+                        set_midpoint_origin(m, v, a, b, m.parent[sides[i].second / 3]);
+                        m.split_end[v] = a;
+                      }
+                    });
   // Sub-triangles, counted first so that the new arrays are allocated once.
-  std::vector<int> first(nf + 1, 0);
-  int pattern[4][3];
-  for (int f = 0; f < nf; ++f) {
-    int id[6];
+  const auto corners = [&](int f, int id[6]) {
     for (int k = 0; k < 3; ++k) {
       id[k] = m.rest.F(f, k);
       id[3 + k] = side_mid[3 * static_cast<std::size_t>(f) + k];
     }
-    first[f + 1] = first[f] + split_pattern(id, m, pattern);
-  }
+  };
+  std::vector<int> first(nf + 1, 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, nf, 4096), [&](const tbb::blocked_range<int>& r) {
+    int id[6], pattern[4][3];
+    for (int f = r.begin(); f < r.end(); ++f) {
+      corners(f, id);
+      first[f + 1] = split_pattern(id, m, pattern);
+    }
+  });
+  for (int f = 0; f < nf; ++f) first[f + 1] += first[f];
   Triangles F(first[nf], 3);
   std::vector<int> parent(first[nf]);
   if (source) source->resize(first[nf]);
-  for (int f = 0; f < nf; ++f) {
-    int id[6];
-    for (int k = 0; k < 3; ++k) {
-      id[k] = m.rest.F(f, k);
-      id[3 + k] = side_mid[3 * static_cast<std::size_t>(f) + k];
+  tbb::parallel_for(tbb::blocked_range<int>(0, nf, 4096), [&](const tbb::blocked_range<int>& r) {
+    int id[6], pattern[4][3];
+    for (int f = r.begin(); f < r.end(); ++f) {
+      corners(f, id);
+      const int n = split_pattern(id, m, pattern);
+      for (int i = 0; i < n; ++i) {
+        const int t = first[f] + i;
+        for (int k = 0; k < 3; ++k) F(t, k) = id[pattern[i][k]];
+        parent[t] = m.parent[f];
+        if (source) (*source)[t] = f;
+      }
     }
-    const int n = split_pattern(id, m, pattern);
-    for (int i = 0; i < n; ++i) {
-      const int t = first[f] + i;
-      for (int k = 0; k < 3; ++k) F(t, k) = id[pattern[i][k]];
-      parent[t] = m.parent[f];
-      if (source) (*source)[t] = f;
-    }
-  }
+  });
   m.rest.F = std::move(F);
   m.deformed.F = m.rest.F;
   m.parent = std::move(parent);
