@@ -66,6 +66,8 @@ struct Engine {
   std::vector<char> corner_vertex;  ///< per support vertex (original corners keep their ids)
   std::vector<Seed> seeds;          ///< boundary and corner seeds first, then interior ones
   std::vector<int> label;           ///< per support vertex: its nearest seed
+  /// Per seed, its nearest other seed at the last labelling: where the next one starts looking.
+  std::vector<int> nearest_seed;
   Vec3 lo, hi;                      ///< bounding box of M′
   double R = 1;                     ///< cell size (m on M′)
   double boundary_split = 0;        ///< see TessellationOptions

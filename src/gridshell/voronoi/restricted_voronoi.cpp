@@ -42,9 +42,10 @@ class SeedGrid {
     for (std::size_t i = 0; i < pts.size(); ++i) items_[fill[key[i]]++] = static_cast<int>(i);
   }
 
-  /// Index of the seed nearest to p (ties: lowest index), knowing a seed `hint`: only the cells
-  /// meeting the box of half-width |p − hint| around p can hold a nearer (or tied) seed.
-  int nearest(const Vec3& p, int hint) const {
+  /// Index of the seed nearest to p (ties: lowest index), seed `exclude` left out, knowing a
+  /// seed `hint` (not `exclude`): only the cells meeting the box of half-width |p − hint| around p
+  /// can hold a nearer (or tied) seed.
+  int nearest(const Vec3& p, int hint, int exclude = -1) const {
     double bd = (pts_[hint] - p).squaredNorm();
     int best = hint;
     const double r = std::sqrt(bd);
@@ -53,7 +54,8 @@ class SeedGrid {
     coords(p + Vec3::Constant(r), c1);
     for (int k = c0[2]; k <= c1[2]; ++k)
       for (int j = c0[1]; j <= c1[1]; ++j)
-        for (int i = c0[0]; i <= c1[0]; ++i) scan((k * n_[1] + j) * n_[0] + i, p, bd, best);
+        for (int i = c0[0]; i <= c1[0]; ++i)
+          scan((k * n_[1] + j) * n_[0] + i, p, bd, best, exclude);
     return best;
   }
 
@@ -205,10 +207,14 @@ void compute_labels(Engine& E, int first, int labelled) {
   // shrunk by a relative 4e-9, far above the rounding of the squared distances, so the label is
   // the exhaustive search's, bit for bit; coincident seeds give a bound of 0 (always searched).
   std::vector<double> sure(ns, std::numeric_limits<double>::infinity());
+  E.nearest_seed.resize(ns, -1);
   if (ns > 1)
     tbb::parallel_for(tbb::blocked_range<int>(0, ns, 1024), [&](const tbb::blocked_range<int>& r) {
       for (int i = r.begin(); i < r.end(); ++i) {
-        const int j = grid.nearest_except(pts[i], i);
+        const int h = E.nearest_seed[i];
+        const int j = h >= 0 && h < ns && h != i ? grid.nearest(pts[i], h, i)
+                                                 : grid.nearest_except(pts[i], i);
+        E.nearest_seed[i] = j;
         sure[i] = 0.25 * (pts[j] - pts[i]).squaredNorm() * (1 - 4e-9);
       }
     });
