@@ -194,9 +194,10 @@ void warn_if_length_missed(double total_length, double target, double tolerance)
   if (!(target > 0) || !(total_length > 0)) return;
   const double miss = total_length / target - 1;
   if (std::abs(miss) > tolerance)
-    spdlog::warn("--length {:.6g} m: the grid-shell has {:.6g} m of beams ({:+.1f} %, beyond the "
-                 "{:.0f} % tolerance)",
-                 target, total_length, 100 * miss, 100 * tolerance);
+    spdlog::warn(
+        "--length {:.6g} m: the grid-shell has {:.6g} m of beams ({:+.1f} %, beyond the "
+        "{:.0f} % tolerance)",
+        target, total_length, 100 * miss, 100 * tolerance);
 }
 
 void write_report(const std::string& dir, const nlohmann::json& report) {

@@ -208,41 +208,43 @@ TEST(DesignCli, SymmetryXyIsExact) {
   EXPECT_EQ(report.at("mesh").at("euler_characteristic").get<int>(), 1);
 }
 
+namespace {
+/// A symmetric design of the paraboloid at --length L: what it said on stderr, its report.json.
+std::pair<std::string, nlohmann::json> symmetric_paraboloid(double L, const std::string& dir) {
+  const fs::path d = temp_dir(dir);
+  const auto r = run_gridshell(fmt::format(
+      "design builtin:paraboloid --length {} --field uniform --symmetry xy --analyze none "
+      "--figures none --quiet -o {}",
+      L, d.string()));
+  EXPECT_EQ(r.status, 0) << r.err;
+  return {r.err, nlohmann::json::parse(slurp(d / "report.json"))};
+}
+}  // namespace
+
 // --length holds for symmetric designs too: the sector is tessellated to L / sectors without
 // the edges on its mirror planes, which vanish when the cells there merge with their images
 // (before: 197 m of 300 m on this paraboloid, 13 cells).
 TEST(DesignCli, SymmetricDesignHoldsTheLength) {
-  const fs::path d = temp_dir("symlen");
-  const auto r = run_gridshell(
-      "design builtin:paraboloid --length 300 --field uniform --symmetry xy --analyze none "
-      "--quiet -o " +
-      d.string());
-  ASSERT_EQ(r.status, 0) << r.err;
-  const auto report = nlohmann::json::parse(slurp(d / "report.json"));
+  const auto [err, report] = symmetric_paraboloid(300, "symlen");
   const double length = report.at("mesh").at("total_length_m");
   std::printf("[figures] symmetric paraboloid: %.1f m of beams for --length 300\n", length);
   EXPECT_NEAR(length / 300, 1.0, 0.05);
   // The quarter's own tessellation is judged against a quarter of the length without its mirror
   // edges; only the welded grid-shell's miss would be worth a warning, and it has none.
-  EXPECT_EQ(r.err.find("--length"), std::string::npos) << r.err;
+  EXPECT_EQ(err.find("--length"), std::string::npos) << err;
 }
 
 // A length the surface cannot take (its 80 m boundary and the fewest cells of a quarter already
 // take more than 120 m): the design is written, with one warning that says by how much it missed.
 TEST(DesignCli, AnUnreachableLengthIsOneWarning) {
-  const fs::path d = temp_dir("symlen_short");
-  const auto r = run_gridshell(
-      "design builtin:paraboloid --length 120 --field uniform --symmetry xy --analyze none "
-      "--figures none --quiet -o " +
-      d.string());
-  ASSERT_EQ(r.status, 0) << r.err;
-  const auto report = nlohmann::json::parse(slurp(d / "report.json"));
+  const auto [err, report] = symmetric_paraboloid(120, "symlen_short");
   const double length = report.at("mesh").at("total_length_m");
   EXPECT_GT(length, 120 * 1.05);
-  const std::string said = fmt::format("--length 120 m: the grid-shell has {:.6g} m of beams", length);
-  const auto at = r.err.find(said);
-  EXPECT_NE(at, std::string::npos) << r.err;
-  EXPECT_EQ(r.err.find("--length", at + 1), std::string::npos) << r.err;  // once
+  const std::string said =
+      fmt::format("--length 120 m: the grid-shell has {:.6g} m of beams", length);
+  const auto at = err.find(said);
+  EXPECT_NE(at, std::string::npos) << err;
+  EXPECT_EQ(err.find("--length", at + 1), std::string::npos) << err;  // once
   EXPECT_LE(report.at("mesh").at("length_runs").get<int>(), 8);
 }
 

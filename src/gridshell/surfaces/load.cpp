@@ -187,14 +187,14 @@ void refuse_pinched(const std::string& subject, const PolyMesh& mesh,
       break;
     }
   const Vec3 p = mesh.V.row(v).transpose();
-  throw Error(subject,
-              fmt::format("{} where pieces of the surface touch at a single corner (the first at "
-                          "{:.6g} {:.6g} {:.6g}, vertex {} counting from 0): the surface must be a "
-                          "manifold; join the pieces along an edge or design each from its own "
-                          "file",
-                          pinched.size() == 1 ? "1 vertex"
-                                              : fmt::format("{} vertices", pinched.size()),
-                          p.x(), p.y(), p.z(), in_file));
+  throw Error(
+      subject,
+      fmt::format("{} where pieces of the surface touch at a single corner (the first at "
+                  "{:.6g} {:.6g} {:.6g}, vertex {} counting from 0): the surface must be a "
+                  "manifold; join the pieces along an edge or design each from its own "
+                  "file",
+                  pinched.size() == 1 ? "1 vertex" : fmt::format("{} vertices", pinched.size()),
+                  p.x(), p.y(), p.z(), in_file));
 }
 
 void warn(const std::string& subject, const std::vector<std::string>& notes) {
