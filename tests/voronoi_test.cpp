@@ -3,16 +3,20 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <numbers>
 
 #include <tbb/global_control.h>
 
 #include "gridshell/core/error.h"
+#include "gridshell/mesh/geometry.h"
 #include "gridshell/mesh/topology.h"
 #include "gridshell/surfaces/builtin.h"
 #include "gridshell/surfaces/load.h"
+#include "gridshell/voronoi/engine.h"
 #include "gridshell/voronoi/support_mesh.h"
 #include "gridshell/voronoi/tessellation.h"
 #include "test_support.h"
@@ -150,6 +154,62 @@ TEST(SupportMesh, RejectsMismatchedMeshes) {
   TriMesh d = s.mesh;
   d.F.row(0) = d.F.row(1);
   EXPECT_THROW(make_support_mesh(s.mesh, d), Error);
+}
+
+// The labels against a brute-force nearest seed (squared distance, ties to the lowest index) at
+// every support vertex, diagram after diagram, as the Lloyd steps move the seeds and each
+// labelling starts from the last one's labels and nearest neighbours; then with one seed moved
+// onto another (their bound is 0: searched). Most vertices lie within half their seed's
+// nearest-neighbour distance, where compute_labels keeps the hint without a search.
+TEST(RestrictedVoronoi, LabelsAreTheNearestSeeds) {
+  const Surface s = make_builtin("funicular:res=16");
+  voronoi::Engine E;
+  const double R = 1.2;
+  voronoi::set_up_support(E, s.mesh, s.mesh, std::vector<char>(s.mesh.num_vertices(), 0), R,
+                          0.25 * R);
+  TessellationOptions o;
+  o.seed = 3;
+  voronoi::place_seeds(E, surface_area(s.mesh), 80, o);
+  const auto check = [&](const char* when) {
+    const int nv = E.S.deformed.num_vertices(), ns = static_cast<int>(E.seeds.size());
+    std::vector<double> nn2(ns, HUGE_VAL);
+    for (int i = 0; i < ns; ++i)
+      for (int j = 0; j < ns; ++j)
+        if (j != i) nn2[i] = std::min(nn2[i], (E.seeds[j].pos - E.seeds[i].pos).squaredNorm());
+    int wrong = 0, inside = 0;
+    for (int v = 0; v < nv; ++v) {
+      const Vec3 p = E.S.deformed.vertex(v);
+      int best = 0;
+      double bd = HUGE_VAL;
+      for (int i = 0; i < ns; ++i) {
+        const double d = (E.seeds[i].pos - p).squaredNorm();
+        if (d < bd) bd = d, best = i;
+      }
+      wrong += E.label[v] != best;
+      inside += 4 * bd < nn2[best];
+    }
+    EXPECT_EQ(wrong, 0) << when;
+    return double(inside) / nv;
+  };
+  voronoi::compute_labels(E);
+  const double first = check("first labelling");
+  double share = first;
+  for (int step = 0; step < 4; ++step) {
+    voronoi::lloyd_step(E);
+    voronoi::compute_labels(E, 0, static_cast<int>(E.label.size()));
+    share = check("after a Lloyd step");
+  }
+  std::printf(
+      "[figures] of %d support vertices, %.1f %% within half their seed's "
+      "nearest-neighbour distance at the seeding, %.1f %% after 4 Lloyd steps\n",
+      E.S.deformed.num_vertices(), 100 * first, 100 * share);
+  EXPECT_GT(share, first);  // the cells grow rounder
+  EXPECT_GT(share, 0.6);
+  const int last = static_cast<int>(E.seeds.size()) - 1;
+  E.seeds[last].pos = E.seeds[last - 1].pos;  // two seeds at one point: ties to the lower index
+  voronoi::compute_labels(E, 0, static_cast<int>(E.label.size()));
+  check("with two coincident seeds");
+  EXPECT_EQ(std::count(E.label.begin(), E.label.end(), last), 0);
 }
 
 TEST(Tessellation, PlanarSquareIsAHexagonalCvt) {

@@ -68,16 +68,17 @@ export function escapeHtml(s) {
 // as flat triangles (report.json design.flat_panels), how many and into how many panes.
 export function cellsText(report, panes) {
   const fp = ((report || {}).design || {}).flat_panels || {};
-  const k = fp.triangulated_panels || 0;
-  if (!(k > 0) || fp.cells == null) return String(panes);
-  return `${fp.cells} (${k} glazed as ${panes - fp.cells + k} triangles)`;
+  const k = Number(fp.triangulated_panels) || 0, cells = Number(fp.cells);
+  if (!(k > 0) || !Number.isFinite(cells)) return String(panes);
+  return `${cells} (${k} glazed as ${panes - cells + k} triangles)`;
 }
 
 // Overlaps (report.json mesh.overlaps: beams that cross without a joint, joints inside a panel
 // not their own): a count, red when the grid-shell cannot be built as it is.
 export function overlapsText(n) {
   if (n == null) return null;
-  return n > 0 ? `<b style="color:#b00">${n}</b> (not buildable as is)` : '0';
+  const count = Number(n);  // numbers only: nothing from the report reaches the page as markup
+  return count > 0 ? `<b style="color:#b00">${count}</b> (not buildable as is)` : String(count);
 }
 
 // A qualitative palette for categories (beam sections): Kelly's colours of maximum contrast

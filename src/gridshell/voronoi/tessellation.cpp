@@ -176,7 +176,8 @@ Tessellation tessellate_to_length(const Input& in, double area, const Tessellati
   double lr_prev = 0, ll_prev = 0;
   bool have_prev = false;
   int runs = 0;
-  for (; runs < 8; ++runs) {
+  constexpr int kMaxRuns = 8;
+  for (; runs < kMaxRuns; ++runs) {
     Tessellation t = run_once(in, checked_radius(R, area, "--length"), 0, o);
     const double len = t.quality.total_length - length_on_planes(t.mesh, o);
     const double err = std::abs(len / o.length - 1);
@@ -200,7 +201,7 @@ Tessellation tessellate_to_length(const Input& in, double area, const Tessellati
     have_prev = true;
     R = std::exp(lr + (std::log(o.length) - ll) / slope);
   }
-  best.length_runs = std::min(runs + 1, 8);  // runs made (the loop ends at 8)
+  best.length_runs = std::min(runs + 1, kMaxRuns);  // runs made
   // Said at info level: the design's own length (after welding a symmetric sector's copies and
   // the finishing) is what a command warns about (app/common.h, warn_if_length_missed).
   if (best_err > o.length_tolerance)
