@@ -21,6 +21,7 @@
 #include "gridshell/io/mesh_io.h"
 #include "gridshell/mesh/overlaps.h"
 #include "gridshell/mesh/topology.h"
+#include "gridshell/optimize/metrics.h"
 #include "gridshell/pipeline/design.h"
 #include "gridshell/pipeline/design_report.h"
 #include "gridshell/pipeline/frame_output.h"
@@ -411,6 +412,11 @@ int run_analyze(const AnalyzeArgs& a, const CLI::App* sub) {
     out.supports = f.supports;
     add_structure(out, r);
     write_gridshell_vtp(a.run.out_dir, out);
+    // The grid as given, with the same keys as design's (its overlaps get a row on the page).
+    const MeshMetrics metrics = mesh_metrics(mesh);
+    out.planarity = metrics.planarity;
+    out.regularity = metrics.regularity;
+    report["mesh"] = mesh_block(out);
   }
   report["figures"] = figures.written();
   report["timings_s"] = r.timings;

@@ -90,7 +90,8 @@ CaseRun run_case(const Surface& surface, const DesignOptions& base, const SweepC
   out.row.cells = r.mesh.num_faces();
   out.row.total_length = r.metrics.total_length;
   warn_if_length_missed(r.metrics.total_length, o.tessellation.length,
-                        o.tessellation.length_tolerance);
+                        o.tessellation.length_tolerance,
+                        fmt::format("case D = {:g}, A = {:g}, repeat {}", c.D, c.A, c.repeat));
   for (const auto& [stage, seconds] : r.timings) out.timings.add("cases_" + stage, seconds);
   if (!r.structure) return out;
   out.row.delta = r.structure->delta_max_m;

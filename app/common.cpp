@@ -190,14 +190,14 @@ void warn_if_panels_kept_free(const nlohmann::json& flat_info) {
                  flat_info.value("failure", std::string("--panels flat")));
 }
 
-void warn_if_length_missed(double total_length, double target, double tolerance) {
+void warn_if_length_missed(double total_length, double target, double tolerance,
+                           const std::string& what) {
   if (!(target > 0) || !(total_length > 0)) return;
   const double miss = total_length / target - 1;
   if (std::abs(miss) > tolerance)
     spdlog::warn(
-        "--length {:.6g} m: the grid-shell has {:.6g} m of beams ({:+.1f} %, beyond the "
-        "{:.0f} % tolerance)",
-        target, total_length, 100 * miss, 100 * tolerance);
+        "--length {:.6g} m: {} has {:.6g} m of beams ({:+.1f} %, beyond the {:.0f} % tolerance)",
+        target, what.empty() ? "the grid-shell" : what, total_length, 100 * miss, 100 * tolerance);
 }
 
 void write_report(const std::string& dir, const nlohmann::json& report) {

@@ -83,8 +83,10 @@ void warn_if_panels_kept_free(const nlohmann::json& flat_info);
 
 /// Warns, once per command, when the grid-shell's total beam length misses `--length` (target
 /// > 0) by more than `tolerance` (relative): a target shorter than the boundary and the fewest
-/// cells allow, or longer than the surface's mesh can carry.
-void warn_if_length_missed(double total_length, double target, double tolerance);
+/// cells allow, or longer than the surface's mesh can carry. `what` names the grid-shell when a
+/// command writes several (a sweep's case); empty: the command's one.
+void warn_if_length_missed(double total_length, double target, double tolerance,
+                           const std::string& what = {});
 
 /// Expands `--config FILE` in argv: options stored in FILE and not given on the command line are
 /// appended. Throws Error for a bad file.

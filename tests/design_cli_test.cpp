@@ -483,8 +483,8 @@ TEST(DesignCli, AnalyzeJoinsAGridShellWrittenPanelByPanel) {
 }
 
 // A grid whose two panels lie one over the other (a unit square shifted by half a side: two
-// pairs of crossing beams, a joint of each inside the other) is analysed as given, and the log
-// says it cannot be built as is.
+// pairs of crossing beams, a joint of each inside the other) is analysed as given; the log says
+// it cannot be built as is, and report.json counts the overlaps.
 TEST(DesignCli, AnalyzeSaysWhenPanelsOverlap) {
   const auto d = temp_dir("overlapping_panels");
   {
@@ -497,4 +497,12 @@ TEST(DesignCli, AnalyzeSaysWhenPanelsOverlap) {
                                " --analyze linear --figures none -o " + (d / "out").string());
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("4 overlaps"), std::string::npos) << r.err;
+  // report.json has design's mesh block, so the page shows the overlaps too.
+  const auto mesh = nlohmann::json::parse(slurp(d / "out" / "report.json")).at("mesh");
+  EXPECT_EQ(mesh.at("overlaps").get<int>(), 4);
+  EXPECT_EQ(mesh.at("faces").get<int>(), 2);
+  EXPECT_EQ(mesh.at("edges").get<int>(), 8);
+  EXPECT_NEAR(mesh.at("total_length_m").get<double>(), 32.0, 1e-12);
+  EXPECT_NEAR(mesh.at("planarity_mean").get<double>(), 0.0, 1e-12);  // flat squares
+  EXPECT_EQ(mesh.at("face_sides").at("4").get<int>(), 2);
 }
