@@ -343,7 +343,8 @@ TEST(FrameNonlinear, PathStopsWhenOnlyLambdaAtTheDisplacementLimitIsAsked) {
 // A path that creeps towards a limit it cannot pass — the funicular at four times its size with
 // 40 cells, where the step is cut back before every point near the end and λ rises by less than
 // 2e-5 a step — ends once it has stalled: the λ of the same path followed until its radius
-// reaches the floor (the rule off), to 1e-6, for fewer factorisations.
+// reaches the floor (the rules off), to 1e-6, for fewer factorisations. A pinned step (λ up by
+// less than 1e-6 λ after a cut-back) ends it sooner still, with the same λ.
 TEST(FrameNonlinear, AStalledPathEndsWithTheLambdaOfTheWholeCreep) {
   SurfaceOptions scaled;
   scaled.scale = 4;
@@ -353,19 +354,28 @@ TEST(FrameNonlinear, AStalledPathEndsWithTheLambdaOfTheWholeCreep) {
   o.field_options.D = o.field_options.A = 2;
   o.analyze = analysis::AnalysisLevel::nonlinear;
   o.frame_analysis.stability = false;
+  const DesignResult pinned = run_design(s, o);
+  o.frame_analysis.arc.pinned_tolerance = 0;
   const DesignResult stalled = run_design(s, o);
   o.frame_analysis.arc.stall_steps = 0;
   const DesignResult crept = run_design(s, o);
-  ASSERT_TRUE(stalled.structure && crept.structure);
-  const analysis::FrameResult &a = *stalled.structure, &b = *crept.structure;
-  ASSERT_TRUE(a.lambda_nonlinear && b.lambda_nonlinear);
-  std::printf("stalled: lambda %.9f, %d factorisations (%s); whole creep: %.9f, %d (%s)\n",
-              *a.lambda_nonlinear, a.nonlinear_factorizations, a.nonlinear_stop_reason.c_str(),
-              *b.lambda_nonlinear, b.nonlinear_factorizations, b.nonlinear_stop_reason.c_str());
+  ASSERT_TRUE(pinned.structure && stalled.structure && crept.structure);
+  const analysis::FrameResult &p = *pinned.structure, &a = *stalled.structure,
+                              &b = *crept.structure;
+  ASSERT_TRUE(p.lambda_nonlinear && a.lambda_nonlinear && b.lambda_nonlinear);
+  std::printf(
+      "pinned: lambda %.9f, %d factorisations; stalled: %.9f, %d (%s); whole creep: %.9f, %d "
+      "(%s)\n",
+      *p.lambda_nonlinear, p.nonlinear_factorizations, *a.lambda_nonlinear,
+      a.nonlinear_factorizations, a.nonlinear_stop_reason.c_str(), *b.lambda_nonlinear,
+      b.nonlinear_factorizations, b.nonlinear_stop_reason.c_str());
+  EXPECT_EQ(p.nonlinear_stop_reason, "the path stalled below a limit it could not pass");
   EXPECT_EQ(a.nonlinear_stop_reason, "the path stalled below a limit it could not pass");
   EXPECT_EQ(b.nonlinear_stop_reason, "the arc-length step could not converge");
   EXPECT_NEAR(*a.lambda_nonlinear / *b.lambda_nonlinear, 1.0, 1e-6);
+  EXPECT_NEAR(*p.lambda_nonlinear / *b.lambda_nonlinear, 1.0, 1e-6);
   EXPECT_LT(a.nonlinear_factorizations, b.nonlinear_factorizations);
+  EXPECT_LT(p.nonlinear_factorizations, a.nonlinear_factorizations);
 }
 
 // A cantilever under an end moment M = 2π EI / L rolls up into a full circle.

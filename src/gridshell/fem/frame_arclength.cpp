@@ -577,8 +577,9 @@ bool PathWalker::accept(Converged& next, int its) {
   ut_cur_ = solver_cur_->solve(mesh_.load);
   ++res_.steps;
   first_ = false;
-  const bool crept = cut_since_accept_ && next.lambda - cur_.lambda <
-                                              opt_.stall_tolerance * std::abs(cur_.lambda);
+  const double gain = next.lambda - cur_.lambda;
+  const bool crept = cut_since_accept_ && gain < opt_.stall_tolerance * std::abs(cur_.lambda);
+  const bool pinned = cut_since_accept_ && gain < opt_.pinned_tolerance * std::abs(cur_.lambda);
   stalled_ = crept ? stalled_ + 1 : 0;
   cut_since_accept_ = false;
   prev_lambda_ = cur_.lambda;
@@ -597,7 +598,7 @@ bool PathWalker::accept(Converged& next, int its) {
     return false;
   }
   stable_state_ = cur_.state;
-  if (opt_.stall_steps > 0 && stalled_ >= opt_.stall_steps) {
+  if (opt_.stall_steps > 0 && (stalled_ >= opt_.stall_steps || pinned)) {
     res_.stop_reason = "the path stalled below a limit it could not pass";
     spdlog::debug("arc-length step {}: lambda {:.8g}, stalled", res_.steps, cur_.lambda);
     return false;

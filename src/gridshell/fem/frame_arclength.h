@@ -77,6 +77,11 @@ struct ArcLengthOptions {
   /// is far below critical_tolerance. 0 steps: never.
   int stall_steps = 3;
   double stall_tolerance = 2e-5;
+  /// A path whose step, accepted after a cut-back, raised λ by less than pinned_tolerance·λ ends
+  /// at once (when stall_steps > 0): the radius has shrunk to where the creep adds nothing that
+  /// could be reported, and the stall's further steps would change λ by as little (on the real-size
+  /// Great Court's paths 1e-8 relative, at 10 factorisations a step). 0: never.
+  double pinned_tolerance = 1e-6;
   bool stop_at_critical = true;
   Progress progress = {};  ///< told after every step (empty: nobody listens)
   /// Called at every point added to the path (λ = 0 first, in path order) with its converged
