@@ -4,7 +4,6 @@
 // thread counts never change a row.
 
 #include <atomic>
-#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <mutex>
@@ -123,7 +122,7 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   RunOptions run = a.run;
   if (mpi.active() && run.threads == 0) run.threads = mpi.threads_per_rank();
   const auto guard = apply_run_options(run);
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch total;
   DesignOptions options = sweep_design_options(a);
   std::vector<SweepCase> cases =
       sweep_cases(parse_range(a.D, "--D"), parse_range(a.A, "--A"), a.repeats, a.run.seed);
@@ -154,17 +153,15 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   Timings case_timings;
   std::mutex case_timings_mutex;
   const auto mine = run_sweep(cases, [&](const SweepCase& c) {
-    const auto case_start = std::chrono::steady_clock::now();
+    const Stopwatch case_clock;
     CaseRun done = run_case(surface, options, c, stress ? &*stress : nullptr, cache);
     {
       const std::lock_guard<std::mutex> lock(case_timings_mutex);
       for (const auto& [stage, seconds] : done.timings) case_timings.add(stage, seconds);
     }
     const int k = ++finished;
-    spdlog::info(
-        "[sweep] {}/{}: D = {}, A = {}, repeat {}: {} ({:.1f} s)", k, cases.size(), c.D, c.A,
-        c.repeat, case_summary(done.row),
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - case_start).count());
+    spdlog::info("[sweep] {}/{}: D = {}, A = {}, repeat {}: {} ({:.1f} s)", k, cases.size(), c.D,
+                 c.A, c.repeat, case_summary(done.row), case_clock.seconds());
     report_progress(guard.progress, "sweep", static_cast<double>(k) / cases.size(),
                     fmt::format("{}/{} cases", k, cases.size()));
     return done.row;
@@ -181,7 +178,7 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
                         sweep_heatmap_svg(rows, "mean deflection δ (m) over (D, A)",
                                           [](const SweepRow& r) { return r.delta; }));
   nlohmann::json report;
-  const auto t_fig = std::chrono::steady_clock::now();
+  const Stopwatch figures_clock;
   report["figures"] = figures::write_sweep_figures(
       dir, rows,
       fmt::format(
@@ -190,8 +187,7 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
           a.length > 0 ? fmt::format("length {:g} m", a.length) : fmt::format("{} cells", a.cells),
           a.design.field, a.design.analyze, a.run.seed),
       figures::parse_figure_options(a.run.figures));
-  const double figures_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fig).count();
+  const double figures_s = figures_clock.seconds();
   report["surface"] = a.surface;
   report["loads"] = analysis::to_string(options.frame.loads);
   report["points"] = sweep_points_json(rows);
@@ -199,10 +195,9 @@ int run_sweep_cases(const SweepArgs& a, const CLI::App* sub, const MpiSession& m
   report["cases_total"] = all;
   report["shard"] = a.shard.empty() ? "1/1" : a.shard;
   report["mpi_ranks"] = mpi.size();
+  case_timings.add("figures", figures_s);
+  case_timings.add("total", total.seconds());
   report["timings_s"] = case_timings;
-  report["timings_s"]["figures"] = figures_s;
-  report["timings_s"]["total"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   write_config(a.run.out_dir, sub);
   write_report(a.run.out_dir, report);
   return 0;

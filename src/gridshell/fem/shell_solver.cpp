@@ -3,7 +3,6 @@
 #include "gridshell/fem/shell_solver.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <ctime>
 #include <future>
@@ -25,11 +24,6 @@
 namespace gridshell::fem {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
@@ -384,7 +378,7 @@ void record_shell_results(const ShellModel& model, const ShellSection& sec,
 }  // namespace
 
 ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
-  const auto t0 = Clock::now();
+  Stopwatch clock;
   check_shell_model(model);
   const TriMesh& m = model.mesh;
   const int n = m.num_vertices(), nf = m.num_faces();
@@ -416,7 +410,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   SplitCholesky split;
   bool use_split = false;
   std::future<double> analysis = std::async(std::launch::async, [&, Kp = K]() mutable {
-    const auto ta = Clock::now();
+    const Stopwatch order_clock;
     std::vector<int> gp(n + 1, 0), gi;
     for (int v = 0; v < n; ++v) gp[v + 1] = gp[v] + static_cast<int>(pattern.nbr[v].size());
     gi.reserve(gp[n]);
@@ -426,7 +420,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
       res.ordering = "split-metis-nodes";
     else
       res.ordering = analyze_by_nodes(llt, Kp, gp, gi) ? "metis-nodes" : "cholmod-default";
-    return seconds_since(ta);
+    return order_clock.seconds();
   });
   assemble_stiffness(m, sec, pattern, vals);
   hold_fixed_dofs(pattern, fixed, vals, rhs);
@@ -434,13 +428,13 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
   K.xtype = CHOLMOD_REAL;
   res.dofs = ndof;
   res.free_dofs = static_cast<int>(std::count(fixed.begin(), fixed.end(), 0));
-  res.t_assemble = seconds_since(t0);
+  res.timings.add("assemble", clock.lap());
 
   // Factorise and solve.
-  res.t_order = analysis.get();  // its own duration, overlapped with the assembly
+  res.timings.add("order", analysis.get());  // its own duration, overlapped with the assembly
   if (!use_split && !llt.analyzed())
     throw Error("model", "sparse analysis failed (out of memory?)");
-  auto t1 = Clock::now();
+  clock.lap();
   const std::clock_t c1 = std::clock();
   long col = -1;
   bool ok = true;
@@ -453,7 +447,7 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
     col = status.failed_column;
   }
   res.cpu_factor = static_cast<double>(std::clock() - c1) / CLOCKS_PER_SEC;
-  res.t_factor = seconds_since(t1);
+  res.timings.add("factorize", clock.lap());
   res.factor_nnz = use_split ? split.factor_nnz() : llt.factor_nonzeros();
   res.factor_flops = use_split ? split.factor_flops() : llt.factor_flops();
   if (!ok) {
@@ -464,19 +458,20 @@ ShellResult solve_shell(const ShellModel& model, const ShellOptions& options) {
                                        col % 6 < 3 ? "free translation" : "free rotation"));
     throw Error("model", "the stiffness matrix could not be factorised (a mechanism?)");
   }
-  t1 = Clock::now();
+  clock.lap();
   const Eigen::VectorXd u = use_split ? split.solve(rhs) : Eigen::VectorXd(llt.solve(rhs));
-  res.t_solve = seconds_since(t1);
+  res.timings.add("solve", clock.lap());
   if (!u.allFinite())
     throw Error("model", "the solution is not finite (the structure is a mechanism)");
 
-  t1 = Clock::now();
+  clock.lap();
   record_shell_results(model, sec, frames, fixed, used, u, res);
-  res.t_stress = seconds_since(t1);
+  res.timings.add("stress", clock.lap());
   spdlog::info(
       "shell: {} vertices, {} triangles, {} free dofs; assembly {:.3f} s, ordering "
       "{:.3f} s, factor {:.3f} s, solve {:.3f} s",
-      n, nf, res.free_dofs, res.t_assemble, res.t_order, res.t_factor, res.t_solve);
+      n, nf, res.free_dofs, res.timings.get("assemble"), res.timings.get("order"),
+      res.timings.get("factorize"), res.timings.get("solve"));
   return res;
 }
 

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "gridshell/core/timings.h"
 #include "gridshell/fem/principal_stress.h"
 #include "gridshell/mesh/mesh.h"
 
@@ -83,9 +84,10 @@ struct ShellResult {
   int free_dofs = 0;
   double factor_nnz = 0;    ///< non-zeros of the Cholesky factor
   double factor_flops = 0;  ///< floating-point operations of the factorisation
-  /// Seconds per phase. The ordering and symbolic analysis (t_order) run on their own thread
-  /// during the assembly, so the wall time is about max(t_assemble, t_order) + t_factor + ….
-  double t_assemble = 0, t_order = 0, t_factor = 0, t_solve = 0, t_stress = 0;
+  /// Seconds per phase: "assemble", "order", "factorize", "solve", "stress". The ordering and
+  /// symbolic analysis run on their own thread during the assembly, so the wall time is about
+  /// max(assemble, order) + factorize + solve + stress.
+  Timings timings;
   /// Process CPU seconds during the factorisation (the benchmark's figure on a loaded machine;
   /// includes other threads of the process if any run meanwhile).
   double cpu_factor = 0;
