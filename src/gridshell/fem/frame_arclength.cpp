@@ -319,9 +319,6 @@ StepResult ArcStepper::step(const TangentSolver& start, const Eigen::VectorXd& u
   return {};
 }
 
-}  // namespace
-
-namespace {
 /// |φ·v| / |v| for the tangent's softest mode φ (inverse iteration from a seeded random start)
 /// and the load tangent v = K⁻¹f at the last stable point. Near a limit point v is dominated by
 /// φ (φᵀf ≠ 0); at a bifurcation φ ⟂ f and v has no large component along φ.
@@ -451,10 +448,6 @@ void report_path_progress(const ArcLengthOptions& opt, int steps, double umax, d
                   fmt::format("step {}, λ = {:.4g}", steps, lambda));
 }
 
-}  // namespace
-
-namespace {
-
 /// One arc-length path being traced: the current (last converged) point with its factorised
 /// tangent, the radius and its bounds, what has been found so far, and the result being filled.
 /// arc_length runs attempt() until it says stop, then finish().
@@ -577,9 +570,10 @@ bool PathWalker::accept(Converged& next, int its) {
   ut_cur_ = solver_cur_->solve(mesh_.load);
   ++res_.steps;
   first_ = false;
-  const double gain = next.lambda - cur_.lambda;
-  const bool crept = cut_since_accept_ && gain < opt_.stall_tolerance * std::abs(cur_.lambda);
-  const bool pinned = cut_since_accept_ && gain < opt_.pinned_tolerance * std::abs(cur_.lambda);
+  // λ's gain, counted only for a step accepted after a cut-back (crept, pinned: options).
+  const double gain = cut_since_accept_ ? next.lambda - cur_.lambda : HUGE_VAL,
+               at = std::abs(cur_.lambda);
+  const bool crept = gain < opt_.stall_tolerance * at, pinned = gain < opt_.pinned_tolerance * at;
   stalled_ = crept ? stalled_ + 1 : 0;
   cut_since_accept_ = false;
   prev_lambda_ = cur_.lambda;
