@@ -573,7 +573,8 @@ bool PathWalker::accept(Converged& next, int its) {
   // λ's gain, counted only for a step accepted after a cut-back (crept, pinned: options).
   const double gain = cut_since_accept_ ? next.lambda - cur_.lambda : HUGE_VAL,
                at = std::abs(cur_.lambda);
-  const bool crept = gain < opt_.stall_tolerance * at, pinned = gain < opt_.pinned_tolerance * at;
+  const bool crept = gain<opt_.stall_tolerance * at, pinned = opt_.pinned_tolerance> 0 &&
+                     gain < opt_.pinned_tolerance * at;
   stalled_ = crept ? stalled_ + 1 : 0;
   cut_since_accept_ = false;
   prev_lambda_ = cur_.lambda;
