@@ -343,8 +343,8 @@ TEST(FrameNonlinear, PathStopsWhenOnlyLambdaAtTheDisplacementLimitIsAsked) {
 // A path that creeps towards a limit it cannot pass — the funicular at four times its size with
 // 40 cells, where the step is cut back before every point near the end and λ rises by less than
 // 2e-5 a step — ends once it has stalled: the λ of the same path followed until its radius
-// reaches the floor (the rules off), to 1e-6, for fewer factorisations. A pinned step (λ up by
-// less than 1e-6 λ after a cut-back) ends it sooner still, with the same λ.
+// reaches the floor (the rules off), to 1e-6, for fewer factorisations. Two pinned steps in a row
+// (λ up by less than 1e-6 λ after a cut-back) end it sooner still, with the same λ.
 TEST(FrameNonlinear, AStalledPathEndsWithTheLambdaOfTheWholeCreep) {
   SurfaceOptions scaled;
   scaled.scale = 4;

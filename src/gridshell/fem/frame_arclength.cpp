@@ -505,6 +505,7 @@ class PathWalker {
   double ceiling_ = 0;  // lowered after a step that crossed into the unstable region
   bool cut_since_accept_ = false;  // a cut-back since the last accepted step
   int stalled_ = 0;                // accepted steps in a row that barely raised λ after a cut-back
+  int pinned_ = 0;                 // of those, the ones in a row that raised it by next to nothing
 };
 
 bool PathWalker::begin(const FrameState& start) {
@@ -571,11 +572,10 @@ bool PathWalker::accept(Converged& next, int its) {
   ++res_.steps;
   first_ = false;
   // λ's gain, counted only for a step accepted after a cut-back (crept, pinned: options).
-  const double gain = cut_since_accept_ ? next.lambda - cur_.lambda : HUGE_VAL,
-               at = std::abs(cur_.lambda);
-  const bool crept = gain<opt_.stall_tolerance * at, pinned = opt_.pinned_tolerance> 0 &&
-                     gain < opt_.pinned_tolerance * at;
-  stalled_ = crept ? stalled_ + 1 : 0;
+  const double gain = cut_since_accept_ ? next.lambda - cur_.lambda : HUGE_VAL;
+  const double at = std::abs(cur_.lambda);
+  stalled_ = gain < opt_.stall_tolerance * at ? stalled_ + 1 : 0;
+  pinned_ = opt_.pinned_tolerance > 0 && gain < opt_.pinned_tolerance * at ? pinned_ + 1 : 0;
   cut_since_accept_ = false;
   prev_lambda_ = cur_.lambda;
   prev_radius_ = ds_;
@@ -593,7 +593,7 @@ bool PathWalker::accept(Converged& next, int its) {
     return false;
   }
   stable_state_ = cur_.state;
-  if (opt_.stall_steps > 0 && (stalled_ >= opt_.stall_steps || pinned)) {
+  if (opt_.stall_steps > 0 && (stalled_ >= opt_.stall_steps || pinned_ >= 2)) {
     res_.stop_reason = "the path stalled below a limit it could not pass";
     spdlog::debug("arc-length step {}: lambda {:.8g}, stalled", res_.steps, cur_.lambda);
     return false;

@@ -77,10 +77,12 @@ struct ArcLengthOptions {
   /// is far below critical_tolerance. 0 steps: never.
   int stall_steps = 3;
   double stall_tolerance = 2e-5;
-  /// A path whose step, accepted after a cut-back, raised λ by less than pinned_tolerance·λ ends
-  /// at once (when stall_steps > 0): the radius has shrunk to where the creep adds nothing that
-  /// could be reported, and the stall's further steps would change λ by as little (on the real-size
-  /// Great Court's paths 1e-8 relative, at 10 factorisations a step). 0: never.
+  /// A path whose last two steps, each accepted after a cut-back, raised λ by less than
+  /// pinned_tolerance·λ ends then (when stall_steps > 0): the radius has shrunk to where the creep
+  /// adds nothing that could be reported, and the stall's further steps would change λ by as
+  /// little (on the real-size Great Court's paths 1e-8 relative, at 10 factorisations a step).
+  /// One such step is not enough: the next attempt can still bracket the critical point (the
+  /// perfect path of a generated monkey saddle). 0: never.
   double pinned_tolerance = 1e-6;
   bool stop_at_critical = true;
   Progress progress = {};  ///< told after every step (empty: nobody listens)
